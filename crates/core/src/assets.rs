@@ -1,0 +1,28 @@
+//! Scenes compiled into the binaries, so `rt-cli` and the editor work with no files at hand.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::io::camera_json::CameraFile;
+use crate::io::obj::load_obj_bytes;
+use crate::scene::Scene;
+
+const CORNELL_OBJ: &str = include_str!("../../../assets/cornell/cornell.obj");
+const CORNELL_MTL: &str = include_str!("../../../assets/cornell/cornell.mtl");
+const CORNELL_CAMERA: &str = include_str!("../../../assets/cornell/cornell.json");
+
+/// The Cornell box (32 triangles, units ≈ mm) with its camera, 512×512 and max depth 8.
+pub fn cornell_box() -> Result<Scene> {
+    let read_file = |p: &Path| match p.file_name().and_then(|n| n.to_str()) {
+        Some("cornell.mtl") => Ok(CORNELL_MTL.as_bytes().to_vec()),
+        _ => Err(Error::File { path: p.into(), message: "not part of the embedded scene".into() }),
+    };
+    let no_textures = |p: &Path| -> Result<crate::scene::Texture> {
+        Err(Error::File { path: p.into(), message: "the embedded scene has no textures".into() })
+    };
+    let obj_path = Path::new("<embedded>/cornell.obj");
+    let mut scene = load_obj_bytes(obj_path, CORNELL_OBJ.as_bytes(), Path::new("<embedded>"), &read_file, &no_textures, 0)?;
+    CameraFile::parse(CORNELL_CAMERA, Path::new("<embedded>/cornell.json"))?.apply(&mut scene);
+    scene.settings.max_depth = 8;
+    Ok(scene)
+}

@@ -1,0 +1,35 @@
+//! The per-render kernel parameters (`gpu_types::Frame`) derived from a scene's camera and settings.
+
+use crate::error::{Error, Result};
+use crate::gpu_types::Frame;
+use crate::scene::Scene;
+
+/// Camera, image and path-length parameters; the renderer fills in the per-dispatch fields.
+pub fn frame_for(scene: &Scene) -> Result<Frame> {
+    let settings = &scene.settings;
+    settings.validate().map_err(Error::Scene)?;
+    let basis = scene.camera.basis().map_err(Error::Scene)?;
+    if !scene.ambient.iter().all(|c| c.is_finite() && *c >= 0.0) {
+        return Err(Error::Scene(format!("ambient colour must be finite and >= 0, got {:?}", scene.ambient)));
+    }
+    Ok(Frame {
+        cam_origin: basis.origin.to_array(),
+        lens_radius: scene.camera.aperture_radius,
+        cam_u: basis.u.to_array(),
+        focus_distance: basis.focus_distance,
+        cam_v: basis.v.to_array(),
+        tan_half_vfov: basis.tan_half_vfov,
+        cam_w: basis.w.to_array(),
+        aspect: settings.width as f32 / settings.height as f32,
+        ambient: scene.ambient,
+        max_depth: settings.max_depth,
+        width: settings.width,
+        height: settings.height,
+        seed: settings.seed,
+        sample_base: 0,
+        samples_this_dispatch: 0,
+        row_begin: 0,
+        row_end: settings.height,
+        _pad: 0,
+    })
+}

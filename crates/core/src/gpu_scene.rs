@@ -1,0 +1,171 @@
+//! Flattens a `Scene` into the arrays the kernel reads: world-space triangles in BVH order, their
+//! shading attributes, one material per object, texels and BVH nodes.
+
+use std::time::Duration;
+
+use glam::{Vec2, Vec3};
+
+use crate::bvh::{BvhQuality, build_bvh};
+use crate::error::{Error, Result};
+use crate::gpu_types::{self, BvhNode, NO_TEXTURE, Shading, Triangle, material_kind};
+use crate::material::Material;
+use crate::scene::Scene;
+
+/// Which optional kernel features a scene needs; the pipeline compiles the others out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct SceneFeatures {
+    pub textures: bool,
+    pub metal: bool,
+    pub dielectric: bool,
+    pub thin_lens: bool,
+}
+
+/// Everything the GPU needs for a scene, as plain arrays.
+#[derive(Clone, Debug, Default)]
+pub struct GpuScene {
+    pub triangles: Vec<Triangle>,
+    pub shading: Vec<Shading>,
+    pub materials: Vec<gpu_types::Material>,
+    /// RGBA8 sRGB texels of all textures, one `u32` each (R in the low byte).
+    pub texels: Vec<u32>,
+    pub nodes: Vec<BvhNode>,
+    pub features: SceneFeatures,
+    pub bvh_depth: usize,
+    pub bvh_build_time: Duration,
+}
+
+impl GpuScene {
+    pub fn build(scene: &Scene) -> Result<Self> {
+        Self::build_with(scene, BvhQuality::default())
+    }
+
+    pub fn build_with(scene: &Scene, quality: BvhQuality) -> Result<Self> {
+        let mut out = GpuScene::default();
+        let mut texture_offsets = Vec::with_capacity(scene.textures.len());
+        for texture in &scene.textures {
+            let expected = texture.width as usize * texture.height as usize * 4;
+            if texture.rgba8.len() != expected || expected == 0 {
+                return Err(Error::Scene(format!("texture '{}' has no pixel data", texture.name)));
+            }
+            texture_offsets.push(out.texels.len() as u32);
+            out.texels.extend(texture.rgba8.chunks_exact(4).map(|p| u32::from_le_bytes([p[0], p[1], p[2], p[3]])));
+        }
+
+        let mut world = Vec::with_capacity(scene.triangle_count());
+        let mut tri_data = Vec::with_capacity(scene.triangle_count());
+        for (object_index, object) in scene.objects.iter().enumerate() {
+            let mesh = &object.mesh;
+            let label = || format!("object '{}'", object.name);
+            object.material.validate(&label()).map_err(Error::Scene)?;
+            let mut material = gpu_material(&object.material);
+            if let Material::Lambertian { texture: Some(t), .. } = object.material {
+                let texture = scene.textures.get(t).ok_or_else(|| {
+                    Error::Scene(format!("{}: texture index {t} does not exist", label()))
+                })?;
+                if mesh.uvs.is_some() {
+                    material.texture_offset = texture_offsets[t];
+                    material.texture_width = texture.width;
+                    material.texture_height = texture.height;
+                    out.features.textures = true;
+                } else {
+                    log::warn!("{} has a texture but no UVs: rendering it white", label());
+                    material.albedo = [1.0; 3];
+                }
+            }
+            out.features.metal |= material.kind == material_kind::METAL;
+            out.features.dielectric |= material.kind == material_kind::DIELECTRIC;
+            out.materials.push(material);
+
+            let m = object.transform.matrix();
+            let nm = object.transform.normal_matrix();
+            if !m.is_finite() || m.determinant() == 0.0 {
+                return Err(Error::Scene(format!("{}: transform is singular or not finite", label())));
+            }
+            let flip = m.determinant() < 0.0;
+            for (i, p) in mesh.positions.iter().enumerate() {
+                if !p.is_finite() {
+                    return Err(Error::Scene(format!("{}: vertex {} is not finite ({p})", label(), i + 1)));
+                }
+            }
+            let count = mesh.positions.len();
+            for (face, idx) in mesh.indices.iter().enumerate() {
+                if let Some(bad) = idx.iter().find(|&&i| i as usize >= count) {
+                    return Err(Error::Scene(format!(
+                        "{}: triangle {} uses vertex {} of {count}",
+                        label(),
+                        face + 1,
+                        bad + 1
+                    )));
+                }
+                // A mirroring transform reverses winding; swap two corners to keep the front face.
+                let idx = if flip { [idx[0], idx[2], idx[1]] } else { *idx };
+                let p = idx.map(|i| m.transform_point3(mesh.positions[i as usize]));
+                let n = mesh.normals.as_ref().map(|ns| idx.map(|i| (nm * ns[i as usize]).normalize_or_zero()));
+                let uv = mesh.uvs.as_ref().map(|uvs| idx.map(|i| uvs[i as usize]));
+                world.push(p);
+                tri_data.push((object_index as u32, n, uv));
+            }
+        }
+
+        let bvh = build_bvh(&world, quality).map_err(Error::Scene)?;
+        out.bvh_depth = bvh.depth;
+        out.bvh_build_time = bvh.build_time;
+        out.nodes = bvh.nodes;
+        out.triangles.reserve(world.len());
+        out.shading.reserve(world.len());
+        for &i in &bvh.triangle_order {
+            let p = world[i as usize];
+            let (material, normals, uvs) = &tri_data[i as usize];
+            let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
+            out.triangles.push(Triangle {
+                v0: p[0].to_array(),
+                material: *material,
+                v1: p[1].to_array(),
+                has_normals: normals.is_some() as u32,
+                v2: p[2].to_array(),
+                has_uvs: uvs.is_some() as u32,
+            });
+            let n = normals.unwrap_or([Vec3::ZERO; 3]);
+            let uv = uvs.unwrap_or([Vec2::ZERO; 3]);
+            out.shading.push(Shading {
+                n0: n[0].to_array(),
+                n1: n[1].to_array(),
+                n2: n[2].to_array(),
+                uv0: uv[0].to_array(),
+                uv1: uv[1].to_array(),
+                uv2: uv[2].to_array(),
+                ..Default::default()
+            });
+        }
+        out.features.thin_lens = scene.camera.aperture_radius > 0.0;
+        Ok(out)
+    }
+
+    /// Bytes each buffer needs, by buffer name, for limit checks and reports.
+    pub fn buffer_sizes(&self) -> [(&'static str, u64); 5] {
+        let bytes = |len: usize, size: usize| (len * size) as u64;
+        [
+            ("triangles", bytes(self.triangles.len(), size_of::<Triangle>())),
+            ("shading", bytes(self.shading.len(), size_of::<Shading>())),
+            ("materials", bytes(self.materials.len(), size_of::<gpu_types::Material>())),
+            ("texels", bytes(self.texels.len(), 4)),
+            ("bvh nodes", bytes(self.nodes.len(), size_of::<BvhNode>())),
+        ]
+    }
+}
+
+fn gpu_material(material: &Material) -> gpu_types::Material {
+    let base = gpu_types::Material { texture_offset: NO_TEXTURE, ..Default::default() };
+    match *material {
+        Material::Lambertian { albedo, .. } => gpu_types::Material { albedo, kind: material_kind::LAMBERTIAN, ..base },
+        Material::Metal { albedo, fuzz } => gpu_types::Material { albedo, kind: material_kind::METAL, param: fuzz, ..base },
+        Material::Dielectric { ior, tint } => {
+            gpu_types::Material { albedo: tint, kind: material_kind::DIELECTRIC, param: ior, ..base }
+        }
+        Material::Emissive { color, intensity } => gpu_types::Material {
+            kind: material_kind::EMISSIVE,
+            emission: color.map(|c| c * intensity),
+            ..base
+        },
+    }
+}

@@ -1,0 +1,143 @@
+//! Plain-old-data mirrors of the WGSL structs in `shaders/shared/types.wgsl`.
+//!
+//! Every type here is uploaded byte-for-byte, so each field carries its byte offset as a comment and
+//! `tests/layout.rs` checks size, alignment, member names and offsets against what naga reports.
+
+use bytemuck::{Pod, Zeroable};
+
+/// `Material.kind` values; the WGSL constants `MAT_*` must match.
+pub mod material_kind {
+    pub const LAMBERTIAN: u32 = 0;
+    pub const METAL: u32 = 1;
+    pub const DIELECTRIC: u32 = 2;
+    pub const EMISSIVE: u32 = 3;
+}
+
+/// `Material.texture_offset` when the material has no texture.
+pub const NO_TEXTURE: u32 = u32::MAX;
+
+/// One triangle's vertices in world space, in BVH leaf order.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Triangle {
+    pub v0: [f32; 3],  // 0
+    pub material: u32, // 12
+    pub v1: [f32; 3],  // 16
+    /// 1 when `Shading` holds vertex normals, 0 for flat shading.
+    pub has_normals: u32, // 28
+    pub v2: [f32; 3], // 32
+    /// 1 when `Shading` holds texture coordinates.
+    pub has_uvs: u32, // 44
+}
+
+/// Per-vertex shading attributes of the triangle with the same index.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Shading {
+    pub n0: [f32; 3], // 0
+    pub _pad0: u32,   // 12
+    pub n1: [f32; 3], // 16
+    pub _pad1: u32,   // 28
+    pub n2: [f32; 3], // 32
+    pub _pad2: u32,   // 44
+    pub uv0: [f32; 2], // 48
+    pub uv1: [f32; 2], // 56
+    pub uv2: [f32; 2], // 64
+    pub _pad3: [f32; 2], // 72
+}
+
+/// A material as the kernel sees it; `kind` selects the model (see `material_kind`).
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Material {
+    /// Lambertian albedo, metal albedo, or dielectric transmission tint.
+    pub albedo: [f32; 3], // 0
+    pub kind: u32,        // 12
+    /// Radiance emitted from the front face (any kind may emit; `EMISSIVE` also absorbs).
+    pub emission: [f32; 3], // 16
+    /// Metal: fuzz in [0, 1]. Dielectric: index of refraction.
+    pub param: f32, // 28
+    /// First texel in the texel buffer, or `NO_TEXTURE`.
+    pub texture_offset: u32, // 32
+    pub texture_width: u32,  // 36
+    pub texture_height: u32, // 40
+    pub _pad: u32,           // 44
+}
+
+/// A BVH2 node. Leaves (`count > 0`) hold triangles `first..first + count`; inner nodes (`count == 0`)
+/// have their children at `first` and `first + 1`.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BvhNode {
+    pub min: [f32; 3], // 0
+    pub first: u32,    // 12
+    pub max: [f32; 3], // 16
+    pub count: u32,    // 28
+}
+
+/// Per-dispatch parameters: camera, image and the slice of work this dispatch does.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Frame {
+    pub cam_origin: [f32; 3], // 0
+    pub lens_radius: f32,     // 12
+    pub cam_u: [f32; 3],      // 16
+    pub focus_distance: f32,  // 28
+    pub cam_v: [f32; 3],      // 32
+    pub tan_half_vfov: f32,   // 44
+    pub cam_w: [f32; 3],      // 48
+    pub aspect: f32,          // 60
+    pub ambient: [f32; 3],    // 64
+    pub max_depth: u32,       // 76
+    pub width: u32,           // 80
+    pub height: u32,          // 84
+    pub seed: u32,            // 88
+    /// Index of the first sample this dispatch adds (samples already accumulated).
+    pub sample_base: u32, // 92
+    pub samples_this_dispatch: u32, // 96
+    /// This dispatch covers image rows `row_begin..row_end`.
+    pub row_begin: u32, // 100
+    pub row_end: u32,   // 104
+    pub _pad: u32,      // 108
+}
+
+/// A ray for the `trace_rays` test kernel.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Ray {
+    pub origin: [f32; 3],    // 0
+    pub t_max: f32,          // 12
+    pub direction: [f32; 3], // 16
+    pub _pad: f32,           // 28
+}
+
+/// The nearest hit of a `Ray`; `triangle == u32::MAX` for a miss.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Hit {
+    pub t: f32,        // 0
+    pub triangle: u32, // 4
+    pub b1: f32,       // 8
+    pub b2: f32,       // 12
+}
+
+/// Name, size, alignment and member offsets of every GPU struct, for the layout test.
+pub fn layouts() -> Vec<(&'static str, usize, usize, Vec<(&'static str, usize)>)> {
+    use std::mem::{align_of, offset_of, size_of};
+    macro_rules! layout {
+        ($name:literal, $ty:ty, [$($field:ident),*]) => {
+            ($name, size_of::<$ty>(), align_of::<$ty>(),
+             vec![$((stringify!($field), offset_of!($ty, $field))),*])
+        };
+    }
+    vec![
+        layout!("Triangle", Triangle, [v0, material, v1, has_normals, v2, has_uvs]),
+        layout!("Shading", Shading, [n0, _pad0, n1, _pad1, n2, _pad2, uv0, uv1, uv2, _pad3]),
+        layout!("Material", Material, [albedo, kind, emission, param, texture_offset, texture_width, texture_height, _pad]),
+        layout!("BvhNode", BvhNode, [min, first, max, count]),
+        layout!("Frame", Frame, [cam_origin, lens_radius, cam_u, focus_distance, cam_v, tan_half_vfov, cam_w, aspect,
+            ambient, max_depth, width, height, seed, sample_base, samples_this_dispatch, row_begin, row_end, _pad]),
+        layout!("Ray", Ray, [origin, t_max, direction, _pad]),
+        layout!("Hit", Hit, [t, triangle, b1, b2]),
+    ]
+}

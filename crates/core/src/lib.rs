@@ -1,0 +1,21 @@
+//! rt's core: the scene model, loaders, BVH construction, the GPU data layout, and a CPU reference
+//! of the kernel's estimator. Nothing here depends on wgpu.
+
+pub mod assets;
+pub mod bvh;
+pub mod camera;
+pub mod error;
+pub mod frame;
+pub mod gpu_scene;
+pub mod gpu_types;
+pub mod io;
+pub mod material;
+pub mod reference;
+pub mod scene;
+pub mod shapes;
+
+pub use camera::Camera;
+pub use error::{Error, Result};
+pub use gpu_scene::{GpuScene, SceneFeatures};
+pub use material::Material;
+pub use scene::{Mesh, Object, RenderSettings, Scene, Texture, Transform};

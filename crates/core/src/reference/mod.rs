@@ -1,0 +1,228 @@
+//! A scalar CPU path tracer implementing the same estimator as `shaders/trace.wgsl`, with the same
+//! random-number streams and the same data (`GpuScene`, `Frame`), used by tests as ground truth.
+//!
+//! The estimator is the unidirectional path-tracing sum
+//!   L ≈ Σ_{k=0}^{max_depth−1} β_k L_e(x_k → x_{k−1}),  β_{k+1} = β_k · f(x_k) cosθ / p(ω),
+//! where each BSDF is sampled so that f·cosθ/p is its albedo (see `material::Material`), L_e is the
+//! front-face emission of the surface hit (or the ambient radiance for a ray that leaves the scene),
+//! and a path stops at an emitter, on absorption, or after `max_depth` segments.
+
+pub mod intersect;
+pub mod rng;
+pub mod sampling;
+
+use glam::{Vec2, Vec3};
+
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::{Frame, Hit, NO_TEXTURE, material_kind};
+use intersect::{PreparedRay, intersect_box, intersect_triangle, offset_ray_origin};
+use rng::Rng;
+use sampling::*;
+
+const MISS: u32 = u32::MAX;
+
+/// Nearest hit through the BVH, as `intersect_scene` in `bvh.wgsl` computes it.
+pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+    let ray = PreparedRay::new(origin, direction);
+    let mut hit = Hit { t: t_max, triangle: MISS, b1: 0.0, b2: 0.0 };
+    let root = &scene.nodes[0];
+    if intersect_box(&ray, root.min.into(), root.max.into(), hit.t).is_none() {
+        return hit;
+    }
+    let mut stack = Vec::with_capacity(64);
+    let mut index = 0usize;
+    loop {
+        let node = &scene.nodes[index];
+        if node.count > 0 {
+            for i in node.first..node.first + node.count {
+                let tri = &scene.triangles[i as usize];
+                if let Some((t, b1, b2)) = intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t) {
+                    hit = Hit { t, triangle: i, b1, b2 };
+                }
+            }
+        } else {
+            let (l, r) = (node.first as usize, node.first as usize + 1);
+            let (nl, nr) = (&scene.nodes[l], &scene.nodes[r]);
+            let tl = intersect_box(&ray, nl.min.into(), nl.max.into(), hit.t);
+            let tr = intersect_box(&ray, nr.min.into(), nr.max.into(), hit.t);
+            match (tl, tr) {
+                (Some(a), Some(b)) => {
+                    let (near, far) = if a <= b { (l, r) } else { (r, l) };
+                    stack.push(far);
+                    index = near;
+                    continue;
+                }
+                (Some(_), None) => {
+                    index = l;
+                    continue;
+                }
+                (None, Some(_)) => {
+                    index = r;
+                    continue;
+                }
+                (None, None) => {}
+            }
+        }
+        let Some(next) = stack.pop() else { break };
+        index = next;
+    }
+    hit
+}
+
+/// Nearest hit by testing every triangle (for checking `trace`).
+pub fn trace_brute_force(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+    let ray = PreparedRay::new(origin, direction);
+    let mut hit = Hit { t: t_max, triangle: MISS, b1: 0.0, b2: 0.0 };
+    for (i, tri) in scene.triangles.iter().enumerate() {
+        if let Some((t, b1, b2)) = intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t) {
+            hit = Hit { t, triangle: i as u32, b1, b2 };
+        }
+    }
+    hit
+}
+
+/// The camera ray through a jittered point of pixel (x, y): box pixel filter, thin lens when
+/// `lens_radius > 0`.
+pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) {
+    let jx = rng.next_f32();
+    let jy = rng.next_f32();
+    let sx = (2.0 * (x as f32 + jx) / frame.width as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
+    let sy = (1.0 - 2.0 * (y as f32 + jy) / frame.height as f32) * frame.tan_half_vfov;
+    let (u, v, w) = (Vec3::from(frame.cam_u), Vec3::from(frame.cam_v), Vec3::from(frame.cam_w));
+    let origin = Vec3::from(frame.cam_origin);
+    let direction = (sx * u + sy * v - w).normalize();
+    if frame.lens_radius <= 0.0 {
+        return (origin, direction);
+    }
+    let focus = origin + direction * (frame.focus_distance / direction.dot(-w));
+    let (dx, dy) = sample_disk(rng);
+    let lens_origin = origin + frame.lens_radius * (dx * u + dy * v);
+    (lens_origin, (focus - lens_origin).normalize())
+}
+
+fn texel(scene: &GpuScene, offset: u32, w: u32, h: u32, x: i32, y: i32) -> Vec3 {
+    let xi = x.rem_euclid(w as i32) as u32;
+    let yi = y.rem_euclid(h as i32) as u32;
+    let p = scene.texels[(offset + yi * w + xi) as usize].to_le_bytes();
+    Vec3::new(srgb_to_linear(p[0] as f32 / 255.0), srgb_to_linear(p[1] as f32 / 255.0), srgb_to_linear(p[2] as f32 / 255.0))
+}
+
+/// Bilinear, repeating texture lookup; `uv.y` = 0 is the bottom row of the image (OBJ convention).
+pub fn sample_texture(scene: &GpuScene, offset: u32, w: u32, h: u32, uv: Vec2) -> Vec3 {
+    let x = uv.x * w as f32 - 0.5;
+    let y = (1.0 - uv.y) * h as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let (xi, yi) = (x0 as i32, y0 as i32);
+    let top = texel(scene, offset, w, h, xi, yi).lerp(texel(scene, offset, w, h, xi + 1, yi), fx);
+    let bottom = texel(scene, offset, w, h, xi, yi + 1).lerp(texel(scene, offset, w, h, xi + 1, yi + 1), fx);
+    top.lerp(bottom, fy)
+}
+
+/// One path's radiance estimate for pixel (x, y), sample `sample`.
+pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
+    let mut rng = Rng::new(y * frame.width + x, sample, frame.seed);
+    let (mut origin, mut direction) = camera_ray(frame, x, y, &mut rng);
+    let mut beta = Vec3::ONE;
+    let mut radiance = Vec3::ZERO;
+    for depth in 0..frame.max_depth {
+        let hit = trace(scene, origin, direction, f32::MAX);
+        if hit.triangle == MISS {
+            radiance += beta * Vec3::from(frame.ambient);
+            break;
+        }
+        let tri = &scene.triangles[hit.triangle as usize];
+        let material = &scene.materials[tri.material as usize];
+        let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+        let ng_raw = (v1 - v0).cross(v2 - v0);
+        let front = direction.dot(ng_raw) < 0.0;
+        if front {
+            radiance += beta * Vec3::from(material.emission);
+        }
+        if material.kind == material_kind::EMISSIVE || depth + 1 >= frame.max_depth {
+            break;
+        }
+        let b0 = 1.0 - hit.b1 - hit.b2;
+        let p = v0 * b0 + v1 * hit.b1 + v2 * hit.b2;
+        let ng = if front { ng_raw.normalize() } else { -ng_raw.normalize() };
+        let shading = &scene.shading[hit.triangle as usize];
+        let mut ns = ng;
+        if tri.has_normals != 0 {
+            let n = Vec3::from(shading.n0) * b0 + Vec3::from(shading.n1) * hit.b1 + Vec3::from(shading.n2) * hit.b2;
+            let n = n.normalize();
+            ns = if n.dot(ng) < 0.0 { -n } else { n };
+        }
+        let albedo = if material.texture_offset != NO_TEXTURE && tri.has_uvs != 0 {
+            let uv = Vec2::from(shading.uv0) * b0 + Vec2::from(shading.uv1) * hit.b1 + Vec2::from(shading.uv2) * hit.b2;
+            sample_texture(scene, material.texture_offset, material.texture_width, material.texture_height, uv)
+        } else {
+            Vec3::from(material.albedo)
+        };
+        let next = match material.kind {
+            material_kind::METAL => {
+                let fuzz = sample_unit_ball(&mut rng) * material.param;
+                let d = (reflect(direction, ns) + fuzz).normalize();
+                beta *= albedo;
+                d
+            }
+            material_kind::DIELECTRIC => {
+                let eta = if front { material.param } else { 1.0 / material.param };
+                let cos_i = -direction.dot(ns);
+                let f = fresnel_dielectric(cos_i, eta);
+                if rng.next_f32() < f {
+                    reflect(direction, ns)
+                } else {
+                    beta *= albedo / (eta * eta);
+                    refract(direction, ns, eta)
+                }
+            }
+            _ => {
+                beta *= albedo;
+                sample_cosine_hemisphere(ns, &mut rng)
+            }
+        };
+        let side = next.dot(ng);
+        if side == 0.0 || !next.is_finite() {
+            break;
+        }
+        // Transmission continues below the surface, reflection above it.
+        let transmitted = side < 0.0;
+        if transmitted && material.kind != material_kind::DIELECTRIC {
+            break;
+        }
+        origin = offset_ray_origin(p, if transmitted { -ng } else { ng });
+        direction = next;
+    }
+    radiance
+}
+
+/// Per-pixel mean and unbiased sample variance of each channel.
+pub struct ReferenceImage {
+    pub width: u32,
+    pub height: u32,
+    pub mean: Vec<[f32; 3]>,
+    pub variance: Vec<[f32; 3]>,
+}
+
+/// Renders samples `0..spp` of every pixel (needs `spp >= 2` for a variance).
+pub fn render(scene: &GpuScene, frame: &Frame, spp: u32) -> ReferenceImage {
+    let n = (frame.width * frame.height) as usize;
+    let mut mean = vec![[0.0f32; 3]; n];
+    let mut variance = vec![[0.0f32; 3]; n];
+    for y in 0..frame.height {
+        for x in 0..frame.width {
+            let i = (y * frame.width + x) as usize;
+            let (mut sum, mut sum_sq) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
+            for s in 0..spp {
+                let l = radiance(scene, frame, x, y, s).as_dvec3();
+                sum += l;
+                sum_sq += l * l;
+            }
+            let m = sum / spp as f64;
+            let var = (sum_sq - sum * m) / (spp.max(2) - 1) as f64;
+            mean[i] = m.as_vec3().to_array();
+            variance[i] = var.max(glam::DVec3::ZERO).as_vec3().to_array();
+        }
+    }
+    ReferenceImage { width: frame.width, height: frame.height, mean, variance }
+}

@@ -1,0 +1,96 @@
+//! Sampling and shading formulas, mirrored one-to-one in `shaders/shared/sampling.wgsl`.
+
+use glam::Vec3;
+
+use super::rng::Rng;
+
+/// An orthonormal basis around unit `n` (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
+pub fn onb(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1.0f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+}
+
+/// Cosine-weighted direction about `n`: pdf = cosθ/π (Malley's method).
+pub fn sample_cosine_hemisphere(n: Vec3, rng: &mut Rng) -> Vec3 {
+    let u1 = rng.next_f32();
+    let u2 = rng.next_f32();
+    let r = u1.sqrt();
+    let phi = std::f32::consts::TAU * u2;
+    let (t, b) = onb(n);
+    (t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()).normalize()
+}
+
+/// Uniform point in the unit ball (for metal fuzz): direction uniform on the sphere, radius ∛u.
+pub fn sample_unit_ball(rng: &mut Rng) -> Vec3 {
+    let z = 1.0 - 2.0 * rng.next_f32();
+    let phi = std::f32::consts::TAU * rng.next_f32();
+    let radius = rng.next_f32().cbrt();
+    let s = (1.0 - z * z).max(0.0).sqrt();
+    Vec3::new(s * phi.cos(), s * phi.sin(), z) * radius
+}
+
+/// Uniform point on the unit disk (thin lens), by polar mapping.
+pub fn sample_disk(rng: &mut Rng) -> (f32, f32) {
+    let r = rng.next_f32().sqrt();
+    let phi = std::f32::consts::TAU * rng.next_f32();
+    (r * phi.cos(), r * phi.sin())
+}
+
+/// Exact unpolarised Fresnel reflectance of a smooth dielectric; `eta` = n_transmitted / n_incident,
+/// `cos_i` the cosine on the incident side. Returns 1 under total internal reflection.
+pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
+    let r_parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r_perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    0.5 * (r_parallel * r_parallel + r_perpendicular * r_perpendicular)
+}
+
+/// Refraction of unit `d` through a surface with unit normal `n` facing the incident side.
+pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Vec3 {
+    let cos_i = -d.dot(n);
+    let sin2_t = (1.0 - cos_i * cos_i).max(0.0) / (eta * eta);
+    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
+    (d / eta + n * (cos_i / eta - cos_t)).normalize()
+}
+
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+/// sRGB transfer function, decoding an 8-bit value to linear.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+pub fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fresnel_normal_incidence_is_four_percent_for_glass() {
+        assert!((fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-6);
+        assert!((fresnel_dielectric(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
+        assert_eq!(fresnel_dielectric(0.1, 1.0 / 1.5), 1.0, "total internal reflection");
+        assert!(fresnel_dielectric(0.5, 1.0).abs() < 1e-7, "index-matched interface reflects nothing");
+    }
+
+    #[test]
+    fn onb_is_orthonormal() {
+        for n in [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(1.0, 2.0, -3.0).normalize()] {
+            let (t, b) = onb(n);
+            assert!(t.dot(n).abs() < 1e-6 && b.dot(n).abs() < 1e-6 && t.dot(b).abs() < 1e-6);
+            assert!((t.length() - 1.0).abs() < 1e-6 && (b.length() - 1.0).abs() < 1e-6);
+        }
+    }
+}

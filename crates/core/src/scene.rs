@@ -1,0 +1,144 @@
+//! The scene document: objects (mesh + material + transform), textures, camera, ambient light and
+//! render settings. This is what loaders produce, the editor edits and projects save.
+
+use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::camera::Camera;
+use crate::material::{Material, Rgb};
+
+/// A triangle mesh in object space. `normals` and `uvs`, when present, have one entry per position.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Option<Vec<Vec3>>,
+    pub uvs: Option<Vec<Vec2>>,
+    /// Counter-clockwise triangles (the front face), indexing `positions`.
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// Object-to-world transform: scale, then rotate (XYZ Euler angles in degrees), then translate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Transform {
+    pub translation: [f32; 3],
+    pub rotation_deg: [f32; 3],
+    pub scale: [f32; 3],
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform { translation: [0.0; 3], rotation_deg: [0.0; 3], scale: [1.0; 3] }
+    }
+}
+
+impl Transform {
+    pub fn matrix(&self) -> Mat4 {
+        let [rx, ry, rz] = self.rotation_deg.map(f32::to_radians);
+        Mat4::from_scale_rotation_translation(
+            Vec3::from(self.scale),
+            Quat::from_euler(glam::EulerRot::XYZ, rx, ry, rz),
+            Vec3::from(self.translation),
+        )
+    }
+
+    /// The matrix that transforms normals (inverse transpose of the linear part).
+    pub fn normal_matrix(&self) -> Mat3 {
+        Mat3::from_mat4(self.matrix()).inverse().transpose()
+    }
+
+    pub fn is_identity(&self) -> bool {
+        *self == Transform::default()
+    }
+}
+
+/// One renderable object.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Object {
+    pub name: String,
+    pub mesh: Mesh,
+    pub material: Material,
+    #[serde(default)]
+    pub transform: Transform,
+}
+
+/// An RGBA8 image in sRGB encoding, referenced by `Material::Lambertian::texture`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Texture {
+    /// Where it came from (for messages and saving).
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    #[serde(skip)]
+    pub rgba8: Vec<u8>,
+}
+
+/// Image size, sample count and path length.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub samples_per_pixel: u32,
+    /// Ray segments per path: 1 shows emitters seen directly, 2 adds direct lighting, and so on.
+    pub max_depth: u32,
+    pub seed: u32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings { width: 512, height: 512, samples_per_pixel: 64, max_depth: 8, seed: 0 }
+    }
+}
+
+/// Largest image side rt accepts (the framebuffer also has to fit the adapter's storage limits).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+impl RenderSettings {
+    pub fn validate(&self) -> Result<(), String> {
+        if self.width == 0 || self.height == 0 {
+            return Err(format!("image size must be at least 1x1, got {}x{}", self.width, self.height));
+        }
+        if self.width > MAX_IMAGE_SIDE || self.height > MAX_IMAGE_SIDE {
+            return Err(format!(
+                "image size {}x{} exceeds the limit of {MAX_IMAGE_SIDE} pixels per side",
+                self.width, self.height
+            ));
+        }
+        if self.samples_per_pixel == 0 {
+            return Err("samples per pixel must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// A whole scene.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    pub objects: Vec<Object>,
+    pub textures: Vec<Texture>,
+    pub camera: Camera,
+    /// Radiance of rays that leave the scene (a constant environment).
+    pub ambient: Rgb,
+    pub settings: RenderSettings,
+}
+
+impl Scene {
+    pub fn triangle_count(&self) -> usize {
+        self.objects.iter().map(|o| o.mesh.indices.len()).sum()
+    }
+
+    /// World-space bounds of all objects, or `None` for an empty scene.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut bounds: Option<(Vec3, Vec3)> = None;
+        for object in &self.objects {
+            let m = object.transform.matrix();
+            for p in &object.mesh.positions {
+                let p = m.transform_point3(*p);
+                bounds = Some(match bounds {
+                    None => (p, p),
+                    Some((lo, hi)) => (lo.min(p), hi.max(p)),
+                });
+            }
+        }
+        bounds
+    }
+}

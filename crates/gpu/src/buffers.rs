@@ -1,0 +1,47 @@
+//! Storage buffers for a `GpuScene`, checked against the adapter's limits, and readback.
+
+use wgpu::util::DeviceExt;
+
+use crate::context::GpuContext;
+use crate::error::{GpuError, Result};
+
+/// Creates a storage buffer from `data`, padded to at least 16 bytes (wgpu rejects empty bindings).
+pub fn storage_buffer<T: bytemuck::Pod>(ctx: &GpuContext, name: &'static str, data: &[T], extra: wgpu::BufferUsages) -> Result<wgpu::Buffer> {
+    let mut bytes = bytemuck::cast_slice::<T, u8>(data).to_vec();
+    let element = size_of::<T>().max(16);
+    if bytes.len() < element {
+        bytes.resize(element, 0);
+    }
+    ctx.check_buffer(name, bytes.len() as u64)?;
+    ctx.scoped(|| {
+        ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(name),
+            contents: &bytes,
+            usage: wgpu::BufferUsages::STORAGE | extra,
+        })
+    })
+}
+
+/// Copies `size` bytes of `buffer` back to the CPU and waits for them.
+pub fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+    ctx.queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Wgpu(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| GpuError::Wgpu(e.to_string()))?
+        .map_err(|e| GpuError::Wgpu(format!("reading back results: {e}")))?;
+    let data = staging.get_mapped_range(..).map_err(|e| GpuError::Wgpu(e.to_string()))?.to_vec();
+    staging.unmap();
+    Ok(data)
+}

@@ -1,0 +1,122 @@
+//! Adapter and device selection.
+
+use std::collections::HashMap;
+use std::sync::Mutex;
+
+use crate::error::{GpuError, Result};
+
+/// Which adapter to use.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum AdapterChoice {
+    /// A discrete or integrated GPU if there is one, else whatever exists (e.g. lavapipe).
+    #[default]
+    Auto,
+    /// A CPU (software) adapter such as Mesa lavapipe: repeatable results, used by tests.
+    Cpu,
+    /// The first adapter whose name contains this text (case-insensitive).
+    Named(String),
+}
+
+impl std::str::FromStr for AdapterChoice {
+    type Err = std::convert::Infallible;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Ok(match s.to_ascii_lowercase().as_str() {
+            "auto" | "" => AdapterChoice::Auto,
+            "cpu" | "lavapipe" | "llvmpipe" => AdapterChoice::Cpu,
+            _ => AdapterChoice::Named(s.to_string()),
+        })
+    }
+}
+
+/// An open device with its queue, and the pipelines built on it so far.
+pub struct GpuContext {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub(crate) pipelines: Mutex<HashMap<crate::pipelines::PipelineKey, wgpu::ComputePipeline>>,
+}
+
+impl GpuContext {
+    pub fn new(choice: &AdapterChoice) -> Result<Self> {
+        pollster::block_on(Self::new_async(choice))
+    }
+
+    async fn new_async(choice: &AdapterChoice) -> Result<Self> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapters = instance.enumerate_adapters(wgpu::Backends::all()).await;
+        let names: Vec<String> =
+            adapters.iter().map(|a| format!("{} ({:?})", a.get_info().name, a.get_info().backend)).collect();
+        let rank = |a: &wgpu::Adapter| {
+            let info = a.get_info();
+            // Prefer Vulkan/Metal/DX12 over GL, then by device type.
+            let backend = if info.backend == wgpu::Backend::Gl { 0 } else { 1 };
+            let kind = match (choice, info.device_type) {
+                (AdapterChoice::Cpu, wgpu::DeviceType::Cpu) => 4,
+                (AdapterChoice::Cpu, _) => 0,
+                (_, wgpu::DeviceType::DiscreteGpu) => 4,
+                (_, wgpu::DeviceType::IntegratedGpu) => 3,
+                (_, wgpu::DeviceType::VirtualGpu) => 2,
+                (_, wgpu::DeviceType::Cpu) => 1,
+                _ => 0,
+            };
+            kind * 2 + backend
+        };
+        let adapter = match choice {
+            AdapterChoice::Named(name) => {
+                let needle = name.to_ascii_lowercase();
+                adapters.into_iter().find(|a| a.get_info().name.to_ascii_lowercase().contains(&needle))
+            }
+            AdapterChoice::Cpu => adapters.into_iter().filter(|a| a.get_info().device_type == wgpu::DeviceType::Cpu).max_by_key(rank),
+            AdapterChoice::Auto => adapters.into_iter().max_by_key(rank),
+        };
+        let Some(adapter) = adapter else {
+            let found = if names.is_empty() { "none".to_string() } else { names.join(", ") };
+            return Err(GpuError::NoAdapter(format!(
+                " matching {choice:?} (adapters found: {found}); on Debian/Ubuntu install a Vulkan driver, e.g. `sudo apt-get install -y mesa-vulkan-drivers`"
+            )));
+        };
+        let info = adapter.get_info();
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("rt"),
+                required_limits: adapter.limits(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        log::info!("adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
+        Ok(GpuContext { adapter, device, queue, info, pipelines: Mutex::new(HashMap::new()) })
+    }
+
+    /// "name (backend)" for summaries.
+    pub fn adapter_label(&self) -> String {
+        format!("{} ({:?})", self.info.name, self.info.backend)
+    }
+
+    /// Checks one buffer against the binding and buffer size limits.
+    pub fn check_buffer(&self, buffer: &'static str, size: u64) -> Result<()> {
+        let limits = self.device.limits();
+        let binding = u64::from(limits.max_storage_buffer_binding_size);
+        if size > binding {
+            return Err(GpuError::TooLarge { buffer, size, limit: binding, what: "max_storage_buffer_binding_size" });
+        }
+        if size > limits.max_buffer_size {
+            return Err(GpuError::TooLarge { buffer, size, limit: limits.max_buffer_size, what: "max_buffer_size" });
+        }
+        Ok(())
+    }
+
+    /// Runs `f` and turns any wgpu validation or out-of-memory error it caused into `GpuError::Wgpu`.
+    pub fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f();
+        let v = pollster::block_on(validation.pop());
+        let o = pollster::block_on(oom.pop());
+        match v.or(o) {
+            Some(e) => Err(GpuError::Wgpu(e.to_string())),
+            None => Ok(value),
+        }
+    }
+}

@@ -1,0 +1,22 @@
+//! Errors of the GPU layer.
+
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter matched (or none exists at all).
+    #[error("no GPU adapter found{0}")]
+    NoAdapter(String),
+    /// The device could not be created.
+    #[error("could not open the GPU device: {0}")]
+    Device(String),
+    /// A buffer the scene needs exceeds one of the adapter's limits.
+    #[error("the {buffer} buffer needs {size} bytes but this adapter allows at most {limit} bytes ({what})")]
+    TooLarge { buffer: &'static str, size: u64, limit: u64, what: &'static str },
+    /// wgpu reported a validation or out-of-memory error, or the device was lost.
+    #[error("GPU error: {0}")]
+    Wgpu(String),
+    /// The scene or its settings are invalid.
+    #[error(transparent)]
+    Scene(#[from] rt_core::Error),
+}
+
+pub type Result<T, E = GpuError> = std::result::Result<T, E>;

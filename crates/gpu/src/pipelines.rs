@@ -1,0 +1,72 @@
+//! Compute pipelines, specialised per scene feature set with override constants and cached on the
+//! context, so a scene that uses no metal or glass runs (and compiles) a kernel without them.
+
+use rt_core::SceneFeatures;
+
+use crate::context::GpuContext;
+use crate::error::Result;
+use crate::shaders;
+
+/// What a trace pipeline is specialised for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    pub features: SceneFeatures,
+    pub count_rays: bool,
+}
+
+impl PipelineKey {
+    fn constants(&self) -> [(&'static str, f64); 5] {
+        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        [
+            ("HAS_TEXTURES", flag(self.features.textures)),
+            ("HAS_METAL", flag(self.features.metal)),
+            ("HAS_DIELECTRIC", flag(self.features.dielectric)),
+            ("HAS_THIN_LENS", flag(self.features.thin_lens)),
+            ("COUNT_RAYS", flag(self.count_rays)),
+        ]
+    }
+}
+
+/// The trace pipeline for `key`, built on first use.
+pub fn trace_pipeline(ctx: &GpuContext, key: PipelineKey) -> Result<wgpu::ComputePipeline> {
+    if let Some(p) = ctx.pipelines.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return Ok(p.clone());
+    }
+    let started = std::time::Instant::now();
+    let pipeline = ctx.scoped(|| {
+        let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("trace"),
+            source: wgpu::ShaderSource::Wgsl(shaders::TRACE.source().into()),
+        });
+        let constants = key.constants();
+        ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("trace"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            cache: None,
+        })
+    })?;
+    log::info!("compiled trace pipeline {key:?} in {:.2?}", started.elapsed());
+    ctx.pipelines.lock().unwrap_or_else(|e| e.into_inner()).insert(key, pipeline.clone());
+    Ok(pipeline)
+}
+
+/// The ray-query pipeline used by tests to check BVH traversal.
+pub fn trace_rays_pipeline(ctx: &GpuContext) -> Result<wgpu::ComputePipeline> {
+    ctx.scoped(|| {
+        let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("trace_rays"),
+            source: wgpu::ShaderSource::Wgsl(shaders::TRACE_RAYS.source().into()),
+        });
+        ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("trace_rays"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })
+}

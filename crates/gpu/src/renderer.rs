@@ -1,0 +1,275 @@
+//! Progressive rendering: each `render_batch` adds samples to every pixel through one or more short
+//! dispatches, so a render can be stopped, cancelled or read back after any batch.
+
+use std::time::{Duration, Instant};
+
+use rt_core::gpu_types::Frame;
+use rt_core::{GpuScene, Scene};
+use wgpu::util::DeviceExt;
+
+use crate::buffers::{read_buffer, storage_buffer};
+use crate::context::GpuContext;
+use crate::error::{GpuError, Result};
+use crate::pipelines::{PipelineKey, trace_pipeline};
+
+/// Dispatch sizing: each dispatch should take about `target_dispatch`, well under the ~100 ms at
+/// which operating systems start to suspect a hung GPU.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderOptions {
+    pub target_dispatch: Duration,
+    /// Count rays in the kernel (benchmarks); compiled out otherwise.
+    pub count_rays: bool,
+    /// Upper bound on samples per pixel in one dispatch; `None` derives it from the loop budget.
+    pub max_samples_per_dispatch: Option<u32>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions { target_dispatch: Duration::from_millis(40), count_rays: false, max_samples_per_dispatch: None }
+    }
+}
+
+/// Mesa's lavapipe runs at most 65,535 loop iterations per invocation, over all loops, and then
+/// silently cuts every loop short. Keep the estimated iterations of one dispatch well under it.
+const LOOP_BUDGET: u32 = 16_384;
+
+/// A rendered image: per pixel, the mean radiance (rgb) and mean squared luminance (a).
+#[derive(Clone, Debug)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub samples_per_pixel: u32,
+    pub pixels: Vec<[f32; 4]>,
+}
+
+impl Image {
+    pub fn rgb(&self) -> Vec<[f32; 3]> {
+        self.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect()
+    }
+
+    /// Mean of each channel over the image.
+    pub fn channel_means(&self) -> [f64; 3] {
+        let mut sum = [0.0f64; 3];
+        for p in &self.pixels {
+            for c in 0..3 {
+                sum[c] += f64::from(p[c]);
+            }
+        }
+        sum.map(|s| s / self.pixels.len().max(1) as f64)
+    }
+}
+
+/// What one batch did.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BatchStats {
+    pub samples: u32,
+    pub dispatches: u32,
+    pub longest_dispatch: Duration,
+}
+
+pub struct Renderer<'a> {
+    ctx: &'a GpuContext,
+    pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+    frame_buffer: wgpu::Buffer,
+    accum: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    frame: Frame,
+    options: RenderOptions,
+    samples_done: u32,
+    samples_per_dispatch: u32,
+    rows_per_dispatch: u32,
+    loop_cap: u32,
+    rays: u64,
+    dropped_samples: u64,
+    longest_dispatch: Duration,
+    pub triangles: usize,
+}
+
+impl<'a> Renderer<'a> {
+    /// Prepares a render of `scene` (camera and settings from the scene).
+    pub fn for_scene(ctx: &'a GpuContext, scene: &Scene, gpu_scene: &GpuScene, options: RenderOptions) -> Result<Self> {
+        let frame = rt_core::frame::frame_for(scene)?;
+        Self::new(ctx, gpu_scene, frame, options)
+    }
+
+    pub fn new(ctx: &'a GpuContext, scene: &GpuScene, frame: Frame, options: RenderOptions) -> Result<Self> {
+        let pixels = u64::from(frame.width) * u64::from(frame.height);
+        let accum_size = pixels * 16;
+        ctx.check_buffer("accumulation (width x height x 16 bytes)", accum_size)?;
+        let mut features = scene.features;
+        features.thin_lens = frame.lens_radius > 0.0;
+        let pipeline = trace_pipeline(ctx, PipelineKey { features, count_rays: options.count_rays })?;
+        let buffers = [
+            storage_buffer(ctx, "triangles", &scene.triangles, wgpu::BufferUsages::empty())?,
+            storage_buffer(ctx, "shading", &scene.shading, wgpu::BufferUsages::empty())?,
+            storage_buffer(ctx, "materials", &scene.materials, wgpu::BufferUsages::empty())?,
+            storage_buffer(ctx, "bvh nodes", &scene.nodes, wgpu::BufferUsages::empty())?,
+            storage_buffer(ctx, "texels", &scene.texels, wgpu::BufferUsages::empty())?,
+        ];
+        let (frame_buffer, accum, counters, bind_group) = ctx.scoped(|| {
+            let frame_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("frame"),
+                contents: bytemuck::bytes_of(&frame),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            });
+            let accum = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("accumulation"),
+                size: accum_size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let counters = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("counters"),
+                size: 8,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() }];
+            for (i, b) in buffers.iter().enumerate() {
+                entries.push(wgpu::BindGroupEntry { binding: i as u32 + 1, resource: b.as_entire_binding() });
+            }
+            entries.push(wgpu::BindGroupEntry { binding: 6, resource: accum.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry { binding: 7, resource: counters.as_entire_binding() });
+            let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("trace"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
+            (frame_buffer, accum, counters, bind_group)
+        })?;
+        let steps_per_segment = 4 * scene.bvh_depth as u32 + 16;
+        let loop_cap = (LOOP_BUDGET / (frame.max_depth.max(1) * steps_per_segment)).clamp(1, 64);
+        let loop_cap = options.max_samples_per_dispatch.map_or(loop_cap, |m| m.max(1));
+        Ok(Renderer {
+            ctx,
+            pipeline,
+            bind_group,
+            frame_buffer,
+            accum,
+            counters,
+            frame,
+            options,
+            samples_done: 0,
+            samples_per_dispatch: 1,
+            // Start with a small band to measure the cost safely, then grow.
+            rows_per_dispatch: frame.height.min(32),
+            loop_cap,
+            rays: 0,
+            dropped_samples: 0,
+            longest_dispatch: Duration::ZERO,
+            triangles: scene.triangles.len(),
+        })
+    }
+
+    pub fn samples_done(&self) -> u32 {
+        self.samples_done
+    }
+
+    /// Rays traced so far (only counted with `RenderOptions::count_rays`).
+    pub fn rays_traced(&self) -> u64 {
+        self.rays
+    }
+
+    /// Samples that came out NaN or infinite and were dropped (counted as black).
+    pub fn dropped_samples(&self) -> u64 {
+        self.dropped_samples
+    }
+
+    pub fn longest_dispatch(&self) -> Duration {
+        self.longest_dispatch
+    }
+
+    /// Adds up to `max_samples` samples to every pixel; returns what was done.
+    pub fn render_batch(&mut self, max_samples: u32) -> Result<BatchStats> {
+        let samples = max_samples.min(self.samples_per_dispatch).max(1);
+        let mut stats = BatchStats { samples, ..Default::default() };
+        let mut row = 0;
+        let mut slowest_rate = 0.0f64; // seconds per (sample x row)
+        while row < self.frame.height {
+            let rows = self.rows_per_dispatch.min(self.frame.height - row);
+            let elapsed = self.dispatch(row, rows, samples)?;
+            stats.dispatches += 1;
+            stats.longest_dispatch = stats.longest_dispatch.max(elapsed);
+            slowest_rate = slowest_rate.max(elapsed.as_secs_f64() / f64::from(samples * rows));
+            row += rows;
+        }
+        self.samples_done += samples;
+        self.longest_dispatch = self.longest_dispatch.max(stats.longest_dispatch);
+        self.read_counters()?;
+        self.adapt(slowest_rate);
+        Ok(stats)
+    }
+
+    /// Chooses rows and samples per dispatch so one dispatch takes about the target time.
+    fn adapt(&mut self, seconds_per_sample_row: f64) {
+        if seconds_per_sample_row <= 0.0 {
+            return;
+        }
+        let budget = self.options.target_dispatch.as_secs_f64() / seconds_per_sample_row;
+        let height = f64::from(self.frame.height);
+        if budget >= height {
+            self.rows_per_dispatch = self.frame.height;
+            self.samples_per_dispatch = ((budget / height) as u32).clamp(1, self.loop_cap);
+        } else {
+            self.samples_per_dispatch = 1;
+            self.rows_per_dispatch = (budget as u32).clamp(1, self.frame.height);
+        }
+    }
+
+    fn dispatch(&mut self, row_begin: u32, rows: u32, samples: u32) -> Result<Duration> {
+        let frame = Frame {
+            sample_base: self.samples_done,
+            samples_this_dispatch: samples,
+            row_begin,
+            row_end: row_begin + rows,
+            ..self.frame
+        };
+        let started = Instant::now();
+        self.ctx.scoped(|| {
+            self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
+            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.dispatch_workgroups(self.frame.width.div_ceil(8), rows.div_ceil(8), 1);
+            }
+            self.ctx.queue.submit([encoder.finish()]);
+        })?;
+        self.ctx.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Wgpu(e.to_string()))?;
+        Ok(started.elapsed())
+    }
+
+    fn read_counters(&mut self) -> Result<()> {
+        let bytes = read_buffer(self.ctx, &self.counters, 8)?;
+        let counts: [u32; 2] = bytemuck::pod_read_unaligned(&bytes);
+        self.rays += u64::from(counts[0]);
+        self.dropped_samples += u64::from(counts[1]);
+        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        encoder.clear_buffer(&self.counters, 0, None);
+        self.ctx.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    /// Renders until every pixel has `spp` samples, calling `progress(samples_done)` after each batch;
+    /// `progress` returning false stops early (the image so far stays readable).
+    pub fn render(&mut self, spp: u32, mut progress: impl FnMut(u32) -> bool) -> Result<()> {
+        while self.samples_done < spp {
+            self.render_batch(spp - self.samples_done)?;
+            if !progress(self.samples_done) {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// The accumulated image so far.
+    pub fn read_image(&self) -> Result<Image> {
+        let size = u64::from(self.frame.width) * u64::from(self.frame.height) * 16;
+        let bytes = read_buffer(self.ctx, &self.accum, size)?;
+        let pixels: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        let pixels = if self.samples_done == 0 { vec![[0.0; 4]; pixels.len()] } else { pixels };
+        Ok(Image { width: self.frame.width, height: self.frame.height, samples_per_pixel: self.samples_done, pixels })
+    }
+}

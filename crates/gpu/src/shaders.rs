@@ -1,0 +1,48 @@
+//! WGSL sources, composed from `shaders/` at compile time. WGSL has no includes, so each entry
+//! point is its shared files followed by its own file.
+
+macro_rules! shader_file {
+    ($name:literal) => {
+        ($name, include_str!(concat!("../../../shaders/", $name)))
+    };
+}
+
+/// Every WGSL file under `shaders/`, by path relative to that folder.
+pub const FILES: &[(&str, &str)] = &[
+    shader_file!("shared/types.wgsl"),
+    shader_file!("shared/rng.wgsl"),
+    shader_file!("shared/sampling.wgsl"),
+    shader_file!("shared/intersect.wgsl"),
+    shader_file!("shared/bvh.wgsl"),
+    shader_file!("trace.wgsl"),
+    shader_file!("trace_rays.wgsl"),
+];
+
+/// An entry-point module: its name and the files it is made of, in order.
+pub struct ShaderModule {
+    pub name: &'static str,
+    pub files: &'static [&'static str],
+}
+
+pub const TRACE: ShaderModule = ShaderModule {
+    name: "trace",
+    files: &["shared/types.wgsl", "shared/rng.wgsl", "shared/sampling.wgsl", "shared/intersect.wgsl", "shared/bvh.wgsl", "trace.wgsl"],
+};
+
+pub const TRACE_RAYS: ShaderModule = ShaderModule {
+    name: "trace_rays",
+    files: &["shared/types.wgsl", "shared/intersect.wgsl", "shared/bvh.wgsl", "trace_rays.wgsl"],
+};
+
+pub const MODULES: &[ShaderModule] = &[TRACE, TRACE_RAYS];
+
+impl ShaderModule {
+    /// The composed source.
+    pub fn source(&self) -> String {
+        self.files
+            .iter()
+            .map(|f| FILES.iter().find(|(name, _)| name == f).map_or("", |(_, src)| *src))
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+}

@@ -1,0 +1,83 @@
+// GPU structs. Rust mirrors: crates/core/src/gpu_types.rs (offsets checked by tests/layout.rs).
+
+const MAT_LAMBERTIAN: u32 = 0u;
+const MAT_METAL: u32 = 1u;
+const MAT_DIELECTRIC: u32 = 2u;
+const MAT_EMISSIVE: u32 = 3u;
+const NO_TEXTURE: u32 = 0xffffffffu;
+const MISS: u32 = 0xffffffffu;
+
+struct Triangle {
+    v0: vec3<f32>,       // 0
+    material: u32,       // 12
+    v1: vec3<f32>,       // 16
+    has_normals: u32,    // 28
+    v2: vec3<f32>,       // 32
+    has_uvs: u32,        // 44
+}
+
+struct Shading {
+    n0: vec3<f32>,       // 0
+    _pad0: u32,          // 12
+    n1: vec3<f32>,       // 16
+    _pad1: u32,          // 28
+    n2: vec3<f32>,       // 32
+    _pad2: u32,          // 44
+    uv0: vec2<f32>,      // 48
+    uv1: vec2<f32>,      // 56
+    uv2: vec2<f32>,      // 64
+    _pad3: vec2<f32>,    // 72
+}
+
+struct Material {
+    albedo: vec3<f32>,       // 0
+    kind: u32,               // 12
+    emission: vec3<f32>,     // 16
+    param: f32,              // 28
+    texture_offset: u32,     // 32
+    texture_width: u32,      // 36
+    texture_height: u32,     // 40
+    _pad: u32,               // 44
+}
+
+struct BvhNode {
+    min: vec3<f32>,   // 0
+    first: u32,       // 12
+    max: vec3<f32>,   // 16
+    count: u32,       // 28
+}
+
+struct Frame {
+    cam_origin: vec3<f32>,       // 0
+    lens_radius: f32,            // 12
+    cam_u: vec3<f32>,            // 16
+    focus_distance: f32,         // 28
+    cam_v: vec3<f32>,            // 32
+    tan_half_vfov: f32,          // 44
+    cam_w: vec3<f32>,            // 48
+    aspect: f32,                 // 60
+    ambient: vec3<f32>,          // 64
+    max_depth: u32,              // 76
+    width: u32,                  // 80
+    height: u32,                 // 84
+    seed: u32,                   // 88
+    sample_base: u32,            // 92
+    samples_this_dispatch: u32,  // 96
+    row_begin: u32,              // 100
+    row_end: u32,                // 104
+    _pad: u32,                   // 108
+}
+
+struct Ray {
+    origin: vec3<f32>,     // 0
+    t_max: f32,            // 12
+    direction: vec3<f32>,  // 16
+    _pad: f32,             // 28
+}
+
+struct Hit {
+    t: f32,          // 0
+    triangle: u32,   // 4
+    b1: f32,         // 8
+    b2: f32,         // 12
+}

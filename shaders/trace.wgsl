@@ -1,0 +1,167 @@
+// The path-tracing kernel: one invocation per pixel, `frame.samples_this_dispatch` paths each,
+// folded into a running per-pixel mean so any number of dispatches can be stopped after any one.
+// Composed with shared/{types,rng,sampling,intersect,bvh}.wgsl (see crates/gpu/src/shaders.rs).
+//
+// Estimator (pbrt's unidirectional path tracer without light sampling):
+//   L = sum_{k < max_depth} beta_k Le(x_k),  beta_{k+1} = beta_k f cos / pdf = beta_k * albedo
+// with Le the front-face emission (or the ambient radiance on a miss).
+
+// Features a scene does not use are compiled out by these pipeline constants.
+override HAS_TEXTURES: bool = true;
+override HAS_METAL: bool = true;
+override HAS_DIELECTRIC: bool = true;
+override HAS_THIN_LENS: bool = true;
+override COUNT_RAYS: bool = false;
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(2) var<storage, read> shading: array<Shading>;
+@group(0) @binding(3) var<storage, read> materials: array<Material>;
+@group(0) @binding(4) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(5) var<storage, read> texels: array<u32>;
+// xyz: running mean of radiance; w: running mean of squared luminance (for variance estimates).
+@group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
+// [0]: rays traced; [1]: samples dropped as NaN/Inf.
+@group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;
+
+fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, u32>) -> array<vec3<f32>, 2> {
+    let jx = rng_next(rng);
+    let jy = rng_next(rng);
+    let sx = (2.0 * (f32(x) + jx) / f32(frame.width) - 1.0) * frame.tan_half_vfov * frame.aspect;
+    let sy = (1.0 - 2.0 * (f32(y) + jy) / f32(frame.height)) * frame.tan_half_vfov;
+    let direction = normalize(sx * frame.cam_u + sy * frame.cam_v - frame.cam_w);
+    if (!HAS_THIN_LENS || frame.lens_radius <= 0.0) {
+        return array(frame.cam_origin, direction);
+    }
+    let focus = frame.cam_origin + direction * (frame.focus_distance / dot(direction, -frame.cam_w));
+    let d = sample_disk(rng);
+    let lens_origin = frame.cam_origin + frame.lens_radius * (d.x * frame.cam_u + d.y * frame.cam_v);
+    return array(lens_origin, normalize(focus - lens_origin));
+}
+
+fn texel(m: Material, x: i32, y: i32) -> vec3<f32> {
+    let w = i32(m.texture_width);
+    let h = i32(m.texture_height);
+    let xi = u32(((x % w) + w) % w);
+    let yi = u32(((y % h) + h) % h);
+    let p = unpack4x8unorm(texels[m.texture_offset + yi * m.texture_width + xi]);
+    return srgb_to_linear(p.rgb);
+}
+
+// Bilinear, repeating; uv.y = 0 is the image's bottom row (OBJ convention).
+fn sample_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
+    let x = uv.x * f32(m.texture_width) - 0.5;
+    let y = (1.0 - uv.y) * f32(m.texture_height) - 0.5;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let xi = i32(x0);
+    let yi = i32(y0);
+    let top = mix(texel(m, xi, yi), texel(m, xi + 1, yi), fx);
+    let bottom = mix(texel(m, xi, yi + 1), texel(m, xi + 1, yi + 1), fx);
+    return mix(top, bottom, fy);
+}
+
+fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u32>) -> vec3<f32> {
+    let cam = camera_ray_origin_dir(x, y, rng);
+    var origin = cam[0];
+    var direction = cam[1];
+    var beta = vec3(1.0);
+    var radiance = vec3(0.0);
+    for (var depth = 0u; depth < frame.max_depth; depth++) {
+        let hit = intersect_scene(origin, direction, 3.0e38);
+        *rays += 1u;
+        if (hit.triangle == MISS) {
+            radiance += beta * frame.ambient;
+            break;
+        }
+        let tri = triangles[hit.triangle];
+        let material = materials[tri.material];
+        let ng_raw = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+        let front = dot(direction, ng_raw) < 0.0;
+        if (front) {
+            radiance += beta * material.emission;
+        }
+        if (material.kind == MAT_EMISSIVE || depth + 1u >= frame.max_depth) {
+            break;
+        }
+        let b0 = 1.0 - hit.b1 - hit.b2;
+        let p = tri.v0 * b0 + tri.v1 * hit.b1 + tri.v2 * hit.b2;
+        let ng = select(-1.0, 1.0, front) * normalize(ng_raw);
+        let sh = shading[hit.triangle];
+        var ns = ng;
+        if (tri.has_normals != 0u) {
+            let n = normalize(sh.n0 * b0 + sh.n1 * hit.b1 + sh.n2 * hit.b2);
+            ns = select(n, -n, dot(n, ng) < 0.0);
+        }
+        var albedo = material.albedo;
+        if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
+            albedo = sample_texture(material, sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2);
+        }
+        var next: vec3<f32>;
+        if (HAS_METAL && material.kind == MAT_METAL) {
+            let fuzz = sample_unit_ball(rng) * material.param;
+            next = normalize(reflect_dir(direction, ns) + fuzz);
+            beta *= albedo;
+        } else if (HAS_DIELECTRIC && material.kind == MAT_DIELECTRIC) {
+            let eta = select(1.0 / material.param, material.param, front);
+            let f = fresnel_dielectric(-dot(direction, ns), eta);
+            if (rng_next(rng) < f) {
+                next = reflect_dir(direction, ns);
+            } else {
+                beta *= albedo / (eta * eta);
+                next = refract_dir(direction, ns, eta);
+            }
+        } else {
+            beta *= albedo;
+            next = sample_cosine_hemisphere(ns, rng);
+        }
+        let side = dot(next, ng);
+        let transmitted = side < 0.0;
+        if (side == 0.0 || (transmitted && material.kind != MAT_DIELECTRIC)) {
+            break;
+        }
+        origin = offset_ray_origin(p, select(ng, -ng, transmitted));
+        direction = next;
+    }
+    return radiance;
+}
+
+fn is_finite3(v: vec3<f32>) -> bool {
+    // Exponent all ones means Inf or NaN; tested on the bits so fast-math cannot fold it away.
+    let e = bitcast<vec3<u32>>(v) & vec3(0x7f800000u);
+    return all(e != vec3(0x7f800000u));
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let x = gid.x;
+    let y = gid.y + frame.row_begin;
+    if (x >= frame.width || y >= frame.row_end) {
+        return;
+    }
+    let pixel = y * frame.width + x;
+    var mean = select(accum[pixel], vec4(0.0), frame.sample_base == 0u);
+    var rays = 0u;
+    var dropped = 0u;
+    for (var s = 0u; s < frame.samples_this_dispatch; s++) {
+        let sample_index = frame.sample_base + s;
+        var rng = rng_init(pixel, sample_index, frame.seed);
+        var l = path_radiance(x, y, &rng, &rays);
+        if (!is_finite3(l)) {
+            l = vec3(0.0);
+            dropped += 1u;
+        }
+        let lum = luminance(l);
+        // Running mean, one sample at a time: the same float operations however samples are batched.
+        mean += (vec4(l, lum * lum) - mean) / f32(sample_index + 1u);
+    }
+    accum[pixel] = mean;
+    if (COUNT_RAYS) {
+        atomicAdd(&counters[0], rays);
+    }
+    if (dropped > 0u) {
+        atomicAdd(&counters[1], dropped);
+    }
+}

@@ -1,0 +1,17 @@
+// Test kernel: the nearest hit of each ray through the same BVH traversal as trace.wgsl.
+// Composed with shared/{types,intersect,bvh}.wgsl.
+
+@group(0) @binding(0) var<storage, read> rays_in: array<Ray>;
+@group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(2) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(3) var<storage, read_write> hits: array<Hit>;
+
+@compute @workgroup_size(64, 1, 1)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= arrayLength(&rays_in)) {
+        return;
+    }
+    let ray = rays_in[i];
+    hits[i] = intersect_scene(ray.origin, ray.direction, ray.t_max);
+}

@@ -1,0 +1,1 @@
+//! Host package for the end-to-end tests in `tests/`; it has no code of its own.
