@@ -10,6 +10,7 @@ pub mod gpu_scene;
 pub mod gpu_types;
 pub mod io;
 pub mod material;
+pub mod output;
 pub mod reference;
 pub mod scene;
 pub mod shapes;

@@ -1,0 +1,33 @@
+//! `rt-cli info`: what a scene contains.
+
+use anyhow::Result;
+use clap::Args;
+
+use crate::scene_args::SceneArgs;
+
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+}
+
+pub fn run(args: InfoArgs) -> Result<()> {
+    let scene = args.scene.load()?;
+    println!("objects: {}", scene.objects.len());
+    for o in &scene.objects {
+        println!("  {:<24} {:>8} triangles  {:<22} {:?}", o.name, o.mesh.indices.len(), o.material.kind_name(), o.material);
+    }
+    println!("textures: {}", scene.textures.len());
+    for t in &scene.textures {
+        println!("  {} ({}x{})", t.name, t.width, t.height);
+    }
+    println!("triangles: {}", scene.triangle_count());
+    match scene.bounds() {
+        Some((lo, hi)) => println!("bounds: min {lo} max {hi}"),
+        None => println!("bounds: empty scene"),
+    }
+    let c = &scene.camera;
+    println!("camera: from {:?} to {:?} up {:?} vfov {}°", c.from, c.to, c.up, c.vfov_deg);
+    println!("ambient: {:?}", scene.ambient);
+    Ok(())
+}

@@ -1,0 +1,85 @@
+//! Scene selection and the camera / settings overrides shared by the subcommands.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use rt_core::Scene;
+use rt_core::io::camera_json::CameraFile;
+
+/// Parses "x,y,z" into three finite floats.
+pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [x, y, z] = parts.as_slice() else {
+        return Err(format!("expected three comma-separated numbers like 1,2.5,-3, got '{s}'"));
+    };
+    let num = |t: &str| match t.parse::<f32>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("'{t}' is not a finite number (in '{s}')")),
+    };
+    Ok([num(x)?, num(y)?, num(z)?])
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// Wavefront OBJ file; the embedded Cornell box when omitted.
+    pub scene: Option<PathBuf>,
+    /// Camera JSON file ({"from","to","up","vfov","width","height","background"}).
+    #[arg(long)]
+    pub camera: Option<PathBuf>,
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub camera_from: Option<[f32; 3]>,
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub camera_to: Option<[f32; 3]>,
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub camera_up: Option<[f32; 3]>,
+    /// Vertical field of view in degrees.
+    #[arg(long)]
+    pub vfov: Option<f32>,
+    /// Radiance of rays that leave the scene.
+    #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
+    pub ambient: Option<[f32; 3]>,
+    /// Seed for the random numbers (and for the colours of objects without a material).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u32,
+}
+
+impl SceneArgs {
+    /// Loads the scene and applies the overrides, in order: file, camera file, flags.
+    pub fn load(&self) -> Result<Scene> {
+        let mut scene = match &self.scene {
+            Some(path) => {
+                let mut scene = rt_core::io::obj::load_obj(path, self.seed)?;
+                frame_scene(&mut scene);
+                scene
+            }
+            None => rt_core::assets::cornell_box().context("loading the embedded Cornell box")?,
+        };
+        if let Some(path) = &self.camera {
+            CameraFile::load(path)?.apply(&mut scene);
+        }
+        let camera = &mut scene.camera;
+        camera.from = self.camera_from.unwrap_or(camera.from);
+        camera.to = self.camera_to.unwrap_or(camera.to);
+        camera.up = self.camera_up.unwrap_or(camera.up);
+        camera.vfov_deg = self.vfov.unwrap_or(camera.vfov_deg);
+        scene.ambient = self.ambient.unwrap_or(scene.ambient);
+        scene.settings.seed = self.seed;
+        Ok(scene)
+    }
+}
+
+/// Points the default camera at a loaded OBJ's bounds so that it is in view, and gives OBJ files
+/// without lights a dim grey ambient so they are not black (the camera file or flags override both).
+fn frame_scene(scene: &mut Scene) {
+    let Some((lo, hi)) = scene.bounds() else { return };
+    let center = (lo + hi) * 0.5;
+    let radius = ((hi - lo).length() * 0.5).max(1e-6);
+    let distance = radius / (scene.camera.vfov_deg.to_radians() * 0.5).tan() * 1.1;
+    scene.camera.to = center.to_array();
+    scene.camera.from = (center + glam::Vec3::new(0.0, 0.0, distance)).to_array();
+    let has_emitter = scene.objects.iter().any(|o| matches!(o.material, rt_core::Material::Emissive { .. }));
+    if !has_emitter {
+        scene.ambient = [0.8; 3];
+    }
+}

@@ -1,0 +1,142 @@
+//! Writing rendered images. EXR holds linear radiance as float; PNG, JPEG and PPM hold
+//! `sRGB(clamp(radiance · 2^exposure, 0, 1))` in 8 bits (a plain clamp tone map). Every save goes to a
+//! temporary file in the same folder first and is renamed over the target, so a crash or a full
+//! disk never leaves a half-written image where a good one was.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+
+/// Output formats, chosen by file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Jpeg,
+    Ppm,
+    Exr,
+}
+
+impl ImageFormat {
+    pub fn from_path(path: &Path) -> Result<Self> {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        Ok(match ext.as_str() {
+            "png" => ImageFormat::Png,
+            "jpg" | "jpeg" => ImageFormat::Jpeg,
+            "ppm" => ImageFormat::Ppm,
+            "exr" => ImageFormat::Exr,
+            _ => {
+                return Err(Error::File {
+                    path: path.into(),
+                    message: "unknown image type; use .png, .jpg, .ppm or .exr".into(),
+                });
+            }
+        })
+    }
+}
+
+/// sRGB transfer function (encode linear to display).
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+}
+
+/// 8-bit sRGB of a linear radiance value after `exposure_stops`.
+pub fn tone_map_u8(c: f32, exposure_stops: f32) -> u8 {
+    let v = (c * exposure_stops.exp2()).clamp(0.0, 1.0);
+    let v = if v.is_nan() { 0.0 } else { v };
+    (linear_to_srgb(v) * 255.0 + 0.5) as u8
+}
+
+/// Encodes `rgb` (row-major, top row first) to bytes in `format`.
+pub fn encode_image(format: ImageFormat, width: u32, height: u32, rgb: &[[f32; 3]], exposure_stops: f32) -> Result<Vec<u8>> {
+    let mut out = std::io::Cursor::new(Vec::new());
+    let encode_err = |e: image::ImageError| Error::Scene(format!("encoding the image failed: {e}"));
+    match format {
+        ImageFormat::Exr => {
+            let data: Vec<f32> = rgb.iter().flatten().copied().collect();
+            let buffer = image::Rgb32FImage::from_raw(width, height, data)
+                .ok_or_else(|| Error::Scene("image size does not match its pixels".into()))?;
+            buffer.write_to(&mut out, image::ImageFormat::OpenExr).map_err(encode_err)?;
+        }
+        _ => {
+            let data: Vec<u8> = rgb.iter().flatten().map(|&c| tone_map_u8(c, exposure_stops)).collect();
+            let buffer = image::RgbImage::from_raw(width, height, data)
+                .ok_or_else(|| Error::Scene("image size does not match its pixels".into()))?;
+            let f = match format {
+                ImageFormat::Png => image::ImageFormat::Png,
+                ImageFormat::Jpeg => image::ImageFormat::Jpeg,
+                _ => image::ImageFormat::Pnm,
+            };
+            if format == ImageFormat::Ppm {
+                let encoder = image::codecs::pnm::PnmEncoder::new(&mut out)
+                    .with_subtype(image::codecs::pnm::PnmSubtype::Pixmap(image::codecs::pnm::SampleEncoding::Binary));
+                image::ImageEncoder::write_image(encoder, &buffer, width, height, image::ExtendedColorType::Rgb8)
+                    .map_err(encode_err)?;
+            } else {
+                buffer.write_to(&mut out, f).map_err(encode_err)?;
+            }
+        }
+    }
+    Ok(out.into_inner())
+}
+
+/// Saves an image atomically; the format follows the extension.
+pub fn save_image(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]], exposure_stops: f32) -> Result<()> {
+    let format = ImageFormat::from_path(path)?;
+    let bytes = encode_image(format, width, height, rgb, exposure_stops)?;
+    write_atomically(path, &bytes)
+}
+
+/// Writes `bytes` to a temporary file beside `path`, syncs it, and renames it over `path`.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    let io_err = |p: &Path| {
+        let p: PathBuf = p.into();
+        move |source| Error::Io { path: p, source }
+    };
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("output");
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut file = std::fs::File::create(&tmp).map_err(io_err(&tmp))?;
+        file.write_all(bytes).map_err(io_err(&tmp))?;
+        file.sync_all().map_err(io_err(&tmp))?;
+        std::fs::rename(&tmp, path).map_err(io_err(path))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_encoding_endpoints_and_exposure() {
+        assert_eq!(tone_map_u8(0.0, 0.0), 0);
+        assert_eq!(tone_map_u8(1.0, 0.0), 255);
+        assert_eq!(tone_map_u8(5.0, 0.0), 255, "clamped");
+        assert_eq!(tone_map_u8(0.5, 1.0), 255, "+1 stop doubles");
+        assert_eq!(tone_map_u8(0.215_861, 0.0), 128, "sRGB 128 is linear 0.2159");
+    }
+
+    #[test]
+    fn every_format_round_trips_through_a_file() {
+        let dir = std::env::temp_dir().join(format!("rt-output-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let rgb = vec![[0.25f32, 0.5, 1.0]; 6];
+        for ext in ["png", "jpg", "ppm", "exr"] {
+            let path = dir.join(format!("img.{ext}"));
+            save_image(&path, 3, 2, &rgb, 0.0).unwrap();
+            let img = image::open(&path).unwrap();
+            assert_eq!((img.width(), img.height()), (3, 2), "{ext}");
+            if ext == "exr" {
+                let px = img.to_rgb32f().get_pixel(1, 1).0;
+                assert_eq!(px, [0.25, 0.5, 1.0], "EXR keeps linear floats");
+            }
+        }
+        assert!(save_image(&dir.join("img.bmp"), 3, 2, &rgb, 0.0).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
