@@ -133,3 +133,18 @@ fn empty_scene_renders_the_ambient_colour() {
     let scene = scene(Vec::new(), camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 45.0), [0.25, 0.5, 0.75], settings(8, 8, 2, 4));
     assert_all_pixels(&render(ctx, &scene), [0.25, 0.5, 0.75], 0.0, "empty scene");
 }
+
+/// An accumulation buffer larger than the adapter allows is a clear error naming the buffer.
+#[test]
+fn too_large_an_image_is_a_clear_error() {
+    let Some(ctx) = gpu() else { return };
+    let scene = scene(Vec::new(), camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 45.0), [0.0; 3], settings(16384, 16384, 1, 1));
+    let gpu_scene = GpuScene::build(&scene).unwrap();
+    let Err(err) = rt_gpu::Renderer::for_scene(ctx, &scene, &gpu_scene, RenderOptions::default()) else {
+        let limit = ctx.device.limits().max_storage_buffer_binding_size;
+        assert!(u64::from(limit) >= 16384 * 16384 * 16, "renderer accepted a buffer over the limit");
+        return;
+    };
+    let message = err.to_string();
+    assert!(message.contains("accumulation") && message.contains("4294967296"), "{message}");
+}

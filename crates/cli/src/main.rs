@@ -32,10 +32,15 @@ enum Command {
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            // One line, like every other error; `--help` explains the rest.
+            let text = e.to_string();
+            eprintln!("{} (see --help)", text.lines().find(|l| !l.trim().is_empty()).unwrap_or("invalid arguments"));
+            return ExitCode::from(2);
+        }
         Err(e) => {
-            let code = if e.use_stderr() { 2 } else { 0 };
             let _ = e.print();
-            return ExitCode::from(code);
+            return ExitCode::SUCCESS;
         }
     };
     let level = if cli.verbose { "info" } else { "warn" };

@@ -44,7 +44,8 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     settings.height = args.height.unwrap_or(settings.height);
     settings.samples_per_pixel = args.spp;
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
-    settings.validate().map_err(anyhow::Error::msg)?;
+    // Check the camera and settings before opening the GPU, so mistakes are reported at once.
+    rt_core::frame::frame_for(&scene)?;
 
     let ctx = GpuContext::new(&args.adapter)?;
     let gpu_scene = GpuScene::build(&scene)?;

@@ -44,7 +44,11 @@ impl GpuContext {
 
     async fn new_async(choice: &AdapterChoice) -> Result<Self> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapters = instance.enumerate_adapters(wgpu::Backends::all()).await;
+        // GL only as a fallback: probing EGL is slow and noisy where Vulkan works.
+        let mut adapters = instance.enumerate_adapters(wgpu::Backends::PRIMARY).await;
+        if adapters.is_empty() {
+            adapters = instance.enumerate_adapters(wgpu::Backends::GL).await;
+        }
         let names: Vec<String> =
             adapters.iter().map(|a| format!("{} ({:?})", a.get_info().name, a.get_info().backend)).collect();
         let rank = |a: &wgpu::Adapter| {
