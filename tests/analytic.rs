@@ -61,27 +61,51 @@ fn closed_room_radiance_is_the_geometric_series() {
 #[test]
 fn lens_filling_emitter_shows_its_radiance() {
     let Some(ctx) = gpu() else { return };
-    let emitter = Material::Emissive { color: [0.5, 1.0, 2.0], intensity: 3.0 };
+    let emitter = Material::Emissive {
+        color: [0.5, 1.0, 2.0],
+        intensity: 3.0,
+    };
     let scene = scene(
-        vec![object("emitter", quad(Vec3::new(0.0, 0.0, -1.0), Vec3::Z, 100.0), emitter)],
+        vec![object(
+            "emitter",
+            quad(Vec3::new(0.0, 0.0, -1.0), Vec3::Z, 100.0),
+            emitter,
+        )],
         camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 60.0),
         [0.0; 3],
         settings(16, 16, 4, 1),
     );
-    assert_all_pixels(&render(ctx, &scene), [1.5, 3.0, 6.0], 1e-5, "lens-filling emitter");
+    assert_all_pixels(
+        &render(ctx, &scene),
+        [1.5, 3.0, 6.0],
+        1e-5,
+        "lens-filling emitter",
+    );
 }
 
 #[test]
 fn back_of_an_emitter_is_black() {
     let Some(ctx) = gpu() else { return };
-    let emitter = Material::Emissive { color: [1.0; 3], intensity: 1.0 };
+    let emitter = Material::Emissive {
+        color: [1.0; 3],
+        intensity: 1.0,
+    };
     let scene = scene(
-        vec![object("emitter", quad(Vec3::new(0.0, 0.0, -1.0), -Vec3::Z, 100.0), emitter)],
+        vec![object(
+            "emitter",
+            quad(Vec3::new(0.0, 0.0, -1.0), -Vec3::Z, 100.0),
+            emitter,
+        )],
         camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 60.0),
         [0.0; 3],
         settings(8, 8, 4, 4),
     );
-    assert_all_pixels(&render(ctx, &scene), [0.0; 3], 0.0, "back face of an emitter");
+    assert_all_pixels(
+        &render(ctx, &scene),
+        [0.0; 3],
+        0.0,
+        "back face of an emitter",
+    );
 }
 
 /// A perfect mirror (fuzz 0) tinted by its albedo reflects an emitter behind the camera.
@@ -90,8 +114,22 @@ fn perfect_mirror_reflects_albedo_times_radiance() {
     let Some(ctx) = gpu() else { return };
     let scene = scene(
         vec![
-            object("mirror", quad(Vec3::new(0.0, 0.0, -10.0), Vec3::Z, 50.0), Material::Metal { albedo: [0.9, 0.8, 0.7], fuzz: 0.0 }),
-            object("emitter", quad(Vec3::new(0.0, 0.0, 10.0), -Vec3::Z, 50.0), Material::Emissive { color: [2.0; 3], intensity: 1.0 }),
+            object(
+                "mirror",
+                quad(Vec3::new(0.0, 0.0, -10.0), Vec3::Z, 50.0),
+                Material::Metal {
+                    albedo: [0.9, 0.8, 0.7],
+                    fuzz: 0.0,
+                },
+            ),
+            object(
+                "emitter",
+                quad(Vec3::new(0.0, 0.0, 10.0), -Vec3::Z, 50.0),
+                Material::Emissive {
+                    color: [2.0; 3],
+                    intensity: 1.0,
+                },
+            ),
         ],
         camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 10.0),
         [0.0; 3],
@@ -106,11 +144,32 @@ fn perfect_mirror_reflects_albedo_times_radiance() {
 fn glass_slab_at_normal_incidence_follows_fresnel() {
     let Some(ctx) = gpu() else { return };
     let r = 0.04f64;
-    for (emitter_z, facing, expected) in [(-10.0, Vec3::Z, (1.0 - r) / (1.0 + r)), (10.0, -Vec3::Z, 2.0 * r / (1.0 + r))] {
+    for (emitter_z, facing, expected) in [
+        (-10.0, Vec3::Z, (1.0 - r) / (1.0 + r)),
+        (10.0, -Vec3::Z, 2.0 * r / (1.0 + r)),
+    ] {
         let scene = scene(
             vec![
-                object("slab", cuboid(Vec3::new(-20.0, -20.0, -0.5), Vec3::new(20.0, 20.0, 0.5), false), Material::Dielectric { ior: 1.5, tint: [1.0; 3] }),
-                object("emitter", quad(Vec3::new(0.0, 0.0, emitter_z), facing, 60.0), Material::Emissive { color: [1.0; 3], intensity: 1.0 }),
+                object(
+                    "slab",
+                    cuboid(
+                        Vec3::new(-20.0, -20.0, -0.5),
+                        Vec3::new(20.0, 20.0, 0.5),
+                        false,
+                    ),
+                    Material::Dielectric {
+                        ior: 1.5,
+                        tint: [1.0; 3],
+                    },
+                ),
+                object(
+                    "emitter",
+                    quad(Vec3::new(0.0, 0.0, emitter_z), facing, 60.0),
+                    Material::Emissive {
+                        color: [1.0; 3],
+                        intensity: 1.0,
+                    },
+                ),
             ],
             camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 1.0),
             [0.0; 3],
@@ -122,7 +181,10 @@ fn glass_slab_at_normal_incidence_follows_fresnel() {
         let n = (32 * 32 * 256) as f64;
         let sigma = (expected * (1.0 - expected) / n).sqrt();
         for (c, mean) in image.channel_means().iter().enumerate() {
-            assert!((mean - expected).abs() < 5.0 * sigma, "channel {c}: {mean} vs {expected} (σ {sigma})");
+            assert!(
+                (mean - expected).abs() < 5.0 * sigma,
+                "channel {c}: {mean} vs {expected} (σ {sigma})"
+            );
         }
     }
 }
@@ -130,7 +192,12 @@ fn glass_slab_at_normal_incidence_follows_fresnel() {
 #[test]
 fn empty_scene_renders_the_ambient_colour() {
     let Some(ctx) = gpu() else { return };
-    let scene = scene(Vec::new(), camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 45.0), [0.25, 0.5, 0.75], settings(8, 8, 2, 4));
+    let scene = scene(
+        Vec::new(),
+        camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 45.0),
+        [0.25, 0.5, 0.75],
+        settings(8, 8, 2, 4),
+    );
     assert_all_pixels(&render(ctx, &scene), [0.25, 0.5, 0.75], 0.0, "empty scene");
 }
 
@@ -138,13 +205,25 @@ fn empty_scene_renders_the_ambient_colour() {
 #[test]
 fn too_large_an_image_is_a_clear_error() {
     let Some(ctx) = gpu() else { return };
-    let scene = scene(Vec::new(), camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 45.0), [0.0; 3], settings(16384, 16384, 1, 1));
+    let scene = scene(
+        Vec::new(),
+        camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 45.0),
+        [0.0; 3],
+        settings(16384, 16384, 1, 1),
+    );
     let gpu_scene = GpuScene::build(&scene).unwrap();
-    let Err(err) = rt_gpu::Renderer::for_scene(ctx, &scene, &gpu_scene, RenderOptions::default()) else {
+    let Err(err) = rt_gpu::Renderer::for_scene(ctx, &scene, &gpu_scene, RenderOptions::default())
+    else {
         let limit = ctx.device.limits().max_storage_buffer_binding_size;
-        assert!(u64::from(limit) >= 16384 * 16384 * 16, "renderer accepted a buffer over the limit");
+        assert!(
+            limit >= 16384 * 16384 * 16,
+            "renderer accepted a buffer over the limit"
+        );
         return;
     };
     let message = err.to_string();
-    assert!(message.contains("accumulation") && message.contains("4294967296"), "{message}");
+    assert!(
+        message.contains("accumulation") && message.contains("4294967296"),
+        "{message}"
+    );
 }

@@ -37,8 +37,15 @@ fn cornell_box_means_match_mitsuba_within_one_percent() {
         let reference = MITSUBA_MEANS[c];
         // The test only means something if noise alone cannot reach 1%: require 1% ≥ 4 standard errors
         // (t with 5 degrees of freedom: 4.0 is beyond the 99.5th percentile).
-        assert!(4.0 * std_error <= 0.01 * reference, "channel {c}: too noisy to test (σ {std_error:.2e})");
+        assert!(
+            4.0 * std_error <= 0.01 * reference,
+            "channel {c}: too noisy to test (σ {std_error:.2e})"
+        );
         let relative = (mean - reference).abs() / reference;
-        assert!(relative <= 0.01, "channel {c}: mean {mean:.6} vs Mitsuba {reference:.6} ({:.2}% off, σ {std_error:.2e})", relative * 100.0);
+        assert!(
+            relative <= 0.01,
+            "channel {c}: mean {mean:.6} vs Mitsuba {reference:.6} ({:.2}% off, σ {std_error:.2e})",
+            relative * 100.0
+        );
     }
 }

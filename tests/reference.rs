@@ -27,25 +27,45 @@ fn assert_images_agree(scene: &Scene, gpu_spp: u32, cpu_spp: u32) {
     let alpha = 1.0 - (1.0 - 0.01f64).powf(1.0 / tests as f64);
     let z_max = z_threshold(alpha);
     let mut failed = Vec::new();
-    for (i, (g, (c, var))) in image.pixels.iter().zip(cpu.mean.iter().zip(&cpu.variance)).enumerate() {
+    for (i, (g, (c, var))) in image
+        .pixels
+        .iter()
+        .zip(cpu.mean.iter().zip(&cpu.variance))
+        .enumerate()
+    {
         for ch in 0..3 {
             let diff = f64::from(g[ch]) - f64::from(c[ch]);
-            let sigma = (f64::from(var[ch]) * (1.0 / f64::from(cpu_spp) + 1.0 / f64::from(gpu_spp))).sqrt();
-            let ok = if sigma > 0.0 { (diff / sigma).abs() <= z_max } else { diff.abs() <= 1e-4 };
+            let sigma =
+                (f64::from(var[ch]) * (1.0 / f64::from(cpu_spp) + 1.0 / f64::from(gpu_spp))).sqrt();
+            let ok = if sigma > 0.0 {
+                (diff / sigma).abs() <= z_max
+            } else {
+                diff.abs() <= 1e-4
+            };
             if !ok {
                 failed.push((i, ch, g[ch], c[ch], sigma));
             }
         }
     }
     let pass_rate = 1.0 - failed.len() as f64 / tests as f64;
-    assert!(pass_rate >= 0.995, "{} of {tests} pixel tests failed (|z| > {z_max:.2}); first: {:?}", failed.len(), &failed[..failed.len().min(5)]);
+    assert!(
+        pass_rate >= 0.995,
+        "{} of {tests} pixel tests failed (|z| > {z_max:.2}); first: {:?}",
+        failed.len(),
+        &failed[..failed.len().min(5)]
+    );
     // The means over the image must agree too (a bias spread thinly fails here).
     let g = image.channel_means();
     for ch in 0..3 {
         let c: f64 = cpu.mean.iter().map(|p| f64::from(p[ch])).sum::<f64>() / cpu.mean.len() as f64;
-        let var: f64 = cpu.variance.iter().map(|p| f64::from(p[ch])).sum::<f64>() / (cpu.mean.len() as f64).powi(2);
+        let var: f64 = cpu.variance.iter().map(|p| f64::from(p[ch])).sum::<f64>()
+            / (cpu.mean.len() as f64).powi(2);
         let sigma = (var * (1.0 / f64::from(cpu_spp) + 1.0 / f64::from(gpu_spp))).sqrt();
-        assert!((g[ch] - c).abs() <= 4.0 * sigma + 1e-6, "channel {ch} image mean: GPU {} CPU {c} σ {sigma}", g[ch]);
+        assert!(
+            (g[ch] - c).abs() <= 4.0 * sigma + 1e-6,
+            "channel {ch} image mean: GPU {} CPU {c} σ {sigma}",
+            g[ch]
+        );
     }
 }
 
@@ -53,8 +73,18 @@ fn cornell_with_metal_and_glass(size: u32) -> Scene {
     let mut scene = rt_core::assets::cornell_box().unwrap();
     for o in &mut scene.objects {
         match o.name.as_str() {
-            "tall_block" => o.material = Material::Metal { albedo: [0.9, 0.8, 0.6], fuzz: 0.2 },
-            "short_block" => o.material = Material::Dielectric { ior: 1.5, tint: [0.9, 1.0, 0.9] },
+            "tall_block" => {
+                o.material = Material::Metal {
+                    albedo: [0.9, 0.8, 0.6],
+                    fuzz: 0.2,
+                }
+            }
+            "short_block" => {
+                o.material = Material::Dielectric {
+                    ior: 1.5,
+                    tint: [0.9, 1.0, 0.9],
+                }
+            }
             _ => {}
         }
     }
@@ -74,17 +104,53 @@ fn gpu_matches_cpu_reference_on_cornell_with_metal_and_glass() {
 #[test]
 fn gpu_matches_cpu_reference_on_textures_normals_and_thin_lens() {
     let mut floor = quad(Vec3::ZERO, Vec3::Y, 4.0);
-    floor.uvs = Some(vec![glam::Vec2::new(0.0, 0.0), glam::Vec2::new(2.0, 0.0), glam::Vec2::new(2.0, 2.0), glam::Vec2::new(0.0, 2.0)]);
+    floor.uvs = Some(vec![
+        glam::Vec2::new(0.0, 0.0),
+        glam::Vec2::new(2.0, 0.0),
+        glam::Vec2::new(2.0, 2.0),
+        glam::Vec2::new(0.0, 2.0),
+    ]);
     let checker: Vec<u8> = (0..16)
-        .flat_map(|i| if (i % 4 + i / 4) % 2 == 0 { [230u8, 40, 40, 255] } else { [30, 30, 200, 255] })
+        .flat_map(|i| {
+            if (i % 4 + i / 4) % 2 == 0 {
+                [230u8, 40, 40, 255]
+            } else {
+                [30, 30, 200, 255]
+            }
+        })
         .collect();
-    let mut sphere = object("sphere", uv_sphere(0.5, 10, 20), Material::Metal { albedo: [0.95; 3], fuzz: 0.0 });
-    sphere.transform = Transform { translation: [0.0, 0.5, 0.0], rotation_deg: [10.0, 20.0, 30.0], scale: [1.0, -1.0, 1.0] };
+    let mut sphere = object(
+        "sphere",
+        uv_sphere(0.5, 10, 20),
+        Material::Metal {
+            albedo: [0.95; 3],
+            fuzz: 0.0,
+        },
+    );
+    sphere.transform = Transform {
+        translation: [0.0, 0.5, 0.0],
+        rotation_deg: [10.0, 20.0, 30.0],
+        scale: [1.0, -1.0, 1.0],
+    };
     let mut scene = scene(
         vec![
-            object("floor", floor, Material::Lambertian { albedo: [1.0; 3], texture: Some(0) }),
+            object(
+                "floor",
+                floor,
+                Material::Lambertian {
+                    albedo: [1.0; 3],
+                    texture: Some(0),
+                },
+            ),
             sphere,
-            object("glass", uv_sphere(0.3, 8, 16), Material::Dielectric { ior: 1.33, tint: [1.0; 3] }),
+            object(
+                "glass",
+                uv_sphere(0.3, 8, 16),
+                Material::Dielectric {
+                    ior: 1.33,
+                    tint: [1.0; 3],
+                },
+            ),
         ],
         camera(Vec3::new(0.0, 1.5, 3.0), Vec3::new(0.0, 0.3, 0.0), 50.0),
         [0.9, 0.9, 1.0],
@@ -92,9 +158,19 @@ fn gpu_matches_cpu_reference_on_textures_normals_and_thin_lens() {
     );
     scene.objects[2].transform.translation = [0.8, 0.3, 0.5];
     scene.camera.aperture_radius = 0.05;
-    scene.textures.push(Texture { name: "checker".into(), width: 4, height: 4, rgba8: checker });
+    scene.textures.push(Texture {
+        name: "checker".into(),
+        width: 4,
+        height: 4,
+        rgba8: checker,
+    });
     let gpu_scene = GpuScene::build(&scene).unwrap();
-    assert!(gpu_scene.features.textures && gpu_scene.features.metal && gpu_scene.features.dielectric && gpu_scene.features.thin_lens);
+    assert!(
+        gpu_scene.features.textures
+            && gpu_scene.features.metal
+            && gpu_scene.features.dielectric
+            && gpu_scene.features.thin_lens
+    );
     assert_images_agree(&scene, 8192, 4096);
 }
 
@@ -114,7 +190,8 @@ fn random_unit(state: &mut u32) -> Vec3 {
 #[test]
 fn gpu_bvh_traversal_matches_brute_force() {
     let Some(ctx) = gpu() else { return };
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny/bunny-lowres-npm.obj");
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny/bunny-lowres-npm.obj");
     let scene = rt_core::io::obj::load_obj(&path, 0).unwrap();
     let gpu_scene = GpuScene::build(&scene).unwrap();
     let (lo, hi) = scene.bounds().unwrap();
@@ -123,26 +200,56 @@ fn gpu_bvh_traversal_matches_brute_force() {
     let rays: Vec<Ray> = (0..4096)
         .map(|i| {
             let origin = center + random_unit(&mut state) * radius * 1.5;
-            let target = center + random_unit(&mut state) * radius * if i % 4 == 0 { 1.2 } else { 0.4 };
+            let target =
+                center + random_unit(&mut state) * radius * if i % 4 == 0 { 1.2 } else { 0.4 };
             let t_max = if i % 8 == 0 { radius } else { f32::MAX };
-            Ray { origin: origin.to_array(), t_max, direction: (target - origin).normalize().to_array(), _pad: 0.0 }
+            Ray {
+                origin: origin.to_array(),
+                t_max,
+                direction: (target - origin).normalize().to_array(),
+                _pad: 0.0,
+            }
         })
         .collect();
     let hits = rt_gpu::trace_rays::trace_rays(ctx, &gpu_scene, &rays).unwrap();
     let mut hit_count = 0;
     for (ray, gpu_hit) in rays.iter().zip(&hits) {
-        let cpu = trace_brute_force(&gpu_scene, ray.origin.into(), ray.direction.into(), ray.t_max);
-        let cpu_bvh = reference::trace(&gpu_scene, ray.origin.into(), ray.direction.into(), ray.t_max);
-        assert_eq!(cpu_bvh.triangle == u32::MAX, cpu.triangle == u32::MAX, "CPU BVH vs brute force: {ray:?}");
-        assert_eq!(gpu_hit.triangle == u32::MAX, cpu.triangle == u32::MAX, "hit/miss differs for {ray:?}: {gpu_hit:?} vs {cpu:?}");
+        let cpu = trace_brute_force(
+            &gpu_scene,
+            ray.origin.into(),
+            ray.direction.into(),
+            ray.t_max,
+        );
+        let cpu_bvh = reference::trace(
+            &gpu_scene,
+            ray.origin.into(),
+            ray.direction.into(),
+            ray.t_max,
+        );
+        assert_eq!(
+            cpu_bvh.triangle == u32::MAX,
+            cpu.triangle == u32::MAX,
+            "CPU BVH vs brute force: {ray:?}"
+        );
+        assert_eq!(
+            gpu_hit.triangle == u32::MAX,
+            cpu.triangle == u32::MAX,
+            "hit/miss differs for {ray:?}: {gpu_hit:?} vs {cpu:?}"
+        );
         if cpu.triangle != u32::MAX {
             hit_count += 1;
             // Same distance (a tie on a shared edge may pick either triangle).
-            assert!((gpu_hit.t - cpu.t).abs() <= 1e-5 * cpu.t.max(1.0), "distance differs for {ray:?}: {gpu_hit:?} vs {cpu:?}");
+            assert!(
+                (gpu_hit.t - cpu.t).abs() <= 1e-5 * cpu.t.max(1.0),
+                "distance differs for {ray:?}: {gpu_hit:?} vs {cpu:?}"
+            );
             assert!((cpu_bvh.t - cpu.t).abs() <= 1e-5 * cpu.t.max(1.0));
         }
     }
-    assert!(hit_count > 2000, "too few rays hit the mesh ({hit_count}) for the test to mean much");
+    assert!(
+        hit_count > 2000,
+        "too few rays hit the mesh ({hit_count}) for the test to mean much"
+    );
 }
 
 #[test]
@@ -157,7 +264,14 @@ fn same_seed_gives_identical_bytes_and_other_seeds_differ() {
     };
     let a = bytes(&scene, RenderOptions::default());
     // A different split into dispatches must not change a bit either.
-    let b = bytes(&scene, RenderOptions { max_samples_per_dispatch: Some(3), target_dispatch: std::time::Duration::from_secs(10), ..Default::default() });
+    let b = bytes(
+        &scene,
+        RenderOptions {
+            max_samples_per_dispatch: Some(3),
+            target_dispatch: std::time::Duration::from_secs(10),
+            ..Default::default()
+        },
+    );
     assert!(a == b, "same seed, different batching: images differ");
     scene.settings.seed = 2;
     let c = bytes(&scene, RenderOptions::default());
@@ -170,24 +284,58 @@ fn same_seed_gives_identical_bytes_and_other_seeds_differ() {
 #[test]
 fn largest_dispatch_gives_the_same_image_as_single_samples() {
     let Some(ctx) = gpu() else { return };
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny/bunny-lowres-npm.obj");
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny/bunny-lowres-npm.obj");
     let mut scene = rt_core::io::obj::load_obj(&path, 0).unwrap();
     let mut room = rt_core::shapes::cuboid(Vec3::splat(-5.0), Vec3::splat(5.0), true);
-    room.positions.iter_mut().for_each(|p| *p += Vec3::new(0.0, 2.0, 0.0));
-    scene.objects.push(object("room", room, Material::lambertian([0.8; 3])));
-    scene.objects.push(object("light", quad(Vec3::new(0.0, 6.9, 0.0), -Vec3::Y, 2.0), Material::Emissive { color: [10.0; 3], intensity: 1.0 }));
+    room.positions
+        .iter_mut()
+        .for_each(|p| *p += Vec3::new(0.0, 2.0, 0.0));
+    scene
+        .objects
+        .push(object("room", room, Material::lambertian([0.8; 3])));
+    scene.objects.push(object(
+        "light",
+        quad(Vec3::new(0.0, 6.9, 0.0), -Vec3::Y, 2.0),
+        Material::Emissive {
+            color: [10.0; 3],
+            intensity: 1.0,
+        },
+    ));
     scene.camera = camera(Vec3::new(0.0, 1.0, 4.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
     scene.settings = settings(16, 16, 64, 8);
     let gpu_scene = GpuScene::build(&scene).unwrap();
-    let slow = RenderOptions { target_dispatch: std::time::Duration::from_secs(60), ..Default::default() };
-    let one = render_gpu(ctx, &scene, &gpu_scene, RenderOptions { max_samples_per_dispatch: Some(1), ..slow });
+    let slow = RenderOptions {
+        target_dispatch: std::time::Duration::from_secs(60),
+        ..Default::default()
+    };
+    let one = render_gpu(
+        ctx,
+        &scene,
+        &gpu_scene,
+        RenderOptions {
+            max_samples_per_dispatch: Some(1),
+            ..slow
+        },
+    );
     // With a generous time target the renderer grows dispatches to its loop-budget cap.
     let mut renderer = rt_gpu::Renderer::for_scene(ctx, &scene, &gpu_scene, slow).unwrap();
     let mut largest = 0;
     while renderer.samples_done() < 64 {
-        largest = largest.max(renderer.render_batch(64 - renderer.samples_done()).unwrap().samples);
+        largest = largest.max(
+            renderer
+                .render_batch(64 - renderer.samples_done())
+                .unwrap()
+                .samples,
+        );
     }
-    assert!(largest > 1, "the renderer never batched samples, so this test checks nothing");
+    assert!(
+        largest > 1,
+        "the renderer never batched samples, so this test checks nothing"
+    );
     let batched = renderer.read_image().unwrap();
-    assert!(one.pixels == batched.pixels, "batched samples ({largest} per dispatch) changed the image: loop truncation?");
+    assert!(
+        one.pixels == batched.pixels,
+        "batched samples ({largest} per dispatch) changed the image: loop truncation?"
+    );
 }

@@ -7,7 +7,8 @@ use naga::valid::{Capabilities, ValidationFlags, Validator};
 use rt_gpu::shaders::{FILES, MODULES};
 
 fn parse(name: &str, source: &str) -> naga::Module {
-    naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)))
+    naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)))
 }
 
 #[test]
@@ -25,38 +26,76 @@ fn every_module_parses_and_validates() {
 fn every_wgsl_file_is_compiled_into_some_module() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
     let mut on_disk = Vec::new();
-    for entry in std::fs::read_dir(&dir).unwrap().chain(std::fs::read_dir(dir.join("shared")).unwrap()) {
+    for entry in std::fs::read_dir(&dir)
+        .unwrap()
+        .chain(std::fs::read_dir(dir.join("shared")).unwrap())
+    {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "wgsl") {
-            on_disk.push(path.strip_prefix(&dir).unwrap().to_string_lossy().replace('\\', "/"));
+            on_disk.push(
+                path.strip_prefix(&dir)
+                    .unwrap()
+                    .to_string_lossy()
+                    .replace('\\', "/"),
+            );
         }
     }
     for file in &on_disk {
-        assert!(FILES.iter().any(|(name, _)| name == file), "{file} is not listed in rt_gpu::shaders::FILES");
-        assert!(MODULES.iter().any(|m| m.files.contains(&file.as_str())), "{file} is in no shader module");
+        assert!(
+            FILES.iter().any(|(name, _)| name == file),
+            "{file} is not listed in rt_gpu::shaders::FILES"
+        );
+        assert!(
+            MODULES.iter().any(|m| m.files.contains(&file.as_str())),
+            "{file} is in no shader module"
+        );
     }
-    assert_eq!(on_disk.len(), FILES.len(), "FILES lists a file that does not exist");
+    assert_eq!(
+        on_disk.len(),
+        FILES.len(),
+        "FILES lists a file that does not exist"
+    );
 }
 
 #[test]
 fn gpu_struct_layouts_match_wgsl() {
     let source = rt_gpu::shaders::FILES[0].1;
-    assert!(source.contains("struct Triangle"), "FILES[0] should be shared/types.wgsl");
+    assert!(
+        source.contains("struct Triangle"),
+        "FILES[0] should be shared/types.wgsl"
+    );
     let module = parse("shared/types.wgsl", source);
     let mut layouter = Layouter::default();
     layouter.update(module.to_ctx()).unwrap();
-    for (name, size, align, fields) in rt_core::gpu_types::layouts() {
+    for rt_core::gpu_types::StructLayout {
+        name,
+        size,
+        align,
+        fields,
+    } in rt_core::gpu_types::layouts()
+    {
         let (handle, ty) = module
             .types
             .iter()
             .find(|(_, t)| t.name.as_deref() == Some(name))
             .unwrap_or_else(|| panic!("WGSL has no struct {name}"));
-        let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct")
+        };
         assert_eq!(*span as usize, size, "{name}: size (WGSL vs Rust)");
-        assert_eq!(layouter[handle].alignment.round_up(1) as usize, align, "{name}: alignment (WGSL vs Rust)");
-        let wgsl: Vec<(String, usize)> =
-            members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize)).collect();
+        assert_eq!(
+            layouter[handle].alignment.round_up(1) as usize,
+            align,
+            "{name}: alignment (WGSL vs Rust)"
+        );
+        let wgsl: Vec<(String, usize)> = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect();
         let rust: Vec<(String, usize)> = fields.iter().map(|(n, o)| (n.to_string(), *o)).collect();
-        assert_eq!(wgsl, rust, "{name}: member names and offsets (WGSL vs Rust)");
+        assert_eq!(
+            wgsl, rust,
+            "{name}: member names and offsets (WGSL vs Rust)"
+        );
     }
 }

@@ -31,31 +31,74 @@ pub fn gpu() -> Option<&'static GpuContext> {
 }
 
 pub fn object(name: &str, mesh: Mesh, material: Material) -> Object {
-    Object { name: name.into(), mesh, material, transform: Default::default() }
+    Object {
+        name: name.into(),
+        mesh,
+        material,
+        transform: Default::default(),
+    }
 }
 
-pub fn scene(objects: Vec<Object>, camera: Camera, ambient: [f32; 3], settings: RenderSettings) -> Scene {
-    Scene { objects, textures: Vec::new(), camera, ambient, settings }
+pub fn scene(
+    objects: Vec<Object>,
+    camera: Camera,
+    ambient: [f32; 3],
+    settings: RenderSettings,
+) -> Scene {
+    Scene {
+        objects,
+        textures: Vec::new(),
+        camera,
+        ambient,
+        settings,
+    }
 }
 
 pub fn camera(from: Vec3, to: Vec3, vfov_deg: f32) -> Camera {
-    Camera { from: from.to_array(), to: to.to_array(), vfov_deg, ..Default::default() }
+    Camera {
+        from: from.to_array(),
+        to: to.to_array(),
+        vfov_deg,
+        ..Default::default()
+    }
 }
 
 pub fn settings(width: u32, height: u32, spp: u32, max_depth: u32) -> RenderSettings {
-    RenderSettings { width, height, samples_per_pixel: spp, max_depth, seed: 1 }
+    RenderSettings {
+        width,
+        height,
+        samples_per_pixel: spp,
+        max_depth,
+        seed: 1,
+    }
 }
 
 /// Renders `scene` (or its prepared `gpu_scene`) on the GPU to `scene.settings.samples_per_pixel`.
-pub fn render_gpu(ctx: &GpuContext, scene: &Scene, gpu_scene: &GpuScene, options: RenderOptions) -> Image {
+pub fn render_gpu(
+    ctx: &GpuContext,
+    scene: &Scene,
+    gpu_scene: &GpuScene,
+    options: RenderOptions,
+) -> Image {
     let mut renderer = Renderer::for_scene(ctx, scene, gpu_scene, options).expect("renderer");
-    renderer.render(scene.settings.samples_per_pixel, |_| true).expect("render");
-    assert_eq!(renderer.dropped_samples(), 0, "NaN/Inf samples were produced");
+    renderer
+        .render(scene.settings.samples_per_pixel, |_| true)
+        .expect("render");
+    assert_eq!(
+        renderer.dropped_samples(),
+        0,
+        "NaN/Inf samples were produced"
+    );
     renderer.read_image().expect("read back")
 }
 
 pub fn render(ctx: &GpuContext, scene: &Scene) -> Image {
-    render_gpu(ctx, scene, &GpuScene::build(scene).expect("build"), RenderOptions::default())
+    render_gpu(
+        ctx,
+        scene,
+        &GpuScene::build(scene).expect("build"),
+        RenderOptions::default(),
+    )
 }
 
 /// Two-sided p-value threshold |z| for a per-test significance `alpha`.
@@ -65,7 +108,11 @@ pub fn z_threshold(alpha: f64) -> f64 {
     let (mut lo, mut hi) = (0.0, 40.0);
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if tail(mid) > alpha { lo = mid } else { hi = mid }
+        if tail(mid) > alpha {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     hi
 }
@@ -74,13 +121,16 @@ pub fn z_threshold(alpha: f64) -> f64 {
 fn libm_erfc(x: f64) -> f64 {
     let z = x.abs();
     let t = 1.0 / (1.0 + 0.5 * z);
-    let r = t * (-z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-        .exp();
+    let r = t
+        * (-z * z - 1.265_512_23
+            + t * (1.000_023_68
+                + t * (0.374_091_96
+                    + t * (0.096_784_18
+                        + t * (-0.186_288_06
+                            + t * (0.278_868_07
+                                + t * (-1.135_203_98
+                                    + t * (1.488_515_87
+                                        + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+            .exp();
     if x >= 0.0 { r } else { 2.0 - r }
 }

@@ -47,7 +47,8 @@ fn mesh_scene(path: &Path) -> Result<Scene> {
     let center = (lo + hi) * 0.5;
     let radius = (hi - lo).length() * 0.5;
     scene.camera.to = center.to_array();
-    scene.camera.from = (center + glam::Vec3::new(0.3, 0.2, 1.0).normalize() * radius * 2.6).to_array();
+    scene.camera.from =
+        (center + glam::Vec3::new(0.3, 0.2, 1.0).normalize() * radius * 2.6).to_array();
     scene.camera.vfov_deg = 45.0;
     scene.ambient = [1.0; 3];
     scene.settings.max_depth = 8;
@@ -56,7 +57,10 @@ fn mesh_scene(path: &Path) -> Result<Scene> {
 
 pub fn run(args: BenchArgs) -> Result<()> {
     let ctx = GpuContext::new(&args.adapter)?;
-    let mut suite: Vec<(String, Result<Scene>)> = vec![("cornell".into(), rt_core::assets::cornell_box().map_err(Into::into))];
+    let mut suite: Vec<(String, Result<Scene>)> = vec![(
+        "cornell".into(),
+        rt_core::assets::cornell_box().map_err(Into::into),
+    )];
     for (name, file) in [
         ("bunny-69k", "stanford-bunny/stanford-bunny.obj"),
         ("dragon-202k", "stanford-dragon/dragon_vrip_res2.obj"),
@@ -66,10 +70,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
         if path.exists() {
             suite.push((name.into(), mesh_scene(&path)));
         } else {
-            eprintln!("skipping {name}: {} not found (pass --models DIR)", path.display());
+            eprintln!(
+                "skipping {name}: {} not found (pass --models DIR)",
+                path.display()
+            );
         }
     }
-    println!("{:<12} {:>9} {:>10} {:>6} {:>10} {:>12} {:>12}", "scene", "triangles", "BVH ms", "depth", "render s", "Mpaths/s", "Mrays/s");
+    println!(
+        "{:<12} {:>9} {:>10} {:>6} {:>10} {:>12} {:>12}",
+        "scene", "triangles", "BVH ms", "depth", "render s", "Mpaths/s", "Mrays/s"
+    );
     let mut records = Vec::new();
     for (name, scene) in suite {
         let mut scene = scene?;
@@ -78,7 +88,10 @@ pub fn run(args: BenchArgs) -> Result<()> {
         let build_started = Instant::now();
         let gpu_scene = GpuScene::build_with(&scene, BvhQuality::Medium)?;
         let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
-        let options = RenderOptions { count_rays: true, ..Default::default() };
+        let options = RenderOptions {
+            count_rays: true,
+            ..Default::default()
+        };
         // Warm-up: compiles the pipeline and settles the dispatch size.
         let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
         warm.render(2, |_| true)?;
@@ -104,8 +117,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
         };
         println!(
             "{:<12} {:>9} {:>10.1} {:>6} {:>10.2} {:>12.3} {:>12.3}",
-            record.scene, record.triangles, record.bvh_build_ms, record.bvh_depth, record.render_s,
-            record.paths_per_s / 1e6, record.rays_per_s / 1e6
+            record.scene,
+            record.triangles,
+            record.bvh_build_ms,
+            record.bvh_depth,
+            record.render_s,
+            record.paths_per_s / 1e6,
+            record.rays_per_s / 1e6
         );
         records.push(record);
     }

@@ -15,7 +15,13 @@ pub fn run(args: InfoArgs) -> Result<()> {
     let scene = args.scene.load()?;
     println!("objects: {}", scene.objects.len());
     for o in &scene.objects {
-        println!("  {:<24} {:>8} triangles  {:<22} {:?}", o.name, o.mesh.indices.len(), o.material.kind_name(), o.material);
+        println!(
+            "  {:<24} {:>8} triangles  {:<22} {:?}",
+            o.name,
+            o.mesh.indices.len(),
+            o.material.kind_name(),
+            o.material
+        );
     }
     println!("textures: {}", scene.textures.len());
     for t in &scene.textures {
@@ -27,7 +33,10 @@ pub fn run(args: InfoArgs) -> Result<()> {
         None => println!("bounds: empty scene"),
     }
     let c = &scene.camera;
-    println!("camera: from {:?} to {:?} up {:?} vfov {}°", c.from, c.to, c.up, c.vfov_deg);
+    println!(
+        "camera: from {:?} to {:?} up {:?} vfov {}°",
+        c.from, c.to, c.up, c.vfov_deg
+    );
     println!("ambient: {:?}", scene.ambient);
     Ok(())
 }

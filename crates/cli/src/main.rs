@@ -10,7 +10,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "rt-cli", version, about = "rt: a physically based path tracer (headless)")]
+#[command(
+    name = "rt-cli",
+    version,
+    about = "rt: a physically based path tracer (headless)"
+)]
 struct Cli {
     /// More log output (also: RUST_LOG=info).
     #[arg(short, long, global = true)]
@@ -35,7 +39,12 @@ fn main() -> ExitCode {
         Err(e) if e.use_stderr() => {
             // One line, like every other error; `--help` explains the rest.
             let text = e.to_string();
-            eprintln!("{} (see --help)", text.lines().find(|l| !l.trim().is_empty()).unwrap_or("invalid arguments"));
+            eprintln!(
+                "{} (see --help)",
+                text.lines()
+                    .find(|l| !l.trim().is_empty())
+                    .unwrap_or("invalid arguments")
+            );
             return ExitCode::from(2);
         }
         Err(e) => {

@@ -53,34 +53,57 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
 
     let bar = ProgressBar::new(u64::from(args.spp));
     bar.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} spp  {msg} (eta {eta})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} spp  {msg} (eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let started = Instant::now();
     let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
     renderer.render(args.spp, |done| {
         let secs = started.elapsed().as_secs_f64().max(1e-9);
         bar.set_position(u64::from(done));
-        bar.set_message(format!("{:.2} Mpaths/s", pixels as f64 * f64::from(done) / secs / 1e6));
+        bar.set_message(format!(
+            "{:.2} Mpaths/s",
+            pixels as f64 * f64::from(done) / secs / 1e6
+        ));
         true
     })?;
     bar.finish_and_clear();
     let render_time = started.elapsed();
     let image = renderer.read_image()?;
-    rt_core::output::save_image(&args.output, image.width, image.height, &image.rgb(), args.exposure)
-        .with_context(|| format!("saving {}", args.output.display()))?;
+    rt_core::output::save_image(
+        &args.output,
+        image.width,
+        image.height,
+        &image.rgb(),
+        args.exposure,
+    )
+    .with_context(|| format!("saving {}", args.output.display()))?;
 
     let secs = render_time.as_secs_f64().max(1e-9);
     let paths = pixels as f64 * f64::from(image.samples_per_pixel);
     eprintln!("adapter:        {}", ctx.adapter_label());
     eprintln!("triangles:      {}", gpu_scene.triangles.len());
-    eprintln!("BVH build:      {:.2?} (depth {})", gpu_scene.bvh_build_time, gpu_scene.bvh_depth);
-    eprintln!("image:          {}x{}, {} spp, max depth {}", image.width, image.height, image.samples_per_pixel, scene.settings.max_depth);
+    eprintln!(
+        "BVH build:      {:.2?} (depth {})",
+        gpu_scene.bvh_build_time, gpu_scene.bvh_depth
+    );
+    eprintln!(
+        "image:          {}x{}, {} spp, max depth {}",
+        image.width, image.height, image.samples_per_pixel, scene.settings.max_depth
+    );
     eprintln!("render time:    {render_time:.2?}");
-    eprintln!("samples/s:      {:.1} spp/s", f64::from(image.samples_per_pixel) / secs);
+    eprintln!(
+        "samples/s:      {:.1} spp/s",
+        f64::from(image.samples_per_pixel) / secs
+    );
     eprintln!("paths/s:        {:.3} M", paths / secs / 1e6);
     if renderer.dropped_samples() > 0 {
-        eprintln!("dropped:        {} NaN/Inf samples (counted as black)", renderer.dropped_samples());
+        eprintln!(
+            "dropped:        {} NaN/Inf samples (counted as black)",
+            renderer.dropped_samples()
+        );
     }
     if verbose {
         eprintln!("longest dispatch: {:.2?}", renderer.longest_dispatch());

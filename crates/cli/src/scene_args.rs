@@ -11,7 +11,9 @@ use rt_core::io::camera_json::CameraFile;
 pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     let [x, y, z] = parts.as_slice() else {
-        return Err(format!("expected three comma-separated numbers like 1,2.5,-3, got '{s}'"));
+        return Err(format!(
+            "expected three comma-separated numbers like 1,2.5,-3, got '{s}'"
+        ));
     };
     let num = |t: &str| match t.parse::<f32>() {
         Ok(v) if v.is_finite() => Ok(v),
@@ -72,13 +74,18 @@ impl SceneArgs {
 /// Points the default camera at a loaded OBJ's bounds so that it is in view, and gives OBJ files
 /// without lights a dim grey ambient so they are not black (the camera file or flags override both).
 fn frame_scene(scene: &mut Scene) {
-    let Some((lo, hi)) = scene.bounds() else { return };
+    let Some((lo, hi)) = scene.bounds() else {
+        return;
+    };
     let center = (lo + hi) * 0.5;
     let radius = ((hi - lo).length() * 0.5).max(1e-6);
     let distance = radius / (scene.camera.vfov_deg.to_radians() * 0.5).tan() * 1.1;
     scene.camera.to = center.to_array();
     scene.camera.from = (center + glam::Vec3::new(0.0, 0.0, distance)).to_array();
-    let has_emitter = scene.objects.iter().any(|o| matches!(o.material, rt_core::Material::Emissive { .. }));
+    let has_emitter = scene
+        .objects
+        .iter()
+        .any(|o| matches!(o.material, rt_core::Material::Emissive { .. }));
     if !has_emitter {
         scene.ambient = [0.8; 3];
     }

@@ -1,10 +1,21 @@
 //! `rt-cli` as a user runs it: renders, info, and bad input → one-line error, exit code 2, no panic.
+#![expect(
+    clippy::unwrap_used,
+    reason = "test helpers fail the test on unexpected errors"
+)]
 
 use std::process::Command;
 
 fn rt_cli(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rt-cli")).args(args).output().expect("run rt-cli");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    let out = Command::new(env!("CARGO_BIN_EXE_rt-cli"))
+        .args(args)
+        .output()
+        .expect("run rt-cli");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
@@ -15,7 +26,17 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
 
 fn has_gpu() -> bool {
     // The GPU tests in tests/ decide whether a missing adapter fails; here we only skip.
-    let (code, _, stderr) = rt_cli(&["render", "-o", "/dev/null.png", "--width", "1", "--height", "1", "--spp", "1"]);
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "-o",
+        "/dev/null.png",
+        "--width",
+        "1",
+        "--height",
+        "1",
+        "--spp",
+        "1",
+    ]);
     code != 2 || !stderr.contains("no GPU adapter")
 }
 
@@ -28,9 +49,28 @@ fn renders_the_embedded_cornell_box_to_every_format() {
     let dir = temp_dir("render");
     for ext in ["png", "jpg", "ppm", "exr"] {
         let out = dir.join(format!("cornell.{ext}"));
-        let (code, _, stderr) = rt_cli(&["render", "-o", out.to_str().unwrap(), "--width", "32", "--height", "24", "--spp", "2", "--adapter", "cpu"]);
+        let (code, _, stderr) = rt_cli(&[
+            "render",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--spp",
+            "2",
+            "--adapter",
+            "cpu",
+        ]);
         assert_eq!(code, 0, "{stderr}");
-        for field in ["adapter:", "triangles:", "BVH build:", "render time:", "samples/s:", "paths/s:"] {
+        for field in [
+            "adapter:",
+            "triangles:",
+            "BVH build:",
+            "render time:",
+            "samples/s:",
+            "paths/s:",
+        ] {
             assert!(stderr.contains(field), "summary lacks '{field}': {stderr}");
         }
         let img = image::open(&out).unwrap();
@@ -42,7 +82,10 @@ fn renders_the_embedded_cornell_box_to_every_format() {
 fn info_describes_a_scene() {
     let (code, stdout, stderr) = rt_cli(&["info"]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stdout.contains("triangles: 32") && stdout.contains("light") && stdout.contains("emissive"), "{stdout}");
+    assert!(
+        stdout.contains("triangles: 32") && stdout.contains("light") && stdout.contains("emissive"),
+        "{stdout}"
+    );
     assert!(stdout.contains("bounds:"), "{stdout}");
 }
 
@@ -52,17 +95,52 @@ fn bad_arguments_and_files_exit_2_with_one_line() {
     let bad_obj = dir.join("bad.obj");
     std::fs::write(&bad_obj, "v 0 0 0\nf 1 2 3\n").unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
-        (vec!["render", "--camera-from", "1,2"], "three comma-separated"),
-        (vec!["render", "--camera-from", "1,x,3"], "not a finite number"),
-        (vec!["render", "--width", "0", "-o", "x.png"], "at least 1x1"),
+        (
+            vec!["render", "--camera-from", "1,2"],
+            "three comma-separated",
+        ),
+        (
+            vec!["render", "--camera-from", "1,x,3"],
+            "not a finite number",
+        ),
+        (
+            vec!["render", "--width", "0", "-o", "x.png"],
+            "at least 1x1",
+        ),
         (vec!["render", "--width=-5"], "invalid value"),
-        (vec!["render", "--spp", "0", "-o", "x.png"], "samples per pixel"),
-        (vec!["render", "--width", "100000", "-o", "x.png"], "exceeds the limit"),
+        (
+            vec!["render", "--spp", "0", "-o", "x.png"],
+            "samples per pixel",
+        ),
+        (
+            vec!["render", "--width", "100000", "-o", "x.png"],
+            "exceeds the limit",
+        ),
         (vec!["render", "-o", "x.bmp"], "unknown image type"),
-        (vec!["render", "/nonexistent/scene.obj", "-o", "x.png"], "/nonexistent/scene.obj"),
-        (vec!["render", bad_obj.to_str().unwrap(), "-o", "x.png"], "bad.obj:2:"),
-        (vec!["render", "--camera-from", "0,0,0", "--camera-to", "0,0,0", "-o", "x.png"], "same point"),
-        (vec!["render", "--camera-up", "0,0,1", "-o", "x.png"], "parallel"),
+        (
+            vec!["render", "/nonexistent/scene.obj", "-o", "x.png"],
+            "/nonexistent/scene.obj",
+        ),
+        (
+            vec!["render", bad_obj.to_str().unwrap(), "-o", "x.png"],
+            "bad.obj:2:",
+        ),
+        (
+            vec![
+                "render",
+                "--camera-from",
+                "0,0,0",
+                "--camera-to",
+                "0,0,0",
+                "-o",
+                "x.png",
+            ],
+            "same point",
+        ),
+        (
+            vec!["render", "--camera-up", "0,0,1", "-o", "x.png"],
+            "parallel",
+        ),
         (vec!["render", "--vfov", "180", "-o", "x.png"], "vfov"),
         (vec!["info", dir.to_str().unwrap()], "directory"),
         (vec!["frobnicate"], "unrecognized subcommand"),
@@ -70,11 +148,21 @@ fn bad_arguments_and_files_exit_2_with_one_line() {
     for (args, needle) in cases {
         let (code, _, stderr) = rt_cli(&args);
         assert_eq!(code, 2, "{args:?} should exit 2: {stderr}");
-        assert!(stderr.contains(needle), "{args:?}: error should mention '{needle}': {stderr}");
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: error should mention '{needle}': {stderr}"
+        );
         assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
         if !stderr.contains("Usage") {
-            let lines: Vec<&str> = stderr.lines().filter(|l| !l.contains("XDG_RUNTIME_DIR") && !l.trim().is_empty()).collect();
-            assert_eq!(lines.len(), 1, "{args:?}: expected a one-line error, got {stderr}");
+            let lines: Vec<&str> = stderr
+                .lines()
+                .filter(|l| !l.contains("XDG_RUNTIME_DIR") && !l.trim().is_empty())
+                .collect();
+            assert_eq!(
+                lines.len(),
+                1,
+                "{args:?}: expected a one-line error, got {stderr}"
+            );
         }
     }
 }

@@ -15,13 +15,26 @@ const CORNELL_CAMERA: &str = include_str!("../../../assets/cornell/cornell.json"
 pub fn cornell_box() -> Result<Scene> {
     let read_file = |p: &Path| match p.file_name().and_then(|n| n.to_str()) {
         Some("cornell.mtl") => Ok(CORNELL_MTL.as_bytes().to_vec()),
-        _ => Err(Error::File { path: p.into(), message: "not part of the embedded scene".into() }),
+        _ => Err(Error::File {
+            path: p.into(),
+            message: "not part of the embedded scene".into(),
+        }),
     };
     let no_textures = |p: &Path| -> Result<crate::scene::Texture> {
-        Err(Error::File { path: p.into(), message: "the embedded scene has no textures".into() })
+        Err(Error::File {
+            path: p.into(),
+            message: "the embedded scene has no textures".into(),
+        })
     };
     let obj_path = Path::new("<embedded>/cornell.obj");
-    let mut scene = load_obj_bytes(obj_path, CORNELL_OBJ.as_bytes(), Path::new("<embedded>"), &read_file, &no_textures, 0)?;
+    let mut scene = load_obj_bytes(
+        obj_path,
+        CORNELL_OBJ.as_bytes(),
+        Path::new("<embedded>"),
+        &read_file,
+        &no_textures,
+        0,
+    )?;
     CameraFile::parse(CORNELL_CAMERA, Path::new("<embedded>/cornell.json"))?.apply(&mut scene);
     scene.settings.max_depth = 8;
     Ok(scene)

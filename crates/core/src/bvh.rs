@@ -47,21 +47,42 @@ pub struct BuiltBvh {
 pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBvh, String> {
     let start = Instant::now();
     if triangles.is_empty() {
-        let empty = BvhNode { min: [f32::INFINITY; 3], first: 0, max: [f32::NEG_INFINITY; 3], count: 0 };
-        return Ok(BuiltBvh { nodes: vec![empty], triangle_order: Vec::new(), depth: 1, build_time: start.elapsed() });
+        let empty = BvhNode {
+            min: [f32::INFINITY; 3],
+            first: 0,
+            max: [f32::NEG_INFINITY; 3],
+            count: 0,
+        };
+        return Ok(BuiltBvh {
+            nodes: vec![empty],
+            triangle_order: Vec::new(),
+            depth: 1,
+            build_time: start.elapsed(),
+        });
     }
     let tris: Vec<obvhs::triangle::Triangle> = triangles
         .iter()
-        .map(|t| obvhs::triangle::Triangle { v0: Vec3A::from(t[0]), v1: Vec3A::from(t[1]), v2: Vec3A::from(t[2]) })
+        .map(|t| obvhs::triangle::Triangle {
+            v0: Vec3A::from(t[0]),
+            v1: Vec3A::from(t[1]),
+            v2: Vec3A::from(t[2]),
+        })
         .collect();
     let mut core_time = Duration::ZERO;
     let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, quality.params(), &mut core_time);
 
     let (nodes, triangle_order, depth) = layout_siblings(&bvh);
     if depth > MAX_BVH_DEPTH {
-        return Err(format!("BVH depth {depth} exceeds the kernel's traversal stack ({MAX_BVH_DEPTH})"));
+        return Err(format!(
+            "BVH depth {depth} exceeds the kernel's traversal stack ({MAX_BVH_DEPTH})"
+        ));
     }
-    Ok(BuiltBvh { nodes, triangle_order, depth, build_time: start.elapsed() })
+    Ok(BuiltBvh {
+        nodes,
+        triangle_order,
+        depth,
+        build_time: start.elapsed(),
+    })
 }
 
 /// Copies obvhs' tree into `BvhNode`s with both children of a node stored side by side, and leaf
@@ -84,7 +105,8 @@ fn layout_siblings(bvh: &obvhs::bvh2::Bvh2) -> (Vec<BvhNode>, Vec<u32>, usize) {
         if node.prim_count > 0 {
             nodes[dst].first = triangle_order.len() as u32;
             let first = node.first_index as usize;
-            triangle_order.extend_from_slice(&bvh.primitive_indices[first..first + node.prim_count as usize]);
+            triangle_order
+                .extend_from_slice(&bvh.primitive_indices[first..first + node.prim_count as usize]);
         } else {
             let left = node.first_index as usize;
             let out_left = nodes.len();

@@ -55,10 +55,16 @@ impl Camera {
             return Err("camera from/to/up must be finite".into());
         }
         if !(self.vfov_deg > 0.0 && self.vfov_deg < 180.0) {
-            return Err(format!("camera vfov must be in (0, 180) degrees, got {}", self.vfov_deg));
+            return Err(format!(
+                "camera vfov must be in (0, 180) degrees, got {}",
+                self.vfov_deg
+            ));
         }
         if !(self.aperture_radius.is_finite() && self.aperture_radius >= 0.0) {
-            return Err(format!("camera aperture must be >= 0, got {}", self.aperture_radius));
+            return Err(format!(
+                "camera aperture must be >= 0, got {}",
+                self.aperture_radius
+            ));
         }
         let view = from - to;
         if view.length_squared() <= f32::MIN_POSITIVE {
@@ -73,7 +79,9 @@ impl Camera {
         let v = w.cross(u);
         let focus_distance = self.focus_distance.unwrap_or(view.length());
         if !(focus_distance.is_finite() && focus_distance > 0.0) {
-            return Err(format!("camera focus distance must be > 0, got {focus_distance}"));
+            return Err(format!(
+                "camera focus distance must be > 0, got {focus_distance}"
+            ));
         }
         Ok(CameraBasis {
             origin: from,

@@ -6,10 +6,17 @@ use std::path::PathBuf;
 pub enum Error {
     /// A file could not be read.
     #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// A syntax or range error at a line of a text file (OBJ, MTL).
     #[error("{}:{line}: {message}", path.display())]
-    Parse { path: PathBuf, line: usize, message: String },
+    Parse {
+        path: PathBuf,
+        line: usize,
+        message: String,
+    },
     /// A problem with a whole file (a missing or corrupt texture, a bad camera file).
     #[error("{}: {message}", path.display())]
     File { path: PathBuf, message: String },

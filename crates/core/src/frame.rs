@@ -10,7 +10,10 @@ pub fn frame_for(scene: &Scene) -> Result<Frame> {
     settings.validate().map_err(Error::Scene)?;
     let basis = scene.camera.basis().map_err(Error::Scene)?;
     if !scene.ambient.iter().all(|c| c.is_finite() && *c >= 0.0) {
-        return Err(Error::Scene(format!("ambient colour must be finite and >= 0, got {:?}", scene.ambient)));
+        return Err(Error::Scene(format!(
+            "ambient colour must be finite and >= 0, got {:?}",
+            scene.ambient
+        )));
     }
     Ok(Frame {
         cam_origin: basis.origin.to_array(),

@@ -45,10 +45,18 @@ impl GpuScene {
         for texture in &scene.textures {
             let expected = texture.width as usize * texture.height as usize * 4;
             if texture.rgba8.len() != expected || expected == 0 {
-                return Err(Error::Scene(format!("texture '{}' has no pixel data", texture.name)));
+                return Err(Error::Scene(format!(
+                    "texture '{}' has no pixel data",
+                    texture.name
+                )));
             }
             texture_offsets.push(out.texels.len() as u32);
-            out.texels.extend(texture.rgba8.chunks_exact(4).map(|p| u32::from_le_bytes([p[0], p[1], p[2], p[3]])));
+            out.texels.extend(
+                texture
+                    .rgba8
+                    .chunks_exact(4)
+                    .map(|p| u32::from_le_bytes([p[0], p[1], p[2], p[3]])),
+            );
         }
 
         let mut world = Vec::with_capacity(scene.triangle_count());
@@ -58,7 +66,10 @@ impl GpuScene {
             let label = || format!("object '{}'", object.name);
             object.material.validate(&label()).map_err(Error::Scene)?;
             let mut material = gpu_material(&object.material);
-            if let Material::Lambertian { texture: Some(t), .. } = object.material {
+            if let Material::Lambertian {
+                texture: Some(t), ..
+            } = object.material
+            {
                 let texture = scene.textures.get(t).ok_or_else(|| {
                     Error::Scene(format!("{}: texture index {t} does not exist", label()))
                 })?;
@@ -79,12 +90,19 @@ impl GpuScene {
             let m = object.transform.matrix();
             let nm = object.transform.normal_matrix();
             if !m.is_finite() || m.determinant() == 0.0 {
-                return Err(Error::Scene(format!("{}: transform is singular or not finite", label())));
+                return Err(Error::Scene(format!(
+                    "{}: transform is singular or not finite",
+                    label()
+                )));
             }
             let flip = m.determinant() < 0.0;
             for (i, p) in mesh.positions.iter().enumerate() {
                 if !p.is_finite() {
-                    return Err(Error::Scene(format!("{}: vertex {} is not finite ({p})", label(), i + 1)));
+                    return Err(Error::Scene(format!(
+                        "{}: vertex {} is not finite ({p})",
+                        label(),
+                        i + 1
+                    )));
                 }
             }
             let count = mesh.positions.len();
@@ -100,7 +118,10 @@ impl GpuScene {
                 // A mirroring transform reverses winding; swap two corners to keep the front face.
                 let idx = if flip { [idx[0], idx[2], idx[1]] } else { *idx };
                 let p = idx.map(|i| m.transform_point3(mesh.positions[i as usize]));
-                let n = mesh.normals.as_ref().map(|ns| idx.map(|i| (nm * ns[i as usize]).normalize_or_zero()));
+                let n = mesh
+                    .normals
+                    .as_ref()
+                    .map(|ns| idx.map(|i| (nm * ns[i as usize]).normalize_or_zero()));
                 let uv = mesh.uvs.as_ref().map(|uvs| idx.map(|i| uvs[i as usize]));
                 world.push(p);
                 tri_data.push((object_index as u32, n, uv));
@@ -145,9 +166,15 @@ impl GpuScene {
     pub fn buffer_sizes(&self) -> [(&'static str, u64); 5] {
         let bytes = |len: usize, size: usize| (len * size) as u64;
         [
-            ("triangles", bytes(self.triangles.len(), size_of::<Triangle>())),
+            (
+                "triangles",
+                bytes(self.triangles.len(), size_of::<Triangle>()),
+            ),
             ("shading", bytes(self.shading.len(), size_of::<Shading>())),
-            ("materials", bytes(self.materials.len(), size_of::<gpu_types::Material>())),
+            (
+                "materials",
+                bytes(self.materials.len(), size_of::<gpu_types::Material>()),
+            ),
             ("texels", bytes(self.texels.len(), 4)),
             ("bvh nodes", bytes(self.nodes.len(), size_of::<BvhNode>())),
         ]
@@ -155,13 +182,28 @@ impl GpuScene {
 }
 
 fn gpu_material(material: &Material) -> gpu_types::Material {
-    let base = gpu_types::Material { texture_offset: NO_TEXTURE, ..Default::default() };
+    let base = gpu_types::Material {
+        texture_offset: NO_TEXTURE,
+        ..Default::default()
+    };
     match *material {
-        Material::Lambertian { albedo, .. } => gpu_types::Material { albedo, kind: material_kind::LAMBERTIAN, ..base },
-        Material::Metal { albedo, fuzz } => gpu_types::Material { albedo, kind: material_kind::METAL, param: fuzz, ..base },
-        Material::Dielectric { ior, tint } => {
-            gpu_types::Material { albedo: tint, kind: material_kind::DIELECTRIC, param: ior, ..base }
-        }
+        Material::Lambertian { albedo, .. } => gpu_types::Material {
+            albedo,
+            kind: material_kind::LAMBERTIAN,
+            ..base
+        },
+        Material::Metal { albedo, fuzz } => gpu_types::Material {
+            albedo,
+            kind: material_kind::METAL,
+            param: fuzz,
+            ..base
+        },
+        Material::Dielectric { ior, tint } => gpu_types::Material {
+            albedo: tint,
+            kind: material_kind::DIELECTRIC,
+            param: ior,
+            ..base
+        },
         Material::Emissive { color, intensity } => gpu_types::Material {
             kind: material_kind::EMISSIVE,
             emission: color.map(|c| c * intensity),

@@ -25,7 +25,7 @@ pub struct Triangle {
     pub v1: [f32; 3],  // 16
     /// 1 when `Shading` holds vertex normals, 0 for flat shading.
     pub has_normals: u32, // 28
-    pub v2: [f32; 3], // 32
+    pub v2: [f32; 3],  // 32
     /// 1 when `Shading` holds texture coordinates.
     pub has_uvs: u32, // 44
 }
@@ -34,15 +34,15 @@ pub struct Triangle {
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Shading {
-    pub n0: [f32; 3], // 0
-    pub _pad0: u32,   // 12
-    pub n1: [f32; 3], // 16
-    pub _pad1: u32,   // 28
-    pub n2: [f32; 3], // 32
-    pub _pad2: u32,   // 44
-    pub uv0: [f32; 2], // 48
-    pub uv1: [f32; 2], // 56
-    pub uv2: [f32; 2], // 64
+    pub n0: [f32; 3],    // 0
+    pub _pad0: u32,      // 12
+    pub n1: [f32; 3],    // 16
+    pub _pad1: u32,      // 28
+    pub n2: [f32; 3],    // 32
+    pub _pad2: u32,      // 44
+    pub uv0: [f32; 2],   // 48
+    pub uv1: [f32; 2],   // 56
+    pub uv2: [f32; 2],   // 64
     pub _pad3: [f32; 2], // 72
 }
 
@@ -52,16 +52,16 @@ pub struct Shading {
 pub struct Material {
     /// Lambertian albedo, metal albedo, or dielectric transmission tint.
     pub albedo: [f32; 3], // 0
-    pub kind: u32,        // 12
+    pub kind: u32, // 12
     /// Radiance emitted from the front face (any kind may emit; `EMISSIVE` also absorbs).
     pub emission: [f32; 3], // 16
     /// Metal: fuzz in [0, 1]. Dielectric: index of refraction.
     pub param: f32, // 28
     /// First texel in the texel buffer, or `NO_TEXTURE`.
     pub texture_offset: u32, // 32
-    pub texture_width: u32,  // 36
+    pub texture_width: u32, // 36
     pub texture_height: u32, // 40
-    pub _pad: u32,           // 44
+    pub _pad: u32, // 44
 }
 
 /// A BVH2 node. Leaves (`count > 0`) hold triangles `first..first + count`; inner nodes (`count == 0`)
@@ -97,8 +97,8 @@ pub struct Frame {
     pub samples_this_dispatch: u32, // 96
     /// This dispatch covers image rows `row_begin..row_end`.
     pub row_begin: u32, // 100
-    pub row_end: u32,   // 104
-    pub _pad: u32,      // 108
+    pub row_end: u32,         // 104
+    pub _pad: u32,            // 108
 }
 
 /// A ray for the `trace_rays` test kernel.
@@ -121,22 +121,78 @@ pub struct Hit {
     pub b2: f32,       // 12
 }
 
+/// A Rust struct's layout as the layout test compares it with WGSL.
+pub struct StructLayout {
+    pub name: &'static str,
+    pub size: usize,
+    pub align: usize,
+    /// (member name, byte offset) in declaration order.
+    pub fields: Vec<(&'static str, usize)>,
+}
+
 /// Name, size, alignment and member offsets of every GPU struct, for the layout test.
-pub fn layouts() -> Vec<(&'static str, usize, usize, Vec<(&'static str, usize)>)> {
+pub fn layouts() -> Vec<StructLayout> {
     use std::mem::{align_of, offset_of, size_of};
     macro_rules! layout {
         ($name:literal, $ty:ty, [$($field:ident),*]) => {
-            ($name, size_of::<$ty>(), align_of::<$ty>(),
-             vec![$((stringify!($field), offset_of!($ty, $field))),*])
+            StructLayout {
+                name: $name,
+                size: size_of::<$ty>(),
+                align: align_of::<$ty>(),
+                fields: vec![$((stringify!($field), offset_of!($ty, $field))),*],
+            }
         };
     }
     vec![
-        layout!("Triangle", Triangle, [v0, material, v1, has_normals, v2, has_uvs]),
-        layout!("Shading", Shading, [n0, _pad0, n1, _pad1, n2, _pad2, uv0, uv1, uv2, _pad3]),
-        layout!("Material", Material, [albedo, kind, emission, param, texture_offset, texture_width, texture_height, _pad]),
+        layout!(
+            "Triangle",
+            Triangle,
+            [v0, material, v1, has_normals, v2, has_uvs]
+        ),
+        layout!(
+            "Shading",
+            Shading,
+            [n0, _pad0, n1, _pad1, n2, _pad2, uv0, uv1, uv2, _pad3]
+        ),
+        layout!(
+            "Material",
+            Material,
+            [
+                albedo,
+                kind,
+                emission,
+                param,
+                texture_offset,
+                texture_width,
+                texture_height,
+                _pad
+            ]
+        ),
         layout!("BvhNode", BvhNode, [min, first, max, count]),
-        layout!("Frame", Frame, [cam_origin, lens_radius, cam_u, focus_distance, cam_v, tan_half_vfov, cam_w, aspect,
-            ambient, max_depth, width, height, seed, sample_base, samples_this_dispatch, row_begin, row_end, _pad]),
+        layout!(
+            "Frame",
+            Frame,
+            [
+                cam_origin,
+                lens_radius,
+                cam_u,
+                focus_distance,
+                cam_v,
+                tan_half_vfov,
+                cam_w,
+                aspect,
+                ambient,
+                max_depth,
+                width,
+                height,
+                seed,
+                sample_base,
+                samples_this_dispatch,
+                row_begin,
+                row_end,
+                _pad
+            ]
+        ),
         layout!("Ray", Ray, [origin, t_max, direction, _pad]),
         layout!("Hit", Hit, [t, triangle, b1, b2]),
     ]

@@ -27,13 +27,18 @@ pub enum Material {
 
 impl Material {
     pub fn lambertian(albedo: Rgb) -> Self {
-        Material::Lambertian { albedo, texture: None }
+        Material::Lambertian {
+            albedo,
+            texture: None,
+        }
     }
 
     /// A short name of the model, for listings.
     pub fn kind_name(&self) -> &'static str {
         match self {
-            Material::Lambertian { texture: Some(_), .. } => "lambertian (textured)",
+            Material::Lambertian {
+                texture: Some(_), ..
+            } => "lambertian (textured)",
             Material::Lambertian { .. } => "lambertian",
             Material::Metal { .. } => "metal",
             Material::Dielectric { .. } => "dielectric",
@@ -55,7 +60,9 @@ impl Material {
         if ok {
             Ok(())
         } else {
-            Err(format!("{what}: material parameters out of range: {self:?}"))
+            Err(format!(
+                "{what}: material parameters out of range: {self:?}"
+            ))
         }
     }
 }

@@ -19,7 +19,11 @@ pub enum ImageFormat {
 
 impl ImageFormat {
     pub fn from_path(path: &Path) -> Result<Self> {
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
         Ok(match ext.as_str() {
             "png" => ImageFormat::Png,
             "jpg" | "jpeg" => ImageFormat::Jpeg,
@@ -37,7 +41,11 @@ impl ImageFormat {
 
 /// sRGB transfer function (encode linear to display).
 pub fn linear_to_srgb(c: f32) -> f32 {
-    if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
 }
 
 /// 8-bit sRGB of a linear radiance value after `exposure_stops`.
@@ -48,7 +56,13 @@ pub fn tone_map_u8(c: f32, exposure_stops: f32) -> u8 {
 }
 
 /// Encodes `rgb` (row-major, top row first) to bytes in `format`.
-pub fn encode_image(format: ImageFormat, width: u32, height: u32, rgb: &[[f32; 3]], exposure_stops: f32) -> Result<Vec<u8>> {
+pub fn encode_image(
+    format: ImageFormat,
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+    exposure_stops: f32,
+) -> Result<Vec<u8>> {
     let mut out = std::io::Cursor::new(Vec::new());
     let encode_err = |e: image::ImageError| Error::Scene(format!("encoding the image failed: {e}"));
     match format {
@@ -56,10 +70,16 @@ pub fn encode_image(format: ImageFormat, width: u32, height: u32, rgb: &[[f32; 3
             let data: Vec<f32> = rgb.iter().flatten().copied().collect();
             let buffer = image::Rgb32FImage::from_raw(width, height, data)
                 .ok_or_else(|| Error::Scene("image size does not match its pixels".into()))?;
-            buffer.write_to(&mut out, image::ImageFormat::OpenExr).map_err(encode_err)?;
+            buffer
+                .write_to(&mut out, image::ImageFormat::OpenExr)
+                .map_err(encode_err)?;
         }
         _ => {
-            let data: Vec<u8> = rgb.iter().flatten().map(|&c| tone_map_u8(c, exposure_stops)).collect();
+            let data: Vec<u8> = rgb
+                .iter()
+                .flatten()
+                .map(|&c| tone_map_u8(c, exposure_stops))
+                .collect();
             let buffer = image::RgbImage::from_raw(width, height, data)
                 .ok_or_else(|| Error::Scene("image size does not match its pixels".into()))?;
             let f = match format {
@@ -68,10 +88,19 @@ pub fn encode_image(format: ImageFormat, width: u32, height: u32, rgb: &[[f32; 3
                 _ => image::ImageFormat::Pnm,
             };
             if format == ImageFormat::Ppm {
-                let encoder = image::codecs::pnm::PnmEncoder::new(&mut out)
-                    .with_subtype(image::codecs::pnm::PnmSubtype::Pixmap(image::codecs::pnm::SampleEncoding::Binary));
-                image::ImageEncoder::write_image(encoder, &buffer, width, height, image::ExtendedColorType::Rgb8)
-                    .map_err(encode_err)?;
+                let encoder = image::codecs::pnm::PnmEncoder::new(&mut out).with_subtype(
+                    image::codecs::pnm::PnmSubtype::Pixmap(
+                        image::codecs::pnm::SampleEncoding::Binary,
+                    ),
+                );
+                image::ImageEncoder::write_image(
+                    encoder,
+                    &buffer,
+                    width,
+                    height,
+                    image::ExtendedColorType::Rgb8,
+                )
+                .map_err(encode_err)?;
             } else {
                 buffer.write_to(&mut out, f).map_err(encode_err)?;
             }
@@ -81,7 +110,13 @@ pub fn encode_image(format: ImageFormat, width: u32, height: u32, rgb: &[[f32; 3
 }
 
 /// Saves an image atomically; the format follows the extension.
-pub fn save_image(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]], exposure_stops: f32) -> Result<()> {
+pub fn save_image(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[[f32; 3]],
+    exposure_stops: f32,
+) -> Result<()> {
     let format = ImageFormat::from_path(path)?;
     let bytes = encode_image(format, width, height, rgb, exposure_stops)?;
     write_atomically(path, &bytes)
@@ -93,8 +128,14 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
         let p: PathBuf = p.into();
         move |source| Error::Io { path: p, source }
     };
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("output");
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("output");
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let result = (|| {
         let mut file = std::fs::File::create(&tmp).map_err(io_err(&tmp))?;
@@ -118,7 +159,11 @@ mod tests {
         assert_eq!(tone_map_u8(1.0, 0.0), 255);
         assert_eq!(tone_map_u8(5.0, 0.0), 255, "clamped");
         assert_eq!(tone_map_u8(0.5, 1.0), 255, "+1 stop doubles");
-        assert_eq!(tone_map_u8(0.215_861, 0.0), 128, "sRGB 128 is linear 0.2159");
+        assert_eq!(
+            tone_map_u8(0.215_861, 0.0),
+            128,
+            "sRGB 128 is linear 0.2159"
+        );
     }
 
     #[test]

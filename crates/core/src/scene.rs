@@ -27,7 +27,11 @@ pub struct Transform {
 
 impl Default for Transform {
     fn default() -> Self {
-        Transform { translation: [0.0; 3], rotation_deg: [0.0; 3], scale: [1.0; 3] }
+        Transform {
+            translation: [0.0; 3],
+            rotation_deg: [0.0; 3],
+            scale: [1.0; 3],
+        }
     }
 }
 
@@ -85,7 +89,13 @@ pub struct RenderSettings {
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        RenderSettings { width: 512, height: 512, samples_per_pixel: 64, max_depth: 8, seed: 0 }
+        RenderSettings {
+            width: 512,
+            height: 512,
+            samples_per_pixel: 64,
+            max_depth: 8,
+            seed: 0,
+        }
     }
 }
 
@@ -95,7 +105,10 @@ pub const MAX_IMAGE_SIDE: u32 = 16384;
 impl RenderSettings {
     pub fn validate(&self) -> Result<(), String> {
         if self.width == 0 || self.height == 0 {
-            return Err(format!("image size must be at least 1x1, got {}x{}", self.width, self.height));
+            return Err(format!(
+                "image size must be at least 1x1, got {}x{}",
+                self.width, self.height
+            ));
         }
         if self.width > MAX_IMAGE_SIDE || self.height > MAX_IMAGE_SIDE {
             return Err(format!(

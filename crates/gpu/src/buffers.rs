@@ -6,7 +6,12 @@ use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 
 /// Creates a storage buffer from `data`, padded to at least 16 bytes (wgpu rejects empty bindings).
-pub fn storage_buffer<T: bytemuck::Pod>(ctx: &GpuContext, name: &'static str, data: &[T], extra: wgpu::BufferUsages) -> Result<wgpu::Buffer> {
+pub fn storage_buffer<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    name: &'static str,
+    data: &[T],
+    extra: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer> {
     let mut bytes = bytemuck::cast_slice::<T, u8>(data).to_vec();
     let element = size_of::<T>().max(16);
     if bytes.len() < element {
@@ -14,11 +19,12 @@ pub fn storage_buffer<T: bytemuck::Pod>(ctx: &GpuContext, name: &'static str, da
     }
     ctx.check_buffer(name, bytes.len() as u64)?;
     ctx.scoped(|| {
-        ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(name),
-            contents: &bytes,
-            usage: wgpu::BufferUsages::STORAGE | extra,
-        })
+        ctx.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(name),
+                contents: &bytes,
+                usage: wgpu::BufferUsages::STORAGE | extra,
+            })
     })
 }
 
@@ -37,11 +43,16 @@ pub fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer, size: u64) -> Result
     staging.map_async(wgpu::MapMode::Read, .., move |r| {
         let _ = tx.send(r);
     });
-    ctx.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Wgpu(e.to_string()))?;
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Wgpu(e.to_string()))?;
     rx.recv()
         .map_err(|e| GpuError::Wgpu(e.to_string()))?
         .map_err(|e| GpuError::Wgpu(format!("reading back results: {e}")))?;
-    let data = staging.get_mapped_range(..).map_err(|e| GpuError::Wgpu(e.to_string()))?.to_vec();
+    let data = staging
+        .get_mapped_range(..)
+        .map_err(|e| GpuError::Wgpu(e.to_string()))?
+        .to_vec();
     staging.unmap();
     Ok(data)
 }

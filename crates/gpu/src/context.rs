@@ -43,18 +43,25 @@ impl GpuContext {
     }
 
     async fn new_async(choice: &AdapterChoice) -> Result<Self> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         // GL only as a fallback: probing EGL is slow and noisy where Vulkan works.
         let mut adapters = instance.enumerate_adapters(wgpu::Backends::PRIMARY).await;
         if adapters.is_empty() {
             adapters = instance.enumerate_adapters(wgpu::Backends::GL).await;
         }
-        let names: Vec<String> =
-            adapters.iter().map(|a| format!("{} ({:?})", a.get_info().name, a.get_info().backend)).collect();
+        let names: Vec<String> = adapters
+            .iter()
+            .map(|a| format!("{} ({:?})", a.get_info().name, a.get_info().backend))
+            .collect();
         let rank = |a: &wgpu::Adapter| {
             let info = a.get_info();
             // Prefer Vulkan/Metal/DX12 over GL, then by device type.
-            let backend = if info.backend == wgpu::Backend::Gl { 0 } else { 1 };
+            let backend = if info.backend == wgpu::Backend::Gl {
+                0
+            } else {
+                1
+            };
             let kind = match (choice, info.device_type) {
                 (AdapterChoice::Cpu, wgpu::DeviceType::Cpu) => 4,
                 (AdapterChoice::Cpu, _) => 0,
@@ -69,13 +76,22 @@ impl GpuContext {
         let adapter = match choice {
             AdapterChoice::Named(name) => {
                 let needle = name.to_ascii_lowercase();
-                adapters.into_iter().find(|a| a.get_info().name.to_ascii_lowercase().contains(&needle))
+                adapters
+                    .into_iter()
+                    .find(|a| a.get_info().name.to_ascii_lowercase().contains(&needle))
             }
-            AdapterChoice::Cpu => adapters.into_iter().filter(|a| a.get_info().device_type == wgpu::DeviceType::Cpu).max_by_key(rank),
+            AdapterChoice::Cpu => adapters
+                .into_iter()
+                .filter(|a| a.get_info().device_type == wgpu::DeviceType::Cpu)
+                .max_by_key(rank),
             AdapterChoice::Auto => adapters.into_iter().max_by_key(rank),
         };
         let Some(adapter) = adapter else {
-            let found = if names.is_empty() { "none".to_string() } else { names.join(", ") };
+            let found = if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            };
             return Err(GpuError::NoAdapter(format!(
                 " matching {choice:?} (adapters found: {found}); on Debian/Ubuntu install a Vulkan driver, e.g. `sudo apt-get install -y mesa-vulkan-drivers`"
             )));
@@ -89,8 +105,19 @@ impl GpuContext {
             })
             .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
-        log::info!("adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
-        Ok(GpuContext { adapter, device, queue, info, pipelines: Mutex::new(HashMap::new()) })
+        log::info!(
+            "adapter: {} ({:?}, {:?})",
+            info.name,
+            info.backend,
+            info.device_type
+        );
+        Ok(GpuContext {
+            adapter,
+            device,
+            queue,
+            info,
+            pipelines: Mutex::new(HashMap::new()),
+        })
     }
 
     /// "name (backend)" for summaries.
@@ -101,12 +128,22 @@ impl GpuContext {
     /// Checks one buffer against the binding and buffer size limits.
     pub fn check_buffer(&self, buffer: &'static str, size: u64) -> Result<()> {
         let limits = self.device.limits();
-        let binding = u64::from(limits.max_storage_buffer_binding_size);
+        let binding = limits.max_storage_buffer_binding_size;
         if size > binding {
-            return Err(GpuError::TooLarge { buffer, size, limit: binding, what: "max_storage_buffer_binding_size" });
+            return Err(GpuError::TooLarge {
+                buffer,
+                size,
+                limit: binding,
+                what: "max_storage_buffer_binding_size",
+            });
         }
         if size > limits.max_buffer_size {
-            return Err(GpuError::TooLarge { buffer, size, limit: limits.max_buffer_size, what: "max_buffer_size" });
+            return Err(GpuError::TooLarge {
+                buffer,
+                size,
+                limit: limits.max_buffer_size,
+                what: "max_buffer_size",
+            });
         }
         Ok(())
     }

@@ -9,8 +9,15 @@ pub enum GpuError {
     #[error("could not open the GPU device: {0}")]
     Device(String),
     /// A buffer the scene needs exceeds one of the adapter's limits.
-    #[error("the {buffer} buffer needs {size} bytes but this adapter allows at most {limit} bytes ({what})")]
-    TooLarge { buffer: &'static str, size: u64, limit: u64, what: &'static str },
+    #[error(
+        "the {buffer} buffer needs {size} bytes but this adapter allows at most {limit} bytes ({what})"
+    )]
+    TooLarge {
+        buffer: &'static str,
+        size: u64,
+        limit: u64,
+        what: &'static str,
+    },
     /// wgpu reported a validation or out-of-memory error, or the device was lost.
     #[error("GPU error: {0}")]
     Wgpu(String),

@@ -29,44 +29,64 @@ impl PipelineKey {
 
 /// The trace pipeline for `key`, built on first use.
 pub fn trace_pipeline(ctx: &GpuContext, key: PipelineKey) -> Result<wgpu::ComputePipeline> {
-    if let Some(p) = ctx.pipelines.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+    if let Some(p) = ctx
+        .pipelines
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .get(&key)
+    {
         return Ok(p.clone());
     }
     let started = std::time::Instant::now();
     let pipeline = ctx.scoped(|| {
-        let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("trace"),
-            source: wgpu::ShaderSource::Wgsl(shaders::TRACE.source().into()),
-        });
+        let module = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("trace"),
+                source: wgpu::ShaderSource::Wgsl(shaders::TRACE.source().into()),
+            });
         let constants = key.constants();
-        ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("trace"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-            cache: None,
-        })
+        ctx.device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("trace"),
+                layout: None,
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
+                cache: None,
+            })
     })?;
-    log::info!("compiled trace pipeline {key:?} in {:.2?}", started.elapsed());
-    ctx.pipelines.lock().unwrap_or_else(|e| e.into_inner()).insert(key, pipeline.clone());
+    log::info!(
+        "compiled trace pipeline {key:?} in {:.2?}",
+        started.elapsed()
+    );
+    ctx.pipelines
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key, pipeline.clone());
     Ok(pipeline)
 }
 
 /// The ray-query pipeline used by tests to check BVH traversal.
 pub fn trace_rays_pipeline(ctx: &GpuContext) -> Result<wgpu::ComputePipeline> {
     ctx.scoped(|| {
-        let module = ctx.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("trace_rays"),
-            source: wgpu::ShaderSource::Wgsl(shaders::TRACE_RAYS.source().into()),
-        });
-        ctx.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("trace_rays"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        })
+        let module = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("trace_rays"),
+                source: wgpu::ShaderSource::Wgsl(shaders::TRACE_RAYS.source().into()),
+            });
+        ctx.device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("trace_rays"),
+                layout: None,
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
     })
 }

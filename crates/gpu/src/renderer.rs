@@ -25,7 +25,11 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { target_dispatch: Duration::from_millis(40), count_rays: false, max_samples_per_dispatch: None }
+        RenderOptions {
+            target_dispatch: Duration::from_millis(40),
+            count_rays: false,
+            max_samples_per_dispatch: None,
+        }
     }
 }
 
@@ -88,31 +92,59 @@ pub struct Renderer<'a> {
 
 impl<'a> Renderer<'a> {
     /// Prepares a render of `scene` (camera and settings from the scene).
-    pub fn for_scene(ctx: &'a GpuContext, scene: &Scene, gpu_scene: &GpuScene, options: RenderOptions) -> Result<Self> {
+    pub fn for_scene(
+        ctx: &'a GpuContext,
+        scene: &Scene,
+        gpu_scene: &GpuScene,
+        options: RenderOptions,
+    ) -> Result<Self> {
         let frame = rt_core::frame::frame_for(scene)?;
         Self::new(ctx, gpu_scene, frame, options)
     }
 
-    pub fn new(ctx: &'a GpuContext, scene: &GpuScene, frame: Frame, options: RenderOptions) -> Result<Self> {
+    pub fn new(
+        ctx: &'a GpuContext,
+        scene: &GpuScene,
+        frame: Frame,
+        options: RenderOptions,
+    ) -> Result<Self> {
         let pixels = u64::from(frame.width) * u64::from(frame.height);
         let accum_size = pixels * 16;
         ctx.check_buffer("accumulation (width x height x 16 bytes)", accum_size)?;
         let mut features = scene.features;
         features.thin_lens = frame.lens_radius > 0.0;
-        let pipeline = trace_pipeline(ctx, PipelineKey { features, count_rays: options.count_rays })?;
+        let pipeline = trace_pipeline(
+            ctx,
+            PipelineKey {
+                features,
+                count_rays: options.count_rays,
+            },
+        )?;
         let buffers = [
-            storage_buffer(ctx, "triangles", &scene.triangles, wgpu::BufferUsages::empty())?,
+            storage_buffer(
+                ctx,
+                "triangles",
+                &scene.triangles,
+                wgpu::BufferUsages::empty(),
+            )?,
             storage_buffer(ctx, "shading", &scene.shading, wgpu::BufferUsages::empty())?,
-            storage_buffer(ctx, "materials", &scene.materials, wgpu::BufferUsages::empty())?,
+            storage_buffer(
+                ctx,
+                "materials",
+                &scene.materials,
+                wgpu::BufferUsages::empty(),
+            )?,
             storage_buffer(ctx, "bvh nodes", &scene.nodes, wgpu::BufferUsages::empty())?,
             storage_buffer(ctx, "texels", &scene.texels, wgpu::BufferUsages::empty())?,
         ];
         let (frame_buffer, accum, counters, bind_group) = ctx.scoped(|| {
-            let frame_buffer = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("frame"),
-                contents: bytemuck::bytes_of(&frame),
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            });
+            let frame_buffer = ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("frame"),
+                    contents: bytemuck::bytes_of(&frame),
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                });
             let accum = ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("accumulation"),
                 size: accum_size,
@@ -122,15 +154,29 @@ impl<'a> Renderer<'a> {
             let counters = ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("counters"),
                 size: 8,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: frame_buffer.as_entire_binding() }];
+            let mut entries = vec![wgpu::BindGroupEntry {
+                binding: 0,
+                resource: frame_buffer.as_entire_binding(),
+            }];
             for (i, b) in buffers.iter().enumerate() {
-                entries.push(wgpu::BindGroupEntry { binding: i as u32 + 1, resource: b.as_entire_binding() });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: i as u32 + 1,
+                    resource: b.as_entire_binding(),
+                });
             }
-            entries.push(wgpu::BindGroupEntry { binding: 6, resource: accum.as_entire_binding() });
-            entries.push(wgpu::BindGroupEntry { binding: 7, resource: counters.as_entire_binding() });
+            entries.push(wgpu::BindGroupEntry {
+                binding: 6,
+                resource: accum.as_entire_binding(),
+            });
+            entries.push(wgpu::BindGroupEntry {
+                binding: 7,
+                resource: counters.as_entire_binding(),
+            });
             let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("trace"),
                 layout: &pipeline.get_bind_group_layout(0),
@@ -140,7 +186,9 @@ impl<'a> Renderer<'a> {
         })?;
         let steps_per_segment = 4 * scene.bvh_depth as u32 + 16;
         let loop_cap = (LOOP_BUDGET / (frame.max_depth.max(1) * steps_per_segment)).clamp(1, 64);
-        let loop_cap = options.max_samples_per_dispatch.map_or(loop_cap, |m| m.max(1));
+        let loop_cap = options
+            .max_samples_per_dispatch
+            .map_or(loop_cap, |m| m.max(1));
         Ok(Renderer {
             ctx,
             pipeline,
@@ -183,7 +231,10 @@ impl<'a> Renderer<'a> {
     /// Adds up to `max_samples` samples to every pixel; returns what was done.
     pub fn render_batch(&mut self, max_samples: u32) -> Result<BatchStats> {
         let samples = max_samples.min(self.samples_per_dispatch).max(1);
-        let mut stats = BatchStats { samples, ..Default::default() };
+        let mut stats = BatchStats {
+            samples,
+            ..Default::default()
+        };
         let mut row = 0;
         let mut slowest_rate = 0.0f64; // seconds per (sample x row)
         while row < self.frame.height {
@@ -227,7 +278,9 @@ impl<'a> Renderer<'a> {
         };
         let started = Instant::now();
         self.ctx.scoped(|| {
-            self.ctx.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
+            self.ctx
+                .queue
+                .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
             let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
@@ -237,7 +290,10 @@ impl<'a> Renderer<'a> {
             }
             self.ctx.queue.submit([encoder.finish()]);
         })?;
-        self.ctx.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError::Wgpu(e.to_string()))?;
+        self.ctx
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Wgpu(e.to_string()))?;
         Ok(started.elapsed())
     }
 
@@ -269,7 +325,16 @@ impl<'a> Renderer<'a> {
         let size = u64::from(self.frame.width) * u64::from(self.frame.height) * 16;
         let bytes = read_buffer(self.ctx, &self.accum, size)?;
         let pixels: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
-        let pixels = if self.samples_done == 0 { vec![[0.0; 4]; pixels.len()] } else { pixels };
-        Ok(Image { width: self.frame.width, height: self.frame.height, samples_per_pixel: self.samples_done, pixels })
+        let pixels = if self.samples_done == 0 {
+            vec![[0.0; 4]; pixels.len()]
+        } else {
+            pixels
+        };
+        Ok(Image {
+            width: self.frame.width,
+            height: self.frame.height,
+            samples_per_pixel: self.samples_done,
+            pixels,
+        })
     }
 }

@@ -26,12 +26,24 @@ pub struct ShaderModule {
 
 pub const TRACE: ShaderModule = ShaderModule {
     name: "trace",
-    files: &["shared/types.wgsl", "shared/rng.wgsl", "shared/sampling.wgsl", "shared/intersect.wgsl", "shared/bvh.wgsl", "trace.wgsl"],
+    files: &[
+        "shared/types.wgsl",
+        "shared/rng.wgsl",
+        "shared/sampling.wgsl",
+        "shared/intersect.wgsl",
+        "shared/bvh.wgsl",
+        "trace.wgsl",
+    ],
 };
 
 pub const TRACE_RAYS: ShaderModule = ShaderModule {
     name: "trace_rays",
-    files: &["shared/types.wgsl", "shared/intersect.wgsl", "shared/bvh.wgsl", "trace_rays.wgsl"],
+    files: &[
+        "shared/types.wgsl",
+        "shared/intersect.wgsl",
+        "shared/bvh.wgsl",
+        "trace_rays.wgsl",
+    ],
 };
 
 pub const MODULES: &[ShaderModule] = &[TRACE, TRACE_RAYS];
@@ -41,7 +53,12 @@ impl ShaderModule {
     pub fn source(&self) -> String {
         self.files
             .iter()
-            .map(|f| FILES.iter().find(|(name, _)| name == f).map_or("", |(_, src)| *src))
+            .map(|f| {
+                FILES
+                    .iter()
+                    .find(|(name, _)| name == f)
+                    .map_or("", |(_, src)| *src)
+            })
             .collect::<Vec<_>>()
             .join("\n")
     }

@@ -15,18 +15,40 @@ pub fn trace_rays(ctx: &GpuContext, scene: &GpuScene, rays: &[Ray]) -> Result<Ve
     }
     let pipeline = trace_rays_pipeline(ctx)?;
     let rays_buffer = storage_buffer(ctx, "rays", rays, wgpu::BufferUsages::empty())?;
-    let triangles = storage_buffer(ctx, "triangles", &scene.triangles, wgpu::BufferUsages::empty())?;
+    let triangles = storage_buffer(
+        ctx,
+        "triangles",
+        &scene.triangles,
+        wgpu::BufferUsages::empty(),
+    )?;
     let nodes = storage_buffer(ctx, "bvh nodes", &scene.nodes, wgpu::BufferUsages::empty())?;
-    let hits = storage_buffer(ctx, "hits", &vec![Hit::default(); rays.len()], wgpu::BufferUsages::COPY_SRC)?;
+    let hits = storage_buffer(
+        ctx,
+        "hits",
+        &vec![Hit::default(); rays.len()],
+        wgpu::BufferUsages::COPY_SRC,
+    )?;
     ctx.scoped(|| {
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("trace_rays"),
             layout: &pipeline.get_bind_group_layout(0),
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: rays_buffer.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: triangles.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: nodes.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: hits.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: rays_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: triangles.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: nodes.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: hits.as_entire_binding(),
+                },
             ],
         });
         let mut encoder = ctx.device.create_command_encoder(&Default::default());

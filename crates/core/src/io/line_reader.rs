@@ -11,7 +11,11 @@ pub struct LineCountingReader<'a> {
 
 impl<'a> LineCountingReader<'a> {
     pub fn new(bytes: &'a [u8]) -> Self {
-        LineCountingReader { bytes, pos: 0, newlines: 0 }
+        LineCountingReader {
+            bytes,
+            pos: 0,
+            newlines: 0,
+        }
     }
 
     /// 1-based number of the line the parser read last.
@@ -34,13 +38,19 @@ impl BufRead for LineCountingReader<'_> {
     fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
         // Hand out one line at a time so the count is exact when the parser stops.
         let rest = &self.bytes[self.pos..];
-        let end = rest.iter().position(|&b| b == b'\n').map_or(rest.len(), |i| i + 1);
+        let end = rest
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(rest.len(), |i| i + 1);
         Ok(&rest[..end])
     }
 
     fn consume(&mut self, amount: usize) {
         let end = (self.pos + amount).min(self.bytes.len());
-        self.newlines += self.bytes[self.pos..end].iter().filter(|&&b| b == b'\n').count();
+        self.newlines += self.bytes[self.pos..end]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
         self.pos = end;
     }
 }

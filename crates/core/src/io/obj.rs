@@ -24,12 +24,30 @@ use crate::scene::{Mesh, Object, Scene, Texture};
 /// Loads an OBJ file; `mtllib` and texture paths are resolved relative to the file that names them.
 pub fn load_obj(path: &Path, seed: u32) -> Result<Scene> {
     if path.is_dir() {
-        return Err(Error::File { path: path.into(), message: "is a directory, not an OBJ file".into() });
+        return Err(Error::File {
+            path: path.into(),
+            message: "is a directory, not an OBJ file".into(),
+        });
     }
-    let bytes = std::fs::read(path).map_err(|source| Error::Io { path: path.into(), source })?;
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.into(),
+        source,
+    })?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let read_file = |p: &Path| std::fs::read(p).map_err(|source| Error::Io { path: p.into(), source });
-    load_obj_bytes(path, &bytes, &dir, &read_file, &|p: &Path| load_texture(p), seed)
+    let read_file = |p: &Path| {
+        std::fs::read(p).map_err(|source| Error::Io {
+            path: p.into(),
+            source,
+        })
+    };
+    load_obj_bytes(
+        path,
+        &bytes,
+        &dir,
+        &read_file,
+        &|p: &Path| load_texture(p),
+        seed,
+    )
 }
 
 /// Loads an OBJ held in memory; `read_file` supplies MTL files and `load_texture` textures, both by
@@ -43,15 +61,27 @@ pub fn load_obj_bytes(
     seed: u32,
 ) -> Result<Scene> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
-        Error::Parse { path: obj_path.into(), line, message: "not UTF-8 text (binary file?)".into() }
+        let line = bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1;
+        Error::Parse {
+            path: obj_path.into(),
+            line,
+            message: "not UTF-8 text (binary file?)".into(),
+        }
     })?;
     validate_obj_text(obj_path, text)?;
 
     let mtl_error: RefCell<Option<Error>> = RefCell::new(None);
     let mtl_paths: RefCell<Vec<PathBuf>> = RefCell::new(Vec::new());
     let mut reader = LineCountingReader::new(text.as_bytes());
-    let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
     let loaded = tobj::load_obj_buf(&mut reader, &options, |mtl_name| {
         let mtl_path = dir.join(mtl_name);
         let parsed = read_file(&mtl_path).and_then(|mtl_bytes| parse_mtl(&mtl_path, &mtl_bytes));
@@ -74,10 +104,16 @@ pub fn load_obj_bytes(
         line: reader.current_line(),
         message: e.to_string(),
     })?;
-    let materials = materials.map_err(|e| Error::File { path: obj_path.into(), message: e.to_string() })?;
+    let materials = materials.map_err(|e| Error::File {
+        path: obj_path.into(),
+        message: e.to_string(),
+    })?;
 
     // Textures in MTL files are relative to the MTL file; the first MTL's folder is used.
-    let mtl_dir = mtl_paths.borrow().first().and_then(|p| p.parent().map(Path::to_path_buf));
+    let mtl_dir = mtl_paths
+        .borrow()
+        .first()
+        .and_then(|p| p.parent().map(Path::to_path_buf));
     let mut scene = Scene::default();
     let mut texture_ids: HashMap<PathBuf, usize> = HashMap::new();
     let mut converted: Vec<Material> = Vec::with_capacity(materials.len());
@@ -98,7 +134,9 @@ pub fn load_obj_bytes(
             _ => None,
         };
         let material = material_from_mtl(m, texture);
-        material.validate(&format!("material '{}'", m.name)).map_err(Error::Scene)?;
+        material
+            .validate(&format!("material '{}'", m.name))
+            .map_err(Error::Scene)?;
         converted.push(material);
     }
 
@@ -111,15 +149,27 @@ pub fn load_obj_bytes(
         if mesh.indices.is_empty() {
             continue;
         }
-        let (material, material_name) = match model.mesh.material_id.and_then(|id| converted.get(id).zip(materials.get(id))) {
+        let (material, material_name) = match model
+            .mesh
+            .material_id
+            .and_then(|id| converted.get(id).zip(materials.get(id)))
+        {
             Some((mat, mtl)) => (mat.clone(), Some(mtl.name.clone())),
-            None => (Material::lambertian(distinct_color(seed, index as u32)), None),
+            None => (
+                Material::lambertian(distinct_color(seed, index as u32)),
+                None,
+            ),
         };
         let name = match (name_counts[&model.name] > 1, material_name) {
             (true, Some(mtl)) => format!("{} ({mtl})", model.name),
             _ => model.name.clone(),
         };
-        scene.objects.push(Object { name, mesh, material, transform: Default::default() });
+        scene.objects.push(Object {
+            name,
+            mesh,
+            material,
+            transform: Default::default(),
+        });
     }
     Ok(scene)
 }
@@ -129,7 +179,11 @@ pub fn load_obj_bytes(
 fn validate_obj_text(path: &Path, text: &str) -> Result<()> {
     let (mut positions, mut uvs, mut normals) = (0i64, 0i64, 0i64);
     for (line_index, raw) in text.lines().enumerate() {
-        let fail = |message: String| Error::Parse { path: path.into(), line: line_index + 1, message };
+        let fail = |message: String| Error::Parse {
+            path: path.into(),
+            line: line_index + 1,
+            message,
+        };
         let mut words = raw.split_whitespace();
         let keyword = words.next().unwrap_or("");
         match keyword {
@@ -137,14 +191,18 @@ fn validate_obj_text(path: &Path, text: &str) -> Result<()> {
                 let needed = if keyword == "vt" { 1 } else { 3 };
                 let mut count = 0;
                 for word in words.by_ref().take(if keyword == "v" { 3 } else { needed }) {
-                    let value: f32 = word.parse().map_err(|_| fail(format!("'{word}' is not a number")))?;
+                    let value: f32 = word
+                        .parse()
+                        .map_err(|_| fail(format!("'{word}' is not a number")))?;
                     if !value.is_finite() {
                         return Err(fail(format!("coordinate '{word}' is not finite")));
                     }
                     count += 1;
                 }
                 if count < needed {
-                    return Err(fail(format!("'{keyword}' needs {needed} coordinates, found {count}")));
+                    return Err(fail(format!(
+                        "'{keyword}' needs {needed} coordinates, found {count}"
+                    )));
                 }
                 match keyword {
                     "v" => positions += 1,
@@ -164,9 +222,13 @@ fn validate_obj_text(path: &Path, text: &str) -> Result<()> {
                             0 => ("vertex", positions),
                             1 => ("texture coordinate", uvs),
                             2 => ("normal", normals),
-                            _ => return Err(fail(format!("face corner '{word}' has too many '/'"))),
+                            _ => {
+                                return Err(fail(format!("face corner '{word}' has too many '/'")));
+                            }
                         };
-                        let index: i64 = part.parse().map_err(|_| fail(format!("'{part}' is not an index")))?;
+                        let index: i64 = part
+                            .parse()
+                            .map_err(|_| fail(format!("'{part}' is not an index")))?;
                         let valid = (index > 0 && index <= count) || (index < 0 && -index <= count);
                         if !valid {
                             return Err(fail(format!(
@@ -176,7 +238,9 @@ fn validate_obj_text(path: &Path, text: &str) -> Result<()> {
                     }
                 }
                 if corners < 3 {
-                    return Err(fail(format!("a face needs at least 3 vertices, found {corners}")));
+                    return Err(fail(format!(
+                        "a face needs at least 3 vertices, found {corners}"
+                    )));
                 }
             }
             _ => {}
@@ -190,8 +254,16 @@ type MtlData = <tobj::MTLLoadResult as IntoIterator>::Item;
 
 fn parse_mtl(path: &Path, bytes: &[u8]) -> Result<MtlData> {
     std::str::from_utf8(bytes).map_err(|e| {
-        let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
-        Error::Parse { path: path.into(), line, message: "not UTF-8 text (binary file?)".into() }
+        let line = bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1;
+        Error::Parse {
+            path: path.into(),
+            line,
+            message: "not UTF-8 text (binary file?)".into(),
+        }
     })?;
     let mut reader = LineCountingReader::new(bytes);
     tobj::load_mtl_buf(&mut reader).map_err(|e| Error::Parse {
@@ -224,12 +296,18 @@ fn is_nonzero(c: &Rgb) -> bool {
 pub fn material_from_mtl(m: &tobj::Material, texture: Option<usize>) -> Material {
     let emissive = m.emissive.or_else(|| rgb_param(m, "Ke"));
     if let Some(ke) = emissive.filter(is_nonzero) {
-        return Material::Emissive { color: ke, intensity: 1.0 };
+        return Material::Emissive {
+            color: ke,
+            intensity: 1.0,
+        };
     }
     let illum = m.illumination_model.unwrap_or(2);
     let tf = rgb_param(m, "Tf");
     if matches!(illum, 4 | 6 | 7) || m.dissolve.is_some_and(|d| d < 1.0) || tf.is_some() {
-        return Material::Dielectric { ior: m.optical_density.unwrap_or(1.5), tint: tf.unwrap_or([1.0; 3]) };
+        return Material::Dielectric {
+            ior: m.optical_density.unwrap_or(1.5),
+            tint: tf.unwrap_or([1.0; 3]),
+        };
     }
     let kd = m.diffuse.unwrap_or([0.8; 3]);
     let pm = param(m, "Pm").map(|v| v[0]).unwrap_or(0.0);
@@ -237,11 +315,19 @@ pub fn material_from_mtl(m: &tobj::Material, texture: Option<usize>) -> Material
         let albedo = m.specular.filter(is_nonzero).unwrap_or(kd);
         let fuzz = match param(m, "Pr") {
             Some(pr) => pr[0],
-            None => m.shininess.map_or(0.0, |ns| (2.0 / (ns.max(0.0) + 2.0)).sqrt()),
+            None => m
+                .shininess
+                .map_or(0.0, |ns| (2.0 / (ns.max(0.0) + 2.0)).sqrt()),
         };
-        return Material::Metal { albedo, fuzz: fuzz.clamp(0.0, 1.0) };
+        return Material::Metal {
+            albedo,
+            fuzz: fuzz.clamp(0.0, 1.0),
+        };
     }
-    Material::Lambertian { albedo: kd, texture }
+    Material::Lambertian {
+        albedo: kd,
+        texture,
+    }
 }
 
 fn mesh_from_tobj(m: &tobj::Mesh) -> Mesh {
@@ -250,8 +336,17 @@ fn mesh_from_tobj(m: &tobj::Mesh) -> Mesh {
         .then(|| m.normals.chunks_exact(3).map(Vec3::from_slice).collect());
     let uvs = (m.texcoords.len() / 2 == positions.len() && !m.texcoords.is_empty())
         .then(|| m.texcoords.chunks_exact(2).map(Vec2::from_slice).collect());
-    let indices = m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-    Mesh { positions, normals, uvs, indices }
+    let indices = m
+        .indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    Mesh {
+        positions,
+        normals,
+        uvs,
+        indices,
+    }
 }
 
 /// A saturated colour, different for each object index and reproducible for a seed

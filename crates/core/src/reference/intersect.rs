@@ -17,7 +17,13 @@ pub struct PreparedRay {
 impl PreparedRay {
     pub fn new(origin: Vec3, direction: Vec3) -> Self {
         let a = direction.abs();
-        let kz = if a.x > a.y { if a.x > a.z { 0 } else { 2 } } else if a.y > a.z { 1 } else { 2 };
+        let kz = if a.x > a.y {
+            if a.x > a.z { 0 } else { 2 }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
         let mut kx = (kz + 1) % 3;
         let mut ky = (kx + 1) % 3;
         if direction[kz] < 0.0 {
@@ -36,7 +42,13 @@ impl PreparedRay {
 
 /// Distance and barycentrics (of v1, v2) of a hit strictly inside (0, t_max), watertight: rays through
 /// shared edges and vertices hit at least one of the triangles.
-pub fn intersect_triangle(ray: &PreparedRay, v0: Vec3, v1: Vec3, v2: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
+pub fn intersect_triangle(
+    ray: &PreparedRay,
+    v0: Vec3,
+    v1: Vec3,
+    v2: Vec3,
+    t_max: f32,
+) -> Option<(f32, f32, f32)> {
     let [kx, ky, kz] = ray.k;
     let a = v0 - ray.origin;
     let b = v1 - ray.origin;
@@ -100,13 +112,21 @@ mod tests {
 
     #[test]
     fn shared_edge_is_hit_by_one_of_two_triangles() {
-        let (a, b, c, d) = (Vec3::new(0., 0., 0.), Vec3::new(1., 0., 0.), Vec3::new(1., 1., 0.), Vec3::new(0., 1., 0.));
+        let (a, b, c, d) = (
+            Vec3::new(0., 0., 0.),
+            Vec3::new(1., 0., 0.),
+            Vec3::new(1., 1., 0.),
+            Vec3::new(0., 1., 0.),
+        );
         for i in 0..1000 {
             let x = i as f32 / 1000.0;
             let ray = PreparedRay::new(Vec3::new(x, x, 1.0), Vec3::new(0.0, 0.0, -1.0));
             let h1 = intersect_triangle(&ray, a, b, c, f32::MAX);
             let h2 = intersect_triangle(&ray, a, c, d, f32::MAX);
-            assert!(h1.is_some() || h2.is_some(), "ray along the diagonal at {x} fell through");
+            assert!(
+                h1.is_some() || h2.is_some(),
+                "ray along the diagonal at {x} fell through"
+            );
         }
     }
 
@@ -115,7 +135,10 @@ mod tests {
         for scale in [1.0f32, 1e4, 1e6] {
             let p = Vec3::new(0.3, 0.7, 0.5) * scale;
             let q = offset_ray_origin(p, Vec3::Z);
-            assert!(q.z > p.z && (q.z - p.z) / scale < 1e-3, "scale {scale}: {p} -> {q}");
+            assert!(
+                q.z > p.z && (q.z - p.z) / scale < 1e-3,
+                "scale {scale}: {p} -> {q}"
+            );
         }
     }
 }

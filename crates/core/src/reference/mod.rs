@@ -24,7 +24,12 @@ const MISS: u32 = u32::MAX;
 /// Nearest hit through the BVH, as `intersect_scene` in `bvh.wgsl` computes it.
 pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     let ray = PreparedRay::new(origin, direction);
-    let mut hit = Hit { t: t_max, triangle: MISS, b1: 0.0, b2: 0.0 };
+    let mut hit = Hit {
+        t: t_max,
+        triangle: MISS,
+        b1: 0.0,
+        b2: 0.0,
+    };
     let root = &scene.nodes[0];
     if intersect_box(&ray, root.min.into(), root.max.into(), hit.t).is_none() {
         return hit;
@@ -36,8 +41,15 @@ pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit
         if node.count > 0 {
             for i in node.first..node.first + node.count {
                 let tri = &scene.triangles[i as usize];
-                if let Some((t, b1, b2)) = intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t) {
-                    hit = Hit { t, triangle: i, b1, b2 };
+                if let Some((t, b1, b2)) =
+                    intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
+                {
+                    hit = Hit {
+                        t,
+                        triangle: i,
+                        b1,
+                        b2,
+                    };
                 }
             }
         } else {
@@ -72,10 +84,22 @@ pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit
 /// Nearest hit by testing every triangle (for checking `trace`).
 pub fn trace_brute_force(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     let ray = PreparedRay::new(origin, direction);
-    let mut hit = Hit { t: t_max, triangle: MISS, b1: 0.0, b2: 0.0 };
+    let mut hit = Hit {
+        t: t_max,
+        triangle: MISS,
+        b1: 0.0,
+        b2: 0.0,
+    };
     for (i, tri) in scene.triangles.iter().enumerate() {
-        if let Some((t, b1, b2)) = intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t) {
-            hit = Hit { t, triangle: i as u32, b1, b2 };
+        if let Some((t, b1, b2)) =
+            intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
+        {
+            hit = Hit {
+                t,
+                triangle: i as u32,
+                b1,
+                b2,
+            };
         }
     }
     hit
@@ -86,9 +110,14 @@ pub fn trace_brute_force(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max:
 pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) {
     let jx = rng.next_f32();
     let jy = rng.next_f32();
-    let sx = (2.0 * (x as f32 + jx) / frame.width as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
+    let sx =
+        (2.0 * (x as f32 + jx) / frame.width as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
     let sy = (1.0 - 2.0 * (y as f32 + jy) / frame.height as f32) * frame.tan_half_vfov;
-    let (u, v, w) = (Vec3::from(frame.cam_u), Vec3::from(frame.cam_v), Vec3::from(frame.cam_w));
+    let (u, v, w) = (
+        Vec3::from(frame.cam_u),
+        Vec3::from(frame.cam_v),
+        Vec3::from(frame.cam_w),
+    );
     let origin = Vec3::from(frame.cam_origin);
     let direction = (sx * u + sy * v - w).normalize();
     if frame.lens_radius <= 0.0 {
@@ -104,7 +133,11 @@ fn texel(scene: &GpuScene, offset: u32, w: u32, h: u32, x: i32, y: i32) -> Vec3 
     let xi = x.rem_euclid(w as i32) as u32;
     let yi = y.rem_euclid(h as i32) as u32;
     let p = scene.texels[(offset + yi * w + xi) as usize].to_le_bytes();
-    Vec3::new(srgb_to_linear(p[0] as f32 / 255.0), srgb_to_linear(p[1] as f32 / 255.0), srgb_to_linear(p[2] as f32 / 255.0))
+    Vec3::new(
+        srgb_to_linear(p[0] as f32 / 255.0),
+        srgb_to_linear(p[1] as f32 / 255.0),
+        srgb_to_linear(p[2] as f32 / 255.0),
+    )
 }
 
 /// Bilinear, repeating texture lookup; `uv.y` = 0 is the bottom row of the image (OBJ convention).
@@ -115,7 +148,8 @@ pub fn sample_texture(scene: &GpuScene, offset: u32, w: u32, h: u32, uv: Vec2) -
     let (fx, fy) = (x - x0, y - y0);
     let (xi, yi) = (x0 as i32, y0 as i32);
     let top = texel(scene, offset, w, h, xi, yi).lerp(texel(scene, offset, w, h, xi + 1, yi), fx);
-    let bottom = texel(scene, offset, w, h, xi, yi + 1).lerp(texel(scene, offset, w, h, xi + 1, yi + 1), fx);
+    let bottom =
+        texel(scene, offset, w, h, xi, yi + 1).lerp(texel(scene, offset, w, h, xi + 1, yi + 1), fx);
     top.lerp(bottom, fy)
 }
 
@@ -144,17 +178,31 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         }
         let b0 = 1.0 - hit.b1 - hit.b2;
         let p = v0 * b0 + v1 * hit.b1 + v2 * hit.b2;
-        let ng = if front { ng_raw.normalize() } else { -ng_raw.normalize() };
+        let ng = if front {
+            ng_raw.normalize()
+        } else {
+            -ng_raw.normalize()
+        };
         let shading = &scene.shading[hit.triangle as usize];
         let mut ns = ng;
         if tri.has_normals != 0 {
-            let n = Vec3::from(shading.n0) * b0 + Vec3::from(shading.n1) * hit.b1 + Vec3::from(shading.n2) * hit.b2;
+            let n = Vec3::from(shading.n0) * b0
+                + Vec3::from(shading.n1) * hit.b1
+                + Vec3::from(shading.n2) * hit.b2;
             let n = n.normalize();
             ns = if n.dot(ng) < 0.0 { -n } else { n };
         }
         let albedo = if material.texture_offset != NO_TEXTURE && tri.has_uvs != 0 {
-            let uv = Vec2::from(shading.uv0) * b0 + Vec2::from(shading.uv1) * hit.b1 + Vec2::from(shading.uv2) * hit.b2;
-            sample_texture(scene, material.texture_offset, material.texture_width, material.texture_height, uv)
+            let uv = Vec2::from(shading.uv0) * b0
+                + Vec2::from(shading.uv1) * hit.b1
+                + Vec2::from(shading.uv2) * hit.b2;
+            sample_texture(
+                scene,
+                material.texture_offset,
+                material.texture_width,
+                material.texture_height,
+                uv,
+            )
         } else {
             Vec3::from(material.albedo)
         };
@@ -166,7 +214,11 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                 d
             }
             material_kind::DIELECTRIC => {
-                let eta = if front { material.param } else { 1.0 / material.param };
+                let eta = if front {
+                    material.param
+                } else {
+                    1.0 / material.param
+                };
                 let cos_i = -direction.dot(ns);
                 let f = fresnel_dielectric(cos_i, eta);
                 if rng.next_f32() < f {
@@ -224,5 +276,10 @@ pub fn render(scene: &GpuScene, frame: &Frame, spp: u32) -> ReferenceImage {
             variance[i] = var.max(glam::DVec3::ZERO).as_vec3().to_array();
         }
     }
-    ReferenceImage { width: frame.width, height: frame.height, mean, variance }
+    ReferenceImage {
+        width: frame.width,
+        height: frame.height,
+        mean,
+        variance,
+    }
 }

@@ -17,12 +17,17 @@ pub struct Rng {
 
 impl Rng {
     pub fn new(pixel: u32, sample: u32, seed: u32) -> Self {
-        Rng { state: pcg_hash(pixel.wrapping_add(pcg_hash(sample.wrapping_add(pcg_hash(seed))))) }
+        Rng {
+            state: pcg_hash(pixel.wrapping_add(pcg_hash(sample.wrapping_add(pcg_hash(seed))))),
+        }
     }
 
     /// Uniform in [0, 1) with 24 bits, exactly representable in f32.
     pub fn next_f32(&mut self) -> f32 {
-        self.state = self.state.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+        self.state = self
+            .state
+            .wrapping_mul(747_796_405)
+            .wrapping_add(2_891_336_453);
         let s = self.state;
         let word = ((s >> ((s >> 28) + 4)) ^ s).wrapping_mul(277_803_737);
         (((word >> 22) ^ word) >> 8) as f32 * (1.0 / 16_777_216.0)

@@ -9,7 +9,10 @@ pub fn onb(n: Vec3) -> (Vec3, Vec3) {
     let sign = 1.0f32.copysign(n.z);
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;
-    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
 }
 
 /// Cosine-weighted direction about `n`: pdf = cosθ/π (Malley's method).
@@ -66,7 +69,11 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 
 /// sRGB transfer function, decoding an 8-bit value to linear.
 pub fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 pub fn luminance(c: Vec3) -> f32 {
@@ -81,13 +88,25 @@ mod tests {
     fn fresnel_normal_incidence_is_four_percent_for_glass() {
         assert!((fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-6);
         assert!((fresnel_dielectric(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
-        assert_eq!(fresnel_dielectric(0.1, 1.0 / 1.5), 1.0, "total internal reflection");
-        assert!(fresnel_dielectric(0.5, 1.0).abs() < 1e-7, "index-matched interface reflects nothing");
+        assert_eq!(
+            fresnel_dielectric(0.1, 1.0 / 1.5),
+            1.0,
+            "total internal reflection"
+        );
+        assert!(
+            fresnel_dielectric(0.5, 1.0).abs() < 1e-7,
+            "index-matched interface reflects nothing"
+        );
     }
 
     #[test]
     fn onb_is_orthonormal() {
-        for n in [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(1.0, 2.0, -3.0).normalize()] {
+        for n in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::new(1.0, 2.0, -3.0).normalize(),
+        ] {
             let (t, b) = onb(n);
             assert!(t.dot(n).abs() < 1e-6 && b.dot(n).abs() < 1e-6 && t.dot(b).abs() < 1e-6);
             assert!((t.length() - 1.0).abs() < 1e-6 && (b.length() - 1.0).abs() < 1e-6);
