@@ -24,6 +24,7 @@ pub struct SceneFeatures {
 #[derive(Clone, Debug, Default)]
 pub struct GpuScene {
     pub triangles: Vec<Triangle>,
+    /// Per-triangle attributes, empty when no triangle has normals or UVs.
     pub shading: Vec<Shading>,
     pub materials: Vec<gpu_types::Material>,
     /// RGBA8 sRGB texels of all textures, one `u32` each (R in the low byte).
@@ -157,6 +158,14 @@ impl GpuScene {
                 uv2: uv[2].to_array(),
                 ..Default::default()
             });
+        }
+        // The kernel reads shading attributes only for triangles that have them.
+        if out
+            .triangles
+            .iter()
+            .all(|t| t.has_normals == 0 && t.has_uvs == 0)
+        {
+            out.shading = Vec::new();
         }
         out.features.thin_lens = scene.camera.aperture_radius > 0.0;
         Ok(out)

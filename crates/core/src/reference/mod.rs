@@ -183,9 +183,9 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         } else {
             -ng_raw.normalize()
         };
-        let shading = &scene.shading[hit.triangle as usize];
         let mut ns = ng;
         if tri.has_normals != 0 {
+            let shading = &scene.shading[hit.triangle as usize];
             let n = Vec3::from(shading.n0) * b0
                 + Vec3::from(shading.n1) * hit.b1
                 + Vec3::from(shading.n2) * hit.b2;
@@ -193,6 +193,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
             ns = if n.dot(ng) < 0.0 { -n } else { n };
         }
         let albedo = if material.texture_offset != NO_TEXTURE && tri.has_uvs != 0 {
+            let shading = &scene.shading[hit.triangle as usize];
             let uv = Vec2::from(shading.uv0) * b0
                 + Vec2::from(shading.uv1) * hit.b1
                 + Vec2::from(shading.uv2) * hit.b2;
