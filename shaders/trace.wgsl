@@ -2,9 +2,11 @@
 // folded into a running per-pixel mean so any number of dispatches can be stopped after any one.
 // Composed with shared/{types,rng,sampling,intersect,bvh}.wgsl (see crates/gpu/src/shaders.rs).
 //
-// Estimator (pbrt's unidirectional path tracer without light sampling):
+// Estimator: see crates/core/src/reference/mod.rs, which implements the same one on the CPU.
 //   L = sum_{k < max_depth} beta_k Le(x_k),  beta_{k+1} = beta_k f cos / pdf = beta_k * albedo
-// with Le the front-face emission (or the ambient radiance on a miss).
+// with Le the front-face emission (or the ambient radiance on a miss); with next-event estimation,
+// diffuse vertices also sample an emitter point, and both strategies are weighted by the power
+// heuristic (emitters seen from the camera or through specular bounces keep weight 1).
 
 // Features a scene does not use are compiled out by these pipeline constants.
 override HAS_TEXTURES: bool = true;
@@ -12,6 +14,7 @@ override HAS_METAL: bool = true;
 override HAS_DIELECTRIC: bool = true;
 override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
+override HAS_NEE: bool = true;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
@@ -23,6 +26,49 @@ override COUNT_RAYS: bool = false;
 @group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 // [0]: rays traced; [1]: samples dropped as NaN/Inf.
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;
+@group(0) @binding(8) var<storage, read> emitters: array<Emitter>;
+
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    let b2 = b * b;
+    return select(0.0, a2 / (a2 + b2), a2 + b2 > 0.0);
+}
+
+// Next-event estimation at diffuse point p: Le cos/pi * w_light / p_light for one emitter point
+// (albedo and beta applied by the caller). Always draws four random numbers.
+fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, u32>, rays: ptr<function, u32>) -> vec3<f32> {
+    let u_pick = rng_next(rng);
+    let u_alias = rng_next(rng);
+    let u_a = rng_next(rng);
+    let u_b = rng_next(rng);
+    let n = frame.emitter_count;
+    let slot = emitters[min(u32(u_pick * f32(n)), n - 1u)];
+    let chosen = select(emitters[slot.alias_index].triangle, slot.triangle, u_alias < slot.threshold);
+    let tri = triangles[chosen];
+    let b = sample_triangle(u_a, u_b);
+    let y = tri.v0 * b.x + tri.v1 * b.y + tri.v2 * b.z;
+    let nl = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    if (dot(y - p, nl) >= 0.0) {
+        return vec3(0.0);
+    }
+    let origin = offset_ray_origin(p, ng);
+    let to = offset_ray_origin(y, nl) - origin;
+    let distance = length(to);
+    let dir = to / distance;
+    let cos_x = dot(dir, ns);
+    let cos_l = -dot(dir, nl);
+    if (!(cos_x > 0.0 && dot(dir, ng) > 0.0 && cos_l > 0.0)) {
+        return vec3(0.0);
+    }
+    *rays += 1u;
+    if (intersect_scene(origin, dir, distance, true).triangle != MISS) {
+        return vec3(0.0);
+    }
+    let le = materials[tri.material].emission;
+    let p_light = luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
+    let p_bsdf = cos_x * (1.0 / PI);
+    return le * (p_bsdf * power_heuristic(p_light, p_bsdf) / p_light);
+}
 
 fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, u32>) -> array<vec3<f32>, 2> {
     let jx = rng_next(rng);
@@ -69,8 +115,10 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
     var direction = cam[1];
     var beta = vec3(1.0);
     var radiance = vec3(0.0);
+    // Density of the BSDF sample that led here; 0 after the camera or a specular bounce.
+    var prev_bsdf_pdf = 0.0;
     for (var depth = 0u; depth < frame.max_depth; depth++) {
-        let hit = intersect_scene(origin, direction, 3.0e38);
+        let hit = intersect_scene(origin, direction, 3.0e38, false);
         *rays += 1u;
         if (hit.triangle == MISS) {
             radiance += beta * frame.ambient;
@@ -81,7 +129,13 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
         let ng_raw = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
         let front = dot(direction, ng_raw) < 0.0;
         if (front) {
-            radiance += beta * material.emission;
+            var weight = 1.0;
+            if (HAS_NEE && prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
+                let cos_l = -dot(direction, normalize(ng_raw));
+                let p_light = luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
+                weight = power_heuristic(prev_bsdf_pdf, p_light);
+            }
+            radiance += beta * material.emission * weight;
         }
         if (material.kind == MAT_EMISSIVE || depth + 1u >= frame.max_depth) {
             break;
@@ -100,6 +154,7 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
             albedo = sample_texture(material, sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2);
         }
         var next: vec3<f32>;
+        prev_bsdf_pdf = 0.0;
         if (HAS_METAL && material.kind == MAT_METAL) {
             let fuzz = sample_unit_ball(rng) * material.param;
             next = normalize(reflect_dir(direction, ns) + fuzz);
@@ -114,8 +169,12 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
                 next = refract_dir(direction, ns, eta);
             }
         } else {
+            if (HAS_NEE) {
+                radiance += beta * albedo * direct_light(p, ng, ns, rng, rays);
+            }
             beta *= albedo;
             next = sample_cosine_hemisphere(ns, rng);
+            prev_bsdf_pdf = max(dot(next, ns), 0.0) * (1.0 / PI);
         }
         let side = dot(next, ng);
         let transmitted = side < 0.0;

@@ -13,5 +13,5 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let ray = rays_in[i];
-    hits[i] = intersect_scene(ray.origin, ray.direction, ray.t_max);
+    hits[i] = intersect_scene(ray.origin, ray.direction, ray.t_max, false);
 }

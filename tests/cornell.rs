@@ -18,9 +18,9 @@ fn cornell_box_means_match_mitsuba_within_one_percent() {
     assert_eq!(scene.settings.max_depth, 8);
     // The image mean is the integral of radiance over the image plane whatever the resolution
     // (box filter, uniform jitter), so a smaller image estimates the same number.
-    scene.settings.width = 128;
-    scene.settings.height = 128;
-    scene.settings.samples_per_pixel = 64;
+    scene.settings.width = 96;
+    scene.settings.height = 96;
+    scene.settings.samples_per_pixel = 24;
     let gpu_scene = GpuScene::build(&scene).unwrap();
     // Independent replicas (different seeds) give the standard error of the mean directly.
     let replicas: Vec<[f64; 3]> = (1..=6)

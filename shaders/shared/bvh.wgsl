@@ -1,9 +1,9 @@
-// BVH2 traversal, nearest hit. Needs storage bindings `nodes: array<BvhNode>` and
+// BVH2 traversal: the nearest hit, or with `any_hit` the first found (shadow rays). Needs storage bindings `nodes: array<BvhNode>` and
 // `triangles: array<Triangle>` from the entry-point file. Mirrors reference::trace.
 
 const BVH_STACK_SIZE: u32 = 64u; // core::bvh::MAX_BVH_DEPTH
 
-fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> Hit {
+fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
     let ray = prepare_ray(origin, direction);
     var hit = Hit(t_max, MISS, 0.0, 0.0);
     let root = nodes[0];
@@ -21,6 +21,9 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32) -> Hit {
                 let h = intersect_triangle(ray, tri.v0, tri.v1, tri.v2, hit.t);
                 if (h.x > 0.0) {
                     hit = Hit(h.x, i, h.y, h.z);
+                    if (any_hit) {
+                        return hit;
+                    }
                 }
             }
         } else {

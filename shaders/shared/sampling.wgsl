@@ -37,6 +37,12 @@ fn sample_disk(rng: ptr<function, u32>) -> vec2<f32> {
     return vec2(r * cos(phi), r * sin(phi));
 }
 
+// Barycentrics of a point uniform over a triangle's area.
+fn sample_triangle(u_a: f32, u_b: f32) -> vec3<f32> {
+    let su = sqrt(u_a);
+    return vec3(1.0 - su, u_b * su, (1.0 - u_b) * su);
+}
+
 // Exact unpolarised Fresnel reflectance; eta = n_transmitted / n_incident. 1 under total internal reflection.
 fn fresnel_dielectric(cos_in: f32, eta: f32) -> f32 {
     let cos_i = clamp(cos_in, 0.0, 1.0);

@@ -65,7 +65,18 @@ struct Frame {
     samples_this_dispatch: u32,  // 96
     row_begin: u32,              // 100
     row_end: u32,                // 104
-    _pad: u32,                   // 108
+    emitter_count: u32,          // 108
+    emitter_power_inv: f32,      // 112
+    _pad0: u32,                  // 116
+    _pad1: u32,                  // 120
+    _pad2: u32,                  // 124
+}
+
+struct Emitter {
+    triangle: u32,    // 0
+    alias_index: u32,       // 4
+    threshold: f32,   // 8
+    _pad: u32,        // 12
 }
 
 struct Ray {

@@ -45,7 +45,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     settings.samples_per_pixel = args.spp;
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
-    rt_core::frame::frame_for(&scene)?;
+    rt_core::frame::validate(&scene)?;
 
     let ctx = GpuContext::new(&args.adapter)?;
     let gpu_scene = GpuScene::build(&scene)?;

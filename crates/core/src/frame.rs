@@ -1,11 +1,25 @@
 //! The per-render kernel parameters (`gpu_types::Frame`) derived from a scene's camera and settings.
 
 use crate::error::{Error, Result};
+use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
 use crate::scene::Scene;
 
-/// Camera, image and path-length parameters; the renderer fills in the per-dispatch fields.
-pub fn frame_for(scene: &Scene) -> Result<Frame> {
+/// Checks the settings, camera and ambient light (what can be checked before building anything).
+pub fn validate(scene: &Scene) -> Result<()> {
+    scene.settings.validate().map_err(Error::Scene)?;
+    scene.camera.basis().map_err(Error::Scene)?;
+    if !scene.ambient.iter().all(|c| c.is_finite() && *c >= 0.0) {
+        return Err(Error::Scene(format!(
+            "ambient colour must be finite and >= 0, got {:?}",
+            scene.ambient
+        )));
+    }
+    Ok(())
+}
+
+/// Camera, image, path-length and emitter parameters; the renderer fills in the per-dispatch fields.
+pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
     let settings = &scene.settings;
     settings.validate().map_err(Error::Scene)?;
     let basis = scene.camera.basis().map_err(Error::Scene)?;
@@ -33,6 +47,18 @@ pub fn frame_for(scene: &Scene) -> Result<Frame> {
         samples_this_dispatch: 0,
         row_begin: 0,
         row_end: settings.height,
-        _pad: 0,
+        emitter_count: if gpu_scene.features.nee {
+            gpu_scene.emitters.len() as u32
+        } else {
+            0
+        },
+        emitter_power_inv: if gpu_scene.emitter_power > 0.0 {
+            1.0 / gpu_scene.emitter_power
+        } else {
+            0.0
+        },
+        _pad0: 0,
+        _pad1: 0,
+        _pad2: 0,
     })
 }

@@ -18,6 +18,8 @@ pub struct SceneFeatures {
     pub metal: bool,
     pub dielectric: bool,
     pub thin_lens: bool,
+    /// Next-event estimation (the scene has emitters and the settings ask for it).
+    pub nee: bool,
 }
 
 /// Everything the GPU needs for a scene, as plain arrays.
@@ -30,6 +32,10 @@ pub struct GpuScene {
     /// RGBA8 sRGB texels of all textures, one `u32` each (R in the low byte).
     pub texels: Vec<u32>,
     pub nodes: Vec<BvhNode>,
+    /// Emitter triangles for next-event estimation, as an alias table.
+    pub emitters: Vec<gpu_types::Emitter>,
+    /// Σ area × luminance(emission) over `emitters`.
+    pub emitter_power: f32,
     pub features: SceneFeatures,
     pub bvh_depth: usize,
     pub bvh_build_time: Duration,
@@ -168,11 +174,14 @@ impl GpuScene {
             out.shading = Vec::new();
         }
         out.features.thin_lens = scene.camera.aperture_radius > 0.0;
+        (out.emitters, out.emitter_power) =
+            crate::emitters::build_emitters(&out.triangles, &out.materials);
+        out.features.nee = scene.settings.next_event_estimation && !out.emitters.is_empty();
         Ok(out)
     }
 
     /// Bytes each buffer needs, by buffer name, for limit checks and reports.
-    pub fn buffer_sizes(&self) -> [(&'static str, u64); 5] {
+    pub fn buffer_sizes(&self) -> [(&'static str, u64); 6] {
         let bytes = |len: usize, size: usize| (len * size) as u64;
         [
             (
@@ -186,6 +195,10 @@ impl GpuScene {
             ),
             ("texels", bytes(self.texels.len(), 4)),
             ("bvh nodes", bytes(self.nodes.len(), size_of::<BvhNode>())),
+            (
+                "emitters",
+                bytes(self.emitters.len(), size_of::<gpu_types::Emitter>()),
+            ),
         ]
     }
 }

@@ -98,7 +98,26 @@ pub struct Frame {
     /// This dispatch covers image rows `row_begin..row_end`.
     pub row_begin: u32, // 100
     pub row_end: u32,         // 104
-    pub _pad: u32,            // 108
+    /// Emitter triangles sampled by next-event estimation; 0 turns it off.
+    pub emitter_count: u32, // 108
+    /// 1 / Σ (area × luminance of emission) over the emitters: the area pdf of a point on an emitter
+    /// of emission `Le` is `luminance(Le) × emitter_power_inv`.
+    pub emitter_power_inv: f32, // 112
+    pub _pad0: u32,           // 116
+    pub _pad1: u32,           // 120
+    pub _pad2: u32,           // 124
+}
+
+/// One emitter triangle in the alias table that picks emitters in proportion to their power
+/// (area × luminance of emission): draw `i` uniformly, keep it when u < `threshold`, else take `alias_index`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Emitter {
+    /// Index into the (BVH-ordered) triangle array.
+    pub triangle: u32, // 0
+    pub alias_index: u32, // 4
+    pub threshold: f32,   // 8
+    pub _pad: u32,        // 12
 }
 
 /// A ray for the `trace_rays` test kernel.
@@ -190,9 +209,14 @@ pub fn layouts() -> Vec<StructLayout> {
                 samples_this_dispatch,
                 row_begin,
                 row_end,
-                _pad
+                emitter_count,
+                emitter_power_inv,
+                _pad0,
+                _pad1,
+                _pad2
             ]
         ),
+        layout!("Emitter", Emitter, [triangle, alias_index, threshold, _pad]),
         layout!("Ray", Ray, [origin, t_max, direction, _pad]),
         layout!("Hit", Hit, [t, triangle, b1, b2]),
     ]

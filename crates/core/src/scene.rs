@@ -85,6 +85,14 @@ pub struct RenderSettings {
     /// Ray segments per path: 1 shows emitters seen directly, 2 adds direct lighting, and so on.
     pub max_depth: u32,
     pub seed: u32,
+    /// Sample emitters directly at diffuse surfaces and combine with BSDF sampling by multiple
+    /// importance sampling (on by default; off gives the BSDF-sampling-only estimator).
+    #[serde(default = "default_true")]
+    pub next_event_estimation: bool,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 impl Default for RenderSettings {
@@ -95,6 +103,7 @@ impl Default for RenderSettings {
             samples_per_pixel: 64,
             max_depth: 8,
             seed: 0,
+            next_event_estimation: true,
         }
     }
 }

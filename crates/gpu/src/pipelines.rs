@@ -15,7 +15,7 @@ pub struct PipelineKey {
 }
 
 impl PipelineKey {
-    fn constants(&self) -> [(&'static str, f64); 5] {
+    fn constants(&self) -> [(&'static str, f64); 6] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("HAS_TEXTURES", flag(self.features.textures)),
@@ -23,6 +23,7 @@ impl PipelineKey {
             ("HAS_DIELECTRIC", flag(self.features.dielectric)),
             ("HAS_THIN_LENS", flag(self.features.thin_lens)),
             ("COUNT_RAYS", flag(self.count_rays)),
+            ("HAS_NEE", flag(self.features.nee)),
         ]
     }
 }

@@ -98,7 +98,7 @@ impl<'a> Renderer<'a> {
         gpu_scene: &GpuScene,
         options: RenderOptions,
     ) -> Result<Self> {
-        let frame = rt_core::frame::frame_for(scene)?;
+        let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
         Self::new(ctx, gpu_scene, frame, options)
     }
 
@@ -113,6 +113,7 @@ impl<'a> Renderer<'a> {
         ctx.check_buffer("accumulation (width x height x 16 bytes)", accum_size)?;
         let mut features = scene.features;
         features.thin_lens = frame.lens_radius > 0.0;
+        features.nee = frame.emitter_count > 0;
         let pipeline = trace_pipeline(
             ctx,
             PipelineKey {
@@ -136,6 +137,12 @@ impl<'a> Renderer<'a> {
             )?,
             storage_buffer(ctx, "bvh nodes", &scene.nodes, wgpu::BufferUsages::empty())?,
             storage_buffer(ctx, "texels", &scene.texels, wgpu::BufferUsages::empty())?,
+            storage_buffer(
+                ctx,
+                "emitters",
+                &scene.emitters,
+                wgpu::BufferUsages::empty(),
+            )?,
         ];
         let (frame_buffer, accum, counters, bind_group) = ctx.scoped(|| {
             let frame_buffer = ctx
@@ -159,24 +166,26 @@ impl<'a> Renderer<'a> {
                     | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let mut entries = vec![wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame_buffer.as_entire_binding(),
-            }];
-            for (i, b) in buffers.iter().enumerate() {
-                entries.push(wgpu::BindGroupEntry {
-                    binding: i as u32 + 1,
-                    resource: b.as_entire_binding(),
-                });
-            }
-            entries.push(wgpu::BindGroupEntry {
-                binding: 6,
-                resource: accum.as_entire_binding(),
-            });
-            entries.push(wgpu::BindGroupEntry {
-                binding: 7,
-                resource: counters.as_entire_binding(),
-            });
+            // 0: frame; 1-5: scene buffers; 6: accumulation; 7: counters; 8: emitters.
+            let [triangles, shading, materials, nodes, texels, emitters] = &buffers;
+            let bound = [
+                (0, &frame_buffer),
+                (1, triangles),
+                (2, shading),
+                (3, materials),
+                (4, nodes),
+                (5, texels),
+                (6, &accum),
+                (7, &counters),
+                (8, emitters),
+            ];
+            let entries: Vec<wgpu::BindGroupEntry> = bound
+                .iter()
+                .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                    binding: *binding,
+                    resource: buffer.as_entire_binding(),
+                })
+                .collect();
             let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("trace"),
                 layout: &pipeline.get_bind_group_layout(0),

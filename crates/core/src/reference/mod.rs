@@ -6,6 +6,13 @@
 //! where each BSDF is sampled so that f·cosθ/p is its albedo (see `material::Material`), L_e is the
 //! front-face emission of the surface hit (or the ambient radiance for a ray that leaves the scene),
 //! and a path stops at an emitter, on absorption, or after `max_depth` segments.
+//!
+//! With next-event estimation (`frame.emitter_count > 0`), each diffuse vertex x also samples a point
+//! y on an emitter (`emitters::build_emitters`) and adds, if y is visible from x,
+//!   β f(x) L_e(y) cosθ_x · w_light / p_light,  p_light = p_A(y) · |x−y|² / cosθ_y,
+//! and an emitter reached by BSDF sampling from a diffuse vertex counts with weight w_bsdf, where
+//! w_light and w_bsdf are the power-heuristic weights p²/(p_light² + p_bsdf²), p_bsdf = cosθ/π.
+//! Camera rays and rays leaving specular surfaces (metal, glass) count emitters with weight 1.
 
 pub mod intersect;
 pub mod rng;
@@ -79,6 +86,61 @@ pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit
         index = next;
     }
     hit
+}
+
+/// Whether anything lies on the segment from `origin` along unit `direction` up to `distance`.
+pub fn occluded(scene: &GpuScene, origin: Vec3, direction: Vec3, distance: f32) -> bool {
+    trace(scene, origin, direction, distance).triangle != MISS
+}
+
+/// The power heuristic (β = 2) weight of the strategy with density `a` against one with density `b`.
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+}
+
+/// Next-event estimation at diffuse point `p`: L_e cosθ/π · w_light / p_light for one sampled
+/// emitter point (the albedo and β are applied by the caller). Always draws four random numbers.
+pub fn direct_light(
+    scene: &GpuScene,
+    frame: &Frame,
+    p: Vec3,
+    ng: Vec3,
+    ns: Vec3,
+    rng: &mut Rng,
+) -> Vec3 {
+    let u_pick = rng.next_f32();
+    let u_alias = rng.next_f32();
+    let u_a = rng.next_f32();
+    let u_b = rng.next_f32();
+    let n = frame.emitter_count;
+    let slot = &scene.emitters[((u_pick * n as f32) as u32).min(n - 1) as usize];
+    let chosen = if u_alias < slot.threshold {
+        slot.triangle
+    } else {
+        scene.emitters[slot.alias_index as usize].triangle
+    };
+    let tri = &scene.triangles[chosen as usize];
+    let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+    let [b0, b1, b2] = sample_triangle(u_a, u_b);
+    let y = v0 * b0 + v1 * b1 + v2 * b2;
+    let nl = (v1 - v0).cross(v2 - v0).normalize();
+    if (y - p).dot(nl) >= 0.0 {
+        return Vec3::ZERO; // p is behind the emitter's front face
+    }
+    let origin = offset_ray_origin(p, ng);
+    let to = offset_ray_origin(y, nl) - origin;
+    let distance = to.length();
+    let dir = to / distance;
+    let (cos_x, cos_l) = (dir.dot(ns), -dir.dot(nl));
+    if !(cos_x > 0.0 && dir.dot(ng) > 0.0 && cos_l > 0.0) || occluded(scene, origin, dir, distance)
+    {
+        return Vec3::ZERO;
+    }
+    let le = Vec3::from(scene.materials[tri.material as usize].emission);
+    let p_light = luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
+    let p_bsdf = cos_x * std::f32::consts::FRAC_1_PI;
+    le * (p_bsdf * power_heuristic(p_light, p_bsdf) / p_light)
 }
 
 /// Nearest hit by testing every triangle (for checking `trace`).
@@ -159,6 +221,8 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
     let (mut origin, mut direction) = camera_ray(frame, x, y, &mut rng);
     let mut beta = Vec3::ONE;
     let mut radiance = Vec3::ZERO;
+    // Density of the BSDF sample that led here, 0 after the camera or a specular bounce.
+    let mut prev_bsdf_pdf = 0.0f32;
     for depth in 0..frame.max_depth {
         let hit = trace(scene, origin, direction, f32::MAX);
         if hit.triangle == MISS {
@@ -171,7 +235,14 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         let ng_raw = (v1 - v0).cross(v2 - v0);
         let front = direction.dot(ng_raw) < 0.0;
         if front {
-            radiance += beta * Vec3::from(material.emission);
+            let le = Vec3::from(material.emission);
+            let mut weight = 1.0;
+            if frame.emitter_count > 0 && prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
+                let cos_l = -direction.dot(ng_raw.normalize());
+                let p_light = luminance(le) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
+                weight = power_heuristic(prev_bsdf_pdf, p_light);
+            }
+            radiance += beta * le * weight;
         }
         if material.kind == material_kind::EMISSIVE || depth + 1 >= frame.max_depth {
             break;
@@ -207,6 +278,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         } else {
             Vec3::from(material.albedo)
         };
+        prev_bsdf_pdf = 0.0;
         let next = match material.kind {
             material_kind::METAL => {
                 let fuzz = sample_unit_ball(&mut rng) * material.param;
@@ -230,8 +302,13 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                 }
             }
             _ => {
+                if frame.emitter_count > 0 {
+                    radiance += beta * albedo * direct_light(scene, frame, p, ng, ns, &mut rng);
+                }
                 beta *= albedo;
-                sample_cosine_hemisphere(ns, &mut rng)
+                let d = sample_cosine_hemisphere(ns, &mut rng);
+                prev_bsdf_pdf = d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI;
+                d
             }
         };
         let side = next.dot(ng);

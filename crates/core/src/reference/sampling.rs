@@ -41,6 +41,12 @@ pub fn sample_disk(rng: &mut Rng) -> (f32, f32) {
     (r * phi.cos(), r * phi.sin())
 }
 
+/// Barycentrics of a point uniform over a triangle's area (the square-root warp).
+pub fn sample_triangle(u_a: f32, u_b: f32) -> [f32; 3] {
+    let su = u_a.sqrt();
+    [1.0 - su, u_b * su, (1.0 - u_b) * su]
+}
+
 /// Exact unpolarised Fresnel reflectance of a smooth dielectric; `eta` = n_transmitted / n_incident,
 /// `cos_i` the cosine on the incident side. Returns 1 under total internal reflection.
 pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
@@ -96,6 +102,34 @@ mod tests {
         assert!(
             fresnel_dielectric(0.5, 1.0).abs() < 1e-7,
             "index-matched interface reflects nothing"
+        );
+    }
+
+    /// Points stay inside the triangle and are uniform over its area: each of the four sub-triangles
+    /// cut by the edge midpoints receives a quarter of them (chi-square, 3 degrees of freedom).
+    #[test]
+    fn triangle_samples_are_uniform_and_inside() {
+        let n = 40_000;
+        let mut counts = [0usize; 4];
+        let mut rng = Rng::new(1, 2, 3);
+        for _ in 0..n {
+            let b = sample_triangle(rng.next_f32(), rng.next_f32());
+            assert!(
+                b.iter().all(|&x| (0.0..=1.0).contains(&x))
+                    && (b.iter().sum::<f32>() - 1.0).abs() < 1e-5,
+                "{b:?}"
+            );
+            // The corner sub-triangle with barycentric > 1/2, else the middle one.
+            counts[b.iter().position(|&x| x > 0.5).unwrap_or(3)] += 1;
+        }
+        let expected = n as f64 / 4.0;
+        let chi2: f64 = counts
+            .iter()
+            .map(|&c| (c as f64 - expected).powi(2) / expected)
+            .sum();
+        assert!(
+            chi2 < 16.27,
+            "chi-square {chi2} over 3 dof exceeds the 0.001 quantile: {counts:?}"
         );
     }
 
