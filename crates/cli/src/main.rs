@@ -1,6 +1,7 @@
 //! `rt-cli`: render scenes headless, describe them, and benchmark the renderer.
 
 mod bench;
+mod compare;
 mod info;
 mod render;
 mod scene_args;
@@ -29,6 +30,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Print a scene's objects, materials, triangle count and bounds.
     Info(info::InfoArgs),
+    /// Error metrics (relMSE, RMSE, mean ratio) of an image against a reference image.
+    Compare(compare::CompareArgs),
     /// Run the fixed benchmark suite and print a table and one JSON record per scene.
     Bench(bench::BenchArgs),
 }
@@ -60,6 +63,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(args, cli.verbose),
         Command::Info(args) => info::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Compare(args) => compare::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -31,6 +31,9 @@ pub struct RenderArgs {
     /// Exposure in stops for 8-bit outputs (EXR is always linear).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
+    /// Turn off next-event estimation (sample only the BSDF; noisier, for comparisons).
+    #[arg(long)]
+    no_nee: bool,
     /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     adapter: AdapterChoice,
@@ -44,6 +47,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     settings.height = args.height.unwrap_or(settings.height);
     settings.samples_per_pixel = args.spp;
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
+    settings.next_event_estimation = !args.no_nee;
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
 
@@ -90,8 +94,12 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         gpu_scene.bvh_build_time, gpu_scene.bvh_depth
     );
     eprintln!(
-        "image:          {}x{}, {} spp, max depth {}",
-        image.width, image.height, image.samples_per_pixel, scene.settings.max_depth
+        "image:          {}x{}, {} spp, max depth {}, next-event estimation {}",
+        image.width,
+        image.height,
+        image.samples_per_pixel,
+        scene.settings.max_depth,
+        if gpu_scene.features.nee { "on" } else { "off" }
     );
     eprintln!("render time:    {render_time:.2?}");
     eprintln!(

@@ -11,6 +11,7 @@ pub mod gpu_scene;
 pub mod gpu_types;
 pub mod io;
 pub mod material;
+pub mod metrics;
 pub mod output;
 pub mod reference;
 pub mod scene;
