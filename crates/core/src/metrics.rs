@@ -72,7 +72,7 @@ pub struct ImageError {
 pub fn compare(image: &RgbImage, reference: &RgbImage) -> Result<ImageError, String> {
     let reference = if reference.width != image.width
         && image.width > 0
-        && reference.width % image.width == 0
+        && reference.width.is_multiple_of(image.width)
     {
         let factor = reference.width / image.width;
         if reference.height != image.height * factor {
