@@ -1,54 +1,51 @@
-// BVH2 traversal: the nearest hit, or with `any_hit` the first found (shadow rays). Needs storage bindings `nodes: array<BvhNode>` and
-// `triangles: array<Triangle>` from the entry-point file. Mirrors reference::trace.
+// BVH2 traversal: the nearest hit, or with `any_hit` the first found (shadow rays). Needs storage
+// bindings `nodes: array<BvhNode>` and `triangles: array<Triangle>` from the entry-point file.
+// Mirrors reference::trace: each node holds both children's boxes; leaves are tested at once and
+// inner children visited near first.
 
 const BVH_STACK_SIZE: u32 = 64u; // core::bvh::MAX_BVH_DEPTH
 
 fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
     let ray = prepare_ray(origin, direction);
     var hit = Hit(t_max, MISS, 0.0, 0.0);
-    let root = nodes[0];
-    if (intersect_box(ray, root.min, root.max, hit.t) < 0.0) {
-        return hit;
-    }
     var stack: array<u32, BVH_STACK_SIZE>;
     var sp = 0u;
     var index = 0u;
     loop {
         let node = nodes[index];
-        if (node.count > 0u) {
-            for (var i = node.first; i < node.first + node.count; i++) {
-                let tri = triangles[i];
-                let h = intersect_triangle(ray, tri.v0, tri.v1, tri.v2, hit.t);
-                if (h.x > 0.0) {
-                    hit = Hit(h.x, i, h.y, h.z);
-                    if (any_hit) {
-                        return hit;
-                    }
+        let tl = intersect_box(ray, node.left_min, node.left_max, hit.t);
+        let tr = intersect_box(ray, node.right_min, node.right_max, hit.t);
+        // Both leaves' triangles in one loop: first the left range, then the right.
+        let nl = select(0u, node.left_count, tl >= 0.0);
+        let nr = select(0u, node.right_count, tr >= 0.0);
+        for (var k = 0u; k < nl + nr; k++) {
+            let i = select(node.right + (k - nl), node.left + k, k < nl);
+            let tri = triangles[i];
+            let h = intersect_triangle(ray, tri.v0, tri.v1, tri.v2, hit.t);
+            if (h.x > 0.0) {
+                hit = Hit(h.x, i, h.y, h.z);
+                if (any_hit) {
+                    return hit;
                 }
             }
-        } else {
-            let l = node.first;
-            let r = l + 1u;
-            let nl = nodes[l];
-            let nr = nodes[r];
-            let tl = intersect_box(ray, nl.min, nl.max, hit.t);
-            let tr = intersect_box(ray, nr.min, nr.max, hit.t);
-            if (tl >= 0.0 && tr >= 0.0) {
-                if (sp < BVH_STACK_SIZE) {
-                    stack[sp] = select(l, r, tl <= tr);
-                    sp++;
-                }
-                index = select(r, l, tl <= tr);
-                continue;
+        }
+        let visit_l = tl >= 0.0 && node.left_count == 0u && tl < hit.t;
+        let visit_r = tr >= 0.0 && node.right_count == 0u && tr < hit.t;
+        if (visit_l && visit_r) {
+            if (sp < BVH_STACK_SIZE) {
+                stack[sp] = select(node.left, node.right, tl <= tr);
+                sp++;
             }
-            if (tl >= 0.0) {
-                index = l;
-                continue;
-            }
-            if (tr >= 0.0) {
-                index = r;
-                continue;
-            }
+            index = select(node.right, node.left, tl <= tr);
+            continue;
+        }
+        if (visit_l) {
+            index = node.left;
+            continue;
+        }
+        if (visit_r) {
+            index = node.right;
+            continue;
         }
         if (sp == 0u) {
             break;

@@ -40,11 +40,16 @@ struct Material {
     _pad: u32,               // 44
 }
 
+// Both children of an inner node; a child with count > 0 is a leaf of triangles index..index+count.
 struct BvhNode {
-    min: vec3<f32>,   // 0
-    first: u32,       // 12
-    max: vec3<f32>,   // 16
-    count: u32,       // 28
+    left_min: vec3<f32>,    // 0
+    left: u32,              // 12
+    left_max: vec3<f32>,    // 16
+    left_count: u32,        // 28
+    right_min: vec3<f32>,   // 32
+    right: u32,             // 44
+    right_max: vec3<f32>,   // 48
+    right_count: u32,       // 60
 }
 
 struct Frame {

@@ -22,6 +22,9 @@ pub struct BenchArgs {
     size: u32,
     #[arg(long, default_value_t = 16)]
     spp: u32,
+    /// Benchmark BSDF sampling only (next-event estimation off).
+    #[arg(long)]
+    no_nee: bool,
 }
 
 #[derive(Serialize)]
@@ -38,6 +41,7 @@ struct Record {
     height: u32,
     spp: u32,
     max_depth: u32,
+    next_event_estimation: bool,
     render_s: f64,
     paths_per_s: f64,
     rays_per_s: f64,
@@ -96,6 +100,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         let mut scene = scene?;
         scene.settings.width = args.size;
         scene.settings.height = args.size;
+        scene.settings.next_event_estimation = !args.no_nee;
         let build_started = Instant::now();
         let gpu_scene = GpuScene::build_with(&scene, BvhQuality::Medium)?;
         let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
@@ -122,6 +127,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             height: args.size,
             spp: args.spp,
             max_depth: scene.settings.max_depth,
+            next_event_estimation: gpu_scene.features.nee,
             render_s: secs,
             paths_per_s: paths / secs,
             rays_per_s: renderer.rays_traced() as f64 / secs,

@@ -34,27 +34,32 @@ impl BvhQuality {
     }
 }
 
-/// A built BVH: nodes (root first) and the order in which triangles must be stored so that a leaf's
-/// `first..first + count` indexes them directly.
+/// A built BVH: inner nodes (root first) and the order in which triangles must be stored so that a
+/// leaf's `first..first + count` indexes them directly.
 pub struct BuiltBvh {
     pub nodes: Vec<BvhNode>,
     pub triangle_order: Vec<u32>,
+    /// Levels of inner nodes on the longest root-to-leaf path (what the traversal stack must hold).
     pub depth: usize,
     pub build_time: Duration,
 }
 
-/// Builds over world-space triangles. An empty input gives one empty leaf whose box no ray enters.
+const EMPTY_MIN: [f32; 3] = [f32::INFINITY; 3];
+const EMPTY_MAX: [f32; 3] = [f32::NEG_INFINITY; 3];
+
+/// Builds over world-space triangles. An empty input gives one node with two empty children.
 pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBvh, String> {
     let start = Instant::now();
+    let empty_root = BvhNode {
+        left_min: EMPTY_MIN,
+        left_max: EMPTY_MAX,
+        right_min: EMPTY_MIN,
+        right_max: EMPTY_MAX,
+        ..Default::default()
+    };
     if triangles.is_empty() {
-        let empty = BvhNode {
-            min: [f32::INFINITY; 3],
-            first: 0,
-            max: [f32::NEG_INFINITY; 3],
-            count: 0,
-        };
         return Ok(BuiltBvh {
-            nodes: vec![empty],
+            nodes: vec![empty_root],
             triangle_order: Vec::new(),
             depth: 1,
             build_time: start.elapsed(),
@@ -71,7 +76,44 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
     let mut core_time = Duration::ZERO;
     let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, quality.params(), &mut core_time);
 
-    let (nodes, triangle_order, depth) = layout_siblings(&bvh);
+    let mut nodes = vec![empty_root];
+    let mut triangle_order = Vec::with_capacity(triangles.len());
+    let mut depth = 1;
+    let root = &bvh.nodes[0];
+    if root.prim_count > 0 {
+        // A single leaf: the root's left child, the right one empty.
+        let (first, count) = append_leaf(&bvh, root, &mut triangle_order);
+        nodes[0].left_min = root.aabb.min.to_array();
+        nodes[0].left_max = root.aabb.max.to_array();
+        nodes[0].left = first;
+        nodes[0].left_count = count;
+    } else {
+        // (obvhs inner node, output node, level)
+        let mut stack = vec![(0usize, 0usize, 1usize)];
+        while let Some((src, dst, level)) = stack.pop() {
+            depth = depth.max(level);
+            let first_child = bvh.nodes[src].first_index as usize;
+            for (side, child_index) in [first_child, first_child + 1].into_iter().enumerate() {
+                let child = &bvh.nodes[child_index];
+                let (index, count) = if child.prim_count > 0 {
+                    append_leaf(&bvh, child, &mut triangle_order)
+                } else {
+                    nodes.push(BvhNode::default());
+                    stack.push((child_index, nodes.len() - 1, level + 1));
+                    ((nodes.len() - 1) as u32, 0)
+                };
+                let (lo, hi) = (child.aabb.min.to_array(), child.aabb.max.to_array());
+                let node = &mut nodes[dst];
+                if side == 0 {
+                    (node.left_min, node.left_max, node.left, node.left_count) =
+                        (lo, hi, index, count);
+                } else {
+                    (node.right_min, node.right_max, node.right, node.right_count) =
+                        (lo, hi, index, count);
+                }
+            }
+        }
+    }
     if depth > MAX_BVH_DEPTH {
         return Err(format!(
             "BVH depth {depth} exceeds the kernel's traversal stack ({MAX_BVH_DEPTH})"
@@ -85,37 +127,14 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
     })
 }
 
-/// Copies obvhs' tree into `BvhNode`s with both children of a node stored side by side, and leaf
-/// triangles contiguous in the returned triangle order.
-fn layout_siblings(bvh: &obvhs::bvh2::Bvh2) -> (Vec<BvhNode>, Vec<u32>, usize) {
-    let to_node = |n: &obvhs::bvh2::node::Bvh2Node| BvhNode {
-        min: n.aabb.min.to_array(),
-        first: 0,
-        max: n.aabb.max.to_array(),
-        count: n.prim_count,
-    };
-    let mut nodes = vec![to_node(&bvh.nodes[0])];
-    let mut triangle_order = Vec::new();
-    let mut depth = 1;
-    // (index in obvhs, index in output, level)
-    let mut stack = vec![(0usize, 0usize, 1usize)];
-    while let Some((src, dst, level)) = stack.pop() {
-        depth = depth.max(level);
-        let node = &bvh.nodes[src];
-        if node.prim_count > 0 {
-            nodes[dst].first = triangle_order.len() as u32;
-            let first = node.first_index as usize;
-            triangle_order
-                .extend_from_slice(&bvh.primitive_indices[first..first + node.prim_count as usize]);
-        } else {
-            let left = node.first_index as usize;
-            let out_left = nodes.len();
-            nodes[dst].first = out_left as u32;
-            nodes.push(to_node(&bvh.nodes[left]));
-            nodes.push(to_node(&bvh.nodes[left + 1]));
-            stack.push((left + 1, out_left + 1, level + 1));
-            stack.push((left, out_left, level + 1));
-        }
-    }
-    (nodes, triangle_order, depth)
+/// Appends a leaf's triangles to the order and returns (first, count).
+fn append_leaf(
+    bvh: &obvhs::bvh2::Bvh2,
+    leaf: &obvhs::bvh2::node::Bvh2Node,
+    order: &mut Vec<u32>,
+) -> (u32, u32) {
+    let first = order.len() as u32;
+    let start = leaf.first_index as usize;
+    order.extend_from_slice(&bvh.primitive_indices[start..start + leaf.prim_count as usize]);
+    (first, leaf.prim_count)
 }

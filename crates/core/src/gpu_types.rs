@@ -64,15 +64,21 @@ pub struct Material {
     pub _pad: u32, // 44
 }
 
-/// A BVH2 node. Leaves (`count > 0`) hold triangles `first..first + count`; inner nodes (`count == 0`)
-/// have their children at `first` and `first + 1`.
+/// An inner node of the BVH2 holding the boxes of both its children, so one load per traversal step
+/// decides which children to visit. A child with `*_count > 0` is a leaf of triangles
+/// `left..left + left_count` (resp. right); otherwise `left` (resp. `right`) is the child's node index.
+/// An empty child has an inverted box (min > max) that no ray enters.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
-    pub min: [f32; 3], // 0
-    pub first: u32,    // 12
-    pub max: [f32; 3], // 16
-    pub count: u32,    // 28
+    pub left_min: [f32; 3],  // 0
+    pub left: u32,           // 12
+    pub left_max: [f32; 3],  // 16
+    pub left_count: u32,     // 28
+    pub right_min: [f32; 3], // 32
+    pub right: u32,          // 44
+    pub right_max: [f32; 3], // 48
+    pub right_count: u32,    // 60
 }
 
 /// Per-dispatch parameters: camera, image and the slice of work this dispatch does.
@@ -187,7 +193,20 @@ pub fn layouts() -> Vec<StructLayout> {
                 _pad
             ]
         ),
-        layout!("BvhNode", BvhNode, [min, first, max, count]),
+        layout!(
+            "BvhNode",
+            BvhNode,
+            [
+                left_min,
+                left,
+                left_max,
+                left_count,
+                right_min,
+                right,
+                right_max,
+                right_count
+            ]
+        ),
         layout!(
             "Frame",
             Frame,

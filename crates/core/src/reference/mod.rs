@@ -37,16 +37,25 @@ pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit
         b1: 0.0,
         b2: 0.0,
     };
-    let root = &scene.nodes[0];
-    if intersect_box(&ray, root.min.into(), root.max.into(), hit.t).is_none() {
-        return hit;
-    }
     let mut stack = Vec::with_capacity(64);
     let mut index = 0usize;
     loop {
         let node = &scene.nodes[index];
-        if node.count > 0 {
-            for i in node.first..node.first + node.count {
+        let children = [
+            (node.left_min, node.left_max, node.left, node.left_count),
+            (node.right_min, node.right_max, node.right, node.right_count),
+        ];
+        // Leaves are tested right away; inner children are visited near first.
+        let mut inner = [None, None];
+        for (slot, (lo, hi, first, count)) in children.into_iter().enumerate() {
+            let Some(t) = intersect_box(&ray, lo.into(), hi.into(), hit.t) else {
+                continue;
+            };
+            if count == 0 {
+                inner[slot] = Some((t, first as usize));
+                continue;
+            }
+            for i in first..first + count {
                 let tri = &scene.triangles[i as usize];
                 if let Some((t, b1, b2)) =
                     intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
@@ -59,31 +68,20 @@ pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit
                     };
                 }
             }
-        } else {
-            let (l, r) = (node.first as usize, node.first as usize + 1);
-            let (nl, nr) = (&scene.nodes[l], &scene.nodes[r]);
-            let tl = intersect_box(&ray, nl.min.into(), nl.max.into(), hit.t);
-            let tr = intersect_box(&ray, nr.min.into(), nr.max.into(), hit.t);
-            match (tl, tr) {
-                (Some(a), Some(b)) => {
-                    let (near, far) = if a <= b { (l, r) } else { (r, l) };
-                    stack.push(far);
-                    index = near;
-                    continue;
-                }
-                (Some(_), None) => {
-                    index = l;
-                    continue;
-                }
-                (None, Some(_)) => {
-                    index = r;
-                    continue;
-                }
-                (None, None) => {}
-            }
         }
-        let Some(next) = stack.pop() else { break };
-        index = next;
+        let [l, r] = inner.map(|c| c.filter(|(t, _)| *t < hit.t));
+        match (l, r) {
+            (Some((tl, il)), Some((tr, ir))) => {
+                let (near, far) = if tl <= tr { (il, ir) } else { (ir, il) };
+                stack.push(far);
+                index = near;
+            }
+            (Some((_, i)), None) | (None, Some((_, i))) => index = i,
+            (None, None) => match stack.pop() {
+                Some(next) => index = next,
+                None => break,
+            },
+        }
     }
     hit
 }
