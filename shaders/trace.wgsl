@@ -181,6 +181,14 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
         if (side == 0.0 || (transmitted && material.kind != MAT_DIELECTRIC)) {
             break;
         }
+        // Russian roulette: continue with probability q = min(1, max(beta)), re-weighted by 1/q.
+        if (frame.roulette_from_depth > 0u && depth >= frame.roulette_from_depth) {
+            let survive = min(max(max(beta.x, beta.y), beta.z), 1.0);
+            if (rng_next(rng) >= survive) {
+                break;
+            }
+            beta /= survive;
+        }
         origin = offset_ray_origin(p, select(ng, -ng, transmitted));
         direction = next;
     }

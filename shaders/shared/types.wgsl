@@ -72,7 +72,7 @@ struct Frame {
     row_end: u32,                // 104
     emitter_count: u32,          // 108
     emitter_power_inv: f32,      // 112
-    _pad0: u32,                  // 116
+    roulette_from_depth: u32,    // 116
     _pad1: u32,                  // 120
     _pad2: u32,                  // 124
 }

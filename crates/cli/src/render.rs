@@ -34,6 +34,9 @@ pub struct RenderArgs {
     /// Turn off next-event estimation (sample only the BSDF; noisier, for comparisons).
     #[arg(long)]
     no_nee: bool,
+    /// Turn off Russian roulette (every path runs to max depth unless it is absorbed or escapes).
+    #[arg(long)]
+    no_roulette: bool,
     /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     adapter: AdapterChoice,
@@ -48,6 +51,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     settings.samples_per_pixel = args.spp;
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
     settings.next_event_estimation = !args.no_nee;
+    settings.russian_roulette = !args.no_roulette;
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
 

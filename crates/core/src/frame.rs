@@ -5,6 +5,10 @@ use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
 use crate::scene::Scene;
 
+/// Russian roulette starts after the third scattering (segment index 2): short paths, which carry
+/// most of the image, are never cut.
+pub const ROULETTE_FROM_DEPTH: u32 = 2;
+
 /// Checks the settings, camera and ambient light (what can be checked before building anything).
 pub fn validate(scene: &Scene) -> Result<()> {
     scene.settings.validate().map_err(Error::Scene)?;
@@ -57,7 +61,11 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         } else {
             0.0
         },
-        _pad0: 0,
+        roulette_from_depth: if settings.russian_roulette {
+            ROULETTE_FROM_DEPTH
+        } else {
+            0
+        },
         _pad1: 0,
         _pad2: 0,
     })

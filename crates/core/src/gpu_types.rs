@@ -109,7 +109,8 @@ pub struct Frame {
     /// 1 / Σ (area × luminance of emission) over the emitters: the area pdf of a point on an emitter
     /// of emission `Le` is `luminance(Le) × emitter_power_inv`.
     pub emitter_power_inv: f32, // 112
-    pub _pad0: u32,           // 116
+    /// Russian roulette applies after the scattering at this segment index and later; 0 turns it off.
+    pub roulette_from_depth: u32, // 116
     pub _pad1: u32,           // 120
     pub _pad2: u32,           // 124
 }
@@ -230,7 +231,7 @@ pub fn layouts() -> Vec<StructLayout> {
                 row_end,
                 emitter_count,
                 emitter_power_inv,
-                _pad0,
+                roulette_from_depth,
                 _pad1,
                 _pad2
             ]

@@ -89,6 +89,10 @@ pub struct RenderSettings {
     /// importance sampling (on by default; off gives the BSDF-sampling-only estimator).
     #[serde(default = "default_true")]
     pub next_event_estimation: bool,
+    /// End paths at random once their throughput is low (unbiased: survivors are re-weighted); on by
+    /// default.
+    #[serde(default = "default_true")]
+    pub russian_roulette: bool,
 }
 
 fn default_true() -> bool {
@@ -104,6 +108,7 @@ impl Default for RenderSettings {
             max_depth: 8,
             seed: 0,
             next_event_estimation: true,
+            russian_roulette: true,
         }
     }
 }

@@ -13,6 +13,9 @@
 //! and an emitter reached by BSDF sampling from a diffuse vertex counts with weight w_bsdf, where
 //! w_light and w_bsdf are the power-heuristic weights p²/(p_light² + p_bsdf²), p_bsdf = cosθ/π.
 //! Camera rays and rays leaving specular surfaces (metal, glass) count emitters with weight 1.
+//!
+//! Russian roulette (from segment `frame.roulette_from_depth` on): after scattering, the path goes on
+//! with probability q = min(1, max component of β) and β is divided by q, so E[β'] = β (unbiased).
 
 pub mod intersect;
 pub mod rng;
@@ -317,6 +320,13 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         let transmitted = side < 0.0;
         if transmitted && material.kind != material_kind::DIELECTRIC {
             break;
+        }
+        if frame.roulette_from_depth > 0 && depth >= frame.roulette_from_depth {
+            let survive = beta.max_element().min(1.0);
+            if rng.next_f32() >= survive {
+                break;
+            }
+            beta /= survive;
         }
         origin = offset_ray_origin(p, if transmitted { -ng } else { ng });
         direction = next;
