@@ -127,6 +127,11 @@ fn mtl_mapping_rules() {
         }
     );
     assert_eq!(
+        material_of("Kd 0.25"),
+        Material::lambertian([0.25; 3]),
+        "one value is grey"
+    );
+    assert_eq!(
         material_of("Kd 0.5 0.5 0.5\nKe 0 0 0"),
         Material::lambertian([0.5; 3]),
         "Ke 0 is not an emitter"
@@ -348,6 +353,15 @@ fn bad_files_are_errors_not_panics() {
         Some("newmtl a\nKd 1 x 1\n"),
     ));
     assert_eq!(line, 2, "MTL errors carry the MTL's line");
+    let (line, message) = parse_error_line(load(
+        &format!("mtllib scene.mtl\n{SQUARE}f 1 2 3\n"),
+        Some("newmtl a\n\nKs 0 1\n"),
+    ));
+    assert_eq!(
+        (line, message.contains("1 or 3 numbers")),
+        (3, true),
+        "{message}"
+    );
 }
 
 #[test]

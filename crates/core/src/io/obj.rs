@@ -60,18 +60,7 @@ pub fn load_obj_bytes(
     load_texture: &dyn Fn(&Path) -> Result<Texture>,
     seed: u32,
 ) -> Result<Scene> {
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count()
-            + 1;
-        Error::Parse {
-            path: obj_path.into(),
-            line,
-            message: "not UTF-8 text (binary file?)".into(),
-        }
-    })?;
+    let text = utf8_text(obj_path, bytes)?;
     validate_obj_text(obj_path, text)?;
 
     let mtl_error: RefCell<Option<Error>> = RefCell::new(None);
@@ -82,20 +71,23 @@ pub fn load_obj_bytes(
         single_index: true,
         ..Default::default()
     };
-    let loaded = tobj::load_obj_buf(&mut reader, &options, |mtl_name| {
-        let mtl_path = dir.join(mtl_name);
-        let parsed = read_file(&mtl_path).and_then(|mtl_bytes| parse_mtl(&mtl_path, &mtl_bytes));
-        match parsed {
-            Ok(result) => {
-                mtl_paths.borrow_mut().push(mtl_path);
-                Ok(result)
+    let loaded = guard_parser(obj_path, || {
+        tobj::load_obj_buf(&mut reader, &options, |mtl_name| {
+            let mtl_path = dir.join(mtl_name);
+            let parsed =
+                read_file(&mtl_path).and_then(|mtl_bytes| parse_mtl(&mtl_path, &mtl_bytes));
+            match parsed {
+                Ok(result) => {
+                    mtl_paths.borrow_mut().push(mtl_path);
+                    Ok(result)
+                }
+                Err(e) => {
+                    mtl_error.borrow_mut().get_or_insert(e);
+                    Err(tobj::LoadError::OpenFileFailed)
+                }
             }
-            Err(e) => {
-                mtl_error.borrow_mut().get_or_insert(e);
-                Err(tobj::LoadError::OpenFileFailed)
-            }
-        }
-    });
+        })
+    })?;
     if let Some(e) = mtl_error.into_inner() {
         return Err(e);
     }
@@ -249,27 +241,78 @@ fn validate_obj_text(path: &Path, text: &str) -> Result<()> {
     Ok(())
 }
 
+/// The file as text, or an error naming the line where it stops being UTF-8 (a binary file).
+fn utf8_text<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a str> {
+    std::str::from_utf8(bytes).map_err(|e| Error::Parse {
+        path: path.into(),
+        line: bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1,
+        message: "not UTF-8 text (binary file?)".into(),
+    })
+}
+
 /// What tobj returns for an MTL file (its map type depends on tobj's features).
 type MtlData = <tobj::MTLLoadResult as IntoIterator>::Item;
 
 fn parse_mtl(path: &Path, bytes: &[u8]) -> Result<MtlData> {
-    std::str::from_utf8(bytes).map_err(|e| {
-        let line = bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count()
-            + 1;
-        Error::Parse {
-            path: path.into(),
-            line,
-            message: "not UTF-8 text (binary file?)".into(),
-        }
-    })?;
-    let mut reader = LineCountingReader::new(bytes);
-    tobj::load_mtl_buf(&mut reader).map_err(|e| Error::Parse {
+    let text = normalize_mtl_colors(path, utf8_text(path, bytes)?)?;
+    let mut reader = LineCountingReader::new(text.as_bytes());
+    let result = guard_parser(path, || tobj::load_mtl_buf(&mut reader))?;
+    result.map_err(|e| Error::Parse {
         path: path.into(),
         line: reader.current_line(),
         message: e.to_string(),
+    })
+}
+
+/// Colour statements (`Ka`, `Kd`, `Ks`, `Ke`) checked and written with three values: the MTL format
+/// lets g and b be omitted (`Kd 0.5` is grey), which tobj 4 does not accept (it panics), and
+/// non-numbers or a missing blue get an error naming the line. Line numbers are kept.
+fn normalize_mtl_colors(path: &Path, text: &str) -> Result<String> {
+    let mut out = String::with_capacity(text.len() + 64);
+    for (index, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        let keyword = words.next().unwrap_or("");
+        if matches!(keyword, "Ka" | "Kd" | "Ks" | "Ke") {
+            let fail = |message: String| Error::Parse {
+                path: path.into(),
+                line: index + 1,
+                message,
+            };
+            let values = words
+                .map(|w| match w.parse::<f32>() {
+                    Ok(v) if v.is_finite() => Ok(v),
+                    _ => Err(fail(format!("'{w}' in '{keyword}' is not a finite number (spectral and xyz colours are not supported)"))),
+                })
+                .collect::<Result<Vec<f32>>>()?;
+            let rgb = match values.as_slice() {
+                [g] => [*g; 3],
+                [r, g, b, ..] => [*r, *g, *b],
+                _ => {
+                    return Err(fail(format!(
+                        "'{keyword}' needs 1 or 3 numbers, found {}",
+                        values.len()
+                    )));
+                }
+            };
+            out.push_str(&format!("{keyword} {} {} {}\n", rgb[0], rgb[1], rgb[2]));
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    Ok(out)
+}
+
+/// Runs a tobj parser, turning a panic inside it (a bug in the parser, triggered by odd input) into
+/// an error naming the file, so bad input never takes the program down.
+fn guard_parser<T>(path: &Path, parse: impl FnOnce() -> T) -> Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(parse)).map_err(|_| Error::File {
+        path: path.into(),
+        message: "the OBJ/MTL parser failed on this file (malformed input)".into(),
     })
 }
 

@@ -31,15 +31,20 @@ use sampling::*;
 
 const MISS: u32 = u32::MAX;
 
-/// Nearest hit through the BVH, as `intersect_scene` in `bvh.wgsl` computes it.
-pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
-    let ray = PreparedRay::new(origin, direction);
-    let mut hit = Hit {
+/// No hit closer than `t_max` (yet).
+fn miss(t_max: f32) -> Hit {
+    Hit {
         t: t_max,
         triangle: MISS,
         b1: 0.0,
         b2: 0.0,
-    };
+    }
+}
+
+/// Nearest hit through the BVH, as `intersect_scene` in `bvh.wgsl` computes it.
+pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+    let ray = PreparedRay::new(origin, direction);
+    let mut hit = miss(t_max);
     let mut stack = Vec::with_capacity(64);
     let mut index = 0usize;
     loop {
@@ -147,12 +152,7 @@ pub fn direct_light(
 /// Nearest hit by testing every triangle (for checking `trace`).
 pub fn trace_brute_force(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     let ray = PreparedRay::new(origin, direction);
-    let mut hit = Hit {
-        t: t_max,
-        triangle: MISS,
-        b1: 0.0,
-        b2: 0.0,
-    };
+    let mut hit = miss(t_max);
     for (i, tri) in scene.triangles.iter().enumerate() {
         if let Some((t, b1, b2)) =
             intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
