@@ -7,6 +7,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use rt_core::GpuScene;
+use rt_core::metrics::estimated_rel_mse;
 use rt_gpu::{AdapterChoice, GpuContext, RenderOptions, Renderer};
 
 use crate::scene_args::SceneArgs;
@@ -22,9 +23,16 @@ pub struct RenderArgs {
     width: Option<u32>,
     #[arg(long)]
     height: Option<u32>,
-    /// Samples per pixel.
-    #[arg(long, default_value_t = 64)]
-    spp: u32,
+    /// Samples per pixel (default 64; with --time-limit or --noise-target, the most to take).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Stop after this many seconds (after the batch running then) and write the image.
+    #[arg(long, value_name = "SECONDS")]
+    time_limit: Option<f64>,
+    /// Stop once the estimated noise (the square root of the image's expected relMSE against its
+    /// converged version, from per-pixel sample variance) is at most this, e.g. 0.05.
+    #[arg(long, value_name = "X")]
+    noise_target: Option<f64>,
     /// Ray segments per path (1: emitters only, 2: direct light, ...).
     #[arg(long)]
     max_depth: Option<u32>,
@@ -48,7 +56,14 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let settings = &mut scene.settings;
     settings.width = args.width.unwrap_or(settings.width);
     settings.height = args.height.unwrap_or(settings.height);
-    settings.samples_per_pixel = args.spp;
+    let open_ended = args.time_limit.is_some() || args.noise_target.is_some();
+    settings.samples_per_pixel = args.spp.unwrap_or(if open_ended { 1 << 20 } else { 64 });
+    if let Some(t) = args.time_limit.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        anyhow::bail!("--time-limit must be a positive number of seconds, got {t}");
+    }
+    if let Some(x) = args.noise_target.filter(|x| !(x.is_finite() && *x > 0.0)) {
+        anyhow::bail!("--noise-target must be a positive number, got {x}");
+    }
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
     settings.next_event_estimation = !args.no_nee;
     settings.russian_roulette = !args.no_roulette;
@@ -59,27 +74,61 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let gpu_scene = GpuScene::build(&scene)?;
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, RenderOptions::default())?;
 
-    let bar = ProgressBar::new(u64::from(args.spp));
+    let spp = scene.settings.samples_per_pixel;
+    let bar = if open_ended {
+        ProgressBar::new_spinner()
+    } else {
+        ProgressBar::new(u64::from(spp))
+    };
+    let template = if open_ended {
+        "{spinner} [{elapsed_precise}] {pos} spp  {msg}"
+    } else {
+        "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} spp  {msg} (eta {eta})"
+    };
     bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} spp  {msg} (eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let started = Instant::now();
     let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
-    renderer.render(args.spp, |done| {
+    let mut noise = f64::INFINITY;
+    let mut last_estimate: Option<Instant> = None;
+    let mut stopped_by = "samples per pixel";
+    while renderer.samples_done() < spp {
+        let done = renderer.samples_done();
+        // With a noise target, grow batches geometrically so the stop overshoots by at most 1/8.
+        let batch = if args.noise_target.is_some() {
+            (done / 8).max(1)
+        } else {
+            spp - done
+        };
+        renderer.render_batch(batch.min(spp - done))?;
+        let done = renderer.samples_done();
+        // Estimate the noise when it decides the stop, else about once a second for display.
+        if args.noise_target.is_some()
+            || last_estimate.is_none_or(|t| t.elapsed().as_secs_f64() >= 1.0)
+        {
+            noise = estimated_rel_mse(&renderer.read_image()?.pixels, done).sqrt();
+            last_estimate = Some(Instant::now());
+        }
         let secs = started.elapsed().as_secs_f64().max(1e-9);
         bar.set_position(u64::from(done));
         bar.set_message(format!(
-            "{:.2} Mpaths/s",
+            "{:.2} Mpaths/s  noise ≈ {noise:.4}",
             pixels as f64 * f64::from(done) / secs / 1e6
         ));
-        true
-    })?;
+        if args.noise_target.is_some_and(|target| noise <= target) {
+            stopped_by = "noise target";
+            break;
+        }
+        if args.time_limit.is_some_and(|limit| secs >= limit) {
+            stopped_by = "time limit";
+            break;
+        }
+    }
     bar.finish_and_clear();
     let render_time = started.elapsed();
     let image = renderer.read_image()?;
+    let noise = estimated_rel_mse(&image.pixels, image.samples_per_pixel).sqrt();
     rt_core::output::save_image(
         &args.output,
         image.width,
@@ -105,7 +154,8 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         scene.settings.max_depth,
         if gpu_scene.features.nee { "on" } else { "off" }
     );
-    eprintln!("render time:    {render_time:.2?}");
+    eprintln!("render time:    {render_time:.2?} (stopped by {stopped_by})");
+    eprintln!("noise:          {noise:.5} (estimated sqrt(relMSE) against the converged image)");
     eprintln!(
         "samples/s:      {:.1} spp/s",
         f64::from(image.samples_per_pixel) / secs

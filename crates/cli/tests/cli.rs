@@ -166,3 +166,83 @@ fn bad_arguments_and_files_exit_2_with_one_line() {
         }
     }
 }
+
+/// Reads "image: WxH, N spp" and "noise: X" from the summary.
+fn spp_and_noise(stderr: &str) -> (u32, f64) {
+    let spp = stderr
+        .lines()
+        .find(|l| l.starts_with("image:"))
+        .and_then(|l| l.split(", ").nth(1))
+        .and_then(|s| s.trim_end_matches(" spp").parse().ok())
+        .unwrap_or_else(|| panic!("no spp in {stderr}"));
+    let noise = stderr
+        .lines()
+        .find(|l| l.starts_with("noise:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no noise in {stderr}"));
+    (spp, noise)
+}
+
+/// `--noise-target` stops once the estimated noise is at or under the target, and a stricter
+/// target takes more samples; `--time-limit` stops an otherwise endless render. Checked by the
+/// samples taken and the error estimate, not by the clock.
+#[test]
+fn noise_target_and_time_limit_stop_the_render() {
+    if !has_gpu() && std::env::var_os("CI").is_none() {
+        eprintln!("SKIPPED: no GPU adapter");
+        return;
+    }
+    let dir = temp_dir("stop");
+    let out = dir.join("img.png");
+    let out = out.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "-o",
+            out,
+            "--width",
+            "24",
+            "--height",
+            "24",
+            "--adapter",
+            "cpu",
+        ];
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{stderr}");
+        stderr
+    };
+    let loose = run(&["--noise-target", "0.3"]);
+    let strict = run(&["--noise-target", "0.15"]);
+    let (spp_loose, noise_loose) = spp_and_noise(&loose);
+    let (spp_strict, noise_strict) = spp_and_noise(&strict);
+    assert!(
+        loose.contains("stopped by noise target") && strict.contains("stopped by noise target")
+    );
+    assert!(
+        noise_loose <= 0.3 && noise_strict <= 0.15,
+        "{noise_loose} {noise_strict}"
+    );
+    assert!(
+        spp_strict > spp_loose,
+        "a stricter target must take more samples: {spp_strict} vs {spp_loose}"
+    );
+    // The same seed with fewer samples than the stop was noisier than the target.
+    let (_, noise_fewer) =
+        spp_and_noise(&run(&["--spp", &(spp_strict * 3 / 4).max(1).to_string()]));
+    assert!(
+        noise_fewer > 0.15,
+        "{} spp already had noise {noise_fewer}",
+        spp_strict * 3 / 4
+    );
+
+    let timed = run(&["--time-limit", "0.5", "--spp", "1000000"]);
+    let (spp_timed, _) = spp_and_noise(&timed);
+    assert!(
+        timed.contains("stopped by time limit") && spp_timed < 1_000_000,
+        "{timed}"
+    );
+    let (code, _, stderr) = rt_cli(&["render", "-o", out, "--time-limit=-1"]);
+    assert!(code == 2 && stderr.contains("--time-limit"), "{stderr}");
+}

@@ -113,9 +113,44 @@ pub fn compare(image: &RgbImage, reference: &RgbImage) -> Result<ImageError, Str
     })
 }
 
+/// The relMSE this image is expected to have against its converged version, estimated from its
+/// own samples: mean over pixels of (s²/n) / (m² + 0.01), with m the mean luminance and s² the
+/// sample variance of luminance (from the mean of squares `mean_sq_lum`) over `n` samples. Its
+/// square root is the "noise" that `--noise-target` compares. Needs n ≥ 2.
+pub fn estimated_rel_mse(pixels: &[[f32; 4]], samples: u32) -> f64 {
+    if samples < 2 || pixels.is_empty() {
+        return f64::INFINITY;
+    }
+    let n = f64::from(samples);
+    let weights = [0.2126, 0.7152, 0.0722];
+    let total: f64 = pixels
+        .iter()
+        .map(|p| {
+            let m: f64 = (0..3).map(|c| weights[c] * f64::from(p[c])).sum();
+            let variance = (f64::from(p[3]) - m * m).max(0.0) * n / (n - 1.0);
+            variance / n / (m * m + 0.01)
+        })
+        .sum();
+    total / pixels.len() as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn estimated_rel_mse_of_known_samples() {
+        // Samples 0 and 2 (grey): mean 1, mean square 2, sample variance 2 over n = 2.
+        let pixels = [[1.0, 1.0, 1.0, 2.0]];
+        let expected = 2.0 / 2.0 / 1.01;
+        assert!((estimated_rel_mse(&pixels, 2) - expected).abs() < 1e-6);
+        assert!(estimated_rel_mse(&pixels, 1).is_infinite());
+        assert_eq!(
+            estimated_rel_mse(&[[0.5, 0.5, 0.5, 0.25]], 10),
+            0.0,
+            "constant samples: no noise"
+        );
+    }
 
     #[test]
     fn relmse_of_known_differences() {
