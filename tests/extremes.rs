@@ -370,3 +370,112 @@ fn a_chain_of_glass_slabs_transmits_the_layered_fresnel_value() {
         "transmission {m} vs {expected} (σ {std_error})"
     );
 }
+
+/// Replicated image means (seeds 1..=k) and their standard error.
+fn mean_and_error(ctx: &rt_gpu::GpuContext, scene: &rt_core::Scene, k: u32) -> (f64, f64) {
+    let mut scene = scene.clone();
+    let replicas: Vec<f64> = (1..=k)
+        .map(|seed| {
+            scene.settings.seed = seed;
+            mean(&render(ctx, &scene))
+        })
+        .collect();
+    let m = replicas.iter().sum::<f64>() / f64::from(k);
+    let var = replicas.iter().map(|r| (r - m).powi(2)).sum::<f64>() / f64::from(k - 1);
+    (m, (var / f64::from(k)).sqrt())
+}
+
+/// Glass of IOR 1.0 bends and reflects nothing: the image equals the scene without it. (Max depth
+/// counts segments, and crossing the glass takes two, so the depth must be high enough that no path
+/// is cut: 64, cheap with Russian roulette.)
+#[test]
+fn glass_of_index_one_is_invisible() {
+    let Some(ctx) = gpu() else { return };
+    let mut without = rt_core::assets::cornell_box().unwrap();
+    without.ambient = [1.0; 3];
+    without.settings = settings(32, 32, 64, 64);
+    let mut with = without.clone();
+    let mut ball = object(
+        "ball",
+        rt_core::shapes::uv_sphere(120.0, 12, 24),
+        Material::Dielectric {
+            ior: 1.0,
+            tint: [1.0; 3],
+        },
+    );
+    ball.transform.translation = [278.0, 280.0, 250.0];
+    with.objects.push(ball);
+    let (a, ea) = mean_and_error(ctx, &without, 4);
+    let (b, eb) = mean_and_error(ctx, &with, 4);
+    let sigma = (ea * ea + eb * eb).sqrt();
+    assert!(
+        (a - b).abs() <= 5.0 * sigma,
+        "with IOR-1 glass {b} vs without {a} (σ {sigma})"
+    );
+}
+
+/// Emitters of intensity 1e-6 and 1e6 scale the image exactly (same seed, same paths), with no
+/// overflow or underflow to NaN, Inf or zero.
+#[test]
+fn emitter_intensity_scales_the_image_linearly() {
+    let Some(ctx) = gpu() else { return };
+    let render_with = |intensity: f32| {
+        let mut scene = rt_core::assets::cornell_box().unwrap();
+        for o in &mut scene.objects {
+            if let Material::Emissive { intensity: i, .. } = &mut o.material {
+                *i = intensity;
+            }
+        }
+        scene.settings = settings(16, 16, 8, 8);
+        mean(&render(ctx, &scene))
+    };
+    let unit = render_with(1.0);
+    for intensity in [1e-6f32, 1e6] {
+        let ratio = render_with(intensity) / unit / f64::from(intensity);
+        assert!(
+            (ratio - 1.0).abs() < 1e-4,
+            "intensity {intensity}: image scaled by {ratio} × intensity"
+        );
+    }
+}
+
+/// Fuzz 1 scatters widely but never adds energy: an albedo-1 metal sphere under ambient 1 is at
+/// most 1 everywhere; at grazing angles fuzzed directions fall below the surface and are absorbed.
+#[test]
+fn fully_fuzzy_metal_does_not_create_energy() {
+    let Some(ctx) = gpu() else { return };
+    let mut sphere = rt_core::shapes::uv_sphere(1.0, 12, 24);
+    sphere.normals = None;
+    let scene = scene(
+        vec![object(
+            "sphere",
+            sphere,
+            Material::Metal {
+                albedo: [1.0; 3],
+                fuzz: 1.0,
+            },
+        )],
+        camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 40.0),
+        [1.0; 3],
+        settings(16, 16, 16, 4),
+    );
+    let image = render(ctx, &scene);
+    assert!(
+        image.pixels.iter().all(|p| p[0] <= 1.0 + 1e-6),
+        "a pixel exceeds the furnace bound"
+    );
+    let darkest = image
+        .pixels
+        .iter()
+        .map(|p| p[0])
+        .fold(f32::INFINITY, f32::min);
+    assert!(
+        darkest < 0.9,
+        "grazing pixels should lose energy to absorption: darkest {darkest}"
+    );
+    assert_eq!(
+        image.pixels[8 * 16 + 8][0],
+        1.0,
+        "at normal incidence nothing is absorbed"
+    );
+}
