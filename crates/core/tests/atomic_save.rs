@@ -1,0 +1,76 @@
+//! Saving is atomic: a process killed at random moments while saving images over and over never
+//! leaves a file that fails to load, or one mixing two versions.
+#![expect(
+    clippy::unwrap_used,
+    reason = "test helpers fail the test on unexpected errors"
+)]
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+use rt_core::output::save_image;
+
+const CHILD_ENV: &str = "RT_TEST_SAVE_LOOP";
+const SIZE: u32 = 384;
+
+/// Version `v` of the image: every pixel holds v.
+fn pixels(v: u32) -> Vec<[f32; 3]> {
+    vec![[v as f32, 0.5, 0.25]; (SIZE * SIZE) as usize]
+}
+
+/// Loads the file and returns its version, failing on a torn or mixed file.
+fn check(path: &Path) -> u32 {
+    let image = image::open(path)
+        .unwrap_or_else(|e| panic!("{} does not load after a kill: {e}", path.display()));
+    let rgb = image.to_rgb32f();
+    assert_eq!((rgb.width(), rgb.height()), (SIZE, SIZE));
+    let first = rgb.get_pixel(0, 0).0;
+    assert!(
+        rgb.pixels().all(|p| p.0 == first),
+        "the file mixes two versions"
+    );
+    first[0] as u32
+}
+
+#[test]
+fn killing_a_save_never_leaves_a_broken_file() {
+    if let Ok(path) = std::env::var(CHILD_ENV) {
+        // The child: save new versions until killed.
+        for v in 1.. {
+            save_image(Path::new(&path), SIZE, SIZE, &pixels(v), 0.0).unwrap();
+        }
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("rt-atomic-save-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("image.exr");
+    save_image(&path, SIZE, SIZE, &pixels(0), 0.0).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    let mut state = 7u32;
+    for _ in 0..40 {
+        let mut child = Command::new(std::env::current_exe().unwrap())
+            .args([
+                "--exact",
+                "killing_a_save_never_leaves_a_broken_file",
+                "--test-threads",
+                "1",
+            ])
+            .env(CHILD_ENV, &path)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        state = rt_core::reference::rng::pcg_hash(state);
+        std::thread::sleep(Duration::from_millis(20 + u64::from(state % 180)));
+        child.kill().unwrap();
+        child.wait().unwrap();
+        seen.insert(check(&path));
+    }
+    // Kills must have landed after some saves, or the test proved little.
+    assert!(
+        seen.len() > 5,
+        "too few distinct versions survived: {seen:?}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
