@@ -1,9 +1,5 @@
 //! Saving is atomic: a process killed at random moments while saving images over and over never
 //! leaves a file that fails to load, or one mixing two versions.
-#![expect(
-    clippy::unwrap_used,
-    reason = "test helpers fail the test on unexpected errors"
-)]
 
 use std::path::Path;
 use std::process::{Command, Stdio};
