@@ -237,15 +237,7 @@ fn scene_scale_and_offset_do_not_change_the_image() {
         scene.camera.from = moved(scene.camera.from);
         scene.camera.to = moved(scene.camera.to);
         scene.settings = settings(48, 48, 32, 8);
-        let replicas: Vec<f64> = (1..=4)
-            .map(|seed| {
-                scene.settings.seed = seed;
-                mean(&render(ctx, &scene))
-            })
-            .collect();
-        let m = replicas.iter().sum::<f64>() / 4.0;
-        let var = replicas.iter().map(|r| (r - m).powi(2)).sum::<f64>() / 3.0;
-        (m, (var / 4.0).sqrt())
+        mean_and_error(ctx, &scene, 4)
     };
     let (reference, ref_err) = render_at(1.0, Vec3::ZERO);
     for (scale, offset) in [
