@@ -209,8 +209,8 @@ impl<'a> Renderer<'a> {
             options,
             samples_done: 0,
             samples_per_dispatch: 1,
-            // Start with a small band to measure the cost safely, then grow.
-            rows_per_dispatch: frame.height.min(32),
+            // Start with a band of about 16k pixels to measure the cost safely, then grow.
+            rows_per_dispatch: (16_384 / frame.width).clamp(1, frame.height),
             loop_cap,
             rays: 0,
             dropped_samples: 0,

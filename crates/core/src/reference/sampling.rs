@@ -133,6 +133,37 @@ mod tests {
         );
     }
 
+    /// Cosine-weighted directions against their pdf cosθ/π: with u = sin²θ and φ, equal-probability
+    /// bins are a uniform grid, so a chi-square test over 10 × 10 bins (99 degrees of freedom).
+    #[test]
+    fn cosine_hemisphere_samples_follow_their_pdf() {
+        let n = Vec3::new(0.3, -0.5, 0.8).normalize();
+        let (t, b) = onb(n);
+        let mut counts = [[0usize; 10]; 10];
+        let samples = 100_000;
+        for i in 0..samples {
+            let mut rng = Rng::new(i, 0, 9);
+            let d = sample_cosine_hemisphere(n, &mut rng);
+            let cos = d.dot(n);
+            assert!(cos >= 0.0 && (d.length() - 1.0).abs() < 1e-5);
+            let u = (1.0 - cos * cos).clamp(0.0, 0.999_999);
+            let phi = d.dot(b).atan2(d.dot(t)).rem_euclid(std::f32::consts::TAU);
+            let j = ((phi / std::f32::consts::TAU) * 10.0).min(9.0) as usize;
+            counts[(u * 10.0) as usize][j] += 1;
+        }
+        let expected = samples as f64 / 100.0;
+        let chi2: f64 = counts
+            .iter()
+            .flatten()
+            .map(|&c| (c as f64 - expected).powi(2) / expected)
+            .sum();
+        // The 0.999 quantile of chi-square with 99 degrees of freedom is about 148.2.
+        assert!(
+            chi2 < 148.2,
+            "chi-square {chi2} with 99 dof: cosine sampling does not match cos/π"
+        );
+    }
+
     #[test]
     fn onb_is_orthonormal() {
         for n in [
