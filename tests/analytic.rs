@@ -162,48 +162,53 @@ fn perfect_mirror_reflects_albedo_times_radiance() {
 #[test]
 fn glass_slab_at_normal_incidence_follows_fresnel() {
     let Some(ctx) = gpu() else { return };
-    let r = 0.04f64;
-    for (emitter_z, facing, expected) in [
-        (-10.0, Vec3::Z, (1.0 - r) / (1.0 + r)),
-        (10.0, -Vec3::Z, 2.0 * r / (1.0 + r)),
-    ] {
-        let scene = scene(
-            vec![
-                object(
-                    "slab",
-                    cuboid(
-                        Vec3::new(-20.0, -20.0, -0.5),
-                        Vec3::new(20.0, 20.0, 0.5),
-                        false,
-                    ),
-                    Material::Dielectric {
-                        ior: 1.5,
-                        tint: [1.0; 3],
-                    },
-                ),
-                object(
-                    "emitter",
-                    quad(Vec3::new(0.0, 0.0, emitter_z), facing, 60.0),
-                    Material::Emissive {
-                        color: [1.0; 3],
-                        intensity: 1.0,
-                    },
-                ),
-            ],
-            camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 1.0),
-            [0.0; 3],
-            settings(32, 32, 256, 16),
-        );
-        let image = render(ctx, &scene);
-        // Each path carries 0 or 1 (the 1/η² factors cancel on leaving), so a pixel mean is a
-        // binomial proportion; the image mean of n paths has σ = sqrt(p(1−p)/n).
-        let n = (32 * 32 * 256) as f64;
-        let sigma = (expected * (1.0 - expected) / n).sqrt();
-        for (c, mean) in image.channel_means().iter().enumerate() {
-            assert!(
-                (mean - expected).abs() < 5.0 * sigma,
-                "channel {c}: {mean} vs {expected} (σ {sigma})"
+    for ior in [1.0001f32, 1.5, 2.417, 4.0] {
+        let r = ((f64::from(ior) - 1.0) / (f64::from(ior) + 1.0)).powi(2);
+        for (emitter_z, facing, expected) in [
+            (-10.0, Vec3::Z, (1.0 - r) / (1.0 + r)),
+            (10.0, -Vec3::Z, 2.0 * r / (1.0 + r)),
+        ] {
+            let slab = cuboid(
+                Vec3::new(-20.0, -20.0, -0.5),
+                Vec3::new(20.0, 20.0, 0.5),
+                false,
             );
+            let emitter = quad(Vec3::new(0.0, 0.0, emitter_z), facing, 60.0);
+            let mut scene = scene(
+                vec![
+                    object(
+                        "slab",
+                        slab,
+                        Material::Dielectric {
+                            ior,
+                            tint: [1.0; 3],
+                        },
+                    ),
+                    object(
+                        "emitter",
+                        emitter,
+                        Material::Emissive {
+                            color: [1.0; 3],
+                            intensity: 1.0,
+                        },
+                    ),
+                ],
+                camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, 1.0),
+                [0.0; 3],
+                settings(32, 32, 256, 24),
+            );
+            // Without roulette each path carries exactly 0 or 1 (the 1/η² factors cancel on
+            // leaving), so the image mean of n paths is a binomial proportion: σ = sqrt(p(1−p)/n).
+            scene.settings.russian_roulette = false;
+            let image = render(ctx, &scene);
+            let n = (32 * 32 * 256) as f64;
+            let sigma = (expected * (1.0 - expected) / n).sqrt();
+            for (c, mean) in image.channel_means().iter().enumerate() {
+                assert!(
+                    (mean - expected).abs() < 5.0 * sigma + 1e-6,
+                    "IOR {ior}, channel {c}: {mean} vs {expected} (σ {sigma})"
+                );
+            }
         }
     }
 }
