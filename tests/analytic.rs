@@ -63,11 +63,7 @@ fn closed_room_radiance_is_the_geometric_series() {
                 assert_all_pixels(&image, [expected; 3], 1e-5, &what);
                 continue;
             }
-            let values: Vec<f64> = image.pixels.iter().map(|p| f64::from(p[0])).collect();
-            let n = values.len() as f64;
-            let mean = values.iter().sum::<f64>() / n;
-            let std_error =
-                (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+            let (mean, std_error) = pixel_mean_and_error(&image);
             let expected = f64::from(expected);
             assert!(
                 (mean - expected).abs() <= 4.0 * std_error + 1e-6,

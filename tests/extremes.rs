@@ -353,10 +353,7 @@ fn a_chain_of_glass_slabs_transmits_the_layered_fresnel_value() {
     let image = render(ctx, &scene);
     let r = 0.04f64;
     let expected = 1.0 / (1.0 + 10.0 * 2.0 * r / (1.0 - r));
-    let values: Vec<f64> = image.pixels.iter().map(|p| f64::from(p[0])).collect();
-    let n = values.len() as f64;
-    let m = values.iter().sum::<f64>() / n;
-    let std_error = (values.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+    let (m, std_error) = pixel_mean_and_error(&image);
     assert!(
         (m - expected).abs() <= 4.0 * std_error + 1e-4,
         "transmission {m} vs {expected} (σ {std_error})"

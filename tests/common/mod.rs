@@ -103,6 +103,16 @@ pub fn render(ctx: &GpuContext, scene: &Scene) -> Image {
     )
 }
 
+/// Mean of the red channel over the image and its standard error, from the spread of the pixels:
+/// valid when every pixel has the same expected value (furnaces, slabs seen through a tiny FOV).
+pub fn pixel_mean_and_error(image: &Image) -> (f64, f64) {
+    let values: Vec<f64> = image.pixels.iter().map(|p| f64::from(p[0])).collect();
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (variance / n).sqrt())
+}
+
 /// Two-sided p-value threshold |z| for a per-test significance `alpha`.
 pub fn z_threshold(alpha: f64) -> f64 {
     // Inverse of the normal tail by bisection on erfc; accurate enough for test thresholds.
