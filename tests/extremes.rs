@@ -203,14 +203,14 @@ fn invalid_geometry_is_rejected_naming_object_and_vertex() {
         message.contains("'broken'") && message.contains("vertex 2"),
         "{message}"
     );
-    scene.objects[0].mesh.positions[1] = Vec3::X;
-    scene.objects[0].mesh.indices[0] = [0, 1, 7];
+    std::sync::Arc::make_mut(&mut scene.objects[0].mesh).positions[1] = Vec3::X;
+    std::sync::Arc::make_mut(&mut scene.objects[0].mesh).indices[0] = [0, 1, 7];
     let message = GpuScene::build(&scene).unwrap_err().to_string();
     assert!(
         message.contains("'broken'") && message.contains("vertex 8"),
         "{message}"
     );
-    scene.objects[0].mesh.indices[0] = [0, 1, 2];
+    std::sync::Arc::make_mut(&mut scene.objects[0].mesh).indices[0] = [0, 1, 2];
     scene.objects[0].transform.scale = [0.0, 1.0, 1.0];
     assert!(
         GpuScene::build(&scene)

@@ -162,7 +162,7 @@ fn gpu_matches_cpu_reference_on_textures_normals_and_thin_lens() {
         name: "checker".into(),
         width: 4,
         height: 4,
-        rgba8: checker,
+        rgba8: checker.into(),
     });
     let gpu_scene = GpuScene::build(&scene).unwrap();
     assert!(

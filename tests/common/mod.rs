@@ -33,7 +33,7 @@ pub fn gpu() -> Option<&'static GpuContext> {
 pub fn object(name: &str, mesh: Mesh, material: Material) -> Object {
     Object {
         name: name.into(),
-        mesh,
+        mesh: mesh.into(),
         material,
         transform: Default::default(),
     }

@@ -57,7 +57,11 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     settings.width = args.width.unwrap_or(settings.width);
     settings.height = args.height.unwrap_or(settings.height);
     let open_ended = args.time_limit.is_some() || args.noise_target.is_some();
-    settings.samples_per_pixel = args.spp.unwrap_or(if open_ended { 1 << 20 } else { 64 });
+    settings.samples_per_pixel = args.spp.unwrap_or(if open_ended {
+        1 << 20
+    } else {
+        settings.samples_per_pixel
+    });
     if let Some(t) = args.time_limit.filter(|t| !(t.is_finite() && *t > 0.0)) {
         anyhow::bail!("--time-limit must be a positive number of seconds, got {t}");
     }

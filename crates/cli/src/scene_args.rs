@@ -24,7 +24,7 @@ pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
 
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// Wavefront OBJ file; the embedded Cornell box when omitted.
+    /// Wavefront OBJ file or rt project (.rtproj); the embedded Cornell box when omitted.
     pub scene: Option<PathBuf>,
     /// Camera JSON file ({"from","to","up","vfov","width","height","background"}).
     #[arg(long)]
@@ -42,17 +42,18 @@ pub struct SceneArgs {
     #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
     pub ambient: Option<[f32; 3]>,
     /// Seed for the random numbers (and for the colours of objects without a material).
-    #[arg(long, default_value_t = 0)]
-    pub seed: u32,
+    #[arg(long)]
+    pub seed: Option<u32>,
 }
 
 impl SceneArgs {
     /// Loads the scene and applies the overrides, in order: file, camera file, flags.
     pub fn load(&self) -> Result<Scene> {
         let mut scene = match &self.scene {
+            Some(path) if is_project(path) => rt_core::io::project::load_project(path)?,
             Some(path) => {
-                let mut scene = rt_core::io::obj::load_obj(path, self.seed)?;
-                frame_scene(&mut scene);
+                let mut scene = rt_core::io::obj::load_obj(path, self.seed.unwrap_or(0))?;
+                scene.frame_for_viewing();
                 scene
             }
             None => rt_core::assets::cornell_box().context("loading the embedded Cornell box")?,
@@ -66,27 +67,12 @@ impl SceneArgs {
         camera.up = self.camera_up.unwrap_or(camera.up);
         camera.vfov_deg = self.vfov.unwrap_or(camera.vfov_deg);
         scene.ambient = self.ambient.unwrap_or(scene.ambient);
-        scene.settings.seed = self.seed;
+        scene.settings.seed = self.seed.unwrap_or(scene.settings.seed);
         Ok(scene)
     }
 }
 
-/// Points the default camera at a loaded OBJ's bounds so that it is in view, and gives OBJ files
-/// without lights a dim grey ambient so they are not black (the camera file or flags override both).
-fn frame_scene(scene: &mut Scene) {
-    let Some((lo, hi)) = scene.bounds() else {
-        return;
-    };
-    let center = (lo + hi) * 0.5;
-    let radius = ((hi - lo).length() * 0.5).max(1e-6);
-    let distance = radius / (scene.camera.vfov_deg.to_radians() * 0.5).tan() * 1.1;
-    scene.camera.to = center.to_array();
-    scene.camera.from = (center + glam::Vec3::new(0.0, 0.0, distance)).to_array();
-    let has_emitter = scene
-        .objects
-        .iter()
-        .any(|o| matches!(o.material, rt_core::Material::Emissive { .. }));
-    if !has_emitter {
-        scene.ambient = [0.8; 3];
-    }
+fn is_project(path: &std::path::Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case(rt_core::io::project::PROJECT_EXTENSION))
 }

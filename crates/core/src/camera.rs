@@ -92,4 +92,22 @@ impl Camera {
             focus_distance,
         })
     }
+
+    /// Moves the camera along its current view direction so that the sphere around the box
+    /// `lo..hi` fills the vertical field of view, looking at the box's centre.
+    pub fn frame_bounds(&mut self, lo: Vec3, hi: Vec3) {
+        let center = (lo + hi) * 0.5;
+        let radius = ((hi - lo).length() * 0.5).max(1e-6);
+        let view = Vec3::from(self.from) - Vec3::from(self.to);
+        let direction = if view.is_finite() && view.length_squared() > 0.0 {
+            view.normalize()
+        } else {
+            Vec3::Z
+        };
+        let half_fov = (self.vfov_deg.clamp(1.0, 179.0).to_radians() * 0.5).sin();
+        let distance = radius / half_fov;
+        self.to = center.to_array();
+        self.from = (center + direction * distance).to_array();
+        self.focus_distance = None;
+    }
 }

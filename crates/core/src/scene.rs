@@ -1,6 +1,8 @@
 //! The scene document: objects (mesh + material + transform), textures, camera, ambient light and
 //! render settings. This is what loaders produce, the editor edits and projects save.
 
+use std::sync::Arc;
+
 use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
@@ -59,7 +61,8 @@ impl Transform {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Object {
     pub name: String,
-    pub mesh: Mesh,
+    /// Shared, so that copies of a scene (undo history, render jobs) cost no mesh copies.
+    pub mesh: Arc<Mesh>,
     pub material: Material,
     #[serde(default)]
     pub transform: Transform,
@@ -72,8 +75,9 @@ pub struct Texture {
     pub name: String,
     pub width: u32,
     pub height: u32,
+    /// Shared like meshes; not serialised (project files store the image itself).
     #[serde(skip)]
-    pub rgba8: Vec<u8>,
+    pub rgba8: Arc<[u8]>,
 }
 
 /// Image size, sample count and path length.
@@ -167,5 +171,25 @@ impl Scene {
             }
         }
         bounds
+    }
+
+    pub fn has_emitters(&self) -> bool {
+        self.objects
+            .iter()
+            .any(|o| matches!(o.material, Material::Emissive { .. }))
+    }
+
+    /// Points the camera at the whole scene along +z and, when nothing emits light, gives the scene
+    /// a dim grey ambient so that it is not black: what a freshly loaded OBJ without a camera needs.
+    pub fn frame_for_viewing(&mut self) {
+        if let Some((lo, hi)) = self.bounds() {
+            self.camera.from = self.camera.to;
+            self.camera.from[2] += 1.0;
+            self.camera.up = [0.0, 1.0, 0.0];
+            self.camera.frame_bounds(lo, hi);
+        }
+        if !self.has_emitters() {
+            self.ambient = [0.8; 3];
+        }
     }
 }

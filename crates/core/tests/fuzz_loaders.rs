@@ -177,7 +177,7 @@ fn load_and_build(obj: &[u8], mtl: &[u8]) -> Result<(), Error> {
                 name: "tex".into(),
                 width: 2,
                 height: 1,
-                rgba8: vec![255; 8],
+                rgba8: vec![255; 8].into(),
             })
         } else {
             Err(Error::File {

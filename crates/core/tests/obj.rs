@@ -267,11 +267,11 @@ fn a_texture_without_uvs_renders_white_with_a_warning() {
         name: "t".into(),
         width: 1,
         height: 1,
-        rgba8: vec![255, 0, 0, 255],
+        rgba8: vec![255, 0, 0, 255].into(),
     });
     scene.objects.push(rt_core::Object {
         name: "no uvs".into(),
-        mesh: rt_core::shapes::quad(glam::Vec3::ZERO, glam::Vec3::Z, 1.0),
+        mesh: rt_core::shapes::quad(glam::Vec3::ZERO, glam::Vec3::Z, 1.0).into(),
         material: Material::Lambertian {
             albedo: [0.3; 3],
             texture: Some(0),

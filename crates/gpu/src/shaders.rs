@@ -16,6 +16,8 @@ pub const FILES: &[(&str, &str)] = &[
     shader_file!("shared/bvh.wgsl"),
     shader_file!("trace.wgsl"),
     shader_file!("trace_rays.wgsl"),
+    shader_file!("preview.wgsl"),
+    shader_file!("preview_blit.wgsl"),
 ];
 
 /// An entry-point module: its name and the files it is made of, in order.
@@ -46,7 +48,18 @@ pub const TRACE_RAYS: ShaderModule = ShaderModule {
     ],
 };
 
-pub const MODULES: &[ShaderModule] = &[TRACE, TRACE_RAYS];
+/// The editor's raster preview (used by `rt-app`; validated here with the others).
+pub const PREVIEW: ShaderModule = ShaderModule {
+    name: "preview",
+    files: &["preview.wgsl"],
+};
+
+pub const PREVIEW_BLIT: ShaderModule = ShaderModule {
+    name: "preview_blit",
+    files: &["preview_blit.wgsl"],
+};
+
+pub const MODULES: &[ShaderModule] = &[TRACE, TRACE_RAYS, PREVIEW, PREVIEW_BLIT];
 
 impl ShaderModule {
     /// The composed source.

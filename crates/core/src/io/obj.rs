@@ -158,7 +158,7 @@ pub fn load_obj_bytes(
         };
         scene.objects.push(Object {
             name,
-            mesh,
+            mesh: mesh.into(),
             material,
             transform: Default::default(),
         });

@@ -47,6 +47,6 @@ pub fn load_texture(path: &Path) -> Result<Texture> {
         name: path.display().to_string(),
         width: rgba.width(),
         height: rgba.height(),
-        rgba8: rgba.into_raw(),
+        rgba8: rgba.into_raw().into(),
     })
 }

@@ -1,0 +1,466 @@
+//! The editor's state and the actions on it. The panels in `ui/` draw this state and call these
+//! actions; nothing here draws.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Duration;
+
+use glam::Vec3;
+use rt_core::io::project::{self, LIGHTING_EXTENSION, Lighting, PROJECT_EXTENSION};
+use rt_core::{Material, Object, Scene, Transform};
+
+use crate::document::{Document, Origin, recommended_max_depth};
+use crate::recent::RecentFiles;
+use crate::render_job::{JobState, RenderDevice, RenderJob};
+
+/// Settings fixed when the editor starts.
+#[derive(Clone, Debug, Default)]
+pub struct AppOptions {
+    /// Where the recent-files list lives; `None` keeps it in memory.
+    pub config_dir: Option<PathBuf>,
+    /// A file to open at start (OBJ, project or lighting).
+    pub open: Option<PathBuf>,
+    pub adapter: rt_gpu::AdapterChoice,
+}
+
+/// A finished or running render with its viewer's settings.
+pub struct RenderView {
+    pub id: u64,
+    pub job: RenderJob,
+    pub open: bool,
+    pub exposure: f32,
+    pub zoom: f32,
+    pub texture: Option<egui::TextureHandle>,
+    /// (image revision, exposure) the texture was made from.
+    pub texture_key: Option<(u64, f32)>,
+}
+
+/// The path-traced viewport: a render job at viewport size, restarted when anything changes.
+#[derive(Default)]
+pub struct LiveView {
+    pub enabled: bool,
+    pub job: Option<RenderJob>,
+    /// (document revision, viewport size) the job renders.
+    pub key: Option<(u64, [u32; 2])>,
+    pub texture: Option<egui::TextureHandle>,
+    pub texture_revision: u64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightShape {
+    Box,
+    Quad,
+}
+
+/// Dialog and interaction state of the UI.
+#[derive(Default)]
+pub struct UiState {
+    pub error: Option<String>,
+    pub pending_delete: Option<usize>,
+    /// Right-drag orbits around the selection instead of turning the camera in place.
+    pub orbit_mode: bool,
+    /// The next click in the viewport sets the focus distance.
+    pub picking_focus: bool,
+    pub status: String,
+    pub last_render: Option<Duration>,
+}
+
+pub struct RtApp {
+    pub doc: Document,
+    pub selection: Option<usize>,
+    pub device: RenderDevice,
+    pub renders: Vec<RenderView>,
+    pub live: LiveView,
+    pub ui: UiState,
+    pub recent: RecentFiles,
+    /// Whether the raster preview's GPU resources exist (egui runs on wgpu).
+    pub preview_available: bool,
+    /// egui's own adapter, for the status bar until a render opens the render device.
+    pub display_adapter: Option<String>,
+    next_render_id: u64,
+    repaint: Option<egui::Context>,
+}
+
+impl RtApp {
+    /// An editor on the embedded Cornell box (or on `options.open`), without a window: the state
+    /// the UI draws. `egui_ctx` lets render threads wake the UI.
+    pub fn new(options: &AppOptions, egui_ctx: Option<egui::Context>) -> Self {
+        let scene = rt_core::assets::cornell_box().unwrap_or_default();
+        let mut app = RtApp {
+            doc: Document::new(scene, Origin::Embedded),
+            selection: None,
+            device: RenderDevice::new(options.adapter.clone()),
+            renders: Vec::new(),
+            live: LiveView::default(),
+            ui: UiState::default(),
+            recent: RecentFiles::load(options.config_dir.as_deref()),
+            preview_available: false,
+            display_adapter: None,
+            next_render_id: 1,
+            repaint: egui_ctx,
+        };
+        if let Some(path) = &options.open {
+            app.open_path(path);
+        }
+        app
+    }
+
+    /// Creates the app inside eframe, installing the preview's GPU resources.
+    pub fn from_creation_context(cc: &eframe::CreationContext<'_>, options: &AppOptions) -> Self {
+        let mut app = RtApp::new(options, Some(cc.egui_ctx.clone()));
+        if let Some(render_state) = &cc.wgpu_render_state {
+            crate::preview::gpu::install(render_state);
+            app.preview_available = true;
+            let info = render_state.adapter.get_info();
+            app.display_adapter = Some(format!("{} ({:?})", info.name, info.backend));
+        }
+        app
+    }
+
+    fn waker(&self) -> impl Fn() + Send + 'static {
+        let ctx = self.repaint.clone();
+        move || {
+            if let Some(ctx) = &ctx {
+                ctx.request_repaint();
+            }
+        }
+    }
+
+    pub fn show_error(&mut self, message: impl Into<String>) {
+        let message = message.into();
+        log::error!("{message}");
+        self.ui.error = Some(message);
+    }
+
+    // ---- files -------------------------------------------------------------------------------
+
+    /// Opens an OBJ, project or lighting file; on failure shows the error and keeps the scene.
+    pub fn open_path(&mut self, path: &Path) -> bool {
+        match self.try_open(path) {
+            Ok(()) => {
+                self.recent.add(path);
+                self.ui.status = format!("opened {}", path.display());
+                true
+            }
+            Err(e) => {
+                self.show_error(format!("Could not open {}:\n{e:#}", path.display()));
+                false
+            }
+        }
+    }
+
+    fn try_open(&mut self, path: &Path) -> anyhow::Result<()> {
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        match extension.as_str() {
+            e if e == PROJECT_EXTENSION => {
+                let scene = project::load_project(path)?;
+                self.replace_document(Document::new(scene, Origin::Project(path.into())));
+            }
+            e if e == LIGHTING_EXTENSION => {
+                let lighting = project::load_lighting(path)?;
+                self.doc
+                    .edit("load lighting", "load lighting", |s| lighting.apply(s));
+                self.doc.seal();
+                self.selection = None;
+            }
+            "obj" => {
+                let mut scene = rt_core::io::obj::load_obj(path, 0)?;
+                scene.frame_for_viewing();
+                scene.settings.max_depth = recommended_max_depth(&scene);
+                self.replace_document(Document::new(scene, Origin::Obj(path.into())));
+            }
+            _ => anyhow::bail!(
+                "unknown file type: rt opens Wavefront .obj, .{PROJECT_EXTENSION} projects and \
+                 .{LIGHTING_EXTENSION} lighting files"
+            ),
+        }
+        Ok(())
+    }
+
+    fn replace_document(&mut self, doc: Document) {
+        self.doc = doc;
+        self.selection = None;
+        self.live.job = None;
+        self.live.key = None;
+    }
+
+    /// Starts over with an empty scene.
+    pub fn new_scene(&mut self) {
+        let scene = Scene {
+            ambient: [0.6; 3],
+            ..Scene::default()
+        };
+        self.replace_document(Document::new(scene, Origin::New));
+    }
+
+    /// Saves the project to `path` (atomically) and makes it the document's file.
+    pub fn save_project_to(&mut self, path: &Path) -> bool {
+        let mut path = path.to_path_buf();
+        if path.extension().is_none() {
+            path.set_extension(PROJECT_EXTENSION);
+        }
+        match project::save_project(&self.doc.scene, &path) {
+            Ok(()) => {
+                self.doc.mark_saved(Origin::Project(path.clone()));
+                self.recent.add(&path);
+                self.ui.status = format!("saved {}", path.display());
+                true
+            }
+            Err(e) => {
+                self.show_error(format!("Could not save the project:\n{e}"));
+                false
+            }
+        }
+    }
+
+    pub fn save_lighting_to(&mut self, path: &Path) -> bool {
+        let mut path = path.to_path_buf();
+        if path.extension().is_none() {
+            path.set_extension(LIGHTING_EXTENSION);
+        }
+        match project::save_lighting(&Lighting::of(&self.doc.scene), &path) {
+            Ok(()) => {
+                self.ui.status = format!("saved lighting to {}", path.display());
+                true
+            }
+            Err(e) => {
+                self.show_error(format!("Could not save the lighting:\n{e}"));
+                false
+            }
+        }
+    }
+
+    /// Replaces a Lambertian object's texture with an image file (an undoable edit).
+    pub fn set_texture_from_file(&mut self, object: usize, path: &Path) -> bool {
+        let texture = match rt_core::io::texture::load_texture(path) {
+            Ok(t) => t,
+            Err(e) => {
+                self.show_error(format!("Could not load the texture:\n{e}"));
+                return false;
+            }
+        };
+        self.doc.edit("set texture", "set texture", |scene| {
+            let index = scene.textures.len();
+            scene.textures.push(texture);
+            if let Some(o) = scene.objects.get_mut(object) {
+                let albedo = match o.material {
+                    Material::Lambertian { albedo, .. } => albedo,
+                    _ => [1.0; 3],
+                };
+                o.material = Material::Lambertian {
+                    albedo,
+                    texture: Some(index),
+                };
+            }
+        });
+        self.doc.seal();
+        true
+    }
+
+    // ---- editing -----------------------------------------------------------------------------
+
+    pub fn undo(&mut self) {
+        if self.doc.undo() {
+            self.clamp_selection();
+        }
+    }
+
+    pub fn redo(&mut self) {
+        if self.doc.redo() {
+            self.clamp_selection();
+        }
+    }
+
+    fn clamp_selection(&mut self) {
+        if self
+            .selection
+            .is_some_and(|s| s >= self.doc.scene.objects.len())
+        {
+            self.selection = None;
+        }
+    }
+
+    /// Adds an emissive box or quad at the centre of the scene (the origin in an empty scene),
+    /// sized to a tenth of the scene, and selects it.
+    pub fn add_light(&mut self, shape: LightShape) {
+        let (center, size) = match self.doc.scene.bounds() {
+            Some((lo, hi)) => ((lo + hi) * 0.5, (hi - lo).max_element().max(1e-3) * 0.1),
+            None => (Vec3::ZERO, 1.0),
+        };
+        let (name, mesh) = match shape {
+            // Unit shapes; the transform places and sizes them so the fields read naturally.
+            LightShape::Box => (
+                "box light",
+                rt_core::shapes::cuboid(Vec3::splat(-0.5), Vec3::splat(0.5), false),
+            ),
+            // Facing down: a ceiling panel.
+            LightShape::Quad => (
+                "quad light",
+                rt_core::shapes::quad(Vec3::ZERO, Vec3::NEG_Y, 1.0),
+            ),
+        };
+        let count = self
+            .doc
+            .scene
+            .objects
+            .iter()
+            .filter(|o| matches!(o.material, Material::Emissive { .. }))
+            .count();
+        let object = Object {
+            name: format!("{name} {}", count + 1),
+            mesh: Arc::new(mesh),
+            material: Material::Emissive {
+                color: [1.0; 3],
+                intensity: 10.0,
+            },
+            transform: Transform {
+                translation: center.to_array(),
+                rotation_deg: [0.0; 3],
+                scale: [size; 3],
+            },
+        };
+        self.doc
+            .edit("add light", "add light", |s| s.objects.push(object));
+        self.doc.seal();
+        self.selection = Some(self.doc.scene.objects.len() - 1);
+    }
+
+    pub fn delete_object(&mut self, index: usize) {
+        if index >= self.doc.scene.objects.len() {
+            return;
+        }
+        self.doc.edit("delete object", "delete object", |s| {
+            s.objects.remove(index);
+        });
+        self.doc.seal();
+        self.selection = None;
+    }
+
+    /// Points the camera at the selection (or the whole scene), keeping the view direction.
+    pub fn frame_selection(&mut self) {
+        let bounds = match self.selection {
+            Some(i) => crate::navigation::object_bounds(&self.doc.scene, i),
+            None => self.doc.scene.bounds(),
+        };
+        if let Some((lo, hi)) = bounds {
+            self.doc.edit("frame selection", "frame selection", |s| {
+                s.camera.frame_bounds(lo, hi)
+            });
+            self.doc.seal();
+        }
+    }
+
+    pub fn reset_view(&mut self) {
+        let camera = self.doc.initial_camera.clone();
+        self.doc
+            .edit("reset view", "reset view", |s| s.camera = camera);
+        self.doc.seal();
+    }
+
+    // ---- rendering ---------------------------------------------------------------------------
+
+    /// Starts a render of the scene with its settings; earlier results stay open.
+    pub fn start_render(&mut self) -> Option<u64> {
+        if let Err(e) = rt_core::frame::validate(&self.doc.scene) {
+            self.show_error(format!("Cannot render: {e}"));
+            return None;
+        }
+        let id = self.next_render_id;
+        self.next_render_id += 1;
+        let job = RenderJob::start(
+            self.device.clone(),
+            self.doc.scene.clone(),
+            Some(Duration::from_millis(500)),
+            self.waker(),
+        );
+        self.renders.push(RenderView {
+            id,
+            job,
+            open: true,
+            exposure: 0.0,
+            zoom: 1.0,
+            texture: None,
+            texture_key: None,
+        });
+        Some(id)
+    }
+
+    pub fn cancel_renders(&mut self) {
+        for r in &self.renders {
+            r.job.cancel();
+        }
+    }
+
+    pub fn is_rendering(&self) -> bool {
+        self.renders.iter().any(|r| r.job.is_running())
+    }
+
+    /// Takes in progress from the render threads; called once per frame.
+    pub fn poll_jobs(&mut self) {
+        for r in &mut self.renders {
+            let was_running = r.job.is_running();
+            r.job.poll();
+            if was_running && !r.job.is_running() {
+                match &r.job.state {
+                    JobState::Finished | JobState::Cancelled => {
+                        self.ui.last_render = Some(r.job.progress.elapsed);
+                    }
+                    JobState::Failed(message) => {
+                        self.ui.error = Some(format!("The render failed:\n{message}"));
+                    }
+                    JobState::Running => {}
+                }
+            }
+        }
+        self.renders.retain(|r| r.open || r.job.is_running());
+        if let Some(job) = &mut self.live.job {
+            job.poll();
+            if let JobState::Failed(message) = &job.state {
+                let message = message.clone();
+                self.live.enabled = false;
+                self.live.job = None;
+                self.show_error(format!("The path-traced viewport stopped:\n{message}"));
+            }
+        }
+    }
+
+    /// Keeps the path-traced viewport's job in step with the scene and the viewport size.
+    pub fn update_live_view(&mut self, size: [u32; 2]) {
+        if !self.live.enabled {
+            self.live.job = None;
+            self.live.key = None;
+            return;
+        }
+        let key = (self.doc.revision(), size);
+        if self.live.key == Some(key) {
+            return;
+        }
+        let mut scene = self.doc.scene.clone();
+        scene.settings.width = size[0].max(1);
+        scene.settings.height = size[1].max(1);
+        scene.settings.samples_per_pixel = 1 << 16;
+        if rt_core::frame::validate(&scene).is_err() {
+            return;
+        }
+        self.live.key = Some(key);
+        // Nothing of the new job has been shown yet.
+        self.live.texture_revision = u64::MAX;
+        self.live.job = Some(RenderJob::start(
+            self.device.clone(),
+            scene,
+            Some(Duration::from_millis(150)),
+            self.waker(),
+        ));
+    }
+
+    pub fn adapter_label(&self) -> String {
+        self.device
+            .adapter_label()
+            .or_else(|| self.display_adapter.clone())
+            .unwrap_or_else(|| "no adapter yet".into())
+    }
+}

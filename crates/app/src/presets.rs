@@ -1,0 +1,84 @@
+//! Named materials for people who do not know albedos and indices of refraction by heart.
+
+use rt_core::Material;
+
+pub struct Preset {
+    pub name: &'static str,
+    pub tip: &'static str,
+    pub material: fn() -> Material,
+}
+
+/// Metal colours are the linear sRGB normal-incidence reflectances of the pure metals (as in
+/// common PBR tables); indices of refraction are the usual textbook values at ~590 nm.
+pub const PRESETS: &[Preset] = &[
+    Preset {
+        name: "Copper",
+        tip: "Metal, reflectance (0.955, 0.638, 0.538), slightly rough",
+        material: || Material::Metal {
+            albedo: [0.955, 0.638, 0.538],
+            fuzz: 0.05,
+        },
+    },
+    Preset {
+        name: "Gold",
+        tip: "Metal, reflectance (1.0, 0.766, 0.336)",
+        material: || Material::Metal {
+            albedo: [1.0, 0.766, 0.336],
+            fuzz: 0.02,
+        },
+    },
+    Preset {
+        name: "Silver",
+        tip: "Metal, reflectance (0.972, 0.960, 0.915), polished",
+        material: || Material::Metal {
+            albedo: [0.972, 0.960, 0.915],
+            fuzz: 0.0,
+        },
+    },
+    Preset {
+        name: "Aluminium",
+        tip: "Metal, reflectance (0.913, 0.922, 0.924), brushed",
+        material: || Material::Metal {
+            albedo: [0.913, 0.922, 0.924],
+            fuzz: 0.15,
+        },
+    },
+    Preset {
+        name: "Water",
+        tip: "Dielectric, IOR 1.333",
+        material: || Material::Dielectric {
+            ior: 1.333,
+            tint: [1.0; 3],
+        },
+    },
+    Preset {
+        name: "Crown glass",
+        tip: "Dielectric, IOR 1.517 (common window and lens glass)",
+        material: || Material::Dielectric {
+            ior: 1.517,
+            tint: [1.0; 3],
+        },
+    },
+    Preset {
+        name: "Diamond",
+        tip: "Dielectric, IOR 2.417",
+        material: || Material::Dielectric {
+            ior: 2.417,
+            tint: [1.0; 3],
+        },
+    },
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_preset_is_a_valid_material() {
+        for preset in PRESETS {
+            (preset.material)()
+                .validate(preset.name)
+                .expect("preset in range");
+        }
+    }
+}

@@ -1,0 +1,277 @@
+//! The raster preview: what to draw ([`PreviewFrame`], built from the scene on the UI thread) and
+//! how ([`gpu`], an `egui_wgpu` paint callback that renders offscreen with depth, then copies the
+//! image into egui's pass).
+
+pub mod gpu;
+pub mod types;
+
+use std::sync::Arc;
+
+use glam::{Mat3, Mat4, Vec3};
+use rt_core::{Camera, Material, Mesh, Scene};
+
+use types::{GridVertex, MAX_PREVIEW_LIGHTS, PreviewLight, PreviewObject, PreviewView, kind};
+
+/// A texture's texels, shared with the scene.
+#[derive(Clone)]
+pub struct TextureRef {
+    pub texels: Arc<[u8]>,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Everything one preview frame draws; cheap to build (meshes and texels are shared).
+#[derive(Clone)]
+pub struct PreviewFrame {
+    pub size_px: [u32; 2],
+    pub view: PreviewView,
+    pub objects: Vec<PreviewObject>,
+    pub meshes: Vec<Arc<Mesh>>,
+    pub textures: Vec<Option<TextureRef>>,
+    pub grid: Vec<GridVertex>,
+}
+
+/// The projection the preview uses for `camera` at `aspect`, with depth range fitted to the scene.
+pub fn view_projection(camera: &Camera, aspect: f32, bounds: Option<(Vec3, Vec3)>) -> Mat4 {
+    let eye = Vec3::from(camera.from);
+    let (center, radius) = match bounds {
+        Some((lo, hi)) => ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-6)),
+        None => (Vec3::from(camera.to), 1.0),
+    };
+    let distance = (eye - center).length();
+    let far = (distance + radius * 2.0).max(1e-4);
+    let near = ((distance - radius) * 0.9).max(far * 1e-4);
+    let up = Vec3::from(camera.up);
+    // wgpu clip space: depth in [0, 1], y up (the "directx" convention).
+    let view = glam::camera::rh::view::look_at_mat4(eye, Vec3::from(camera.to), up);
+    let proj = glam::camera::rh::proj::directx::perspective(
+        camera.vfov_deg.clamp(0.01, 179.0).to_radians(),
+        aspect.max(1e-6),
+        near,
+        far,
+    );
+    proj * view
+}
+
+fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+/// World-space area and centre of an object's mesh.
+fn area_and_center(object: &rt_core::Object) -> (f32, Vec3) {
+    let m = object.transform.matrix();
+    let mesh = &object.mesh;
+    let mut area = 0.0;
+    let mut weighted = Vec3::ZERO;
+    for tri in &mesh.indices {
+        let [a, b, c] = tri.map(|i| {
+            mesh.positions
+                .get(i as usize)
+                .map_or(Vec3::ZERO, |p| m.transform_point3(*p))
+        });
+        let tri_area = (b - a).cross(c - a).length() * 0.5;
+        area += tri_area;
+        weighted += (a + b + c) / 3.0 * tri_area;
+    }
+    let center = if area > 0.0 {
+        weighted / area
+    } else {
+        m.transform_point3(Vec3::ZERO)
+    };
+    (area, center)
+}
+
+/// Builds the frame for `scene` seen by `camera` in a viewport of `size_px` pixels.
+pub fn build_frame(
+    scene: &Scene,
+    camera: &Camera,
+    selection: Option<usize>,
+    size_px: [u32; 2],
+) -> PreviewFrame {
+    let bounds = scene.bounds();
+    let aspect = size_px[0].max(1) as f32 / size_px[1].max(1) as f32;
+    let view_proj = view_projection(camera, aspect, bounds);
+    let (center, radius) = bounds.map_or((Vec3::ZERO, 1.0), |(lo, hi)| {
+        ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-6))
+    });
+
+    // Emitters as point lights. A Lambertian emitter of radiance Le and area A has on-axis
+    // intensity Le·A; Le·A/2 stands in for its orientation. The shader wants intensity/π.
+    let mut lights: Vec<PreviewLight> = scene
+        .objects
+        .iter()
+        .filter_map(|o| match o.material {
+            Material::Emissive { color, intensity } => {
+                let (area, position) = area_and_center(o);
+                let power = Vec3::from(color) * intensity * area * 0.5 / std::f32::consts::PI;
+                Some(PreviewLight {
+                    position: position.extend(1.0).to_array(),
+                    intensity: power.extend(0.0).to_array(),
+                })
+            }
+            _ => None,
+        })
+        .collect();
+    lights.sort_by(|a, b| {
+        let la = luminance(Vec3::from_slice(&a.intensity[..3]));
+        let lb = luminance(Vec3::from_slice(&b.intensity[..3]));
+        lb.total_cmp(&la)
+    });
+    lights.truncate(MAX_PREVIEW_LIGHTS);
+
+    // Exposure: map the radiance of a mid-grey surface at the scene's centre to mid-grey.
+    let mut reference = luminance(Vec3::from(scene.ambient));
+    for light in &lights {
+        let d2 = (Vec3::from_slice(&light.position[..3]) - center)
+            .length_squared()
+            .max((radius * 0.1).powi(2));
+        reference += luminance(Vec3::from_slice(&light.intensity[..3])) / d2;
+    }
+    let exposure = if reference > 0.0 && reference.is_finite() {
+        2.0 / reference
+    } else {
+        1.0
+    };
+    let mut view = PreviewView {
+        view_proj: view_proj.to_cols_array_2d(),
+        eye: Vec3::from(camera.from).extend(exposure).to_array(),
+        ambient: Vec3::from(scene.ambient).extend(0.0).to_array(),
+        light_count: lights.len() as u32,
+        _pad0: 0,
+        _pad1: 0,
+        _pad2: 0,
+        lights: [PreviewLight::default(); MAX_PREVIEW_LIGHTS],
+    };
+    view.lights[..lights.len()].copy_from_slice(&lights);
+
+    let mut objects = Vec::with_capacity(scene.objects.len());
+    let mut meshes = Vec::with_capacity(scene.objects.len());
+    let mut textures = Vec::with_capacity(scene.objects.len());
+    for (i, object) in scene.objects.iter().enumerate() {
+        let model = object.transform.matrix();
+        let normal_matrix = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
+        let (color, emission, material_kind, texture) = match &object.material {
+            Material::Lambertian { albedo, texture } => (
+                *albedo,
+                [0.0; 3],
+                kind::DIFFUSE,
+                texture.and_then(|t| scene.textures.get(t)),
+            ),
+            Material::Metal { albedo, .. } => (*albedo, [0.0; 3], kind::METAL, None),
+            Material::Dielectric { tint, .. } => (*tint, [0.0; 3], kind::GLASS, None),
+            Material::Emissive { color, intensity } => (
+                [0.0; 3],
+                (Vec3::from(*color) * *intensity).to_array(),
+                kind::EMITTER,
+                None,
+            ),
+        };
+        objects.push(PreviewObject {
+            model: model.to_cols_array_2d(),
+            normal_matrix: normal_matrix.to_cols_array_2d(),
+            color: Vec3::from(color).extend(1.0).to_array(),
+            emission: Vec3::from(emission).extend(0.0).to_array(),
+            flags: [
+                u32::from(selection == Some(i)),
+                u32::from(texture.is_some()),
+                u32::from(object.mesh.normals.is_some()),
+                material_kind,
+            ],
+        });
+        meshes.push(object.mesh.clone());
+        textures.push(texture.map(|t| TextureRef {
+            texels: t.rgba8.clone(),
+            width: t.width,
+            height: t.height,
+        }));
+    }
+    let grid = bounds.map_or_else(
+        || grid_lines(Vec3::ZERO, 1.0),
+        |(lo, hi)| grid_lines(Vec3::new(center.x, lo.y, center.z), (hi - lo).max_element()),
+    );
+    PreviewFrame {
+        size_px,
+        view,
+        objects,
+        meshes,
+        textures,
+        grid,
+    }
+}
+
+/// A ground grid under the scene: ten-ish cells across its extent, at a round spacing.
+pub fn grid_lines(center: Vec3, extent: f32) -> Vec<GridVertex> {
+    let extent = if extent.is_finite() && extent > 0.0 {
+        extent
+    } else {
+        1.0
+    };
+    let step = 10f32.powf((extent / 5.0).log10().floor());
+    let half_cells = ((extent / step).ceil() as i32).clamp(1, 50);
+    let snap = |v: f32| (v / step).round() * step;
+    let (cx, cz) = (snap(center.x), snap(center.z));
+    let y = center.y;
+    let reach = half_cells as f32 * step;
+    let mut lines = Vec::new();
+    for k in -half_cells..=half_cells {
+        let offset = k as f32 * step;
+        let axis_x = (cz + offset).abs() < step * 0.5;
+        let axis_z = (cx + offset).abs() < step * 0.5;
+        let grey = [0.35, 0.35, 0.38, 1.0];
+        let along_x = if axis_x {
+            [0.75, 0.25, 0.25, 1.0]
+        } else {
+            grey
+        };
+        let along_z = if axis_z { [0.25, 0.35, 0.8, 1.0] } else { grey };
+        lines.push(GridVertex {
+            position: [cx - reach, y, cz + offset],
+            color: along_x,
+        });
+        lines.push(GridVertex {
+            position: [cx + reach, y, cz + offset],
+            color: along_x,
+        });
+        lines.push(GridVertex {
+            position: [cx + offset, y, cz - reach],
+            color: along_z,
+        });
+        lines.push(GridVertex {
+            position: [cx + offset, y, cz + reach],
+            color: along_z,
+        });
+    }
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cornell_frame_has_its_light_and_a_sane_exposure() {
+        let scene = rt_core::assets::cornell_box().expect("embedded scene");
+        let frame = build_frame(&scene, &scene.camera, Some(0), [400, 300]);
+        assert_eq!(frame.objects.len(), scene.objects.len());
+        assert_eq!(frame.view.light_count, 1);
+        assert!(frame.view.eye[3].is_finite() && frame.view.eye[3] > 0.0);
+        assert_eq!(frame.objects[0].flags[0], 1, "selection flagged");
+        assert_eq!(frame.objects[1].flags[0], 0);
+        // The light's centre lies under the ceiling, inside the box.
+        let y = frame.view.lights[0].position[1];
+        assert!(y > 400.0 && y < 560.0, "{y}");
+        assert!(!frame.grid.is_empty() && frame.grid.len().is_multiple_of(2));
+    }
+
+    #[test]
+    fn the_scene_centre_projects_to_the_middle_of_the_view() {
+        let scene = rt_core::assets::cornell_box().expect("embedded scene");
+        let m = view_projection(&scene.camera, 1.0, scene.bounds());
+        let (lo, hi) = scene.bounds().unwrap();
+        let from = Vec3::from(scene.camera.from);
+        let dir = (Vec3::from(scene.camera.to) - from).normalize();
+        let p = m.project_point3(from + dir * ((lo + hi) * 0.5 - from).dot(dir));
+        assert!(p.x.abs() < 1e-4 && p.y.abs() < 1e-4, "{p}");
+        assert!((0.0..=1.0).contains(&p.z), "inside the depth range: {p}");
+    }
+}

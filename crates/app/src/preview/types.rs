@@ -1,0 +1,122 @@
+//! CPU mirrors of the preview shader's structs (`shaders/preview.wgsl`); a test checks them against
+//! naga's layout.
+
+use bytemuck::{Pod, Zeroable};
+
+pub const MAX_PREVIEW_LIGHTS: usize = 8;
+
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct PreviewLight {
+    pub position: [f32; 4],
+    pub intensity: [f32; 4],
+}
+
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct PreviewView {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    pub ambient: [f32; 4],
+    pub light_count: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
+    pub lights: [PreviewLight; MAX_PREVIEW_LIGHTS],
+}
+
+/// Material kinds of `PreviewObject::flags[3]`.
+pub mod kind {
+    pub const DIFFUSE: u32 = 0;
+    pub const METAL: u32 = 1;
+    pub const GLASS: u32 = 2;
+    pub const EMITTER: u32 = 3;
+}
+
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct PreviewObject {
+    pub model: [[f32; 4]; 4],
+    pub normal_matrix: [[f32; 4]; 4],
+    pub color: [f32; 4],
+    pub emission: [f32; 4],
+    /// selected, textured, has vertex normals, kind.
+    pub flags: [u32; 4],
+}
+
+/// Interleaved vertex: position, normal (zero when the mesh has none), UV.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct MeshVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GridVertex {
+    pub position: [f32; 3],
+    pub color: [f32; 4],
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::mem::{offset_of, size_of};
+
+    fn wgsl_layout(name: &str) -> (usize, Vec<(String, usize)>) {
+        let source = rt_gpu::shaders::PREVIEW.source();
+        let module = naga::front::wgsl::parse_str(&source).expect("preview.wgsl parses");
+        let ty = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .map(|(_, t)| t)
+            .expect("struct exists in WGSL");
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct")
+        };
+        (
+            *span as usize,
+            members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+                .collect(),
+        )
+    }
+
+    macro_rules! check {
+        ($name:literal, $ty:ty, [$($field:ident),*]) => {{
+            let (size, members) = wgsl_layout($name);
+            assert_eq!(size, size_of::<$ty>(), "{}: size (WGSL vs Rust)", $name);
+            let rust: Vec<(String, usize)> =
+                vec![$((stringify!($field).to_string(), offset_of!($ty, $field))),*];
+            assert_eq!(members, rust, "{}: member offsets (WGSL vs Rust)", $name);
+        }};
+    }
+
+    #[test]
+    fn preview_structs_match_the_shader() {
+        check!("PreviewLight", PreviewLight, [position, intensity]);
+        check!(
+            "PreviewView",
+            PreviewView,
+            [
+                view_proj,
+                eye,
+                ambient,
+                light_count,
+                _pad0,
+                _pad1,
+                _pad2,
+                lights
+            ]
+        );
+        check!(
+            "PreviewObject",
+            PreviewObject,
+            [model, normal_matrix, color, emission, flags]
+        );
+    }
+}

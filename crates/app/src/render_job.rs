@@ -1,0 +1,280 @@
+//! Renders on a background thread with progress, previews and cancel, so the UI never waits on
+//! the GPU. Final renders and the path-traced viewport both run as jobs.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, Sender, TryRecvError, channel};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use rt_core::{GpuScene, Scene};
+use rt_gpu::context::{AdapterChoice, GpuContext};
+use rt_gpu::renderer::{Image, RenderOptions, Renderer};
+
+/// The render device, opened on first use and shared by every job (opening one takes a while, and
+/// pipelines are cached on it).
+#[derive(Clone, Default)]
+pub struct RenderDevice {
+    inner: Arc<Mutex<Option<Arc<GpuContext>>>>,
+    choice: AdapterChoice,
+}
+
+impl RenderDevice {
+    pub fn new(choice: AdapterChoice) -> Self {
+        RenderDevice {
+            inner: Arc::default(),
+            choice,
+        }
+    }
+
+    pub fn get(&self) -> anyhow::Result<Arc<GpuContext>> {
+        let mut slot = self
+            .inner
+            .lock()
+            .map_err(|_| anyhow::anyhow!("the render device lock was poisoned"))?;
+        if let Some(ctx) = slot.as_ref() {
+            return Ok(ctx.clone());
+        }
+        let ctx = Arc::new(GpuContext::new(&self.choice)?);
+        *slot = Some(ctx.clone());
+        Ok(ctx)
+    }
+
+    /// The adapter's name once a job has opened it.
+    pub fn adapter_label(&self) -> Option<String> {
+        let slot = self.inner.lock().ok()?;
+        slot.as_ref().map(|c| c.adapter_label())
+    }
+}
+
+/// What a job reports, in order: progress and previews while it runs, then exactly one of
+/// `Finished` or `Failed`.
+pub enum JobEvent {
+    Progress(Progress),
+    Preview(Image),
+    Finished { image: Image, cancelled: bool },
+    Failed(String),
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Progress {
+    pub samples_done: u32,
+    pub samples_total: u32,
+    pub elapsed: Duration,
+    /// Estimated relative RMS error of the image so far (from the per-pixel variance).
+    pub noise: Option<f64>,
+}
+
+impl Progress {
+    pub fn fraction(&self) -> f32 {
+        if self.samples_total == 0 {
+            0.0
+        } else {
+            self.samples_done as f32 / self.samples_total as f32
+        }
+    }
+
+    /// Time left at the rate so far.
+    pub fn eta(&self) -> Option<Duration> {
+        (self.samples_done > 0).then(|| {
+            let left = f64::from(self.samples_total - self.samples_done.min(self.samples_total));
+            self.elapsed.mul_f64(left / f64::from(self.samples_done))
+        })
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum JobState {
+    Running,
+    Finished,
+    Cancelled,
+    Failed(String),
+}
+
+/// A render in progress or done.
+pub struct RenderJob {
+    pub scene: Scene,
+    pub state: JobState,
+    pub progress: Progress,
+    /// The latest image (a preview while running, the result when finished).
+    pub image: Option<Image>,
+    /// Bumped whenever `image` changes, so views know to re-upload it.
+    pub image_revision: u64,
+    pub adapter: Option<String>,
+    cancel: Arc<AtomicBool>,
+    events: Receiver<JobEvent>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl RenderJob {
+    /// Starts rendering `scene` with its settings; `preview_every` is how often to send the image
+    /// so far (`None`: only progress). `wake` is called after each event (to repaint the UI).
+    pub fn start(
+        device: RenderDevice,
+        scene: Scene,
+        preview_every: Option<Duration>,
+        wake: impl Fn() + Send + 'static,
+    ) -> Self {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = channel();
+        let thread = {
+            let cancel = cancel.clone();
+            let scene = scene.clone();
+            std::thread::Builder::new()
+                .name("rt-render".into())
+                .spawn(move || {
+                    let failed = tx.clone();
+                    if let Err(e) = run(&device, &scene, preview_every, &cancel, &tx, &wake) {
+                        let _ = failed.send(JobEvent::Failed(format!("{e:#}")));
+                    }
+                    wake();
+                })
+        };
+        let (state, thread) = match thread {
+            Ok(t) => (JobState::Running, Some(t)),
+            Err(e) => (
+                JobState::Failed(format!("could not start a thread: {e}")),
+                None,
+            ),
+        };
+        RenderJob {
+            progress: Progress {
+                samples_total: scene.settings.samples_per_pixel,
+                ..Progress::default()
+            },
+            scene,
+            state,
+            image: None,
+            image_revision: 0,
+            adapter: None,
+            cancel,
+            events: rx,
+            thread,
+        }
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.state == JobState::Running
+    }
+
+    /// Asks the job to stop after its current dispatch; it then finishes with what it has.
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+
+    /// Takes in what the job reported since the last call. Returns true if anything changed.
+    pub fn poll(&mut self) -> bool {
+        let mut changed = false;
+        loop {
+            match self.events.try_recv() {
+                Ok(event) => {
+                    changed = true;
+                    match event {
+                        JobEvent::Progress(p) => self.progress = p,
+                        JobEvent::Preview(image) => self.set_image(image),
+                        JobEvent::Finished { image, cancelled } => {
+                            self.progress.samples_done = image.samples_per_pixel;
+                            self.set_image(image);
+                            self.state = if cancelled {
+                                JobState::Cancelled
+                            } else {
+                                JobState::Finished
+                            };
+                        }
+                        JobEvent::Failed(message) => self.state = JobState::Failed(message),
+                    }
+                }
+                Err(TryRecvError::Empty) => break,
+                Err(TryRecvError::Disconnected) => {
+                    if self.state == JobState::Running {
+                        self.state = JobState::Failed("the render thread stopped".into());
+                        changed = true;
+                    }
+                    break;
+                }
+            }
+        }
+        if !self.is_running()
+            && let Some(t) = self.thread.take()
+        {
+            let _ = t.join();
+        }
+        changed
+    }
+
+    /// Waits (blocking) until the job is done; for tests and the command line.
+    pub fn wait(&mut self, timeout: Duration) -> bool {
+        let start = Instant::now();
+        while self.is_running() && start.elapsed() < timeout {
+            self.poll();
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        !self.is_running()
+    }
+
+    fn set_image(&mut self, image: Image) {
+        self.image = Some(image);
+        self.image_revision += 1;
+    }
+}
+
+impl Drop for RenderJob {
+    fn drop(&mut self) {
+        self.cancel();
+    }
+}
+
+fn run(
+    device: &RenderDevice,
+    scene: &Scene,
+    preview_every: Option<Duration>,
+    cancel: &AtomicBool,
+    tx: &Sender<JobEvent>,
+    wake: &dyn Fn(),
+) -> anyhow::Result<()> {
+    let start = Instant::now();
+    let ctx = device.get()?;
+    let gpu_scene = GpuScene::build(scene)?;
+    let mut renderer = Renderer::for_scene(&ctx, scene, &gpu_scene, RenderOptions::default())?;
+    let total = scene.settings.samples_per_pixel;
+    let mut last_preview = Instant::now();
+    let mut noise = None;
+    while renderer.samples_done() < total && !cancel.load(Ordering::Relaxed) {
+        renderer.render_batch(total - renderer.samples_done())?;
+        let due = preview_every.is_some_and(|every| last_preview.elapsed() >= every);
+        if due && renderer.samples_done() < total {
+            let image = renderer.read_image()?;
+            noise = noise_of(&image);
+            if tx.send(JobEvent::Preview(image)).is_err() {
+                return Ok(());
+            }
+            last_preview = Instant::now();
+        }
+        let progress = Progress {
+            samples_done: renderer.samples_done(),
+            samples_total: total,
+            elapsed: start.elapsed(),
+            noise,
+        };
+        if tx.send(JobEvent::Progress(progress)).is_err() {
+            return Ok(());
+        }
+        wake();
+    }
+    let image = renderer.read_image()?;
+    let progress = Progress {
+        samples_done: image.samples_per_pixel,
+        samples_total: total,
+        elapsed: start.elapsed(),
+        noise: noise_of(&image),
+    };
+    let _ = tx.send(JobEvent::Progress(progress));
+    let cancelled = renderer.samples_done() < total;
+    let _ = tx.send(JobEvent::Finished { image, cancelled });
+    Ok(())
+}
+
+fn noise_of(image: &Image) -> Option<f64> {
+    let rel_mse = rt_core::metrics::estimated_rel_mse(&image.pixels, image.samples_per_pixel);
+    rel_mse.is_finite().then(|| rel_mse.sqrt())
+}

@@ -1,0 +1,544 @@
+//! Side panels: the object and light lists, the inspector (material, transform), the camera and the
+//! render settings, and the status bar. Each edits a copy and commits it as one undoable edit.
+
+use egui::{DragValue, Ui};
+use rt_core::{Material, Object};
+
+use crate::app::{LightShape, RtApp};
+use crate::presets::PRESETS;
+
+fn is_light(o: &Object) -> bool {
+    matches!(o.material, Material::Emissive { .. })
+}
+
+pub fn objects_panel(app: &mut RtApp, ui: &mut Ui) {
+    ui.heading("Objects");
+    let mut clicked = None;
+    for (i, object) in app.doc.scene.objects.iter().enumerate() {
+        if is_light(object) {
+            continue;
+        }
+        let response = ui
+            .selectable_label(app.selection == Some(i), &object.name)
+            .on_hover_text(format!(
+                "{} triangles, {}",
+                object.mesh.indices.len(),
+                object.material.kind_name()
+            ));
+        if response.clicked() {
+            clicked = Some(i);
+        }
+    }
+    if app.doc.scene.objects.iter().all(is_light) {
+        ui.weak("No objects: open an OBJ (File > Open).");
+    }
+    if let Some(i) = clicked {
+        app.selection = Some(i);
+    }
+}
+
+pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
+    ui.heading("Lights");
+    let mut ambient = app.doc.scene.ambient;
+    ui.horizontal(|ui| {
+        ui.label("Ambient").on_hover_text(
+            "Radiance of rays that leave the scene (a uniform sky); colour × strength",
+        );
+        let strength = ambient.iter().copied().fold(0.0f32, f32::max);
+        let mut color = if strength > 0.0 {
+            ambient.map(|c| c / strength)
+        } else {
+            [1.0; 3]
+        };
+        let mut new_strength = strength;
+        let a = ui
+            .color_edit_button_rgb(&mut color)
+            .on_hover_text("Ambient colour");
+        let b = ui
+            .add(
+                DragValue::new(&mut new_strength)
+                    .speed(0.01)
+                    .range(0.0..=1e6),
+            )
+            .on_hover_text("Ambient strength (0 turns it off)");
+        if a.changed() || b.changed() {
+            ambient = color.map(|c| c * new_strength);
+        }
+    });
+    if ambient != app.doc.scene.ambient {
+        app.doc
+            .edit("change ambient", "ambient", |s| s.ambient = ambient);
+    }
+    let mut clicked = None;
+    for (i, object) in app.doc.scene.objects.iter().enumerate() {
+        if is_light(object) {
+            let response = ui
+                .selectable_label(app.selection == Some(i), object.name.as_str())
+                .on_hover_text("An emissive object; select it to edit");
+            if response.clicked() {
+                clicked = Some(i);
+            }
+        }
+    }
+    if let Some(i) = clicked {
+        app.selection = Some(i);
+    }
+    ui.horizontal(|ui| {
+        if ui
+            .button("Add box light")
+            .on_hover_text("An emissive box at the centre of the scene")
+            .clicked()
+        {
+            app.add_light(LightShape::Box);
+        }
+        if ui
+            .button("Add quad light")
+            .on_hover_text("An emissive square facing down, at the centre of the scene")
+            .clicked()
+        {
+            app.add_light(LightShape::Quad);
+        }
+    });
+}
+
+/// The material kinds offered in the inspector.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Diffuse,
+    Textured,
+    Metal,
+    Glass,
+    Emissive,
+}
+
+fn kind_of(m: &Material) -> Kind {
+    match m {
+        Material::Lambertian { texture: None, .. } => Kind::Diffuse,
+        Material::Lambertian { .. } => Kind::Textured,
+        Material::Metal { .. } => Kind::Metal,
+        Material::Dielectric { .. } => Kind::Glass,
+        Material::Emissive { .. } => Kind::Emissive,
+    }
+}
+
+/// The main colour of a material, carried over when its kind changes.
+fn color_of(m: &Material) -> [f32; 3] {
+    match m {
+        Material::Lambertian { albedo, .. } | Material::Metal { albedo, .. } => *albedo,
+        Material::Dielectric { tint, .. } => *tint,
+        Material::Emissive { color, .. } => *color,
+    }
+}
+
+fn with_kind(m: &Material, kind: Kind, textures: usize) -> Material {
+    let color = color_of(m);
+    match kind {
+        Kind::Diffuse => Material::lambertian(color),
+        // A texture slot without an image renders white until an image is chosen.
+        Kind::Textured => Material::Lambertian {
+            albedo: [1.0; 3],
+            texture: (textures > 0).then_some(0),
+        },
+        Kind::Metal => Material::Metal {
+            albedo: color,
+            fuzz: 0.1,
+        },
+        Kind::Glass => Material::Dielectric {
+            ior: 1.5,
+            tint: [1.0; 3],
+        },
+        Kind::Emissive => Material::Emissive {
+            color,
+            intensity: 10.0,
+        },
+    }
+}
+
+pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
+    ui.heading("Inspector");
+    let Some(index) = app.selection.filter(|&i| i < app.doc.scene.objects.len()) else {
+        ui.weak("Select an object in the list or click it in the viewport.");
+        return;
+    };
+    let mut object = app.doc.scene.objects[index].clone();
+    let texture_count = app.doc.scene.textures.len();
+    let mut choose_texture = false;
+
+    ui.horizontal(|ui| {
+        ui.label("Name");
+        ui.text_edit_singleline(&mut object.name)
+            .on_hover_text("The object's name");
+    });
+    ui.label(format!("{} triangles", object.mesh.indices.len()));
+
+    ui.add_space(4.0);
+    ui.strong("Material");
+    let current = kind_of(&object.material);
+    ui.horizontal_wrapped(|ui| {
+        for (kind, label, tip) in [
+            (Kind::Diffuse, "Diffuse", "Lambertian: matte, one colour"),
+            (
+                Kind::Textured,
+                "Texture",
+                "Lambertian with an image as its colour",
+            ),
+            (Kind::Metal, "Metal", "A mirror, blurred by fuzz"),
+            (Kind::Glass, "Glass", "A smooth dielectric that refracts"),
+            (
+                Kind::Emissive,
+                "Emissive",
+                "A light source (emits from its front faces)",
+            ),
+        ] {
+            if ui
+                .selectable_label(current == kind, label)
+                .on_hover_text(tip)
+                .clicked()
+                && current != kind
+            {
+                object.material = with_kind(&object.material, kind, texture_count);
+            }
+        }
+    });
+    material_fields(ui, &mut object.material, texture_count, &mut choose_texture);
+    ui.horizontal(|ui| {
+        ui.label("Preset")
+            .on_hover_text("Replace the material with a named one");
+        egui::ComboBox::from_id_salt("preset")
+            .selected_text("choose…")
+            .show_ui(ui, |ui| {
+                for preset in PRESETS {
+                    if ui
+                        .selectable_label(false, preset.name)
+                        .on_hover_text(preset.tip)
+                        .clicked()
+                    {
+                        object.material = (preset.material)();
+                    }
+                }
+            });
+    });
+
+    ui.add_space(4.0);
+    ui.strong("Transform").on_hover_text(
+        "Scale, then rotate (X, Y, Z in degrees), then translate; drag or type, arrow keys nudge",
+    );
+    let size = app
+        .doc
+        .scene
+        .bounds()
+        .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-3));
+    let t = &mut object.transform;
+    vec3_row(
+        ui,
+        "Position",
+        &mut t.translation,
+        size * 0.005,
+        "Where the object is",
+    );
+    vec3_row(
+        ui,
+        "Rotation °",
+        &mut t.rotation_deg,
+        0.5,
+        "Rotation about X, Y, Z in degrees",
+    );
+    vec3_row(
+        ui,
+        "Scale",
+        &mut t.scale,
+        0.005,
+        "Size along each axis (negative mirrors)",
+    );
+
+    ui.horizontal(|ui| {
+        if ui
+            .button("Frame")
+            .on_hover_text("Point the camera at this object (F)")
+            .clicked()
+        {
+            app.frame_selection();
+        }
+        if ui
+            .button("Delete…")
+            .on_hover_text("Delete this object (asks first; undo brings it back)")
+            .clicked()
+        {
+            app.ui.pending_delete = Some(index);
+        }
+    });
+
+    if object != app.doc.scene.objects[index] {
+        app.doc.edit(
+            &format!("edit {}", object.name),
+            &format!("object#{index}"),
+            |s| s.objects[index] = object,
+        );
+    }
+    if choose_texture
+        && let Some(path) = rfd::FileDialog::new()
+            .add_filter("Images", &["png", "jpg", "jpeg", "ppm", "exr"])
+            .pick_file()
+    {
+        app.set_texture_from_file(index, &path);
+    }
+}
+
+fn vec3_row(ui: &mut Ui, label: &str, v: &mut [f32; 3], speed: f32, tip: &str) {
+    ui.horizontal(|ui| {
+        ui.label(label).on_hover_text(tip);
+        for (c, axis) in v.iter_mut().zip(["x", "y", "z"]) {
+            ui.add(DragValue::new(c).speed(speed).prefix(format!("{axis} ")))
+                .on_hover_text(format!("{label} {axis}"));
+        }
+    });
+}
+
+fn material_fields(ui: &mut Ui, material: &mut Material, textures: usize, choose: &mut bool) {
+    match material {
+        Material::Lambertian {
+            albedo,
+            texture: None,
+        } => {
+            ui.horizontal(|ui| {
+                ui.label("Colour");
+                ui.color_edit_button_rgb(albedo)
+                    .on_hover_text("Diffuse reflectance (albedo)");
+            });
+        }
+        Material::Lambertian {
+            texture: Some(t), ..
+        } => {
+            ui.horizontal(|ui| {
+                ui.label("Image");
+                egui::ComboBox::from_id_salt("texture")
+                    .selected_text(format!("texture {t}"))
+                    .show_ui(ui, |ui| {
+                        for i in 0..textures {
+                            ui.selectable_value(t, i, format!("texture {i}"));
+                        }
+                    })
+                    .response
+                    .on_hover_text("Which of the scene's images colours this object");
+                if ui
+                    .button("Choose image…")
+                    .on_hover_text("Load a PNG, JPEG, PPM or EXR image as this object's colour")
+                    .clicked()
+                {
+                    *choose = true;
+                }
+            });
+        }
+        Material::Metal { albedo, fuzz } => {
+            ui.horizontal(|ui| {
+                ui.label("Colour");
+                ui.color_edit_button_rgb(albedo)
+                    .on_hover_text("Reflectance at normal incidence");
+            });
+            ui.add(egui::Slider::new(fuzz, 0.0..=1.0).text("fuzz"))
+                .on_hover_text("0 is a perfect mirror; 1 is very rough");
+        }
+        Material::Dielectric { ior, tint } => {
+            ui.add(egui::Slider::new(ior, 1.0..=4.0).text("IOR"))
+                .on_hover_text("Index of refraction: water 1.333, glass 1.5, diamond 2.417");
+            ui.horizontal(|ui| {
+                ui.label("Tint");
+                ui.color_edit_button_rgb(tint)
+                    .on_hover_text("Colour of light passing through");
+            });
+        }
+        Material::Emissive { color, intensity } => {
+            ui.horizontal(|ui| {
+                ui.label("Colour");
+                ui.color_edit_button_rgb(color)
+                    .on_hover_text("Colour of the emitted light");
+            });
+            ui.horizontal(|ui| {
+                ui.label("Intensity");
+                ui.add(DragValue::new(intensity).speed(0.1).range(0.0..=1e9))
+                    .on_hover_text("Emitted radiance = colour × intensity (W/(sr m²) per unit)");
+            });
+        }
+    }
+}
+
+pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {
+    ui.heading("Camera");
+    let mut camera = app.doc.scene.camera.clone();
+    let size = app
+        .doc
+        .scene
+        .bounds()
+        .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-3));
+    let before_from = camera.from;
+    vec3_row(
+        ui,
+        "Position",
+        &mut camera.from,
+        size * 0.005,
+        "Where the camera is",
+    );
+    if camera.from != before_from {
+        // Moving the camera moves its target with it, keeping the view direction.
+        let moved = glam::Vec3::from(camera.from) - glam::Vec3::from(before_from);
+        camera.to = (glam::Vec3::from(camera.to) + moved).to_array();
+    }
+    let (mut yaw, mut pitch) = crate::navigation::yaw_pitch_deg(&camera);
+    let (yaw0, pitch0) = (yaw, pitch);
+    ui.horizontal(|ui| {
+        ui.label("Rotation °")
+            .on_hover_text("Yaw about the vertical axis and pitch above the horizon, in degrees");
+        ui.add(DragValue::new(&mut yaw).speed(0.5).prefix("yaw "))
+            .on_hover_text("Yaw in degrees");
+        ui.add(
+            DragValue::new(&mut pitch)
+                .speed(0.5)
+                .range(-89.0..=89.0)
+                .prefix("pitch "),
+        )
+        .on_hover_text("Pitch in degrees");
+    });
+    if yaw != yaw0 || pitch != pitch0 {
+        crate::navigation::set_yaw_pitch_deg(&mut camera, yaw, pitch);
+    }
+    ui.add(egui::Slider::new(&mut camera.vfov_deg, 1.0..=170.0).text("vertical FOV °"))
+        .on_hover_text("Vertical field of view in degrees");
+    ui.add(
+        egui::Slider::new(&mut camera.aperture_radius, 0.0..=size * 0.05)
+            .text("aperture")
+            .clamping(egui::SliderClamping::Never),
+    )
+    .on_hover_text("Lens radius in scene units: 0 is a pinhole (all in focus)");
+    ui.horizontal(|ui| {
+        let mut auto = camera.focus_distance.is_none();
+        if ui
+            .checkbox(&mut auto, "focus at target")
+            .on_hover_text("Focus on the point the camera looks at")
+            .changed()
+        {
+            let distance = glam::Vec3::from(camera.from).distance(glam::Vec3::from(camera.to));
+            camera.focus_distance = if auto { None } else { Some(distance) };
+        }
+        if let Some(d) = &mut camera.focus_distance {
+            ui.add(DragValue::new(d).speed(size * 0.005).range(1e-6..=f32::MAX))
+                .on_hover_text("Distance to the plane in focus");
+        }
+    });
+    let picking = app.ui.picking_focus;
+    if ui
+        .selectable_label(picking, "Pick focus point")
+        .on_hover_text("Then click in the viewport on what should be sharp")
+        .clicked()
+    {
+        app.ui.picking_focus = !picking;
+    }
+    ui.horizontal(|ui| {
+        if ui
+            .button("Frame selection")
+            .on_hover_text("Fit the selection (or the scene) in view (F)")
+            .clicked()
+        {
+            app.frame_selection();
+        }
+        if ui
+            .button("Reset view")
+            .on_hover_text("The camera the scene was opened with (Home)")
+            .clicked()
+        {
+            app.reset_view();
+        }
+    });
+    ui.checkbox(&mut app.ui.orbit_mode, "Orbit mode")
+        .on_hover_text("Right-drag orbits around the selection (O)");
+    if camera != app.doc.scene.camera {
+        app.doc
+            .edit("change camera", "camera", |s| s.camera = camera);
+    }
+}
+
+pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
+    ui.heading("Render");
+    let mut settings = app.doc.scene.settings.clone();
+    egui::Grid::new("render settings").show(ui, |ui| {
+        ui.label("Width");
+        ui.add(DragValue::new(&mut settings.width).range(1..=rt_core::scene::MAX_IMAGE_SIDE))
+            .on_hover_text("Image width in pixels");
+        ui.end_row();
+        ui.label("Height");
+        ui.add(DragValue::new(&mut settings.height).range(1..=rt_core::scene::MAX_IMAGE_SIDE))
+            .on_hover_text("Image height in pixels");
+        ui.end_row();
+        ui.label("Samples/pixel");
+        ui.add(DragValue::new(&mut settings.samples_per_pixel).range(1..=1_000_000))
+            .on_hover_text("More samples, less noise: noise falls as 1/sqrt(samples)");
+        ui.end_row();
+        ui.label("Max depth");
+        ui.add(DragValue::new(&mut settings.max_depth).range(0..=64))
+            .on_hover_text("Ray segments per path: ~5 for diffuse scenes, ~10 with metal or glass");
+        ui.end_row();
+    });
+    if app.doc.has_metal_or_glass() && settings.max_depth < 10 {
+        ui.weak("Metal or glass in the scene: a max depth of 10 is recommended.");
+    }
+    ui.checkbox(&mut settings.next_event_estimation, "Light sampling (NEE)")
+        .on_hover_text("Sample lights directly: far less noise with small lights");
+    ui.checkbox(&mut settings.russian_roulette, "Russian roulette")
+        .on_hover_text("End dim paths early at random (unbiased, faster)");
+    if settings != app.doc.scene.settings {
+        app.doc.edit("change render settings", "settings", |s| {
+            s.settings = settings
+        });
+    }
+    ui.horizontal(|ui| {
+        if ui
+            .button("Render image")
+            .on_hover_text("Render an image on a background thread (F12)")
+            .clicked()
+        {
+            app.start_render();
+        }
+        if ui
+            .add_enabled(app.is_rendering(), egui::Button::new("Cancel render"))
+            .on_hover_text("Stop rendering and keep the samples so far (Esc)")
+            .clicked()
+        {
+            app.cancel_renders();
+        }
+    });
+    for r in app.renders.iter().filter(|r| r.job.is_running()) {
+        let p = r.job.progress;
+        let eta = p.eta().map_or("…".to_string(), |d| {
+            format!("{:.0} s left", d.as_secs_f32())
+        });
+        let noise = p
+            .noise
+            .map_or(String::new(), |n| format!(", noise {:.1}%", n * 100.0));
+        ui.add(egui::ProgressBar::new(p.fraction()).text(format!(
+            "{}/{} spp, {eta}{noise}",
+            p.samples_done, p.samples_total
+        )))
+        .on_hover_text("Samples per pixel done, estimated time left and relative noise");
+    }
+}
+
+pub fn status_bar(app: &mut RtApp, ui: &mut Ui) {
+    ui.horizontal(|ui| {
+        ui.label(app.adapter_label())
+            .on_hover_text("The GPU (adapter) in use");
+        ui.separator();
+        ui.label(format!(
+            "{} objects, {} triangles",
+            app.doc.scene.objects.len(),
+            app.doc.scene.triangle_count()
+        ));
+        ui.separator();
+        match app.ui.last_render {
+            Some(d) => ui.label(format!("last render {:.2} s", d.as_secs_f32())),
+            None => ui.label("no render yet"),
+        };
+        if !app.ui.status.is_empty() {
+            ui.separator();
+            ui.label(&app.ui.status);
+        }
+    });
+}

@@ -1,0 +1,156 @@
+//! One window per render: progress and Cancel while it runs, then the image with zoom, pan, an
+//! exposure slider and Save as PNG / JPEG / PPM / EXR.
+
+use rt_gpu::renderer::Image;
+
+use crate::app::{RenderView, RtApp};
+use crate::render_job::JobState;
+
+/// The image as 8-bit sRGB for display, `exposure_stops` brighter (clamped, like the PNG output).
+pub fn tone_mapped(image: &Image, exposure_stops: f32) -> egui::ColorImage {
+    let mut bytes = Vec::with_capacity(image.pixels.len() * 4);
+    for p in &image.pixels {
+        for c in &p[..3] {
+            bytes.push(rt_core::output::tone_map_u8(*c, exposure_stops));
+        }
+        bytes.push(255);
+    }
+    egui::ColorImage::from_rgba_unmultiplied([image.width as usize, image.height as usize], &bytes)
+}
+
+pub fn render_windows(app: &mut RtApp, ctx: &egui::Context) {
+    let mut errors = Vec::new();
+    for view in &mut app.renders {
+        let mut open = view.open;
+        let title = format!(
+            "Render {} — {}×{}",
+            view.id, view.job.scene.settings.width, view.job.scene.settings.height
+        );
+        egui::Window::new(title)
+            .id(egui::Id::unique(("render", view.id)))
+            .open(&mut open)
+            .default_size([520.0, 560.0])
+            .resizable(true)
+            .show(ctx, |ui| {
+                if let Some(e) = render_window(view, ui) {
+                    errors.push(e);
+                }
+            });
+        if !open {
+            view.job.cancel();
+        }
+        view.open = open;
+    }
+    if let Some(e) = errors.pop() {
+        app.show_error(e);
+    }
+}
+
+/// Draws one render's window; returns an error message to show, if any.
+fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
+    let p = view.job.progress;
+    match &view.job.state {
+        JobState::Running => {
+            ui.horizontal(|ui| {
+                let eta = p.eta().map_or("estimating…".to_string(), |d| {
+                    format!("{:.0} s left", d.as_secs_f32())
+                });
+                ui.add(
+                    egui::ProgressBar::new(p.fraction())
+                        .desired_width(260.0)
+                        .text(format!("{}/{} spp, {eta}", p.samples_done, p.samples_total)),
+                );
+                if ui
+                    .button("Cancel")
+                    .on_hover_text("Stop and keep the samples so far")
+                    .clicked()
+                {
+                    view.job.cancel();
+                }
+            });
+        }
+        JobState::Finished | JobState::Cancelled => {
+            let what = if view.job.state == JobState::Cancelled {
+                "cancelled at"
+            } else {
+                "done:"
+            };
+            let noise = p
+                .noise
+                .map_or(String::new(), |n| format!(", noise ~{:.1}%", n * 100.0));
+            ui.label(format!(
+                "{what} {} spp in {:.2} s{noise}",
+                p.samples_done,
+                p.elapsed.as_secs_f32()
+            ));
+        }
+        JobState::Failed(message) => {
+            ui.colored_label(egui::Color32::LIGHT_RED, format!("failed: {message}"));
+            return None;
+        }
+    }
+    ui.horizontal(|ui| {
+        ui.add(egui::Slider::new(&mut view.exposure, -8.0..=8.0).text("exposure (stops)"))
+            .on_hover_text("Brighten or darken the display and the PNG/JPEG/PPM you save");
+        ui.add(
+            egui::Slider::new(&mut view.zoom, 0.1..=8.0)
+                .logarithmic(true)
+                .text("zoom"),
+        )
+        .on_hover_text("Zoom; drag the scroll bars (or scroll) to pan");
+    });
+    let mut error = None;
+    if view.job.image.is_some() && !view.job.is_running() {
+        ui.horizontal(|ui| {
+            if ui
+                .button("Save as…")
+                .on_hover_text("PNG, JPEG or PPM (8-bit, with the exposure) or EXR (linear HDR)")
+                .clicked()
+                && let Some(path) = rfd::FileDialog::new()
+                    .add_filter("PNG", &["png"])
+                    .add_filter("JPEG", &["jpg", "jpeg"])
+                    .add_filter("PPM", &["ppm"])
+                    .add_filter("OpenEXR (HDR)", &["exr"])
+                    .set_file_name(format!("render-{}.png", view.id))
+                    .save_file()
+                && let Err(e) = save(view, &path)
+            {
+                error = Some(format!("Could not save the image:\n{e}"));
+            }
+        });
+    }
+    if let Some(image) = &view.job.image {
+        let key = (view.job.image_revision, view.exposure);
+        if view.texture_key != Some(key) {
+            let color = tone_mapped(image, view.exposure);
+            match &mut view.texture {
+                Some(t) => t.set(color, egui::TextureOptions::NEAREST),
+                None => {
+                    view.texture = Some(ui.ctx().load_texture(
+                        format!("render {}", view.id),
+                        color,
+                        egui::TextureOptions::NEAREST,
+                    ))
+                }
+            }
+            view.texture_key = Some(key);
+        }
+        if let Some(texture) = &view.texture {
+            let size = egui::vec2(image.width as f32, image.height as f32) * view.zoom;
+            egui::ScrollArea::both().show(ui, |ui| {
+                ui.add(egui::Image::new((texture.id(), size)));
+            });
+        }
+    } else {
+        ui.spinner();
+    }
+    error
+}
+
+/// Saves the view's image; the format follows the extension.
+pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
+    let Some(image) = &view.job.image else {
+        return Err(rt_core::Error::Scene("nothing rendered yet".into()));
+    };
+    rt_core::output::save_image(path, image.width, image.height, &image.rgb(), view.exposure)
+}

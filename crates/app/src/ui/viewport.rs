@@ -1,0 +1,186 @@
+//! The central viewport: the raster preview (or the path-traced view), mouse navigation and
+//! picking.
+
+use std::sync::Arc;
+
+use egui::{PointerButton, Sense, Ui};
+use glam::{Vec2, Vec3};
+
+use crate::app::RtApp;
+use crate::navigation;
+use crate::preview::{build_frame, gpu::PreviewCallback};
+
+pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
+    let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+    let response = response.on_hover_text_at_pointer(
+        "Left-drag pans, right-drag turns (orbits in orbit mode), middle-drag orbits, wheel \
+         dollies, click selects",
+    );
+    let ppp = ui.ctx().pixels_per_point();
+    let size_px = [
+        (rect.width() * ppp).round().max(1.0) as u32,
+        (rect.height() * ppp).round().max(1.0) as u32,
+    ];
+    navigate(app, ui, &response, rect);
+
+    // The path-traced view renders at point resolution: 1/ppp² of the pixels, same framing.
+    let live_size = [
+        rect.width().round().max(1.0) as u32,
+        rect.height().round().max(1.0) as u32,
+    ];
+    app.update_live_view(live_size);
+    let painter = ui.painter_at(rect);
+    if app.live.enabled {
+        update_live_texture(app, ui.ctx());
+    }
+    match (&app.live.texture, app.live.enabled) {
+        (Some(texture), true) => {
+            painter.image(
+                texture.id(),
+                rect,
+                egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                egui::Color32::WHITE,
+            );
+            if let Some(job) = &app.live.job {
+                painter.text(
+                    rect.left_top() + egui::vec2(8.0, 8.0),
+                    egui::Align2::LEFT_TOP,
+                    format!("path traced: {} spp", job.progress.samples_done),
+                    egui::FontId::proportional(13.0),
+                    egui::Color32::WHITE,
+                );
+            }
+        }
+        _ if app.preview_available => {
+            let frame = build_frame(
+                &app.doc.scene,
+                &app.doc.scene.camera,
+                app.selection,
+                size_px,
+            );
+            painter.add(egui_wgpu::Callback::new_paint_callback(
+                rect,
+                PreviewCallback(Arc::new(frame)),
+            ));
+        }
+        _ => {
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "The raster preview needs egui on wgpu; turn on the path-traced viewport (P).",
+                egui::FontId::proportional(14.0),
+                egui::Color32::GRAY,
+            );
+        }
+    }
+    render_region(app, &painter, rect);
+    if app.ui.picking_focus {
+        painter.text(
+            rect.center_top() + egui::vec2(0.0, 8.0),
+            egui::Align2::CENTER_TOP,
+            "Click on the point to focus on (Esc cancels)",
+            egui::FontId::proportional(14.0),
+            egui::Color32::YELLOW,
+        );
+    }
+}
+
+/// Outlines the part of the view the final image covers (same vertical field of view, the
+/// render's aspect ratio).
+fn render_region(app: &RtApp, painter: &egui::Painter, rect: egui::Rect) {
+    let s = &app.doc.scene.settings;
+    let aspect = s.width as f32 / s.height.max(1) as f32;
+    let width = rect.height() * aspect;
+    if width < rect.width() - 1.0 {
+        let region = egui::Rect::from_center_size(rect.center(), egui::vec2(width, rect.height()));
+        painter.rect_stroke(
+            region,
+            0.0,
+            egui::Stroke::new(1.0, egui::Color32::from_white_alpha(90)),
+            egui::StrokeKind::Inside,
+        );
+    }
+}
+
+fn navigate(app: &mut RtApp, ui: &Ui, response: &egui::Response, rect: egui::Rect) {
+    let mut camera = app.doc.scene.camera.clone();
+    let distance = navigation::view_distance(&app.doc.scene, &camera);
+    let delta = response.drag_delta();
+    let drag = Vec2::new(delta.x, delta.y);
+    if drag != Vec2::ZERO {
+        if response.dragged_by(PointerButton::Primary) {
+            navigation::pan(&mut camera, drag, rect.height(), distance);
+        } else if response.dragged_by(PointerButton::Secondary) {
+            if app.ui.orbit_mode {
+                navigation::orbit(&mut camera, orbit_pivot(app), drag);
+            } else {
+                navigation::rotate(&mut camera, drag);
+            }
+        } else if response.dragged_by(PointerButton::Middle) {
+            navigation::orbit(&mut camera, orbit_pivot(app), drag);
+        }
+    }
+    if response.hovered() {
+        let scroll = ui.ctx().input(|i| i.smooth_scroll_delta.y);
+        if scroll != 0.0 {
+            navigation::dolly(&mut camera, scroll, distance);
+        }
+    }
+    if camera != app.doc.scene.camera {
+        app.doc.edit("move camera", "camera", |s| s.camera = camera);
+    }
+    if response.clicked()
+        && let Some(pos) = response.interact_pointer_pos()
+    {
+        let uv = Vec2::new(
+            (pos.x - rect.left()) / rect.width().max(1.0),
+            (pos.y - rect.top()) / rect.height().max(1.0),
+        );
+        let aspect = rect.width() / rect.height().max(1.0);
+        let hit = navigation::camera_ray(&app.doc.scene.camera, aspect, uv)
+            .and_then(|(o, d)| navigation::pick(&app.doc.scene, o, d).map(|h| (h, d)));
+        if app.ui.picking_focus {
+            if let Some(((_, t), direction)) = hit {
+                // Focus distance is measured along the view axis, as the thin lens uses it.
+                let axis = (Vec3::from(app.doc.scene.camera.to)
+                    - Vec3::from(app.doc.scene.camera.from))
+                .normalize_or(Vec3::NEG_Z);
+                let distance = t * direction.dot(axis);
+                app.doc.edit("set focus", "set focus", |s| {
+                    s.camera.focus_distance = Some(distance.max(1e-6))
+                });
+                app.doc.seal();
+            }
+            app.ui.picking_focus = false;
+        } else {
+            app.selection = hit.map(|((i, _), _)| i);
+        }
+    }
+}
+
+fn orbit_pivot(app: &RtApp) -> Vec3 {
+    app.selection
+        .and_then(|i| navigation::object_center(&app.doc.scene, i))
+        .or_else(|| {
+            let (lo, hi) = app.doc.scene.bounds()?;
+            Some((lo + hi) * 0.5)
+        })
+        .unwrap_or_else(|| Vec3::from(app.doc.scene.camera.to))
+}
+
+fn update_live_texture(app: &mut RtApp, ctx: &egui::Context) {
+    let Some(job) = &app.live.job else { return };
+    let Some(image) = &job.image else { return };
+    if app.live.texture.is_some() && app.live.texture_revision == job.image_revision {
+        return;
+    }
+    let color = super::tone_mapped(image, 0.0);
+    match &mut app.live.texture {
+        Some(texture) => texture.set(color, egui::TextureOptions::LINEAR),
+        None => {
+            app.live.texture =
+                Some(ctx.load_texture("path-traced view", color, egui::TextureOptions::LINEAR));
+        }
+    }
+    app.live.texture_revision = job.image_revision;
+}

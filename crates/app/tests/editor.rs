@@ -1,0 +1,304 @@
+//! The editor driven headless through `egui_kittest`, rendering through wgpu (lavapipe in CI):
+//! open, select, edit, undo, add lights, render and cancel, save and reload.
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use rt_app::render_job::JobState;
+use rt_app::{AppOptions, RtApp};
+use rt_core::Material;
+
+/// Whether a GPU adapter exists; without one the test fails under CI and is skipped elsewhere.
+fn have_gpu() -> bool {
+    match rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Auto) {
+        Ok(_) => true,
+        Err(e) if std::env::var_os("CI").is_some() => panic!("no GPU adapter under CI: {e}"),
+        Err(e) => {
+            eprintln!("skipping: no GPU adapter ({e})");
+            false
+        }
+    }
+}
+
+fn harness() -> Harness<'static, RtApp> {
+    Harness::builder()
+        .with_size([1280.0, 800.0])
+        .with_max_steps(50)
+        .wgpu()
+        .build_eframe(|cc| RtApp::from_creation_context(cc, &AppOptions::default()))
+}
+
+fn index_of(app: &RtApp, name: &str) -> usize {
+    app.doc
+        .scene
+        .objects
+        .iter()
+        .position(|o| o.name == name)
+        .unwrap_or_else(|| panic!("no object {name}"))
+}
+
+/// Steps the UI until `done` holds (render threads report asynchronously).
+fn step_until(harness: &mut Harness<'_, RtApp>, what: &str, done: impl Fn(&RtApp) -> bool) {
+    let start = Instant::now();
+    while !done(harness.state()) {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "timed out waiting for: {what}"
+        );
+        harness.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    harness.step();
+}
+
+#[test]
+fn the_cornell_box_opens_listed_and_previewed() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    assert!(harness.state().preview_available, "egui runs on wgpu");
+    for name in ["floor", "tall_block", "short_block"] {
+        harness.get_by_label(name);
+    }
+    harness.get_by_label("light");
+
+    let image = harness.render().unwrap();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    image.save(dir.join("editor-cornell.png")).unwrap();
+    // The viewport (between the side panels) shows the box: the red and green walls are there.
+    let (w, h) = image.dimensions();
+    let mut red = 0;
+    let mut green = 0;
+    for y in (h / 5..h * 4 / 5).step_by(4) {
+        for x in (w / 4..w * 3 / 4).step_by(4) {
+            let [r, g, b, _] = image.get_pixel(x, y).0;
+            let (r, g, b) = (i32::from(r), i32::from(g), i32::from(b));
+            if r > g + 40 && r > b + 40 {
+                red += 1;
+            }
+            if g > r + 40 && g > b + 40 {
+                green += 1;
+            }
+        }
+    }
+    assert!(
+        red > 50 && green > 50,
+        "the preview should show the red and green walls: {red} red, {green} green samples \
+         (screenshot in {})",
+        dir.display()
+    );
+}
+
+#[test]
+fn select_change_material_undo_and_redo() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("tall_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "tall_block");
+    assert_eq!(harness.state().selection, Some(index));
+    let original = harness.state().doc.scene.objects[index].material.clone();
+
+    harness.get_by_label("Metal").click();
+    harness.run_ok();
+    assert!(matches!(
+        harness.state().doc.scene.objects[index].material,
+        Material::Metal { .. }
+    ));
+
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.objects[index].material,
+        original,
+        "Ctrl+Z restores the material"
+    );
+    harness.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    harness.run_ok();
+    assert!(matches!(
+        harness.state().doc.scene.objects[index].material,
+        Material::Metal { .. }
+    ));
+
+    harness.get_by_label("Glass").click();
+    harness.run_ok();
+    assert!(matches!(
+        harness.state().doc.scene.objects[index].material,
+        Material::Dielectric { .. }
+    ));
+}
+
+#[test]
+fn add_a_light_then_delete_it_after_confirming() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    let before = harness.state().doc.scene.objects.len();
+    harness.get_by_label("Add quad light").click();
+    harness.run_ok();
+    let app = harness.state();
+    assert_eq!(app.doc.scene.objects.len(), before + 1);
+    let added = app.doc.scene.objects.last().unwrap();
+    assert!(matches!(added.material, Material::Emissive { .. }));
+    assert_eq!(app.selection, Some(before), "the new light is selected");
+    let name = added.name.clone();
+    harness.get_by_label(&name);
+
+    harness.get_by_label("Delete…").click();
+    harness.run_ok();
+    harness.get_by_label("Cancel").click();
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.objects.len(),
+        before + 1,
+        "cancel keeps it"
+    );
+
+    harness.get_by_label("Delete…").click();
+    harness.run_ok();
+    harness.get_by_label("Delete").click();
+    harness.run_ok();
+    assert_eq!(harness.state().doc.scene.objects.len(), before);
+    assert!(harness.query_by_label(&name).is_none());
+
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.objects.len(),
+        before + 1,
+        "undo restores it"
+    );
+}
+
+#[test]
+fn start_and_cancel_a_render_then_render_to_the_end() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    {
+        let app = harness.state_mut();
+        app.doc.edit("small", "small", |s| {
+            s.settings.width = 48;
+            s.settings.height = 48;
+            s.settings.samples_per_pixel = 1_000_000;
+        });
+    }
+    harness.get_by_label("Render image").click();
+    harness.step();
+    assert!(harness.state().is_rendering());
+    step_until(&mut harness, "first samples", |app| {
+        app.renders[0].job.progress.samples_done > 0
+    });
+    harness.get_by_label("Cancel render").click();
+    step_until(&mut harness, "the cancelled render to stop", |app| {
+        !app.is_rendering()
+    });
+    let job = &harness.state().renders[0].job;
+    assert_eq!(job.state, JobState::Cancelled);
+    let image = job
+        .image
+        .as_ref()
+        .expect("a cancelled render keeps its samples");
+    assert!(image.samples_per_pixel > 0 && image.samples_per_pixel < 1_000_000);
+
+    harness.state_mut().doc.edit("few", "few", |s| {
+        s.settings.samples_per_pixel = 4;
+    });
+    harness.get_by_label("Render image").click();
+    step_until(&mut harness, "the second render to finish", |app| {
+        app.renders.len() == 2 && !app.is_rendering()
+    });
+    let app = harness.state();
+    assert_eq!(app.renders[1].job.state, JobState::Finished);
+    assert_eq!(
+        app.renders[1].job.image.as_ref().unwrap().samples_per_pixel,
+        4
+    );
+    assert!(app.ui.last_render.is_some());
+    assert_eq!(app.renders.len(), 2, "the earlier result stays open");
+    harness.get_all_by_label("Save as…").next().unwrap();
+}
+
+#[test]
+fn a_project_saved_and_reloaded_is_the_same_scene() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("short_block").click();
+    harness.run_ok();
+    harness.get_by_label("Metal").click();
+    harness.run_ok();
+    harness.get_by_label("Add box light").click();
+    harness.run_ok();
+    let dir = std::env::temp_dir().join(format!("rt-editor-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("cornell.rtproj");
+    let app = harness.state_mut();
+    app.doc.edit("camera", "camera", |s| {
+        s.camera.vfov_deg = 50.0;
+        s.camera.aperture_radius = 3.0;
+        s.ambient = [0.1, 0.2, 0.3];
+        s.objects[0].transform.rotation_deg = [0.0, 15.0, 0.0];
+    });
+    assert!(app.save_project_to(&path));
+    assert!(!app.doc.is_dirty());
+    let saved = app.doc.scene.clone();
+    app.new_scene();
+    assert!(app.doc.scene.objects.is_empty());
+    assert!(app.open_path(&path));
+    let loaded = &app.doc.scene;
+    assert_eq!(loaded.camera, saved.camera);
+    assert_eq!(loaded.ambient, saved.ambient);
+    assert_eq!(loaded.settings, saved.settings);
+    assert_eq!(loaded.objects.len(), saved.objects.len());
+    for (a, b) in loaded.objects.iter().zip(&saved.objects) {
+        assert_eq!(a.name, b.name);
+        assert_eq!(a.material, b.material, "{}", a.name);
+        assert_eq!(a.transform, b.transform, "{}", a.name);
+        assert_eq!(a.mesh, b.mesh, "{}", a.name);
+    }
+    assert_eq!(*loaded, saved);
+    assert_eq!(
+        app.recent.paths.first(),
+        Some(&path.canonicalize().unwrap())
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_bad_file_shows_an_error_and_keeps_the_scene() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    let dir = std::env::temp_dir().join(format!("rt-editor-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.obj");
+    std::fs::write(&bad, "v 1 2\nf 1 2 3\n").unwrap();
+    let before = harness.state().doc.scene.clone();
+    assert!(!harness.state_mut().open_path(&bad));
+    harness.run_ok();
+    let error = harness.state().ui.error.clone().expect("an error is shown");
+    assert!(error.contains("bad.obj:1"), "names file and line: {error}");
+    assert_eq!(harness.state().doc.scene, before, "the scene is kept");
+    harness.get_by_label("OK").click();
+    harness.run_ok();
+    assert!(harness.state().ui.error.is_none());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
