@@ -287,7 +287,7 @@ impl RtApp {
     /// Adds an emissive box or quad at the centre of the scene (the origin in an empty scene),
     /// sized to a tenth of the scene, and selects it.
     pub fn add_light(&mut self, shape: LightShape) {
-        let (center, size) = match self.doc.scene.bounds() {
+        let (center, size) = match self.doc.bounds() {
             Some((lo, hi)) => ((lo + hi) * 0.5, (hi - lo).max_element().max(1e-3) * 0.1),
             None => (Vec3::ZERO, 1.0),
         };
@@ -344,7 +344,7 @@ impl RtApp {
     pub fn frame_selection(&mut self) {
         let bounds = match self.selection {
             Some(i) => crate::navigation::object_bounds(&self.doc.scene, i),
-            None => self.doc.scene.bounds(),
+            None => self.doc.bounds(),
         };
         if let Some((lo, hi)) = bounds {
             self.doc.edit("frame selection", "frame selection", |s| {

@@ -3,9 +3,15 @@
 //! Every edit goes through [`Document::edit`], which snapshots the scene first. Snapshots are cheap
 //! because meshes and texels are shared (`Arc`), so undo covers every kind of edit uniformly.
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 
+use glam::Vec3;
+
 use rt_core::{Material, Scene};
+
+/// World-space axis-aligned bounds; `None` for an empty scene.
+pub type Bounds = Option<(Vec3, Vec3)>;
 
 /// How many edits can be undone.
 const HISTORY_LIMIT: usize = 200;
@@ -39,6 +45,10 @@ pub struct Document {
     /// Bumped by every change, so that views can tell when to refresh (the path-traced viewport
     /// restarts on it).
     revision: u64,
+    /// Bumped only when objects change: bounds and other geometry-derived values are cached on it
+    /// (camera moves, the most frequent edit, leave it alone).
+    geometry_revision: u64,
+    bounds_cache: Cell<Option<(u64, Bounds)>>,
     saved_revision: u64,
     undo: Vec<Step>,
     redo: Vec<Step>,
@@ -52,6 +62,8 @@ impl Document {
             scene,
             origin,
             revision: 0,
+            geometry_revision: 0,
+            bounds_cache: Cell::new(None),
             saved_revision: 0,
             undo: Vec::new(),
             redo: Vec::new(),
@@ -61,6 +73,19 @@ impl Document {
 
     pub fn revision(&self) -> u64 {
         self.revision
+    }
+
+    /// World-space bounds of the scene, cached until an object changes.
+    pub fn bounds(&self) -> Bounds {
+        if let Some((revision, bounds)) = self.bounds_cache.get()
+            && revision == self.geometry_revision
+        {
+            return bounds;
+        }
+        let bounds = self.scene.bounds();
+        self.bounds_cache
+            .set(Some((self.geometry_revision, bounds)));
+        bounds
     }
 
     pub fn is_dirty(&self) -> bool {
@@ -103,6 +128,9 @@ impl Document {
         if same_scene(&self.scene, &before) {
             return;
         }
+        if !same_objects(&self.scene, &before) {
+            self.geometry_revision += 1;
+        }
         let merges = !self.sealed && self.undo.last().is_some_and(|s| s.key == key);
         if !merges {
             self.undo.push(Step {
@@ -143,6 +171,7 @@ impl Document {
         });
         self.sealed = true;
         self.revision += 1;
+        self.geometry_revision += 1;
         true
     }
 
@@ -154,6 +183,7 @@ impl Document {
         self.undo.push(Step { before, ..step });
         self.sealed = true;
         self.revision += 1;
+        self.geometry_revision += 1;
         true
     }
 
@@ -170,23 +200,26 @@ impl Document {
 /// Scene equality that compares shared meshes and texels by identity: edits never change a mesh
 /// in place, and comparing a million-triangle mesh on every slider move would stall the UI.
 fn same_scene(a: &Scene, b: &Scene) -> bool {
-    let same_objects = a.objects.len() == b.objects.len()
-        && a.objects.iter().zip(&b.objects).all(|(x, y)| {
-            x.name == y.name
-                && x.material == y.material
-                && x.transform == y.transform
-                && std::sync::Arc::ptr_eq(&x.mesh, &y.mesh)
-        });
     let same_textures = a.textures.len() == b.textures.len()
         && a.textures
             .iter()
             .zip(&b.textures)
             .all(|(x, y)| x.name == y.name && std::sync::Arc::ptr_eq(&x.rgba8, &y.rgba8));
-    same_objects
+    same_objects(a, b)
         && same_textures
         && a.camera == b.camera
         && a.ambient == b.ambient
         && a.settings == b.settings
+}
+
+fn same_objects(a: &Scene, b: &Scene) -> bool {
+    a.objects.len() == b.objects.len()
+        && a.objects.iter().zip(&b.objects).all(|(x, y)| {
+            x.name == y.name
+                && x.material == y.material
+                && x.transform == y.transform
+                && std::sync::Arc::ptr_eq(&x.mesh, &y.mesh)
+        })
 }
 
 /// The path length the seed project recommended: 5 for diffuse scenes, 10 with metal or glass,

@@ -19,10 +19,10 @@ fn eye_target(camera: &Camera) -> (Vec3, Vec3, Vec3) {
 /// How far away what the user looks at is: the target, or the scene's centre along the view when
 /// the target is a mere direction (scene files often put it one unit ahead). Pan and dolly speeds
 /// scale with it.
-pub fn view_distance(scene: &Scene, camera: &Camera) -> f32 {
+pub fn view_distance(bounds: Option<(Vec3, Vec3)>, camera: &Camera) -> f32 {
     let (from, to, _) = eye_target(camera);
     let target = (to - from).length();
-    let Some((lo, hi)) = scene.bounds() else {
+    let Some((lo, hi)) = bounds else {
         return target.max(1e-3);
     };
     let size = (hi - lo).length().max(1e-3);
@@ -221,7 +221,7 @@ mod tests {
         let start = scene.camera.clone();
         let distance = |c: &Camera| (Vec3::from(c.from) - Vec3::from(c.to)).length();
 
-        let d = view_distance(&scene, &start);
+        let d = view_distance(scene.bounds(), &start);
         assert!(
             d > 500.0,
             "the Cornell target is one unit ahead; the box is ~1000 away: {d}"
@@ -241,7 +241,7 @@ mod tests {
         let mut c = start.clone();
         dolly(&mut c, 100.0, d);
         assert!(
-            view_distance(&scene, &c) < d * 0.9,
+            view_distance(scene.bounds(), &c) < d * 0.9,
             "wheel up moves closer to the scene"
         );
         assert!((distance(&c) - distance(&start)).abs() < 1e-3);

@@ -81,14 +81,15 @@ fn area_and_center(object: &rt_core::Object) -> (f32, Vec3) {
     (area, center)
 }
 
-/// Builds the frame for `scene` seen by `camera` in a viewport of `size_px` pixels.
+/// Builds the frame for `scene` (whose bounds are given) seen by `camera` in a viewport of
+/// `size_px` pixels.
 pub fn build_frame(
     scene: &Scene,
     camera: &Camera,
+    bounds: Option<(Vec3, Vec3)>,
     selection: Option<usize>,
     size_px: [u32; 2],
 ) -> PreviewFrame {
-    let bounds = scene.bounds();
     let aspect = size_px[0].max(1) as f32 / size_px[1].max(1) as f32;
     let view_proj = view_projection(camera, aspect, bounds);
     let (center, radius) = bounds.map_or((Vec3::ZERO, 1.0), |(lo, hi)| {
@@ -251,7 +252,7 @@ mod tests {
     #[test]
     fn the_cornell_frame_has_its_light_and_a_sane_exposure() {
         let scene = rt_core::assets::cornell_box().expect("embedded scene");
-        let frame = build_frame(&scene, &scene.camera, Some(0), [400, 300]);
+        let frame = build_frame(&scene, &scene.camera, scene.bounds(), Some(0), [400, 300]);
         assert_eq!(frame.objects.len(), scene.objects.len());
         assert_eq!(frame.view.light_count, 1);
         assert!(frame.view.eye[3].is_finite() && frame.view.eye[3] > 0.0);

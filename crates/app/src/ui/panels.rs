@@ -225,7 +225,6 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
     );
     let size = app
         .doc
-        .scene
         .bounds()
         .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-3));
     let t = &mut object.transform;
@@ -367,7 +366,6 @@ pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {
     let mut camera = app.doc.scene.camera.clone();
     let size = app
         .doc
-        .scene
         .bounds()
         .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-3));
     let before_from = camera.from;

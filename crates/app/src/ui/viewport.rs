@@ -55,6 +55,7 @@ pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
             let frame = build_frame(
                 &app.doc.scene,
                 &app.doc.scene.camera,
+                app.doc.bounds(),
                 app.selection,
                 size_px,
             );
@@ -104,7 +105,7 @@ fn render_region(app: &RtApp, painter: &egui::Painter, rect: egui::Rect) {
 
 fn navigate(app: &mut RtApp, ui: &Ui, response: &egui::Response, rect: egui::Rect) {
     let mut camera = app.doc.scene.camera.clone();
-    let distance = navigation::view_distance(&app.doc.scene, &camera);
+    let distance = navigation::view_distance(app.doc.bounds(), &camera);
     let delta = response.drag_delta();
     let drag = Vec2::new(delta.x, delta.y);
     if drag != Vec2::ZERO {
@@ -162,7 +163,7 @@ fn orbit_pivot(app: &RtApp) -> Vec3 {
     app.selection
         .and_then(|i| navigation::object_center(&app.doc.scene, i))
         .or_else(|| {
-            let (lo, hi) = app.doc.scene.bounds()?;
+            let (lo, hi) = app.doc.bounds()?;
             Some((lo + hi) * 0.5)
         })
         .unwrap_or_else(|| Vec3::from(app.doc.scene.camera.to))
