@@ -42,6 +42,11 @@ pub struct LiveView {
     pub job: Option<RenderJob>,
     /// (document revision, viewport size) the job renders.
     pub key: Option<(u64, [u32; 2])>,
+    /// The GPU arrays of the last job and the (geometry revision, light sampling) they were built
+    /// for: camera moves reuse them instead of rebuilding the BVH.
+    pub gpu_scene: Option<((u64, bool), Arc<rt_core::GpuScene>)>,
+    /// What the running job's geometry is.
+    pub job_geometry: Option<(u64, bool)>,
     pub texture: Option<egui::TextureHandle>,
     pub texture_revision: u64,
 }
@@ -374,6 +379,7 @@ impl RtApp {
         let job = RenderJob::start(
             self.device.clone(),
             self.doc.scene.clone(),
+            None,
             Some(Duration::from_millis(500)),
             self.waker(),
         );
@@ -449,9 +455,31 @@ impl RtApp {
         self.live.key = Some(key);
         // Nothing of the new job has been shown yet.
         self.live.texture_revision = u64::MAX;
+        let geometry = (
+            self.doc.geometry_revision(),
+            scene.settings.next_event_estimation,
+        );
+        if let Some(built) = self.live.job.as_ref().and_then(|j| j.gpu_scene.clone())
+            && self
+                .live
+                .gpu_scene
+                .as_ref()
+                .is_none_or(|(k, _)| *k != geometry)
+            && self.live.job_geometry == Some(geometry)
+        {
+            self.live.gpu_scene = Some((geometry, built));
+        }
+        let reuse = self
+            .live
+            .gpu_scene
+            .as_ref()
+            .filter(|(k, _)| *k == geometry)
+            .map(|(_, g)| g.clone());
+        self.live.job_geometry = Some(geometry);
         self.live.job = Some(RenderJob::start(
             self.device.clone(),
             scene,
+            reuse,
             Some(Duration::from_millis(150)),
             self.waker(),
         ));

@@ -88,6 +88,10 @@ impl Document {
         bounds
     }
 
+    pub fn geometry_revision(&self) -> u64 {
+        self.geometry_revision
+    }
+
     pub fn is_dirty(&self) -> bool {
         self.revision != self.saved_revision
     }

@@ -50,9 +50,14 @@ impl RenderDevice {
 /// What a job reports, in order: progress and previews while it runs, then exactly one of
 /// `Finished` or `Failed`.
 pub enum JobEvent {
+    /// The scene's GPU arrays, for a later job on the same geometry to reuse.
+    SceneBuilt(Arc<GpuScene>),
     Progress(Progress),
     Preview(Image),
-    Finished { image: Image, cancelled: bool },
+    Finished {
+        image: Image,
+        cancelled: bool,
+    },
     Failed(String),
 }
 
@@ -101,6 +106,8 @@ pub struct RenderJob {
     /// Bumped whenever `image` changes, so views know to re-upload it.
     pub image_revision: u64,
     pub adapter: Option<String>,
+    /// The scene's GPU arrays once built (or as given).
+    pub gpu_scene: Option<Arc<GpuScene>>,
     cancel: Arc<AtomicBool>,
     events: Receiver<JobEvent>,
     thread: Option<JoinHandle<()>>,
@@ -109,9 +116,11 @@ pub struct RenderJob {
 impl RenderJob {
     /// Starts rendering `scene` with its settings; `preview_every` is how often to send the image
     /// so far (`None`: only progress). `wake` is called after each event (to repaint the UI).
+    /// `gpu_scene`, when given, must have been built from the same objects and settings.
     pub fn start(
         device: RenderDevice,
         scene: Scene,
+        gpu_scene: Option<Arc<GpuScene>>,
         preview_every: Option<Duration>,
         wake: impl Fn() + Send + 'static,
     ) -> Self {
@@ -120,11 +129,20 @@ impl RenderJob {
         let thread = {
             let cancel = cancel.clone();
             let scene = scene.clone();
+            let gpu_scene = gpu_scene.clone();
             std::thread::Builder::new()
                 .name("rt-render".into())
                 .spawn(move || {
                     let failed = tx.clone();
-                    if let Err(e) = run(&device, &scene, preview_every, &cancel, &tx, &wake) {
+                    if let Err(e) = run(
+                        &device,
+                        &scene,
+                        gpu_scene,
+                        preview_every,
+                        &cancel,
+                        &tx,
+                        &wake,
+                    ) {
                         let _ = failed.send(JobEvent::Failed(format!("{e:#}")));
                     }
                     wake();
@@ -147,6 +165,7 @@ impl RenderJob {
             image: None,
             image_revision: 0,
             adapter: None,
+            gpu_scene,
             cancel,
             events: rx,
             thread,
@@ -170,6 +189,7 @@ impl RenderJob {
                 Ok(event) => {
                     changed = true;
                     match event {
+                        JobEvent::SceneBuilt(built) => self.gpu_scene = Some(built),
                         JobEvent::Progress(p) => self.progress = p,
                         JobEvent::Preview(image) => self.set_image(image),
                         JobEvent::Finished { image, cancelled } => {
@@ -227,6 +247,7 @@ impl Drop for RenderJob {
 fn run(
     device: &RenderDevice,
     scene: &Scene,
+    gpu_scene: Option<Arc<GpuScene>>,
     preview_every: Option<Duration>,
     cancel: &AtomicBool,
     tx: &Sender<JobEvent>,
@@ -234,7 +255,14 @@ fn run(
 ) -> anyhow::Result<()> {
     let start = Instant::now();
     let ctx = device.get()?;
-    let gpu_scene = GpuScene::build(scene)?;
+    let gpu_scene = match gpu_scene {
+        Some(built) => built,
+        None => {
+            let built = Arc::new(GpuScene::build(scene)?);
+            let _ = tx.send(JobEvent::SceneBuilt(built.clone()));
+            built
+        }
+    };
     let mut renderer = Renderer::for_scene(&ctx, scene, &gpu_scene, RenderOptions::default())?;
     let total = scene.settings.samples_per_pixel;
     let mut last_preview = Instant::now();

@@ -302,3 +302,53 @@ fn a_bad_file_shows_an_error_and_keeps_the_scene() {
     assert!(harness.state().ui.error.is_none());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_path_traced_viewport_renders_and_restarts_on_change_reusing_the_bvh() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.key_press(egui::Key::P);
+    harness.step();
+    assert!(
+        harness.state().live.enabled,
+        "P turns the path-traced view on"
+    );
+    step_until(&mut harness, "the first path-traced samples", |app| {
+        app.live
+            .job
+            .as_ref()
+            .is_some_and(|j| j.image.is_some() && j.gpu_scene.is_some())
+    });
+    let first = harness
+        .state()
+        .live
+        .job
+        .as_ref()
+        .unwrap()
+        .gpu_scene
+        .clone()
+        .unwrap();
+    harness.state_mut().doc.edit("camera", "camera", |s| {
+        s.camera.vfov_deg = 30.0;
+    });
+    harness.step();
+    let job = harness.state().live.job.as_ref().unwrap();
+    assert_eq!(
+        job.scene.camera.vfov_deg, 30.0,
+        "a change restarts the view"
+    );
+    assert!(
+        std::sync::Arc::ptr_eq(job.gpu_scene.as_ref().unwrap(), &first),
+        "a camera move reuses the scene's GPU arrays"
+    );
+    step_until(&mut harness, "samples after the restart", |app| {
+        app.live.job.as_ref().is_some_and(|j| j.image.is_some())
+    });
+    let image = harness.render().unwrap();
+    image
+        .save(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("editor-path-traced.png"))
+        .unwrap();
+}
