@@ -468,3 +468,105 @@ fn fully_fuzzy_metal_does_not_create_energy() {
         "at normal incidence nothing is absorbed"
     );
 }
+
+/// An n×n grid of quads over [-1, 1]² in the plane y = 0, facing +y: many shared edges and
+/// vertices shared by up to six triangles.
+fn grid(n: u32) -> Mesh {
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            positions.push(Vec3::new(
+                -1.0 + 2.0 * i as f32 / n as f32,
+                0.0,
+                -1.0 + 2.0 * j as f32 / n as f32,
+            ));
+        }
+    }
+    let mut indices = Vec::new();
+    let at = |i: u32, j: u32| j * (n + 1) + i;
+    for j in 0..n {
+        for i in 0..n {
+            // Alternate the diagonal so that some vertices join six triangles.
+            if (i + j) % 2 == 0 {
+                indices.push([at(i, j), at(i, j + 1), at(i + 1, j + 1)]);
+                indices.push([at(i, j), at(i + 1, j + 1), at(i + 1, j)]);
+            } else {
+                indices.push([at(i, j), at(i, j + 1), at(i + 1, j)]);
+                indices.push([at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)]);
+            }
+        }
+    }
+    Mesh {
+        positions,
+        normals: None,
+        uvs: None,
+        indices,
+    }
+}
+
+/// Grazing rays (0.01° to 0.09° to the plane), rays exactly along the axes (zero direction
+/// components), and rays aimed exactly at shared vertices and edges all hit the grid, at the right
+/// distance, on the GPU and in the CPU reference alike: no cracks, no misses from infinities in the
+/// slab test.
+#[test]
+fn grazing_axis_aligned_and_vertex_rays_hit_where_they_should() {
+    let Some(ctx) = gpu() else { return };
+    let n = 8;
+    let s = scene(
+        vec![object("grid", grid(n), Material::lambertian([0.5; 3]))],
+        camera(Vec3::new(0.0, 3.0, 3.0), Vec3::ZERO, 40.0),
+        [0.0; 3],
+        settings(4, 4, 1, 1),
+    );
+    let gpu_scene = GpuScene::build(&s).unwrap();
+    let ray = |origin: Vec3, direction: Vec3| rt_core::gpu_types::Ray {
+        origin: origin.to_array(),
+        t_max: f32::MAX,
+        direction: direction.normalize().to_array(),
+        _pad: 0.0,
+    };
+    // (ray, expected distance)
+    let mut cases = Vec::new();
+    for degrees in [0.01f32, 0.03, 0.05, 0.09] {
+        let angle = degrees.to_radians();
+        for z in [-0.9f32, -0.3, 0.0, 0.55] {
+            // Starts 1.5 before the hit at x = 0.1 (and at z = 0: along a row of shared edges).
+            let distance = 1.5f32;
+            let origin = Vec3::new(0.1 - distance * angle.cos(), distance * angle.sin(), z);
+            cases.push((
+                ray(origin, Vec3::new(angle.cos(), -angle.sin(), 0.0)),
+                distance,
+            ));
+        }
+    }
+    // Interior vertices and edges only: a ray through the mesh's outer boundary may rightly go
+    // either way.
+    for j in 1..n {
+        for i in 1..n {
+            let x = -1.0 + 2.0 * i as f32 / n as f32;
+            let z = -1.0 + 2.0 * j as f32 / n as f32;
+            // Exactly down the y axis onto every vertex, and onto the middle of an edge.
+            cases.push((ray(Vec3::new(x, 1.0, z), Vec3::NEG_Y), 1.0));
+            cases.push((ray(Vec3::new(x + 1.0 / n as f32, 2.0, z), Vec3::NEG_Y), 2.0));
+            // Obliquely at the vertex from above.
+            let from = Vec3::new(x + 0.3, 0.7, z - 0.2);
+            let target = Vec3::new(x, 0.0, z);
+            cases.push((ray(from, target - from), (target - from).length()));
+        }
+    }
+    let rays: Vec<_> = cases.iter().map(|(r, _)| *r).collect();
+    let hits = rt_gpu::trace_rays::trace_rays(ctx, &gpu_scene, &rays).unwrap();
+    for ((r, expected), gpu_hit) in cases.iter().zip(&hits) {
+        let cpu =
+            rt_core::reference::trace(&gpu_scene, r.origin.into(), r.direction.into(), r.t_max);
+        for (what, hit) in [("GPU", gpu_hit), ("CPU", &cpu)] {
+            assert_ne!(hit.triangle, u32::MAX, "{what} missed: {r:?}");
+            assert!(
+                (hit.t - expected).abs() <= 1e-4 * expected,
+                "{what} hit at {} instead of {expected}: {r:?}",
+                hit.t
+            );
+        }
+    }
+    assert!(cases.len() > 150);
+}

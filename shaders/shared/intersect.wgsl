@@ -24,7 +24,10 @@ fn prepare_ray(origin: vec3<f32>, direction: vec3<f32>) -> PreparedRay {
         ky = tmp;
     }
     let dz = direction[kz];
-    return PreparedRay(origin, 1.0 / direction, vec3(kx, ky, kz),
+    // A zero component would give 0 * inf = NaN in the slab test for a ray lying in a box's face
+    // plane (min/max of NaN is undefined in WGSL): a tiny positive component instead.
+    let safe = select(direction, vec3(1e-30), direction == vec3(0.0));
+    return PreparedRay(origin, 1.0 / safe, vec3(kx, ky, kz),
         vec3(direction[kx] / dz, direction[ky] / dz, 1.0 / dz));
 }
 

@@ -76,3 +76,26 @@ fn killing_a_save_never_leaves_a_broken_file() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A killed save leaves `.NAME.PID.tmp` behind; the next save of that file removes the leftovers
+/// of processes that are gone, and leaves those of running ones alone.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_next_save_removes_temporaries_of_killed_saves() {
+    let dir = std::env::temp_dir().join(format!("rt-stale-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = dir.join("out.png");
+    // PIDs above the kernel's maximum (4,194,304) never run; PID 1 always does.
+    let stale = dir.join(".out.png.999999999.tmp");
+    let running = dir.join(".out.png.1.tmp");
+    let other = dir.join(".other.png.999999999.tmp");
+    for f in [&stale, &running, &other] {
+        std::fs::write(f, b"partial").unwrap();
+    }
+    rt_core::output::save_image(&target, 1, 1, &[[0.5; 3]], 0.0).unwrap();
+    assert!(target.exists());
+    assert!(!stale.exists(), "the dead process's temporary is removed");
+    assert!(running.exists(), "a running process's temporary is kept");
+    assert!(other.exists(), "other files' temporaries are not touched");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

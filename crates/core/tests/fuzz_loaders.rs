@@ -1,5 +1,5 @@
-//! A mutation fuzzer on stable Rust: at least 10,000 malformed OBJ, MTL and camera inputs, made by
-//! mutating valid files, go through the loaders and the GPU scene build, which must return errors,
+//! A mutation fuzzer on stable Rust: at least 10,000 malformed OBJ and MTL inputs, 10,000 project
+//! archives and 2,000 camera files, made by mutating valid files, go through the loaders and the GPU scene build, which must return errors,
 //! never panic. Deterministic (seeded), so a failure reproduces; any crashing input found is kept
 //! as a regression case in `regressions()`.
 
@@ -291,4 +291,139 @@ fn regressions() {
             }
         });
     }
+}
+
+/// A project archive of the Cornell box plus a textured, transformed sphere: the fuzzer's seed.
+fn seed_project() -> (Vec<u8>, Vec<(String, Vec<u8>)>) {
+    use rt_core::io::project::{PROJECT_FORMAT, encode_archive};
+    let mut scene = rt_core::assets::cornell_box().expect("embedded scene");
+    scene.textures.push(rt_core::Texture {
+        name: "t.png".into(),
+        width: 2,
+        height: 1,
+        rgba8: vec![255, 0, 0, 255, 0, 0, 255, 255].into(),
+    });
+    scene.objects.push(rt_core::Object {
+        name: "ball".into(),
+        mesh: rt_core::shapes::uv_sphere(40.0, 4, 6).into(),
+        material: rt_core::Material::Lambertian {
+            albedo: [1.0; 3],
+            texture: Some(0),
+        },
+        transform: rt_core::Transform {
+            translation: [200.0, 100.0, 200.0],
+            rotation_deg: [0.0, 30.0, 0.0],
+            scale: [1.0, 2.0, 1.0],
+        },
+    });
+    let bytes = encode_archive(&scene, PROJECT_FORMAT, Path::new("seed.rtproj")).expect("encodes");
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes.as_slice())).expect("reads");
+    let entries = (0..zip.len())
+        .map(|i| {
+            let mut file = zip.by_index(i).expect("entry");
+            let mut data = Vec::new();
+            std::io::Read::read_to_end(&mut file, &mut data).expect("entry data");
+            (file.name().expect("name").to_string(), data)
+        })
+        .collect();
+    (bytes, entries)
+}
+
+fn rezip(entries: &[(String, Vec<u8>)]) -> Vec<u8> {
+    use std::io::Write;
+    let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    for (name, data) in entries {
+        zip.start_file(name.as_str(), zip::write::SimpleFileOptions::default())
+            .expect("start entry");
+        zip.write_all(data).expect("write entry");
+    }
+    zip.finish().expect("finish").into_inner()
+}
+
+#[test]
+fn ten_thousand_malformed_project_files_never_panic() {
+    use rt_core::io::project::{LoadLimits, PROJECT_FORMAT, decode_archive};
+    let (bytes, entries) = seed_project();
+    let manifest = entries
+        .iter()
+        .position(|(n, _)| n == "project.json")
+        .expect("manifest entry");
+    let mut fuzz = Fuzz(0x9e0);
+    let iterations = 10_000;
+    let mut errors = 0;
+    for _ in 0..iterations {
+        let input = match fuzz.next(4) {
+            // Damage the archive itself: bytes changed, cut or inserted.
+            0 => {
+                let mut b = bytes.clone();
+                for _ in 0..1 + fuzz.next(8) {
+                    match fuzz.next(3) {
+                        0 if !b.is_empty() => {
+                            let at = fuzz.next(b.len());
+                            b[at] = fuzz.next(256) as u8;
+                        }
+                        1 => b.truncate(fuzz.next(b.len() + 1)),
+                        _ => {
+                            let at = fuzz.next(b.len() + 1);
+                            b.insert(at, fuzz.next(256) as u8);
+                        }
+                    }
+                }
+                b
+            }
+            // A damaged manifest in a sound archive.
+            1 | 2 => {
+                let mut e = entries.clone();
+                let text = String::from_utf8_lossy(&e[manifest].1).into_owned();
+                e[manifest].1 = fuzz.mutated(&text).into_bytes();
+                rezip(&e)
+            }
+            // A damaged mesh or texture entry, or one renamed.
+            _ => {
+                let mut e = entries.clone();
+                let i = fuzz.next(e.len());
+                if fuzz.next(4) == 0 {
+                    e[i].0 = ["../x", "/abs", "meshes/9.bin", "a\\b"][fuzz.next(4)].to_string();
+                } else {
+                    let data = &mut e[i].1;
+                    if !data.is_empty() {
+                        let at = fuzz.next(data.len());
+                        data[at] = fuzz.next(256) as u8;
+                        if fuzz.next(2) == 0 {
+                            data.truncate(fuzz.next(data.len() + 1));
+                        }
+                    }
+                }
+                rezip(&e)
+            }
+        };
+        let shown = format!("{} bytes: {:?}", input.len(), &input[..input.len().min(64)]);
+        let copy = input.clone();
+        assert_no_panic("project loading", &shown, move || {
+            let limits = LoadLimits {
+                max_entry_bytes: 16 << 20,
+                max_total_bytes: 64 << 20,
+                ..LoadLimits::default()
+            };
+            if let Ok(scene) =
+                decode_archive(&copy, Path::new("fuzz.rtproj"), PROJECT_FORMAT, &limits)
+            {
+                let _ = GpuScene::build(&scene);
+                let _ = rt_core::frame::validate(&scene);
+            }
+        });
+        errors += usize::from(
+            decode_archive(
+                &input,
+                Path::new("fuzz.rtproj"),
+                PROJECT_FORMAT,
+                &LoadLimits::default(),
+            )
+            .is_err(),
+        );
+    }
+    assert!(
+        errors > iterations / 4,
+        "only {errors} of {iterations} mutated projects were rejected"
+    );
 }

@@ -30,10 +30,13 @@ impl PreparedRay {
             std::mem::swap(&mut kx, &mut ky);
         }
         let dz = direction[kz];
+        // As in the kernel: a zero component would make 0 · ∞ = NaN in the slab test for a ray in
+        // a box's face plane.
+        let safe = Vec3::select(direction.cmpeq(Vec3::ZERO), Vec3::splat(1e-30), direction);
         PreparedRay {
             origin,
             direction,
-            inv_direction: direction.recip(),
+            inv_direction: safe.recip(),
             k: [kx, ky, kz],
             shear: Vec3::new(direction[kx] / dz, direction[ky] / dz, 1.0 / dz),
         }
