@@ -49,3 +49,44 @@ fn cornell_box_means_match_mitsuba_within_one_percent() {
         );
     }
 }
+
+/// An unbiased estimator's error falls as 1/spp: the relMSE of the Cornell box, measured from the
+/// difference of two independent renders (E[(A − B)²] = 2σ²/spp, so no reference noise enters) and
+/// normalised per pixel by a fixed 256-spp image, has a log-log slope of −1 ± 0.15 over 2–128 spp.
+#[test]
+fn rel_mse_falls_as_one_over_spp() {
+    let Some(ctx) = gpu() else { return };
+    let mut scene = rt_core::assets::cornell_box().unwrap();
+    scene.settings.width = 48;
+    scene.settings.height = 48;
+    let gpu_scene = GpuScene::build(&scene).unwrap();
+    let mut render_at = |spp: u32, seed: u32| {
+        scene.settings.samples_per_pixel = spp;
+        scene.settings.seed = seed;
+        render_gpu(ctx, &scene, &gpu_scene, RenderOptions::default()).rgb()
+    };
+    let norm = render_at(256, 100);
+    let mut points = Vec::new();
+    for spp in [2u32, 8, 32, 128] {
+        let a = render_at(spp, 1);
+        let b = render_at(spp, 2);
+        let mut sum = 0.0f64;
+        for ((pa, pb), m) in a.iter().zip(&b).zip(&norm) {
+            for c in 0..3 {
+                let d = f64::from(pa[c]) - f64::from(pb[c]);
+                sum += d * d / (2.0 * (f64::from(m[c]).powi(2) + 0.01));
+            }
+        }
+        let rel_mse = sum / (a.len() * 3) as f64;
+        points.push((f64::from(spp).ln(), rel_mse.ln()));
+    }
+    let n = points.len() as f64;
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let slope = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
+        / points.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    assert!(
+        (slope + 1.0).abs() <= 0.15,
+        "log-log slope of relMSE against spp is {slope:.3}, not -1 ± 0.15: {points:?}"
+    );
+}

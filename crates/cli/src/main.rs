@@ -2,7 +2,9 @@
 
 mod bench;
 mod compare;
+mod converge;
 mod info;
+mod plot;
 mod render;
 mod scene_args;
 
@@ -32,6 +34,10 @@ enum Command {
     Info(info::InfoArgs),
     /// Error metrics (relMSE, RMSE, mean ratio) of an image against a reference image.
     Compare(compare::CompareArgs),
+    /// Render at 1, 2, 4, ... spp and measure each image against a reference (CSV and SVG plot).
+    Converge(converge::ConvergeArgs),
+    /// Plot CSV files written by `converge` (relMSE against time or samples, log-log) as SVG.
+    Plot(plot::PlotArgs),
     /// Run the fixed benchmark suite and print a table and one JSON record per scene.
     Bench(bench::BenchArgs),
 }
@@ -64,6 +70,8 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Converge(args) => converge::run(args),
+        Command::Plot(args) => plot::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -45,6 +45,18 @@ pub fn build_emitters(triangles: &[Triangle], materials: &[Material]) -> (Vec<Em
     (emitters, total as f32)
 }
 
+/// The emitter triangle for two uniform numbers: slot ⌊u_pick·n⌋ of the alias table, then its own
+/// triangle with probability `threshold`, else its alias's. Mirrors `shaders/trace.wgsl`.
+pub fn pick_emitter(emitters: &[Emitter], u_pick: f32, u_alias: f32) -> u32 {
+    let n = emitters.len() as u32;
+    let slot = &emitters[((u_pick * n as f32) as u32).min(n - 1) as usize];
+    if u_alias < slot.threshold {
+        slot.triangle
+    } else {
+        emitters[slot.alias_index as usize].triangle
+    }
+}
+
 /// Vose's alias method: entry i is kept with probability `threshold[i]`, else `alias[i]` is taken.
 pub fn alias_table(weights: &[f64]) -> (Vec<f32>, Vec<u32>) {
     let n = weights.len();
@@ -69,6 +81,83 @@ pub fn alias_table(weights: &[f64]) -> (Vec<f32>, Vec<u32>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Emitter sampling picks each triangle in proportion to its power (area × luminance): a
+    /// chi-square test over triangles of different sizes and emissions, non-emitters and a
+    /// zero-area emitter included (those must never be picked).
+    #[test]
+    fn emitters_are_picked_in_proportion_to_their_power() {
+        use crate::gpu_types::material_kind;
+        use crate::reference::rng::Rng;
+        let material = |emission: [f32; 3]| Material {
+            albedo: [0.5; 3],
+            kind: material_kind::EMISSIVE,
+            emission,
+            param: 0.0,
+            texture_offset: 0,
+            texture_width: 0,
+            texture_height: 0,
+            _pad: 0,
+        };
+        let materials = [
+            material([0.0; 3]),
+            material([1.0, 1.0, 1.0]),
+            material([5.0, 0.5, 0.1]),
+            material([0.1, 0.1, 3.0]),
+        ];
+        let triangle = |size: f32, m: u32| Triangle {
+            v0: [0.0, 0.0, 0.0],
+            material: m,
+            v1: [size, 0.0, 0.0],
+            has_normals: 0,
+            v2: [0.0, size, 0.0],
+            has_uvs: 0,
+        };
+        let triangles = [
+            triangle(1.0, 1),
+            triangle(2.0, 0),
+            triangle(0.5, 2),
+            triangle(3.0, 3),
+            triangle(0.0, 1),
+            triangle(1.5, 1),
+            triangle(0.1, 2),
+        ];
+        let (emitters, total) = build_emitters(&triangles, &materials);
+        let power = |i: usize| {
+            let t = &triangles[i];
+            let area = 0.5 * Vec3::from(t.v1).cross(Vec3::from(t.v2)).length();
+            f64::from(area)
+                * f64::from(luminance(Vec3::from(
+                    materials[t.material as usize].emission,
+                )))
+        };
+        let expected_total: f64 = (0..triangles.len()).map(power).sum();
+        assert!((f64::from(total) - expected_total).abs() < 1e-4 * expected_total);
+        let samples = 200_000;
+        let mut counts = vec![0usize; triangles.len()];
+        for i in 0..samples {
+            let mut rng = Rng::new(i, 3, 5);
+            let (u_pick, u_alias) = (rng.next_f32(), rng.next_f32());
+            counts[pick_emitter(&emitters, u_pick, u_alias) as usize] += 1;
+        }
+        assert_eq!(
+            counts[1] + counts[4],
+            0,
+            "no light, or no area: never picked"
+        );
+        let mut chi2 = 0.0;
+        let mut bins = 0;
+        for (i, &c) in counts.iter().enumerate() {
+            let e = power(i) / expected_total * f64::from(samples);
+            if e > 0.0 {
+                chi2 += (c as f64 - e).powi(2) / e;
+                bins += 1;
+            }
+        }
+        // The 0.999 quantile of chi-square with bins − 1 = 4 degrees of freedom is 18.47.
+        assert_eq!(bins, 5);
+        assert!(chi2 < 18.47, "chi-square {chi2:.2}: {counts:?}");
+    }
 
     #[test]
     fn alias_table_reproduces_the_weights() {

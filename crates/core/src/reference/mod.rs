@@ -119,13 +119,8 @@ pub fn direct_light(
     let u_alias = rng.next_f32();
     let u_a = rng.next_f32();
     let u_b = rng.next_f32();
-    let n = frame.emitter_count;
-    let slot = &scene.emitters[((u_pick * n as f32) as u32).min(n - 1) as usize];
-    let chosen = if u_alias < slot.threshold {
-        slot.triangle
-    } else {
-        scene.emitters[slot.alias_index as usize].triangle
-    };
+    let n = frame.emitter_count as usize;
+    let chosen = crate::emitters::pick_emitter(&scene.emitters[..n], u_pick, u_alias);
     let tri = &scene.triangles[chosen as usize];
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let [b0, b1, b2] = sample_triangle(u_a, u_b);
@@ -282,10 +277,8 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         prev_bsdf_pdf = 0.0;
         let next = match material.kind {
             material_kind::METAL => {
-                let fuzz = sample_unit_ball(&mut rng) * material.param;
-                let d = (reflect(direction, ns) + fuzz).normalize();
                 beta *= albedo;
-                d
+                sample_metal(direction, ns, material.param, &mut rng)
             }
             material_kind::DIELECTRIC => {
                 let eta = if front {
@@ -293,14 +286,11 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                 } else {
                     1.0 / material.param
                 };
-                let cos_i = -direction.dot(ns);
-                let f = fresnel_dielectric(cos_i, eta);
-                if rng.next_f32() < f {
-                    reflect(direction, ns)
-                } else {
+                let (d, refracted) = sample_dielectric(direction, ns, eta, &mut rng);
+                if refracted {
                     beta *= albedo / (eta * eta);
-                    refract(direction, ns, eta)
                 }
+                d
             }
             _ => {
                 if frame.emitter_count > 0 {

@@ -1,0 +1,266 @@
+//! `rt-cli converge`: renders at 1, 2, 4, … samples per pixel and measures each image against a
+//! reference, so that the speed/accuracy trade of each setting can be plotted.
+//!
+//! Time is what a user waits for that image: BVH build plus GPU render time, without the readbacks
+//! and comparisons the measurement itself adds.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use clap::Args;
+use rt_core::GpuScene;
+use rt_core::bvh::BvhQuality;
+use rt_core::metrics::{RgbImage, compare};
+use rt_gpu::{AdapterChoice, GpuContext, RenderOptions, Renderer};
+
+use crate::plot;
+use crate::scene_args::SceneArgs;
+
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Quality {
+    Fastest,
+    Fast,
+    Medium,
+    Slow,
+}
+
+impl From<Quality> for BvhQuality {
+    fn from(q: Quality) -> Self {
+        match q {
+            Quality::Fastest => BvhQuality::Fastest,
+            Quality::Fast => BvhQuality::Fast,
+            Quality::Medium => BvhQuality::Medium,
+            Quality::Slow => BvhQuality::Slow,
+        }
+    }
+}
+
+#[derive(Args, Debug)]
+pub struct ConvergeArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Reference image (EXR); box-downsampled when it is an integer multiple of the render size.
+    #[arg(long)]
+    reference: PathBuf,
+    /// Largest sample count (a power of two is reached exactly; steps double from 1).
+    #[arg(long, default_value_t = 256)]
+    max_spp: u32,
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    #[arg(long)]
+    max_depth: Option<u32>,
+    #[arg(long)]
+    no_nee: bool,
+    #[arg(long)]
+    no_roulette: bool,
+    /// BVH build preset: faster builds make slower traversal.
+    #[arg(long, value_enum, default_value = "medium")]
+    bvh_quality: Quality,
+    /// Name of this series in the CSV and the plot (default: from the settings).
+    #[arg(long)]
+    label: Option<String>,
+    /// Append the rows to this CSV file (created with a header when missing).
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Write an SVG plot of relMSE against time of every series in the CSV.
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    #[arg(long, default_value = "auto")]
+    adapter: AdapterChoice,
+}
+
+/// One measured step.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub label: String,
+    pub spp: u32,
+    pub seconds: f64,
+    pub rel_mse: f64,
+    pub rmse: f64,
+    pub mean_ratio: [f64; 3],
+    pub bvh_ms: f64,
+}
+
+pub const CSV_HEADER: &str =
+    "label,spp,seconds,rel_mse,rmse,mean_ratio_r,mean_ratio_g,mean_ratio_b,bvh_build_ms";
+
+impl Row {
+    pub fn csv(&self) -> String {
+        format!(
+            "{},{},{:.6},{:.6e},{:.6e},{:.6},{:.6},{:.6},{:.3}",
+            self.label.replace(',', ";"),
+            self.spp,
+            self.seconds,
+            self.rel_mse,
+            self.rmse,
+            self.mean_ratio[0],
+            self.mean_ratio[1],
+            self.mean_ratio[2],
+            self.bvh_ms
+        )
+    }
+
+    pub fn parse(line: &str) -> Option<Row> {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != 9 {
+            return None;
+        }
+        Some(Row {
+            label: f[0].to_string(),
+            spp: f[1].parse().ok()?,
+            seconds: f[2].parse().ok()?,
+            rel_mse: f[3].parse().ok()?,
+            rmse: f[4].parse().ok()?,
+            mean_ratio: [f[5].parse().ok()?, f[6].parse().ok()?, f[7].parse().ok()?],
+            bvh_ms: f[8].parse().ok()?,
+        })
+    }
+}
+
+pub fn run(args: ConvergeArgs) -> Result<()> {
+    let mut scene = args.scene.load()?;
+    let settings = &mut scene.settings;
+    settings.width = args.width.unwrap_or(settings.width);
+    settings.height = args.height.unwrap_or(settings.height);
+    settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
+    settings.next_event_estimation = !args.no_nee;
+    settings.russian_roulette = !args.no_roulette;
+    settings.samples_per_pixel = args.max_spp.max(1);
+    rt_core::frame::validate(&scene)?;
+    let reference = RgbImage::load(&args.reference)?;
+    let label = args.label.clone().unwrap_or_else(|| {
+        format!(
+            "{}{}depth {} {:?}",
+            if args.no_nee {
+                "BSDF only, "
+            } else {
+                "NEE+MIS, "
+            },
+            if args.no_roulette {
+                "no roulette, "
+            } else {
+                ""
+            },
+            scene.settings.max_depth,
+            args.bvh_quality
+        )
+    });
+
+    let ctx = GpuContext::new(&args.adapter)?;
+    let start = Instant::now();
+    let gpu_scene = GpuScene::build_with(&scene, args.bvh_quality.into())?;
+    let bvh = start.elapsed();
+    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, RenderOptions::default())?;
+    // The first dispatch includes compiling the kernel; a warm-up sample keeps that out of the
+    // curve (it is a one-off per feature set, cached afterwards).
+    {
+        let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, RenderOptions::default())?;
+        warm.render_batch(1)?;
+        warm.read_image()?;
+    }
+    eprintln!(
+        "{label}: {}x{}, up to {} spp on {}",
+        scene.settings.width,
+        scene.settings.height,
+        args.max_spp,
+        ctx.adapter_label()
+    );
+    println!(
+        "{:>7} {:>10} {:>12} {:>12} {:>8}",
+        "spp", "seconds", "relMSE", "RMSE", "mean"
+    );
+    let mut rows = Vec::new();
+    let mut rendering = Duration::ZERO;
+    let mut step = 1u32;
+    loop {
+        let step_start = Instant::now();
+        while renderer.samples_done() < step {
+            renderer.render_batch(step - renderer.samples_done())?;
+        }
+        // render_batch waits for its dispatches, so this is GPU time as the user sees it.
+        rendering += step_start.elapsed();
+        let image = renderer.read_image()?;
+        let measured = RgbImage {
+            width: image.width,
+            height: image.height,
+            pixels: image.rgb(),
+        };
+        let e = compare(&measured, &reference)
+            .map_err(anyhow::Error::msg)
+            .with_context(|| format!("comparing with {}", args.reference.display()))?;
+        let row = Row {
+            label: label.clone(),
+            spp: step,
+            seconds: (bvh + rendering).as_secs_f64(),
+            rel_mse: e.rel_mse,
+            rmse: e.rmse,
+            mean_ratio: e.mean_ratio,
+            bvh_ms: bvh.as_secs_f64() * 1e3,
+        };
+        println!(
+            "{:>7} {:>10.3} {:>12.4e} {:>12.4e} {:>8.4}",
+            row.spp,
+            row.seconds,
+            row.rel_mse,
+            row.rmse,
+            (row.mean_ratio[0] + row.mean_ratio[1] + row.mean_ratio[2]) / 3.0
+        );
+        rows.push(row);
+        if step >= args.max_spp {
+            break;
+        }
+        step = (step * 2).min(args.max_spp);
+    }
+    if let Some(path) = &args.csv {
+        append_csv(path, &rows)?;
+    }
+    if let Some(out) = &args.plot {
+        let all = match &args.csv {
+            Some(csv) => read_csv(csv)?,
+            None => rows,
+        };
+        plot::save_svg(&all, out)?;
+        eprintln!("plot: {}", out.display());
+    }
+    Ok(())
+}
+
+fn append_csv(path: &Path, rows: &[Row]) -> Result<()> {
+    let exists = path.exists();
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .with_context(|| format!("opening {}", path.display()))?;
+    let mut text = String::new();
+    if !exists {
+        text.push_str(CSV_HEADER);
+        text.push('\n');
+    }
+    for row in rows {
+        text.push_str(&row.csv());
+        text.push('\n');
+    }
+    file.write_all(text.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut rows = Vec::new();
+    for (i, line) in text.lines().enumerate().skip(1) {
+        if line.trim().is_empty() {
+            continue;
+        }
+        rows.push(
+            Row::parse(line)
+                .with_context(|| format!("{}:{}: not a converge row", path.display(), i + 1))?,
+        );
+    }
+    Ok(rows)
+}
