@@ -208,8 +208,11 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (x >= frame.width || y >= frame.row_end) {
         return;
     }
+    // The pixel's number seeds its random numbers (the same whether or not the image is tiled); the
+    // accumulation buffer holds only this tile's rows.
     let pixel = y * frame.width + x;
-    var mean = select(accum[pixel], vec4(0.0), frame.sample_base == 0u);
+    let slot = (y - frame.tile_row_begin) * frame.width + x;
+    var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
     var rays = 0u;
     var dropped = 0u;
     for (var s = 0u; s < frame.samples_this_dispatch; s++) {
@@ -224,7 +227,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         // Running mean, one sample at a time: the same float operations however samples are batched.
         mean += (vec4(l, lum * lum) - mean) / f32(sample_index + 1u);
     }
-    accum[pixel] = mean;
+    accum[slot] = mean;
     if (COUNT_RAYS) {
         atomicAdd(&counters[0], rays);
     }

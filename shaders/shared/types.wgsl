@@ -73,8 +73,8 @@ struct Frame {
     emitter_count: u32,          // 108
     emitter_power_inv: f32,      // 112
     roulette_from_depth: u32,    // 116
-    _pad1: u32,                  // 120
-    _pad2: u32,                  // 124
+    tile_row_begin: u32,         // 120
+    tile_row_end: u32,           // 124
 }
 
 struct Emitter {

@@ -76,6 +76,23 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
 
     let ctx = GpuContext::new(&args.adapter)?;
     let gpu_scene = GpuScene::build(&scene)?;
+    let limits = ctx.device.limits();
+    let max_buffer = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let accum_bytes = u64::from(scene.settings.width) * u64::from(scene.settings.height) * 16;
+    if accum_bytes > max_buffer {
+        if open_ended {
+            anyhow::bail!(
+                "a {}x{} image needs {accum_bytes} bytes of accumulation, more than this adapter's \
+                 {max_buffer} per buffer: it renders in tiles, one after another, which needs a \
+                 fixed --spp rather than --time-limit or --noise-target",
+                scene.settings.width,
+                scene.settings.height
+            );
+        }
+        return render_in_tiles(&args, &scene, &ctx, &gpu_scene, max_buffer);
+    }
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, RenderOptions::default())?;
 
     let spp = scene.settings.samples_per_pixel;
@@ -176,6 +193,62 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         let m = image.channel_means();
         eprintln!("channel means:  {:.6} {:.6} {:.6}", m[0], m[1], m[2]);
     }
+    eprintln!("saved:          {}", args.output.display());
+    Ok(())
+}
+
+/// Renders an image too large for one accumulation buffer in bands of rows (see
+/// `rt_gpu::renderer::render_tiled`); the result is the same as an untiled render.
+fn render_in_tiles(
+    args: &RenderArgs,
+    scene: &rt_core::Scene,
+    ctx: &GpuContext,
+    gpu_scene: &GpuScene,
+    max_buffer: u64,
+) -> Result<()> {
+    let settings = &scene.settings;
+    let rows = rt_gpu::renderer::tile_rows(settings.width, settings.height, max_buffer);
+    let tiles = settings.height.div_ceil(rows);
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {percent}%  {msg} (eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_message(format!("{tiles} tiles of {rows} rows"));
+    let started = Instant::now();
+    let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+    let image = rt_gpu::renderer::render_tiled(
+        ctx,
+        gpu_scene,
+        frame,
+        RenderOptions::default(),
+        settings.samples_per_pixel,
+        Some(max_buffer),
+        |fraction| {
+            bar.set_position((fraction * 1000.0) as u64);
+            true
+        },
+    )?;
+    bar.finish_and_clear();
+    let render_time = started.elapsed();
+    rt_core::output::save_image(
+        &args.output,
+        image.width,
+        image.height,
+        &image.rgb(),
+        args.exposure,
+    )
+    .with_context(|| format!("saving {}", args.output.display()))?;
+    eprintln!("adapter:        {}", ctx.adapter_label());
+    eprintln!("triangles:      {}", gpu_scene.triangles.len());
+    eprintln!(
+        "image:          {}x{}, {} spp, max depth {}, in {tiles} tiles of {rows} rows (the \
+         accumulation buffer would exceed the adapter's {max_buffer} bytes)",
+        image.width, image.height, image.samples_per_pixel, settings.max_depth
+    );
+    eprintln!("render time:    {render_time:.2?}");
     eprintln!("saved:          {}", args.output.display());
     Ok(())
 }

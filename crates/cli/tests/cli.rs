@@ -246,3 +246,129 @@ fn noise_target_and_time_limit_stop_the_render() {
     let (code, _, stderr) = rt_cli(&["render", "-o", out, "--time-limit=-1"]);
     assert!(code == 2 && stderr.contains("--time-limit"), "{stderr}");
 }
+
+/// An image whose accumulation buffer exceeds the adapter's largest storage binding renders in
+/// tiles (lavapipe's limit is 128 MiB: 4096 x 2100 pixels need 131 MiB); with an open-ended stop it
+/// is a clear error instead.
+#[test]
+fn images_larger_than_a_buffer_render_in_tiles() {
+    if !has_gpu() && std::env::var_os("CI").is_none() {
+        return;
+    }
+    let dir = temp_dir("tiles");
+    let out = dir.join("big.png");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "--width",
+        "4096",
+        "--height",
+        "2100",
+        "--spp",
+        "1",
+        "--max-depth",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let limit_exceeded = stderr.contains("tiles of");
+    let (w, h) = image::image_dimensions(&out).unwrap();
+    assert_eq!((w, h), (4096, 2100));
+    if limit_exceeded {
+        let (code, _, stderr) = rt_cli(&[
+            "render",
+            "--width",
+            "4096",
+            "--height",
+            "2100",
+            "--time-limit",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2);
+        assert!(stderr.contains("fixed --spp"), "{stderr}");
+    } else {
+        eprintln!("this adapter's buffers hold the whole image: no tiles needed");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `converge` measures each power-of-two step against a reference, appends CSV rows and plots them;
+/// `render` renders a project file with the project's own settings.
+#[test]
+fn converge_writes_csv_and_plot_and_render_reads_projects() {
+    if !has_gpu() && std::env::var_os("CI").is_none() {
+        return;
+    }
+    let dir = temp_dir("converge");
+    let reference = dir.join("ref.exr");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--spp",
+        "64",
+        "-o",
+        reference.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let csv = dir.join("c.csv");
+    let svg = dir.join("c.svg");
+    let (code, stdout, stderr) = rt_cli(&[
+        "converge",
+        "--reference",
+        reference.to_str().unwrap(),
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--max-spp",
+        "8",
+        "--label",
+        "test",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(
+        stdout.lines().count(),
+        5,
+        "header and 1, 2, 4, 8 spp:\n{stdout}"
+    );
+    let rows: Vec<String> = std::fs::read_to_string(&csv)
+        .unwrap()
+        .lines()
+        .map(String::from)
+        .collect();
+    assert_eq!(rows.len(), 5);
+    assert!(rows[0].starts_with("label,spp,seconds,rel_mse"));
+    let rel_mse = |row: &str| row.split(',').nth(3).unwrap().parse::<f64>().unwrap();
+    assert!(
+        rel_mse(&rows[4]) < rel_mse(&rows[1]),
+        "error falls with samples: {rows:?}"
+    );
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<polyline"));
+
+    // A project with its own size and samples renders as saved.
+    let mut scene = rt_core::assets::cornell_box().unwrap();
+    scene.settings.width = 24;
+    scene.settings.height = 16;
+    scene.settings.samples_per_pixel = 3;
+    let project = dir.join("p.rtproj");
+    rt_core::io::project::save_project(&scene, &project).unwrap();
+    let out = dir.join("p.png");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        project.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("24x16, 3 spp"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -66,7 +66,7 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         } else {
             0
         },
-        _pad1: 0,
-        _pad2: 0,
+        tile_row_begin: 0,
+        tile_row_end: settings.height,
     })
 }

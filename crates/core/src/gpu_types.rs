@@ -111,8 +111,10 @@ pub struct Frame {
     pub emitter_power_inv: f32, // 112
     /// Russian roulette applies after the scattering at this segment index and later; 0 turns it off.
     pub roulette_from_depth: u32, // 116
-    pub _pad1: u32,           // 120
-    pub _pad2: u32,           // 124
+    /// The accumulation buffer holds image rows `tile_row_begin..tile_row_end` (the whole image
+    /// unless it is rendered in tiles to fit the adapter's buffer limits).
+    pub tile_row_begin: u32, // 120
+    pub tile_row_end: u32,    // 124
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power
@@ -232,8 +234,8 @@ pub fn layouts() -> Vec<StructLayout> {
                 emitter_count,
                 emitter_power_inv,
                 roulette_from_depth,
-                _pad1,
-                _pad2
+                tile_row_begin,
+                tile_row_end
             ]
         ),
         layout!("Emitter", Emitter, [triangle, alias_index, threshold, _pad]),

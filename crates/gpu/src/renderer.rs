@@ -108,7 +108,13 @@ impl<'a> Renderer<'a> {
         frame: Frame,
         options: RenderOptions,
     ) -> Result<Self> {
-        let pixels = u64::from(frame.width) * u64::from(frame.height);
+        if !(frame.tile_row_begin < frame.tile_row_end && frame.tile_row_end <= frame.height) {
+            return Err(GpuError::Wgpu(format!(
+                "tile rows {}..{} are not inside the image's {} rows",
+                frame.tile_row_begin, frame.tile_row_end, frame.height
+            )));
+        }
+        let pixels = u64::from(frame.width) * u64::from(frame.tile_row_end - frame.tile_row_begin);
         let accum_size = pixels * 16;
         ctx.check_buffer("accumulation (width x height x 16 bytes)", accum_size)?;
         let mut features = scene.features;
@@ -210,7 +216,8 @@ impl<'a> Renderer<'a> {
             samples_done: 0,
             samples_per_dispatch: 1,
             // Start with a band of about 16k pixels to measure the cost safely, then grow.
-            rows_per_dispatch: (16_384 / frame.width).clamp(1, frame.height),
+            rows_per_dispatch: (16_384 / frame.width)
+                .clamp(1, frame.tile_row_end - frame.tile_row_begin),
             loop_cap,
             rays: 0,
             dropped_samples: 0,
@@ -244,10 +251,10 @@ impl<'a> Renderer<'a> {
             samples,
             ..Default::default()
         };
-        let mut row = 0;
+        let mut row = self.frame.tile_row_begin;
         let mut slowest_rate = 0.0f64; // seconds per (sample x row)
-        while row < self.frame.height {
-            let rows = self.rows_per_dispatch.min(self.frame.height - row);
+        while row < self.frame.tile_row_end {
+            let rows = self.rows_per_dispatch.min(self.frame.tile_row_end - row);
             let elapsed = self.dispatch(row, rows, samples)?;
             stats.dispatches += 1;
             stats.longest_dispatch = stats.longest_dispatch.max(elapsed);
@@ -267,13 +274,14 @@ impl<'a> Renderer<'a> {
             return;
         }
         let budget = self.options.target_dispatch.as_secs_f64() / seconds_per_sample_row;
-        let height = f64::from(self.frame.height);
+        let tile_rows = self.frame.tile_row_end - self.frame.tile_row_begin;
+        let height = f64::from(tile_rows);
         if budget >= height {
-            self.rows_per_dispatch = self.frame.height;
+            self.rows_per_dispatch = tile_rows;
             self.samples_per_dispatch = ((budget / height) as u32).clamp(1, self.loop_cap);
         } else {
             self.samples_per_dispatch = 1;
-            self.rows_per_dispatch = (budget as u32).clamp(1, self.frame.height);
+            self.rows_per_dispatch = (budget as u32).clamp(1, tile_rows);
         }
     }
 
@@ -329,9 +337,10 @@ impl<'a> Renderer<'a> {
         Ok(())
     }
 
-    /// The accumulated image so far.
+    /// The accumulated image so far (of this renderer's tile: `height` is the tile's rows).
     pub fn read_image(&self) -> Result<Image> {
-        let size = u64::from(self.frame.width) * u64::from(self.frame.height) * 16;
+        let rows = self.frame.tile_row_end - self.frame.tile_row_begin;
+        let size = u64::from(self.frame.width) * u64::from(rows) * 16;
         let bytes = read_buffer(self.ctx, &self.accum, size)?;
         let pixels: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
         let pixels = if self.samples_done == 0 {
@@ -341,9 +350,72 @@ impl<'a> Renderer<'a> {
         };
         Ok(Image {
             width: self.frame.width,
-            height: self.frame.height,
+            height: rows,
             samples_per_pixel: self.samples_done,
             pixels,
         })
     }
+}
+
+/// Rows per tile so that a tile's accumulation buffer (16 bytes per pixel) fits in `max_bytes`.
+pub fn tile_rows(width: u32, height: u32, max_bytes: u64) -> u32 {
+    let row_bytes = u64::from(width.max(1)) * 16;
+    ((max_bytes / row_bytes).max(1) as u32).min(height.max(1))
+}
+
+/// Renders `spp` samples per pixel of an image too large for one accumulation buffer, tile by
+/// tile (bands of whole rows), and stitches the tiles. Each pixel's samples are the same as in an
+/// untiled render (random numbers are keyed by the pixel's number in the whole image), so the result
+/// is bit-identical. `max_tile_bytes` defaults to the adapter's largest storage binding;
+/// `progress(fraction)` returning false stops after the current batch (the unrendered rest is black).
+pub fn render_tiled(
+    ctx: &GpuContext,
+    gpu_scene: &GpuScene,
+    frame: Frame,
+    options: RenderOptions,
+    spp: u32,
+    max_tile_bytes: Option<u64>,
+    mut progress: impl FnMut(f64) -> bool,
+) -> Result<Image> {
+    let limits = ctx.device.limits();
+    let max_bytes = max_tile_bytes.unwrap_or(
+        limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size),
+    );
+    let rows_per_tile = tile_rows(frame.width, frame.height, max_bytes);
+    let mut pixels = vec![[0.0f32; 4]; frame.width as usize * frame.height as usize];
+    let mut done_samples = spp;
+    let mut begin = 0;
+    let mut keep_going = true;
+    while begin < frame.height && keep_going {
+        let end = (begin + rows_per_tile).min(frame.height);
+        let tile_frame = Frame {
+            tile_row_begin: begin,
+            tile_row_end: end,
+            ..frame
+        };
+        let mut renderer = Renderer::new(ctx, gpu_scene, tile_frame, options)?;
+        while renderer.samples_done() < spp {
+            renderer.render_batch(spp - renderer.samples_done())?;
+            let fraction = (f64::from(begin)
+                + f64::from(end - begin) * f64::from(renderer.samples_done()) / f64::from(spp))
+                / f64::from(frame.height);
+            if !progress(fraction) {
+                keep_going = false;
+                break;
+            }
+        }
+        done_samples = done_samples.min(renderer.samples_done());
+        let tile = renderer.read_image()?;
+        let start = begin as usize * frame.width as usize;
+        pixels[start..start + tile.pixels.len()].copy_from_slice(&tile.pixels);
+        begin = end;
+    }
+    Ok(Image {
+        width: frame.width,
+        height: frame.height,
+        samples_per_pixel: done_samples,
+        pixels,
+    })
 }
