@@ -150,11 +150,12 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let render_time = started.elapsed();
     let image = renderer.read_image()?;
     let noise = estimated_rel_mse(&image.pixels, image.samples_per_pixel).sqrt();
-    rt_core::output::save_image(
+    rt_core::output::save_render(
         &args.output,
         image.width,
         image.height,
-        &image.rgb(),
+        &image.pixels,
+        image.samples_per_pixel,
         args.exposure,
     )
     .with_context(|| format!("saving {}", args.output.display()))?;
@@ -233,11 +234,12 @@ fn render_in_tiles(
     )?;
     bar.finish_and_clear();
     let render_time = started.elapsed();
-    rt_core::output::save_image(
+    rt_core::output::save_render(
         &args.output,
         image.width,
         image.height,
-        &image.rgb(),
+        &image.pixels,
+        image.samples_per_pixel,
         args.exposure,
     )
     .with_context(|| format!("saving {}", args.output.display()))?;

@@ -109,6 +109,76 @@ pub fn encode_image(
     Ok(out.into_inner())
 }
 
+/// The variance of each pixel's estimate of luminance, s²/n, from the renderer's per-pixel means
+/// of luminance (`rgb`) and of squared luminance (`[3]`) after `samples` samples (s² with Bessel's
+/// correction). Zero below two samples.
+pub fn pixel_variance(pixels: &[[f32; 4]], samples: u32) -> Vec<f32> {
+    if samples < 2 {
+        return vec![0.0; pixels.len()];
+    }
+    let n = f64::from(samples);
+    pixels
+        .iter()
+        .map(|p| {
+            let m = 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
+            let s2 = (f64::from(p[3]) - m * m).max(0.0) * n / (n - 1.0);
+            (s2 / n) as f32
+        })
+        .collect()
+}
+
+/// A linear EXR with the colour (R, G, B) and a `variance.Y` channel: the per-pixel variance of
+/// the luminance estimate (see [`pixel_variance`]), for denoisers and adaptive sampling.
+pub fn encode_exr_with_variance(
+    width: u32,
+    height: u32,
+    pixels: &[[f32; 4]],
+    samples: u32,
+) -> Result<Vec<u8>> {
+    use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, SmallVec, WritableImage};
+    let size = width as usize * height as usize;
+    if pixels.len() != size {
+        return Err(Error::Scene("image size does not match its pixels".into()));
+    }
+    let channel = |c: usize| pixels.iter().map(|p| p[c]).collect::<Vec<f32>>();
+    let channels = AnyChannels::sort(SmallVec::from_vec(vec![
+        AnyChannel::new("R", FlatSamples::F32(channel(0))),
+        AnyChannel::new("G", FlatSamples::F32(channel(1))),
+        AnyChannel::new("B", FlatSamples::F32(channel(2))),
+        AnyChannel::new(
+            "variance.Y",
+            FlatSamples::F32(pixel_variance(pixels, samples)),
+        ),
+    ]));
+    let image = Image::from_channels((width as usize, height as usize), channels);
+    let mut out = std::io::Cursor::new(Vec::new());
+    image
+        .write()
+        .to_buffered(&mut out)
+        .map_err(|e| Error::Scene(format!("encoding the EXR failed: {e}")))?;
+    Ok(out.into_inner())
+}
+
+/// Saves a render: EXR files get the variance channel beside the colour; other formats are
+/// tone-mapped colour only.
+pub fn save_render(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[[f32; 4]],
+    samples: u32,
+    exposure_stops: f32,
+) -> Result<()> {
+    let format = ImageFormat::from_path(path)?;
+    let bytes = if format == ImageFormat::Exr {
+        encode_exr_with_variance(width, height, pixels, samples)?
+    } else {
+        let rgb: Vec<[f32; 3]> = pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        encode_image(format, width, height, &rgb, exposure_stops)?
+    };
+    write_atomically(path, &bytes)
+}
+
 /// Saves an image atomically; the format follows the extension.
 pub fn save_image(
     path: &Path,
@@ -189,6 +259,35 @@ fn remove_stale_temporaries(dir: &Path, name: &str) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The variance channel holds s²/n of luminance, and readers that want RGB (the `image` crate,
+    /// `RgbImage::load`) still read the colour.
+    #[test]
+    fn exr_renders_carry_a_variance_channel() {
+        // Two pixels after 4 samples: luminance mean 0.5 with mean square 0.5 (s² = 1/3 after
+        // Bessel), and a constant pixel (variance 0).
+        let pixels = [[0.5, 0.5, 0.5, 0.5], [0.2, 0.2, 0.2, 0.04]];
+        let bytes = encode_exr_with_variance(2, 1, &pixels, 4).unwrap();
+        let dir = std::env::temp_dir().join(format!("rt-exr-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("v.exr");
+        std::fs::write(&path, &bytes).unwrap();
+        let rgb = crate::metrics::RgbImage::load(&path).unwrap();
+        assert_eq!(rgb.pixels[0], [0.5, 0.5, 0.5]);
+        let image = exr::prelude::read_all_flat_layers_from_file(&path).unwrap();
+        let channels = &image.layer_data[0].channel_data.list;
+        let variance = channels
+            .iter()
+            .find(|c| c.name.to_string() == "variance.Y")
+            .expect("variance channel");
+        let values: Vec<f32> = variance.sample_data.values_as_f32().collect();
+        assert!(
+            (values[0] - (0.25 * 4.0 / 3.0) / 4.0).abs() < 1e-6,
+            "{values:?}"
+        );
+        assert!(values[1].abs() < 1e-6);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn srgb_encoding_endpoints_and_exposure() {

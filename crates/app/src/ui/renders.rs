@@ -152,5 +152,12 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
     let Some(image) = &view.job.image else {
         return Err(rt_core::Error::Scene("nothing rendered yet".into()));
     };
-    rt_core::output::save_image(path, image.width, image.height, &image.rgb(), view.exposure)
+    rt_core::output::save_render(
+        path,
+        image.width,
+        image.height,
+        &image.pixels,
+        image.samples_per_pixel,
+        view.exposure,
+    )
 }
