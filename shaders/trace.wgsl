@@ -15,6 +15,9 @@ override HAS_DIELECTRIC: bool = true;
 override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
 override HAS_NEE: bool = true;
+// Firefly clamp: each sample's radiance is scaled down so its largest channel is at most this; 0 is
+// off. Biased (it removes energy) and off by default.
+override CLAMP_MAX: f32 = 0.0;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
@@ -222,6 +225,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         if (!is_finite3(l)) {
             l = vec3(0.0);
             dropped += 1u;
+        }
+        if (CLAMP_MAX > 0.0) {
+            let peak = max(l.x, max(l.y, l.z));
+            if (peak > CLAMP_MAX) {
+                l *= CLAMP_MAX / peak;
+            }
         }
         let lum = luminance(l);
         // Running mean, one sample at a time: the same float operations however samples are batched.

@@ -607,3 +607,38 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
     }
     assert_eq!(rt_gpu::renderer::tile_rows(16384, 16384, 128 << 20), 512);
 }
+
+/// The firefly clamp bounds every sample's largest channel (so every pixel mean too), removes
+/// energy when it bites (it is biased, hence off by default), and changes nothing when it is above
+/// every sample.
+#[test]
+fn the_firefly_clamp_bounds_samples_and_is_exact_when_it_does_not_bite() {
+    let Some(ctx) = gpu() else { return };
+    let mut s = rt_core::assets::cornell_box().unwrap();
+    s.settings.width = 32;
+    s.settings.height = 32;
+    s.settings.samples_per_pixel = 8;
+    let gpu_scene = GpuScene::build(&s).unwrap();
+    let free = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
+    s.settings.clamp = Some(1e30);
+    let loose = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
+    assert!(
+        loose.pixels == free.pixels,
+        "a clamp above every sample changes nothing"
+    );
+    s.settings.clamp = Some(0.5);
+    let clamped = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
+    let peak = clamped
+        .pixels
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .fold(0.0f32, f32::max);
+    assert!(peak <= 0.5 + 1e-6, "a pixel mean exceeds the clamp: {peak}");
+    let (a, b) = (free.channel_means(), clamped.channel_means());
+    assert!(
+        b[0] < a[0] * 0.99,
+        "clamping removes energy: {a:?} vs {b:?}"
+    );
+    s.settings.clamp = Some(-1.0);
+    assert!(rt_core::frame::validate(&s).is_err());
+}

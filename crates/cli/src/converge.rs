@@ -57,6 +57,9 @@ pub struct ConvergeArgs {
     no_nee: bool,
     #[arg(long)]
     no_roulette: bool,
+    /// Firefly clamp (biased): no sample channel above X.
+    #[arg(long, value_name = "X")]
+    clamp: Option<f32>,
     /// BVH build preset: faster builds make slower traversal.
     #[arg(long, value_enum, default_value = "medium")]
     bvh_quality: Quality,
@@ -129,12 +132,13 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
     settings.next_event_estimation = !args.no_nee;
     settings.russian_roulette = !args.no_roulette;
+    settings.clamp = args.clamp.or(settings.clamp);
     settings.samples_per_pixel = args.max_spp.max(1);
     rt_core::frame::validate(&scene)?;
     let reference = RgbImage::load(&args.reference)?;
     let label = args.label.clone().unwrap_or_else(|| {
         format!(
-            "{}{}depth {} {:?}",
+            "{}{}{}depth {} {:?}",
             if args.no_nee {
                 "BSDF only, "
             } else {
@@ -145,6 +149,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
             } else {
                 ""
             },
+            args.clamp.map_or(String::new(), |c| format!("clamp {c}, ")),
             scene.settings.max_depth,
             args.bvh_quality
         )

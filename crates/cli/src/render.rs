@@ -45,6 +45,10 @@ pub struct RenderArgs {
     /// Turn off Russian roulette (every path runs to max depth unless it is absorbed or escapes).
     #[arg(long)]
     no_roulette: bool,
+    /// Firefly clamp: scale each sample down so no channel exceeds X. Biased (removes energy from
+    /// rare bright paths); off by default.
+    #[arg(long, value_name = "X")]
+    clamp: Option<f32>,
     /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     adapter: AdapterChoice,
@@ -71,6 +75,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
     settings.next_event_estimation = !args.no_nee;
     settings.russian_roulette = !args.no_roulette;
+    settings.clamp = args.clamp.or(settings.clamp);
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
 

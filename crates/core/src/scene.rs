@@ -97,6 +97,10 @@ pub struct RenderSettings {
     /// default.
     #[serde(default = "default_true")]
     pub russian_roulette: bool,
+    /// Firefly clamp: the most any one sample may contribute per channel (biased: removes energy
+    /// from rare bright paths to cut noise). `None`, the default, leaves samples alone.
+    #[serde(default)]
+    pub clamp: Option<f32>,
 }
 
 fn default_true() -> bool {
@@ -113,6 +117,7 @@ impl Default for RenderSettings {
             seed: 0,
             next_event_estimation: true,
             russian_roulette: true,
+            clamp: None,
         }
     }
 }
@@ -136,6 +141,13 @@ impl RenderSettings {
         }
         if self.samples_per_pixel == 0 {
             return Err("samples per pixel must be at least 1".into());
+        }
+        if let Some(c) = self.clamp
+            && !(c.is_finite() && c > 0.0)
+        {
+            return Err(format!(
+                "the firefly clamp must be a positive number, got {c}"
+            ));
         }
         Ok(())
     }

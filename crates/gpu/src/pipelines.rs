@@ -12,10 +12,12 @@ use crate::shaders;
 pub struct PipelineKey {
     pub features: SceneFeatures,
     pub count_rays: bool,
+    /// Bits of the firefly clamp (`f32::to_bits`); 0 is off.
+    pub clamp_bits: u32,
 }
 
 impl PipelineKey {
-    fn constants(&self) -> [(&'static str, f64); 6] {
+    fn constants(&self) -> [(&'static str, f64); 7] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("HAS_TEXTURES", flag(self.features.textures)),
@@ -24,6 +26,7 @@ impl PipelineKey {
             ("HAS_THIN_LENS", flag(self.features.thin_lens)),
             ("COUNT_RAYS", flag(self.count_rays)),
             ("HAS_NEE", flag(self.features.nee)),
+            ("CLAMP_MAX", f64::from(f32::from_bits(self.clamp_bits))),
         ]
     }
 }

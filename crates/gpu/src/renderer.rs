@@ -21,6 +21,10 @@ pub struct RenderOptions {
     pub count_rays: bool,
     /// Upper bound on samples per pixel in one dispatch; `None` derives it from the loop budget.
     pub max_samples_per_dispatch: Option<u32>,
+    /// Firefly clamp: scale each sample down so its largest channel is at most this. Biased (it
+    /// removes energy from bright paths); `None` (the default) leaves samples alone.
+    /// `Renderer::for_scene` takes it from the scene's settings when unset here.
+    pub clamp: Option<f32>,
 }
 
 impl Default for RenderOptions {
@@ -29,6 +33,7 @@ impl Default for RenderOptions {
             target_dispatch: Duration::from_millis(40),
             count_rays: false,
             max_samples_per_dispatch: None,
+            clamp: None,
         }
     }
 }
@@ -99,6 +104,10 @@ impl<'a> Renderer<'a> {
         options: RenderOptions,
     ) -> Result<Self> {
         let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+        let options = RenderOptions {
+            clamp: options.clamp.or(scene.settings.clamp),
+            ..options
+        };
         Self::new(ctx, gpu_scene, frame, options)
     }
 
@@ -125,6 +134,10 @@ impl<'a> Renderer<'a> {
             PipelineKey {
                 features,
                 count_rays: options.count_rays,
+                clamp_bits: options
+                    .clamp
+                    .filter(|c| c.is_finite() && *c > 0.0)
+                    .map_or(0, f32::to_bits),
             },
         )?;
         let buffers = [

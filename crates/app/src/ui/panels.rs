@@ -482,6 +482,23 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
         .on_hover_text("Sample lights directly: far less noise with small lights");
     ui.checkbox(&mut settings.russian_roulette, "Russian roulette")
         .on_hover_text("End dim paths early at random (unbiased, faster)");
+    ui.horizontal(|ui| {
+        let mut on = settings.clamp.is_some();
+        if ui
+            .checkbox(&mut on, "Firefly clamp")
+            .on_hover_text(
+                "Limit each sample's brightness: removes bright speckles at the cost of some \
+                 energy (biased; off by default)",
+            )
+            .changed()
+        {
+            settings.clamp = on.then_some(10.0);
+        }
+        if let Some(c) = &mut settings.clamp {
+            ui.add(DragValue::new(c).speed(0.1).range(0.01..=1e6))
+                .on_hover_text("The most any one sample may contribute per colour channel");
+        }
+    });
     if settings != app.doc.scene.settings {
         app.doc.edit("change render settings", "settings", |s| {
             s.settings = settings
