@@ -17,7 +17,7 @@ common=(--reference "$ref" --width 128 --height 128 --max-spp 256 --csv "$csv")
 "$cli" converge "${common[@]}" --no-roulette --label "no Russian roulette"
 "$cli" converge "${common[@]}" --max-depth 3 --label "max depth 3"
 "$cli" converge "${common[@]}" --max-depth 16 --label "max depth 16"
-"$cli" converge "${common[@]}" --clamp 2 --label "firefly clamp 2 (biased)"
+"$cli" converge "${common[@]}" --clamp 1 --label "firefly clamp 1 (biased)"
 "$cli" converge "${common[@]}" --bvh-quality fastest --label "fastest BVH build"
 "$cli" plot "$csv" -o "$out/cornell-converge-time.svg" --title "Cornell box 128x128: error against time (lavapipe)"
 "$cli" plot "$csv" -o "$out/cornell-converge-spp.svg" --x spp --title "Cornell box 128x128: error against samples"

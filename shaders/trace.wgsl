@@ -15,9 +15,20 @@ override HAS_DIELECTRIC: bool = true;
 override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
 override HAS_NEE: bool = true;
-// Firefly clamp: each sample's radiance is scaled down so its largest channel is at most this; 0 is
-// off. Biased (it removes energy) and off by default.
+// Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
+// emitters and sky reached after a bounce) is scaled down so its largest channel is at most this;
+// emitters and sky seen directly stay exact. 0 is off. Biased (it removes energy); off by default.
 override CLAMP_MAX: f32 = 0.0;
+
+fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
+    if (CLAMP_MAX > 0.0) {
+        let peak = max(c.x, max(c.y, c.z));
+        if (peak > CLAMP_MAX) {
+            return c * (CLAMP_MAX / peak);
+        }
+    }
+    return c;
+}
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
@@ -124,7 +135,8 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
         let hit = intersect_scene(origin, direction, 3.0e38, false);
         *rays += 1u;
         if (hit.triangle == MISS) {
-            radiance += beta * frame.ambient;
+            let sky = beta * frame.ambient;
+            radiance += select(clamp_bounced(sky), sky, depth == 0u);
             break;
         }
         let tri = triangles[hit.triangle];
@@ -138,7 +150,8 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
                 let p_light = luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
                 weight = power_heuristic(prev_bsdf_pdf, p_light);
             }
-            radiance += beta * material.emission * weight;
+            let emitted = beta * material.emission * weight;
+            radiance += select(clamp_bounced(emitted), emitted, depth == 0u);
         }
         if (material.kind == MAT_EMISSIVE || depth + 1u >= frame.max_depth) {
             break;
@@ -173,7 +186,7 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
             }
         } else {
             if (HAS_NEE) {
-                radiance += beta * albedo * direct_light(p, ng, ns, rng, rays);
+                radiance += clamp_bounced(beta * albedo * direct_light(p, ng, ns, rng, rays));
             }
             beta *= albedo;
             next = sample_cosine_hemisphere(ns, rng);
@@ -226,12 +239,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             l = vec3(0.0);
             dropped += 1u;
         }
-        if (CLAMP_MAX > 0.0) {
-            let peak = max(l.x, max(l.y, l.z));
-            if (peak > CLAMP_MAX) {
-                l *= CLAMP_MAX / peak;
-            }
-        }
+
         let lum = luminance(l);
         // Running mean, one sample at a time: the same float operations however samples are batched.
         mean += (vec4(l, lum * lum) - mean) / f32(sample_index + 1u);

@@ -57,7 +57,7 @@ pub struct ConvergeArgs {
     no_nee: bool,
     #[arg(long)]
     no_roulette: bool,
-    /// Firefly clamp (biased): no sample channel above X.
+    /// Firefly clamp (biased): no channel of a bounced-light contribution above X.
     #[arg(long, value_name = "X")]
     clamp: Option<f32>,
     /// BVH build preset: faster builds make slower traversal.

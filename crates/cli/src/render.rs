@@ -45,8 +45,8 @@ pub struct RenderArgs {
     /// Turn off Russian roulette (every path runs to max depth unless it is absorbed or escapes).
     #[arg(long)]
     no_roulette: bool,
-    /// Firefly clamp: scale each sample down so no channel exceeds X. Biased (removes energy from
-    /// rare bright paths); off by default.
+    /// Firefly clamp: scale each contribution of bounced light down so no channel exceeds X
+    /// (directly seen emitters stay exact). Biased (removes energy); off by default.
     #[arg(long, value_name = "X")]
     clamp: Option<f32>,
     /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.

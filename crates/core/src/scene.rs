@@ -97,8 +97,9 @@ pub struct RenderSettings {
     /// default.
     #[serde(default = "default_true")]
     pub russian_roulette: bool,
-    /// Firefly clamp: the most any one sample may contribute per channel (biased: removes energy
-    /// from rare bright paths to cut noise). `None`, the default, leaves samples alone.
+    /// Firefly clamp: the most any contribution of bounced light may add per channel (biased:
+    /// removes energy from rare bright paths to cut noise; directly seen emitters stay exact).
+    /// `None`, the default, leaves samples alone.
     #[serde(default)]
     pub clamp: Option<f32>,
 }

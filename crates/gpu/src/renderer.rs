@@ -21,8 +21,9 @@ pub struct RenderOptions {
     pub count_rays: bool,
     /// Upper bound on samples per pixel in one dispatch; `None` derives it from the loop budget.
     pub max_samples_per_dispatch: Option<u32>,
-    /// Firefly clamp: scale each sample down so its largest channel is at most this. Biased (it
-    /// removes energy from bright paths); `None` (the default) leaves samples alone.
+    /// Firefly clamp: scale each contribution of bounced light down so its largest channel is at
+    /// most this (directly seen emitters stay exact). Biased (it removes energy); `None` (the
+    /// default) leaves samples alone.
     /// `Renderer::for_scene` takes it from the scene's settings when unset here.
     pub clamp: Option<f32>,
 }

@@ -496,7 +496,7 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
         }
         if let Some(c) = &mut settings.clamp {
             ui.add(DragValue::new(c).speed(0.1).range(0.01..=1e6))
-                .on_hover_text("The most any one sample may contribute per colour channel");
+                .on_hover_text("The most any bounce of light may contribute per colour channel");
         }
     });
     if settings != app.doc.scene.settings {
