@@ -653,3 +653,37 @@ fn the_firefly_clamp_only_lowers_bounced_light_and_is_exact_when_it_does_not_bit
     s.settings.clamp = Some(-1.0);
     assert!(rt_core::frame::validate(&s).is_err());
 }
+
+/// A device lost mid-render (simulated with `Device::destroy`) makes the next batch and readback
+/// return errors, not panic; the image read back before the loss is intact, so it can be saved.
+#[test]
+fn a_lost_device_is_an_error_and_earlier_readbacks_stay_usable() {
+    if gpu().is_none() {
+        return;
+    }
+    // A context of its own: destroying it must not disturb the other tests.
+    let ctx = rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Cpu).unwrap();
+    let mut s = rt_core::assets::cornell_box().unwrap();
+    s.settings.width = 16;
+    s.settings.height = 16;
+    let gpu_scene = GpuScene::build(&s).unwrap();
+    let mut renderer =
+        rt_gpu::Renderer::for_scene(&ctx, &s, &gpu_scene, RenderOptions::default()).unwrap();
+    renderer.render_batch(2).unwrap();
+    let before = renderer.read_image().unwrap();
+    assert!(before.channel_means()[0] > 0.0);
+    ctx.device.destroy();
+    let batch = renderer.render_batch(2);
+    let read = renderer.read_image();
+    assert!(
+        batch.is_err() || read.is_err(),
+        "a destroyed device went unnoticed"
+    );
+    let message = batch.err().or(read.err()).unwrap().to_string();
+    assert!(
+        message.to_lowercase().contains("lost")
+            || message.to_lowercase().contains("destroy")
+            || message.to_lowercase().contains("invalid"),
+        "{message}"
+    );
+}

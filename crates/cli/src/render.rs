@@ -119,6 +119,13 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let mut noise = f64::INFINITY;
     let mut last_estimate: Option<Instant> = None;
     let mut stopped_by = "samples per pixel";
+    // The image as last read back: if the GPU fails mid-render, this is what can still be saved.
+    let mut last_image: Option<rt_gpu::Image> = None;
+    // Fault injection for the tests: lose the device after this many batches.
+    let lose_device_after: Option<u32> = std::env::var("RT_FAULT_LOSE_DEVICE_AFTER_BATCHES")
+        .ok()
+        .and_then(|v| v.parse().ok());
+    let mut batches = 0u32;
     while renderer.samples_done() < spp {
         let done = renderer.samples_done();
         // With a noise target, grow batches geometrically so the stop overshoots by at most 1/8.
@@ -127,15 +134,31 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         } else {
             spp - done
         };
-        renderer.render_batch(batch.min(spp - done))?;
-        let done = renderer.samples_done();
-        // Estimate the noise when it decides the stop, else about once a second for display.
-        if args.noise_target.is_some()
-            || last_estimate.is_none_or(|t| t.elapsed().as_secs_f64() >= 1.0)
-        {
-            noise = estimated_rel_mse(&renderer.read_image()?.pixels, done).sqrt();
-            last_estimate = Some(Instant::now());
+        if lose_device_after == Some(batches) {
+            ctx.device.destroy();
         }
+        batches += 1;
+        let step = renderer
+            .render_batch(batch.min(spp - done))
+            .map(|_| ())
+            .and_then(|()| {
+                // Read back (for the noise estimate, and as a checkpoint) when the noise decides
+                // the stop, else about once a second.
+                let due = args.noise_target.is_some()
+                    || last_estimate.is_none_or(|t| t.elapsed().as_secs_f64() >= 1.0);
+                if due {
+                    let image = renderer.read_image()?;
+                    noise = estimated_rel_mse(&image.pixels, image.samples_per_pixel).sqrt();
+                    last_estimate = Some(Instant::now());
+                    last_image = Some(image);
+                }
+                Ok(())
+            });
+        if let Err(e) = step {
+            bar.finish_and_clear();
+            return Err(save_after_failure(&args, last_image, e.into()));
+        }
+        let done = renderer.samples_done();
         let secs = started.elapsed().as_secs_f64().max(1e-9);
         bar.set_position(u64::from(done));
         bar.set_message(format!(
@@ -258,4 +281,33 @@ fn render_in_tiles(
     eprintln!("render time:    {render_time:.2?}");
     eprintln!("saved:          {}", args.output.display());
     Ok(())
+}
+
+/// After the GPU failed mid-render: saves the samples last read back (if any) and returns the
+/// error, saying what was saved.
+fn save_after_failure(
+    args: &RenderArgs,
+    last_image: Option<rt_gpu::Image>,
+    error: anyhow::Error,
+) -> anyhow::Error {
+    let Some(image) = last_image.filter(|i| i.samples_per_pixel > 0) else {
+        return error.context("the render failed before any samples were read back");
+    };
+    match rt_core::output::save_render(
+        &args.output,
+        image.width,
+        image.height,
+        &image.pixels,
+        image.samples_per_pixel,
+        args.exposure,
+    ) {
+        Ok(()) => error.context(format!(
+            "the render failed; the {} spp read back before the failure were saved to {}",
+            image.samples_per_pixel,
+            args.output.display()
+        )),
+        Err(save) => error.context(format!(
+            "the render failed, and saving the samples read back before it failed too: {save}"
+        )),
+    }
 }

@@ -372,3 +372,32 @@ fn converge_writes_csv_and_plot_and_render_reads_projects() {
     assert!(stderr.contains("24x16, 3 spp"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// When the GPU is lost mid-render (injected: the device is destroyed after two batches), rt-cli
+/// exits with an error that says so and saves the samples it had read back before.
+#[test]
+fn a_device_lost_mid_render_saves_the_samples_read_back_before() {
+    if !has_gpu() && std::env::var_os("CI").is_none() {
+        return;
+    }
+    let dir = temp_dir("lost");
+    let out = dir.join("partial.exr");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_rt-cli"))
+        .args([
+            "render", "--width", "24", "--height", "24", "--spp", "100000", "-o",
+        ])
+        .arg(&out)
+        .env("RT_FAULT_LOSE_DEVICE_AFTER_BATCHES", "2")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("device was lost") && stderr.contains("were saved to"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let (w, h) = image::image_dimensions(&out).unwrap();
+    assert_eq!((w, h), (24, 24));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,7 +1,7 @@
 //! Adapter and device selection.
 
 use std::collections::HashMap;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use crate::error::{GpuError, Result};
 
@@ -35,6 +35,8 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
     pub(crate) pipelines: Mutex<HashMap<crate::pipelines::PipelineKey, wgpu::ComputePipeline>>,
+    /// Why the device was lost, once it has been.
+    lost: Arc<Mutex<Option<String>>>,
 }
 
 impl GpuContext {
@@ -97,7 +99,7 @@ impl GpuContext {
             )));
         };
         let info = adapter.get_info();
-        let (device, queue) = adapter
+        let (device, queue): (wgpu::Device, wgpu::Queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("rt"),
                 required_limits: adapter.limits(),
@@ -111,12 +113,28 @@ impl GpuContext {
             info.backend,
             info.device_type
         );
+        let lost: Arc<Mutex<Option<String>>> = Arc::default();
+        {
+            let lost = lost.clone();
+            device.set_device_lost_callback(move |reason, message| {
+                log::error!("GPU device lost ({reason:?}): {message}");
+                if let Ok(mut slot) = lost.lock() {
+                    slot.get_or_insert(format!("{reason:?}: {message}"));
+                }
+            });
+        }
+        // wgpu's default handler panics on errors outside an error scope (e.g. on a lost device);
+        // operations check `alive()` and scopes instead, so log them.
+        device.on_uncaptured_error(Arc::new(|e: wgpu::Error| {
+            log::error!("uncaptured GPU error: {e}");
+        }));
         Ok(GpuContext {
             adapter,
             device,
             queue,
             info,
             pipelines: Mutex::new(HashMap::new()),
+            lost,
         })
     }
 
@@ -148,6 +166,14 @@ impl GpuContext {
         Ok(())
     }
 
+    /// An error once the device has been lost.
+    pub fn alive(&self) -> Result<()> {
+        match self.lost.lock().ok().and_then(|l| l.clone()) {
+            Some(reason) => Err(GpuError::DeviceLost(reason)),
+            None => Ok(()),
+        }
+    }
+
     /// Runs `f` and turns any wgpu validation or out-of-memory error it caused into `GpuError::Wgpu`.
     pub fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T> {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
@@ -155,6 +181,7 @@ impl GpuContext {
         let value = f();
         let v = pollster::block_on(validation.pop());
         let o = pollster::block_on(oom.pop());
+        self.alive()?;
         match v.or(o) {
             Some(e) => Err(GpuError::Wgpu(e.to_string())),
             None => Ok(value),

@@ -18,9 +18,13 @@ pub enum GpuError {
         limit: u64,
         what: &'static str,
     },
-    /// wgpu reported a validation or out-of-memory error, or the device was lost.
+    /// wgpu reported a validation or out-of-memory error.
     #[error("GPU error: {0}")]
     Wgpu(String),
+    /// The device was lost (driver reset, GPU removed, watchdog, or destroyed); nothing more can
+    /// be rendered or read back on it.
+    #[error("the GPU device was lost ({0})")]
+    DeviceLost(String),
     /// The scene or its settings are invalid.
     #[error(transparent)]
     Scene(#[from] rt_core::Error),

@@ -300,6 +300,7 @@ impl<'a> Renderer<'a> {
     }
 
     fn dispatch(&mut self, row_begin: u32, rows: u32, samples: u32) -> Result<Duration> {
+        self.ctx.alive()?;
         let frame = Frame {
             sample_base: self.samples_done,
             samples_this_dispatch: samples,

@@ -85,8 +85,11 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
             ));
         }
         JobState::Failed(message) => {
-            ui.colored_label(egui::Color32::LIGHT_RED, format!("failed: {message}"));
-            return None;
+            // What was read back before the failure can still be looked at and saved.
+            ui.colored_label(
+                egui::Color32::LIGHT_RED,
+                format!("failed after {} spp: {message}", p.samples_done),
+            );
         }
     }
     ui.horizontal(|ui| {
