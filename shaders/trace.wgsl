@@ -15,6 +15,7 @@ override HAS_DIELECTRIC: bool = true;
 override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
 override HAS_NEE: bool = true;
+override HAS_DELTA_LIGHTS: bool = true;
 // Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
 // emitters and sky reached after a bounce) is scaled down so its largest channel is at most this;
 // emitters and sky seen directly stay exact. 0 is off. Biased (it removes energy); off by default.
@@ -41,6 +42,7 @@ fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
 // [0]: rays traced; [1]: samples dropped as NaN/Inf.
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;
 @group(0) @binding(8) var<storage, read> emitters: array<Emitter>;
+@group(0) @binding(9) var<storage, read> delta_lights: array<DeltaLight>;
 
 fn power_heuristic(a: f32, b: f32) -> f32 {
     let a2 = a * a;
@@ -82,6 +84,44 @@ fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, u
     let p_light = luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
     let p_bsdf = cos_x * (1.0 / PI);
     return le * (p_bsdf * power_heuristic(p_light, p_bsdf) / p_light);
+}
+
+// Point, spot and directional lights at diffuse point p: sum over lights of E cos/pi, E the
+// irradiance from the light (I/d^2, falloff for spots; E for the sun), if unoccluded (albedo and
+// beta applied by the caller). Deterministic: draws no random numbers.
+fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rays: ptr<function, u32>) -> vec3<f32> {
+    var sum = vec3(0.0);
+    let origin = offset_ray_origin(p, ng);
+    for (var i = 0u; i < arrayLength(&delta_lights); i++) {
+        let light = delta_lights[i];
+        if (light.kind == 0u) {
+            continue;
+        }
+        var dir = -light.direction;
+        var distance = 3.0e38;
+        var irradiance = light.power;
+        if (light.kind != LIGHT_DIRECTIONAL) {
+            let to = light.position - origin;
+            let d2 = dot(to, to);
+            distance = sqrt(d2);
+            dir = to / distance;
+            irradiance = light.power / d2;
+            if (light.kind == LIGHT_SPOT) {
+                let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-6), 0.0, 1.0);
+                irradiance *= t * t * (3.0 - 2.0 * t);
+            }
+        }
+        let cos_x = dot(dir, ns);
+        if (!(cos_x > 0.0 && dot(dir, ng) > 0.0) || all(irradiance == vec3(0.0))) {
+            continue;
+        }
+        *rays += 1u;
+        if (intersect_scene(origin, dir, distance, true).triangle != MISS) {
+            continue;
+        }
+        sum += irradiance * (cos_x / PI);
+    }
+    return sum;
 }
 
 fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, u32>) -> array<vec3<f32>, 2> {
@@ -187,6 +227,9 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u3
         } else {
             if (HAS_NEE) {
                 radiance += clamp_bounced(beta * albedo * direct_light(p, ng, ns, rng, rays));
+            }
+            if (HAS_DELTA_LIGHTS) {
+                radiance += clamp_bounced(beta * albedo * delta_lights_at(p, ng, ns, rays));
             }
             beta *= albedo;
             next = sample_cosine_hemisphere(ns, rng);

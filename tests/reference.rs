@@ -95,6 +95,28 @@ fn cornell_with_metal_and_glass(size: u32) -> Scene {
     scene
 }
 
+/// Point, spot and directional lights beside an area light, with metal: the GPU agrees with the CPU
+/// reference per pixel.
+#[test]
+fn gpu_matches_cpu_reference_with_point_spot_and_directional_lights() {
+    let mut scene = cornell_with_metal_and_glass(24);
+    let mut point = rt_core::Light::new(rt_core::LightKind::Point, "bulb");
+    point.position = [150.0, 400.0, 250.0];
+    point.color = [1.0, 0.8, 0.6];
+    point.intensity = 40_000.0;
+    let mut spot = rt_core::Light::new(rt_core::LightKind::Spot, "spot");
+    spot.position = [400.0, 500.0, 200.0];
+    spot.direction = [0.0, -1.0, 0.3];
+    spot.intensity = 80_000.0;
+    spot.inner_angle_deg = 10.0;
+    spot.outer_angle_deg = 25.0;
+    let mut sun = rt_core::Light::new(rt_core::LightKind::Directional, "sun");
+    sun.direction = [0.2, -1.0, 0.1];
+    sun.intensity = 0.5;
+    scene.lights = vec![point, spot, sun];
+    assert_images_agree(&scene, 8192, 4096);
+}
+
 #[test]
 fn gpu_matches_cpu_reference_on_cornell_with_metal_and_glass() {
     assert_images_agree(&cornell_with_metal_and_glass(12), 8192, 4096);

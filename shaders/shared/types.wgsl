@@ -97,3 +97,17 @@ struct Hit {
     b1: f32,         // 8
     b2: f32,         // 12
 }
+
+const LIGHT_POINT: u32 = 1u;
+const LIGHT_SPOT: u32 = 2u;
+const LIGHT_DIRECTIONAL: u32 = 3u;
+
+// A point, spot or directional light; see crates/core/src/light.rs for the units.
+struct DeltaLight {
+    position: vec3<f32>,         // 0
+    kind: u32,                   // 12
+    direction: vec3<f32>,        // 16
+    cos_inner: f32,              // 28
+    power: vec3<f32>,            // 32
+    cos_outer: f32,              // 44
+}

@@ -51,6 +51,7 @@ pub fn scene(
         camera,
         ambient,
         settings,
+        lights: Vec::new(),
     }
 }
 

@@ -72,7 +72,10 @@ pub struct UiState {
 
 pub struct RtApp {
     pub doc: Document,
+    /// The selected object.
     pub selection: Option<usize>,
+    /// The selected point, spot or directional light (exclusive with `selection`).
+    pub selected_light: Option<usize>,
     pub device: RenderDevice,
     pub renders: Vec<RenderView>,
     pub live: LiveView,
@@ -94,6 +97,7 @@ impl RtApp {
         let mut app = RtApp {
             doc: Document::new(scene, Origin::Embedded),
             selection: None,
+            selected_light: None,
             device: RenderDevice::new(options.adapter.clone()),
             renders: Vec::new(),
             live: LiveView::default(),
@@ -189,6 +193,7 @@ impl RtApp {
     fn replace_document(&mut self, doc: Document) {
         self.doc = doc;
         self.selection = None;
+        self.selected_light = None;
         self.live.job = None;
         self.live.key = None;
     }
@@ -287,6 +292,70 @@ impl RtApp {
         {
             self.selection = None;
         }
+        if self
+            .selected_light
+            .is_some_and(|s| s >= self.doc.scene.lights.len())
+        {
+            self.selected_light = None;
+        }
+    }
+
+    pub fn select_object(&mut self, index: Option<usize>) {
+        self.selection = index;
+        self.selected_light = None;
+    }
+
+    pub fn select_light(&mut self, index: Option<usize>) {
+        self.selected_light = index;
+        self.selection = None;
+    }
+
+    /// Adds a point, spot or directional light, placed and sized for the scene, and selects it.
+    /// Point and spot lights go above the scene's centre by its size, pointing down, with an
+    /// intensity that lights the centre about as brightly as a sky of radiance 1 would.
+    pub fn add_delta_light(&mut self, kind: rt_core::LightKind) {
+        let (center, size) = match self.doc.bounds() {
+            Some((lo, hi)) => ((lo + hi) * 0.5, (hi - lo).max_element().max(1e-3)),
+            None => (Vec3::ZERO, 1.0),
+        };
+        let count = self
+            .doc
+            .scene
+            .lights
+            .iter()
+            .filter(|l| l.kind == kind)
+            .count();
+        let name = match kind {
+            rt_core::LightKind::Point => "point light",
+            rt_core::LightKind::Spot => "spot light",
+            rt_core::LightKind::Directional => "sun",
+        };
+        let mut light = rt_core::Light::new(kind, &format!("{name} {}", count + 1));
+        light.position = (center + Vec3::Y * size * 0.45).to_array();
+        // E = I/h² below the light; a sky of radiance 1 gives E = π.
+        let h = size * 0.45;
+        light.intensity = match kind {
+            rt_core::LightKind::Directional => std::f32::consts::PI,
+            _ => std::f32::consts::PI * h * h,
+        };
+        if kind == rt_core::LightKind::Directional {
+            light.direction = Vec3::new(0.3, -1.0, 0.2).normalize().to_array();
+        }
+        self.doc
+            .edit("add light", "add light", |s| s.lights.push(light));
+        self.doc.seal();
+        self.select_light(Some(self.doc.scene.lights.len() - 1));
+    }
+
+    pub fn delete_delta_light(&mut self, index: usize) {
+        if index >= self.doc.scene.lights.len() {
+            return;
+        }
+        self.doc.edit("delete light", "delete light", |s| {
+            s.lights.remove(index);
+        });
+        self.doc.seal();
+        self.selected_light = None;
     }
 
     /// Adds an emissive box or quad at the centre of the scene (the origin in an empty scene),
@@ -331,7 +400,7 @@ impl RtApp {
         self.doc
             .edit("add light", "add light", |s| s.objects.push(object));
         self.doc.seal();
-        self.selection = Some(self.doc.scene.objects.len() - 1);
+        self.select_object(Some(self.doc.scene.objects.len() - 1));
     }
 
     pub fn delete_object(&mut self, index: usize) {

@@ -132,7 +132,7 @@ impl Document {
         if same_scene(&self.scene, &before) {
             return;
         }
-        if !same_objects(&self.scene, &before) {
+        if !same_objects(&self.scene, &before) || self.scene.lights != before.lights {
             self.geometry_revision += 1;
         }
         let merges = !self.sealed && self.undo.last().is_some_and(|s| s.key == key);
@@ -214,6 +214,7 @@ fn same_scene(a: &Scene, b: &Scene) -> bool {
         && a.camera == b.camera
         && a.ambient == b.ambient
         && a.settings == b.settings
+        && a.lights == b.lights
 }
 
 fn same_objects(a: &Scene, b: &Scene) -> bool {
@@ -267,6 +268,21 @@ mod tests {
         assert!(doc.redo() && doc.redo());
         assert_eq!(doc.scene, edited);
         assert!(!doc.redo());
+    }
+
+    #[test]
+    fn every_part_of_the_scene_is_undoable() {
+        let mut doc = doc();
+        let original = doc.scene.clone();
+        let light = rt_core::Light::new(rt_core::LightKind::Point, "p");
+        doc.edit("light", "light", |s| s.lights.push(light));
+        doc.seal();
+        doc.edit("clamp", "clamp", |s| s.settings.clamp = Some(2.0));
+        doc.seal();
+        doc.edit("lens", "lens", |s| s.camera.aperture_radius = 1.0);
+        assert_eq!(doc.undo_label(), Some("lens"));
+        assert!(doc.undo() && doc.undo() && doc.undo());
+        assert_eq!(doc.scene, original);
     }
 
     #[test]

@@ -352,3 +352,55 @@ fn the_path_traced_viewport_renders_and_restarts_on_change_reusing_the_bvh() {
         .save(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("editor-path-traced.png"))
         .unwrap();
 }
+
+#[test]
+fn add_edit_and_delete_point_spot_and_sun_lights() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    for (button, kind) in [
+        ("Add point light", rt_core::LightKind::Point),
+        ("Add spot light", rt_core::LightKind::Spot),
+        ("Add sun", rt_core::LightKind::Directional),
+    ] {
+        harness.get_by_label(button).click();
+        harness.run_ok();
+        let app = harness.state();
+        let light = app.doc.scene.lights.last().unwrap();
+        assert_eq!(light.kind, kind);
+        assert_eq!(app.selected_light, Some(app.doc.scene.lights.len() - 1));
+        assert_eq!(app.selection, None, "selecting a light deselects objects");
+        light.validate().unwrap();
+    }
+    assert_eq!(harness.state().doc.scene.lights.len(), 3);
+    // The inspector edits the selected light (the sun): switch it to a point light.
+    harness.get_by_label("Point").click();
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.lights[2].kind,
+        rt_core::LightKind::Point
+    );
+    harness.get_by_label("Delete light").click();
+    harness.run_ok();
+    assert_eq!(harness.state().doc.scene.lights.len(), 2);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.lights.len(),
+        3,
+        "undo brings it back"
+    );
+    // Lights render: a final render with them finishes.
+    harness.state_mut().doc.edit("small", "small", |s| {
+        s.settings.width = 16;
+        s.settings.height = 16;
+        s.settings.samples_per_pixel = 2;
+    });
+    harness.state_mut().start_render();
+    step_until(&mut harness, "the render with delta lights", |app| {
+        !app.is_rendering()
+    });
+    assert_eq!(harness.state().renders[0].job.state, JobState::Finished);
+}

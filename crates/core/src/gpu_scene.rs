@@ -20,6 +20,8 @@ pub struct SceneFeatures {
     pub thin_lens: bool,
     /// Next-event estimation (the scene has emitters and the settings ask for it).
     pub nee: bool,
+    /// Point, spot or directional lights (always sampled directly).
+    pub delta_lights: bool,
 }
 
 /// Everything the GPU needs for a scene, as plain arrays.
@@ -36,6 +38,8 @@ pub struct GpuScene {
     pub emitters: Vec<gpu_types::Emitter>,
     /// Σ area × luminance(emission) over `emitters`.
     pub emitter_power: f32,
+    /// Point, spot and directional lights.
+    pub delta_lights: Vec<gpu_types::DeltaLight>,
     pub features: SceneFeatures,
     pub bvh_depth: usize,
     pub bvh_build_time: Duration,
@@ -177,6 +181,16 @@ impl GpuScene {
         (out.emitters, out.emitter_power) =
             crate::emitters::build_emitters(&out.triangles, &out.materials);
         out.features.nee = scene.settings.next_event_estimation && !out.emitters.is_empty();
+        for light in &scene.lights {
+            light.validate().map_err(Error::Scene)?;
+        }
+        out.delta_lights = scene
+            .lights
+            .iter()
+            .filter(|l| l.intensity > 0.0 && l.color.iter().any(|c| *c > 0.0))
+            .map(|l| l.gpu())
+            .collect();
+        out.features.delta_lights = !out.delta_lights.is_empty();
         Ok(out)
     }
 

@@ -129,6 +129,28 @@ pub struct Emitter {
     pub _pad: u32,        // 12
 }
 
+/// Kinds of `DeltaLight`.
+pub mod light_kind {
+    pub const POINT: u32 = 1;
+    pub const SPOT: u32 = 2;
+    pub const DIRECTIONAL: u32 = 3;
+}
+
+/// A point, spot or directional light (see `crate::light` for the units).
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DeltaLight {
+    pub position: [f32; 3], // 0
+    /// `light_kind`; 0 marks the padding record of a scene without delta lights.
+    pub kind: u32, // 12
+    /// Unit direction the light travels (spot axis, sun direction).
+    pub direction: [f32; 3], // 16
+    pub cos_inner: f32,     // 28
+    /// color × intensity: W/sr (point, spot) or W/m² (directional).
+    pub power: [f32; 3], // 32
+    pub cos_outer: f32,     // 44
+}
+
 /// A ray for the `trace_rays` test kernel.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -239,6 +261,11 @@ pub fn layouts() -> Vec<StructLayout> {
             ]
         ),
         layout!("Emitter", Emitter, [triangle, alias_index, threshold, _pad]),
+        layout!(
+            "DeltaLight",
+            DeltaLight,
+            [position, kind, direction, cos_inner, power, cos_outer]
+        ),
         layout!("Ray", Ray, [origin, t_max, direction, _pad]),
         layout!("Hit", Hit, [t, triangle, b1, b2]),
     ]

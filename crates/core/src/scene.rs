@@ -163,6 +163,9 @@ pub struct Scene {
     /// Radiance of rays that leave the scene (a constant environment).
     pub ambient: Rgb,
     pub settings: RenderSettings,
+    /// Point, spot and directional lights (emissive objects are lights too).
+    #[serde(default)]
+    pub lights: Vec<crate::light::Light>,
 }
 
 impl Scene {

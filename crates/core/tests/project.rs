@@ -56,6 +56,16 @@ fn rich_scene() -> Scene {
     scene.settings.max_depth = 11;
     scene.settings.seed = 42;
     scene.settings.next_event_estimation = false;
+    scene.settings.clamp = Some(4.0);
+    let mut spot = rt_core::Light::new(rt_core::LightKind::Spot, "spot");
+    spot.position = [1.0, 2.0, 3.0];
+    spot.direction = [0.0, -1.0, 0.5];
+    spot.inner_angle_deg = 12.0;
+    spot.outer_angle_deg = 40.0;
+    let mut sun = rt_core::Light::new(rt_core::LightKind::Directional, "sun");
+    sun.color = [1.0, 0.9, 0.8];
+    sun.intensity = 2.5;
+    scene.lights = vec![spot, sun];
     scene
 }
 
@@ -139,6 +149,10 @@ fn a_project_round_trips_every_field_through_a_file() {
         loaded.textures, scene.textures,
         "texture names, sizes and texels"
     );
+    assert_eq!(
+        loaded.lights, scene.lights,
+        "point, spot and directional lights"
+    );
     assert_eq!(loaded.objects.len(), scene.objects.len());
     for (a, b) in loaded.objects.iter().zip(&scene.objects) {
         assert_eq!(a.name, b.name);
@@ -176,6 +190,11 @@ fn lighting_files_carry_only_ambient_and_emitters() {
     loaded.apply(&mut other);
     assert_eq!(other.ambient, scene.ambient);
     assert_eq!(Lighting::of(&other), lighting);
+    assert_eq!(
+        other.lights.len(),
+        2,
+        "delta lights travel with the lighting"
+    );
     assert_eq!(other.objects.len(), 2, "non-emissive objects are kept");
 }
 
@@ -198,6 +217,12 @@ fn wrong_and_future_versions_are_named() {
         message.contains("version 99") && message.contains("newer rt"),
         "{message}"
     );
+    let version_1 = with_manifest(&bytes, |j| {
+        j["version"] = 1.into();
+        j.as_object_mut().unwrap().remove("lights");
+    });
+    let old = decode(&version_1).expect("version 1 files (no lights) still load");
+    assert!(old.lights.is_empty());
     let zero = with_manifest(&bytes, |j| j["version"] = 0.into());
     assert!(error_of(&zero).contains("version 0"));
     let lighting = with_manifest(&bytes, |j| j["format"] = LIGHTING_FORMAT.into());

@@ -17,7 +17,7 @@ pub struct PipelineKey {
 }
 
 impl PipelineKey {
-    fn constants(&self) -> [(&'static str, f64); 7] {
+    fn constants(&self) -> [(&'static str, f64); 8] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("HAS_TEXTURES", flag(self.features.textures)),
@@ -26,6 +26,7 @@ impl PipelineKey {
             ("HAS_THIN_LENS", flag(self.features.thin_lens)),
             ("COUNT_RAYS", flag(self.count_rays)),
             ("HAS_NEE", flag(self.features.nee)),
+            ("HAS_DELTA_LIGHTS", flag(self.features.delta_lights)),
             ("CLAMP_MAX", f64::from(f32::from_bits(self.clamp_bits))),
         ]
     }

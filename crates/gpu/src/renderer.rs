@@ -163,6 +163,12 @@ impl<'a> Renderer<'a> {
                 &scene.emitters,
                 wgpu::BufferUsages::empty(),
             )?,
+            storage_buffer(
+                ctx,
+                "delta lights",
+                &scene.delta_lights,
+                wgpu::BufferUsages::empty(),
+            )?,
         ];
         let (frame_buffer, accum, counters, bind_group) = ctx.scoped(|| {
             let frame_buffer = ctx
@@ -186,8 +192,17 @@ impl<'a> Renderer<'a> {
                     | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            // 0: frame; 1-5: scene buffers; 6: accumulation; 7: counters; 8: emitters.
-            let [triangles, shading, materials, nodes, texels, emitters] = &buffers;
+            // 0: frame; 1-5: scene buffers; 6: accumulation; 7: counters; 8: emitters;
+            // 9: delta lights.
+            let [
+                triangles,
+                shading,
+                materials,
+                nodes,
+                texels,
+                emitters,
+                delta_lights,
+            ] = &buffers;
             let bound = [
                 (0, &frame_buffer),
                 (1, triangles),
@@ -198,6 +213,7 @@ impl<'a> Renderer<'a> {
                 (6, &accum),
                 (7, &counters),
                 (8, emitters),
+                (9, delta_lights),
             ];
             let entries: Vec<wgpu::BindGroupEntry> = bound
                 .iter()
@@ -213,7 +229,9 @@ impl<'a> Renderer<'a> {
             });
             (frame_buffer, accum, counters, bind_group)
         })?;
-        let steps_per_segment = 4 * scene.bvh_depth as u32 + 16;
+        // Each path segment traces one ray, a shadow ray for NEE and one per delta light.
+        let rays_per_segment = 2 + scene.delta_lights.len() as u32;
+        let steps_per_segment = (2 * scene.bvh_depth as u32 + 8) * rays_per_segment;
         let loop_cap = (LOOP_BUDGET / (frame.max_depth.max(1) * steps_per_segment)).clamp(1, 64);
         let loop_cap = options
             .max_samples_per_dispatch

@@ -113,6 +113,23 @@ pub fn build_frame(
             _ => None,
         })
         .collect();
+    // Point and spot lights as they are (the spot's cone is ignored); the sun as a point light so
+    // far away that its light is parallel, bright enough to give its irradiance.
+    for light in &scene.lights {
+        let power = Vec3::from(light.color) * light.intensity / std::f32::consts::PI;
+        let (position, intensity) = match light.kind {
+            rt_core::LightKind::Directional => {
+                let far = radius * 1000.0;
+                let direction = Vec3::from(light.direction).normalize_or(Vec3::NEG_Y);
+                (center - direction * far, power * far * far)
+            }
+            _ => (Vec3::from(light.position), power),
+        };
+        lights.push(PreviewLight {
+            position: position.extend(1.0).to_array(),
+            intensity: intensity.extend(0.0).to_array(),
+        });
+    }
     lights.sort_by(|a, b| {
         let la = luminance(Vec3::from_slice(&a.intensity[..3]));
         let lb = luminance(Vec3::from_slice(&b.intensity[..3]));

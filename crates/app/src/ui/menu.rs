@@ -114,7 +114,7 @@ fn file_menu(app: &mut RtApp, ui: &mut egui::Ui) {
         && let Ok(scene) = rt_core::assets::cornell_box()
     {
         app.doc = crate::document::Document::new(scene, crate::document::Origin::Embedded);
-        app.selection = None;
+        app.select_object(None);
     }
     ui.separator();
     if ui

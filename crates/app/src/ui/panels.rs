@@ -33,7 +33,7 @@ pub fn objects_panel(app: &mut RtApp, ui: &mut Ui) {
         ui.weak("No objects: open an OBJ (File > Open).");
     }
     if let Some(i) = clicked {
-        app.selection = Some(i);
+        app.select_object(Some(i));
     }
 }
 
@@ -81,7 +81,20 @@ pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
         }
     }
     if let Some(i) = clicked {
-        app.selection = Some(i);
+        app.select_object(Some(i));
+    }
+    let mut clicked_light = None;
+    for (i, light) in app.doc.scene.lights.iter().enumerate() {
+        if ui
+            .selectable_label(app.selected_light == Some(i), &light.name)
+            .on_hover_text(format!("A {:?} light; select it to edit", light.kind))
+            .clicked()
+        {
+            clicked_light = Some(i);
+        }
+    }
+    if let Some(i) = clicked_light {
+        app.select_light(Some(i));
     }
     ui.horizontal(|ui| {
         if ui
@@ -99,6 +112,125 @@ pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
             app.add_light(LightShape::Quad);
         }
     });
+    ui.horizontal(|ui| {
+        if ui
+            .button("Add point light")
+            .on_hover_text("A point light above the centre of the scene (intensity in W/sr)")
+            .clicked()
+        {
+            app.add_delta_light(rt_core::LightKind::Point);
+        }
+        if ui
+            .button("Add spot light")
+            .on_hover_text("A spot light above the centre of the scene, pointing down")
+            .clicked()
+        {
+            app.add_delta_light(rt_core::LightKind::Spot);
+        }
+        if ui
+            .button("Add sun")
+            .on_hover_text("A directional light: parallel light from far away (irradiance in W/m²)")
+            .clicked()
+        {
+            app.add_delta_light(rt_core::LightKind::Directional);
+        }
+    });
+}
+
+/// Edits the selected point, spot or directional light.
+fn light_inspector(app: &mut RtApp, ui: &mut Ui, index: usize) {
+    let mut light = app.doc.scene.lights[index].clone();
+    ui.horizontal(|ui| {
+        ui.label("Name");
+        ui.text_edit_singleline(&mut light.name)
+            .on_hover_text("The light's name");
+    });
+    ui.horizontal_wrapped(|ui| {
+        for (kind, label, tip) in [
+            (
+                rt_core::LightKind::Point,
+                "Point",
+                "Light from a point, in every direction",
+            ),
+            (
+                rt_core::LightKind::Spot,
+                "Spot",
+                "Light from a point, in a cone",
+            ),
+            (
+                rt_core::LightKind::Directional,
+                "Sun",
+                "Parallel light from far away",
+            ),
+        ] {
+            ui.selectable_value(&mut light.kind, kind, label)
+                .on_hover_text(tip);
+        }
+    });
+    let size = app
+        .doc
+        .bounds()
+        .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-3));
+    if light.kind != rt_core::LightKind::Directional {
+        vec3_row(
+            ui,
+            "Position",
+            &mut light.position,
+            size * 0.005,
+            "Where the light is",
+        );
+    }
+    if light.kind != rt_core::LightKind::Point {
+        vec3_row(
+            ui,
+            "Direction",
+            &mut light.direction,
+            0.01,
+            "The way the light travels (need not be normalised)",
+        );
+    }
+    ui.horizontal(|ui| {
+        ui.label("Colour");
+        ui.color_edit_button_rgb(&mut light.color)
+            .on_hover_text("Colour of the light");
+    });
+    let unit = if light.kind == rt_core::LightKind::Directional {
+        "W/m² (irradiance facing it)"
+    } else {
+        "W/sr (radiant intensity)"
+    };
+    ui.horizontal(|ui| {
+        ui.label("Intensity");
+        ui.add(
+            DragValue::new(&mut light.intensity)
+                .speed(0.1)
+                .range(0.0..=1e12),
+        )
+        .on_hover_text(format!("Colour × intensity, in {unit}"));
+        ui.weak(unit);
+    });
+    if light.kind == rt_core::LightKind::Spot {
+        ui.add(egui::Slider::new(&mut light.inner_angle_deg, 0.0..=180.0).text("inner angle °"))
+            .on_hover_text("Full intensity within this angle of the direction");
+        ui.add(egui::Slider::new(&mut light.outer_angle_deg, 0.0..=180.0).text("outer angle °"))
+            .on_hover_text("No light beyond this angle; a smooth falloff in between");
+        light.outer_angle_deg = light.outer_angle_deg.max(light.inner_angle_deg);
+    }
+    if ui
+        .button("Delete light")
+        .on_hover_text("Remove this light (undo brings it back)")
+        .clicked()
+    {
+        app.delete_delta_light(index);
+        return;
+    }
+    if light != app.doc.scene.lights[index] {
+        app.doc.edit(
+            &format!("edit {}", light.name),
+            &format!("light#{index}"),
+            |s| s.lights[index] = light,
+        );
+    }
 }
 
 /// The material kinds offered in the inspector.
@@ -156,6 +288,13 @@ fn with_kind(m: &Material, kind: Kind, textures: usize) -> Material {
 
 pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
     ui.heading("Inspector");
+    if let Some(index) = app
+        .selected_light
+        .filter(|&i| i < app.doc.scene.lights.len())
+    {
+        light_inspector(app, ui, index);
+        return;
+    }
     let Some(index) = app.selection.filter(|&i| i < app.doc.scene.objects.len()) else {
         ui.weak("Select an object in the list or click it in the viewport.");
         return;

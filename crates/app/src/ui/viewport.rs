@@ -154,7 +154,7 @@ fn navigate(app: &mut RtApp, ui: &Ui, response: &egui::Response, rect: egui::Rec
             }
             app.ui.picking_focus = false;
         } else {
-            app.selection = hit.map(|((i, _), _)| i);
+            app.select_object(hit.map(|((i, _), _)| i));
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Project files: a whole scene in one zip archive, so that a project can be mailed or moved
 //! without breaking paths.
 //!
-//! Layout (format version 1):
+//! Layout (format version 2; version 1 had no `lights`):
 //! - `project.json`: `{"format": "rt-project", "version": 1, ...}` with the camera, ambient light,
 //!   render settings, and per object its name, material, transform and the mesh entry it uses;
 //!   per texture its name, size and image entry.
@@ -10,7 +10,8 @@
 //! - `textures/N.png`: the RGBA8 texels, lossless.
 //!
 //! A lighting file (`.rtlight`) is the same container with `"format": "rt-lighting"`, holding only
-//! the ambient light and the emissive objects, to reuse a light set across projects.
+//! the ambient light, the emissive objects and the point, spot and directional lights, to reuse a
+//! light set across projects.
 //!
 //! Loading reads every entry into memory and never writes anything, so hostile entry names cannot
 //! reach the file system; they are rejected anyway, and decompressed sizes are capped by reading,
@@ -30,8 +31,9 @@ use crate::material::{Material, Rgb};
 use crate::output::write_atomically;
 use crate::scene::{Mesh, Object, RenderSettings, Scene, Texture, Transform};
 
-/// The format version this build writes; it reads this and every earlier one.
-pub const FORMAT_VERSION: u32 = 1;
+/// The format version this build writes; it reads this and every earlier one. Version 2 added
+/// point, spot and directional lights (`lights`).
+pub const FORMAT_VERSION: u32 = 2;
 pub const PROJECT_FORMAT: &str = "rt-project";
 pub const LIGHTING_FORMAT: &str = "rt-lighting";
 /// File extensions the editor offers.
@@ -74,6 +76,8 @@ struct Manifest {
     objects: Vec<ObjectEntry>,
     #[serde(default)]
     textures: Vec<TextureEntry>,
+    #[serde(default)]
+    lights: Vec<crate::light::Light>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -107,7 +111,10 @@ struct Header {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lighting {
     pub ambient: Rgb,
+    /// Emissive objects.
     pub lights: Vec<Object>,
+    /// Point, spot and directional lights.
+    pub delta_lights: Vec<crate::light::Light>,
 }
 
 impl Lighting {
@@ -120,6 +127,7 @@ impl Lighting {
                 .filter(|o| matches!(o.material, Material::Emissive { .. }))
                 .cloned()
                 .collect(),
+            delta_lights: scene.lights.clone(),
         }
     }
 
@@ -129,6 +137,7 @@ impl Lighting {
             .objects
             .retain(|o| !matches!(o.material, Material::Emissive { .. }));
         scene.objects.extend(self.lights.iter().cloned());
+        scene.lights = self.delta_lights.clone();
         scene.ambient = self.ambient;
     }
 }
@@ -150,6 +159,7 @@ pub fn save_lighting(lighting: &Lighting, path: &Path) -> Result<()> {
     let scene = Scene {
         objects: lighting.lights.clone(),
         ambient: lighting.ambient,
+        lights: lighting.delta_lights.clone(),
         ..Scene::default()
     };
     let bytes = encode_archive(&scene, LIGHTING_FORMAT, path)?;
@@ -172,6 +182,7 @@ pub fn load_lighting(path: &Path) -> Result<Lighting> {
     Ok(Lighting {
         ambient: scene.ambient,
         lights: scene.objects,
+        delta_lights: scene.lights,
     })
 }
 
@@ -251,6 +262,7 @@ pub fn encode_archive(scene: &Scene, format: &str, path: &Path) -> Result<Vec<u8
         settings: is_project.then(|| scene.settings.clone()),
         objects,
         textures,
+        lights: scene.lights.clone(),
     };
     let json = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| err(format!("encoding {MANIFEST}: {e}")))?;
@@ -339,6 +351,7 @@ pub fn decode_archive(
         camera: manifest.camera.unwrap_or_default(),
         ambient: manifest.ambient,
         settings: manifest.settings.unwrap_or_default(),
+        lights: manifest.lights,
     };
     check_scene(&scene).map_err(|m| archive.error(format!("{MANIFEST}: {m}")))?;
     Ok(scene)
@@ -371,6 +384,9 @@ fn check_scene(scene: &Scene) -> Result<(), String> {
                 scene.textures.len()
             ));
         }
+    }
+    for light in &scene.lights {
+        light.validate()?;
     }
     let c = &scene.camera;
     if !(finite(&c.from) && finite(&c.to) && finite(&c.up) && c.vfov_deg.is_finite()) {

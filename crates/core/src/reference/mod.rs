@@ -145,6 +145,49 @@ pub fn direct_light(
 }
 
 /// Nearest hit by testing every triangle (for checking `trace`).
+/// Point, spot and directional lights at diffuse point `p`: Σ E cosθ/π over the unoccluded lights
+/// (albedo and β applied by the caller), E = I/d² (times the spot falloff) or the sun's E.
+pub fn delta_lights_at(scene: &GpuScene, p: Vec3, ng: Vec3, ns: Vec3) -> Vec3 {
+    use crate::gpu_types::light_kind;
+    let origin = offset_ray_origin(p, ng);
+    let mut sum = Vec3::ZERO;
+    for light in &scene.delta_lights {
+        if light.kind == 0 {
+            continue;
+        }
+        let (dir, distance, irradiance) = if light.kind == light_kind::DIRECTIONAL {
+            (
+                -Vec3::from(light.direction),
+                3.0e38,
+                Vec3::from(light.power),
+            )
+        } else {
+            let to = Vec3::from(light.position) - origin;
+            let d2 = to.length_squared();
+            let distance = d2.sqrt();
+            let dir = to / distance;
+            let mut e = Vec3::from(light.power) / d2;
+            if light.kind == light_kind::SPOT {
+                e *= crate::light::spot_falloff(
+                    (-dir).dot(Vec3::from(light.direction)),
+                    light.cos_inner,
+                    light.cos_outer,
+                );
+            }
+            (dir, distance, e)
+        };
+        let cos_x = dir.dot(ns);
+        if !(cos_x > 0.0 && dir.dot(ng) > 0.0) || irradiance == Vec3::ZERO {
+            continue;
+        }
+        if occluded(scene, origin, dir, distance) {
+            continue;
+        }
+        sum += irradiance * (cos_x / std::f32::consts::PI);
+    }
+    sum
+}
+
 pub fn trace_brute_force(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let mut hit = miss(t_max);
@@ -296,6 +339,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                 if frame.emitter_count > 0 {
                     radiance += beta * albedo * direct_light(scene, frame, p, ng, ns, &mut rng);
                 }
+                radiance += beta * albedo * delta_lights_at(scene, p, ng, ns);
                 beta *= albedo;
                 let d = sample_cosine_hemisphere(ns, &mut rng);
                 prev_bsdf_pdf = d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI;
