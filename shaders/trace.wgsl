@@ -260,7 +260,11 @@ fn is_finite3(v: vec3<f32>) -> bool {
     return all(e != vec3(0x7f800000u));
 }
 
-@compute @workgroup_size(8, 8, 1)
+// Work-group shape (measured in docs/benchmarks.md; 8 x 8 unless a benchmark asks otherwise).
+override WG_X: u32 = 8u;
+override WG_Y: u32 = 8u;
+
+@compute @workgroup_size(WG_X, WG_Y, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let x = gid.x;
     let y = gid.y + frame.row_begin;

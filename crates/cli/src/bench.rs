@@ -25,6 +25,92 @@ pub struct BenchArgs {
     /// Benchmark BSDF sampling only (next-event estimation off).
     #[arg(long)]
     no_nee: bool,
+    /// Use the generic kernel (every feature compiled in) instead of one specialised per scene.
+    #[arg(long)]
+    generic: bool,
+    /// Work-group shape, e.g. 8x8 (the default), 16x4, 32x1.
+    #[arg(long, default_value = "8x8", value_parser = parse_workgroup)]
+    workgroup: [u32; 2],
+    /// Only the scenes whose names contain this.
+    #[arg(long)]
+    only: Option<String>,
+}
+
+fn parse_workgroup(s: &str) -> Result<[u32; 2], String> {
+    let (x, y) = s
+        .split_once('x')
+        .ok_or_else(|| format!("expected WxH like 8x8, got '{s}'"))?;
+    let parse = |v: &str| match v.trim().parse::<u32>() {
+        Ok(n) if (1..=256).contains(&n) => Ok(n),
+        _ => Err(format!("'{v}' is not a work-group side in 1..=256")),
+    };
+    let (x, y) = (parse(x)?, parse(y)?);
+    if x * y > 256 {
+        return Err(format!(
+            "{x}x{y} is more than 256 invocations per work group"
+        ));
+    }
+    Ok([x, y])
+}
+
+/// The Cornell box with spheres of more material kinds: metal, or metal, glass and a texture
+/// seen through a thin lens ("all").
+fn material_scene(all: bool) -> Result<Scene> {
+    use rt_core::{Material, Object, Texture, Transform};
+    let mut scene = rt_core::assets::cornell_box()?;
+    let sphere = std::sync::Arc::new(rt_core::shapes::uv_sphere(80.0, 24, 48));
+    let place = |x: f32, z: f32| Transform {
+        translation: [x, 80.0, z],
+        ..Transform::default()
+    };
+    scene.objects.push(Object {
+        name: "metal ball".into(),
+        mesh: sphere.clone(),
+        material: Material::Metal {
+            albedo: [0.95, 0.64, 0.54],
+            fuzz: 0.1,
+        },
+        transform: place(150.0, 150.0),
+    });
+    if all {
+        scene.objects.push(Object {
+            name: "glass ball".into(),
+            mesh: sphere.clone(),
+            material: Material::Dielectric {
+                ior: 1.5,
+                tint: [1.0; 3],
+            },
+            transform: place(400.0, 200.0),
+        });
+        let texels: Vec<u8> = (0..64)
+            .flat_map(|i| {
+                let on = (i % 8 + i / 8) % 2 == 0;
+                if on {
+                    [230, 230, 230, 255]
+                } else {
+                    [40, 60, 160, 255]
+                }
+            })
+            .collect();
+        scene.textures.push(Texture {
+            name: "checker".into(),
+            width: 8,
+            height: 8,
+            rgba8: texels.into(),
+        });
+        scene.objects.push(Object {
+            name: "textured ball".into(),
+            mesh: sphere,
+            material: Material::Lambertian {
+                albedo: [1.0; 3],
+                texture: Some(0),
+            },
+            transform: place(280.0, 380.0),
+        });
+        scene.camera.aperture_radius = 5.0;
+        scene.camera.focus_distance = Some(1000.0);
+    }
+    Ok(scene)
 }
 
 #[derive(Serialize)]
@@ -46,6 +132,8 @@ struct Record {
     paths_per_s: f64,
     rays_per_s: f64,
     gpu_scene_bytes: u64,
+    generic_kernel: bool,
+    workgroup: String,
 }
 
 fn mesh_scene(path: &Path) -> Result<Scene> {
@@ -64,10 +152,14 @@ fn mesh_scene(path: &Path) -> Result<Scene> {
 
 pub fn run(args: BenchArgs) -> Result<()> {
     let ctx = GpuContext::new(&args.adapter)?;
-    let mut suite: Vec<(String, Result<Scene>)> = vec![(
-        "cornell".into(),
-        rt_core::assets::cornell_box().map_err(Into::into),
-    )];
+    let mut suite: Vec<(String, Result<Scene>)> = vec![
+        (
+            "cornell".into(),
+            rt_core::assets::cornell_box().map_err(Into::into),
+        ),
+        ("cornell+metal".into(), material_scene(false)),
+        ("cornell+all".into(), material_scene(true)),
+    ];
     for (name, file) in [
         ("bunny-69k", "stanford-bunny/stanford-bunny.obj"),
         ("dragon-202k", "stanford-dragon/dragon_vrip_res2.obj"),
@@ -97,6 +189,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
     );
     let mut records = Vec::new();
     for (name, scene) in suite {
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !name.contains(o.as_str()))
+        {
+            continue;
+        }
         let mut scene = scene?;
         scene.settings.width = args.size;
         scene.settings.height = args.size;
@@ -106,6 +205,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
         let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
         let options = RenderOptions {
             count_rays: true,
+            generic_kernel: args.generic,
+            workgroup: args.workgroup,
             ..Default::default()
         };
         // Warm-up: compiles the pipeline and settles the dispatch size.
@@ -132,6 +233,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             paths_per_s: paths / secs,
             rays_per_s: renderer.rays_traced() as f64 / secs,
             gpu_scene_bytes: gpu_scene.buffer_sizes().iter().map(|(_, b)| b).sum(),
+            generic_kernel: args.generic,
+            workgroup: format!("{}x{}", args.workgroup[0], args.workgroup[1]),
         };
         println!(
             "{:<12} {:>9} {:>9.1} {:>9.1} {:>6} {:>9.1} {:>9.2} {:>9.3} {:>9.3}",

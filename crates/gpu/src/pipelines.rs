@@ -14,10 +14,12 @@ pub struct PipelineKey {
     pub count_rays: bool,
     /// Bits of the firefly clamp (`f32::to_bits`); 0 is off.
     pub clamp_bits: u32,
+    /// Work-group width and height.
+    pub workgroup: [u32; 2],
 }
 
 impl PipelineKey {
-    fn constants(&self) -> [(&'static str, f64); 8] {
+    fn constants(&self) -> [(&'static str, f64); 10] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("HAS_TEXTURES", flag(self.features.textures)),
@@ -28,6 +30,8 @@ impl PipelineKey {
             ("HAS_NEE", flag(self.features.nee)),
             ("HAS_DELTA_LIGHTS", flag(self.features.delta_lights)),
             ("CLAMP_MAX", f64::from(f32::from_bits(self.clamp_bits))),
+            ("WG_X", f64::from(self.workgroup[0])),
+            ("WG_Y", f64::from(self.workgroup[1])),
         ]
     }
 }

@@ -26,6 +26,11 @@ pub struct RenderOptions {
     /// default) leaves samples alone.
     /// `Renderer::for_scene` takes it from the scene's settings when unset here.
     pub clamp: Option<f32>,
+    /// Compile every optional feature in, as if the scene used them all (benchmarks compare this
+    /// generic kernel with the specialised one).
+    pub generic_kernel: bool,
+    /// Work-group width and height (benchmarks); 8 x 8 by default.
+    pub workgroup: [u32; 2],
 }
 
 impl Default for RenderOptions {
@@ -35,6 +40,8 @@ impl Default for RenderOptions {
             count_rays: false,
             max_samples_per_dispatch: None,
             clamp: None,
+            generic_kernel: false,
+            workgroup: [8, 8],
         }
     }
 }
@@ -130,6 +137,15 @@ impl<'a> Renderer<'a> {
         let mut features = scene.features;
         features.thin_lens = frame.lens_radius > 0.0;
         features.nee = frame.emitter_count > 0;
+        if options.generic_kernel {
+            // Every branch compiled in; each still checks its data at run time. (NEE stays as the
+            // scene needs: the emitter table must not be empty.)
+            features.textures = true;
+            features.metal = true;
+            features.dielectric = true;
+            features.thin_lens = true;
+            features.delta_lights = true;
+        }
         let pipeline = trace_pipeline(
             ctx,
             PipelineKey {
@@ -139,6 +155,7 @@ impl<'a> Renderer<'a> {
                     .clamp
                     .filter(|c| c.is_finite() && *c > 0.0)
                     .map_or(0, f32::to_bits),
+                workgroup: options.workgroup.map(|w| w.max(1)),
             },
         )?;
         let buffers = [
@@ -336,7 +353,8 @@ impl<'a> Renderer<'a> {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.dispatch_workgroups(self.frame.width.div_ceil(8), rows.div_ceil(8), 1);
+                let [wx, wy] = self.options.workgroup.map(|w| w.max(1));
+                pass.dispatch_workgroups(self.frame.width.div_ceil(wx), rows.div_ceil(wy), 1);
             }
             self.ctx.queue.submit([encoder.finish()]);
         })?;
