@@ -58,7 +58,21 @@ fn parse_workgroup(s: &str) -> Result<[u32; 2], String> {
 fn material_scene(all: bool) -> Result<Scene> {
     use rt_core::{Material, Object, Texture, Transform};
     let mut scene = rt_core::assets::cornell_box()?;
-    let sphere = std::sync::Arc::new(rt_core::shapes::uv_sphere(80.0, 24, 48));
+    let mut mesh = rt_core::shapes::uv_sphere(80.0, 24, 48);
+    // Spherical coordinates as texture coordinates, for the textured ball.
+    mesh.uvs = Some(
+        mesh.positions
+            .iter()
+            .map(|p| {
+                let d = p.normalize_or_zero();
+                glam::Vec2::new(
+                    0.5 + d.z.atan2(d.x) / std::f32::consts::TAU,
+                    0.5 + d.y.clamp(-1.0, 1.0).asin() / std::f32::consts::PI,
+                )
+            })
+            .collect(),
+    );
+    let sphere = std::sync::Arc::new(mesh);
     let place = |x: f32, z: f32| Transform {
         translation: [x, 80.0, z],
         ..Transform::default()
