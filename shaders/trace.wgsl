@@ -52,7 +52,7 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 
 // Next-event estimation at diffuse point p: Le cos/pi * w_light / p_light for one emitter point
 // (albedo and beta applied by the caller). Always draws four random numbers.
-fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, u32>, rays: ptr<function, u32>) -> vec3<f32> {
+fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
     let u_pick = rng_next(rng);
     let u_alias = rng_next(rng);
     let u_a = rng_next(rng);
@@ -124,7 +124,7 @@ fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rays: ptr<functio
     return sum;
 }
 
-fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, u32>) -> array<vec3<f32>, 2> {
+fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<vec3<f32>, 2> {
     let jx = rng_next(rng);
     let jy = rng_next(rng);
     let sx = (2.0 * (f32(x) + jx) / f32(frame.width) - 1.0) * frame.tan_half_vfov * frame.aspect;
@@ -163,7 +163,7 @@ fn sample_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
     return mix(top, bottom, fy);
 }
 
-fn path_radiance(x: u32, y: u32, rng: ptr<function, u32>, rays: ptr<function, u32>) -> vec3<f32> {
+fn path_radiance(x: u32, y: u32, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
     let cam = camera_ray_origin_dir(x, y, rng);
     var origin = cam[0];
     var direction = cam[1];

@@ -117,6 +117,14 @@ fn gpu_matches_cpu_reference_with_point_spot_and_directional_lights() {
     assert_images_agree(&scene, 8192, 4096);
 }
 
+/// The Sobol sampler's kernel and CPU reference agree too (same points per pixel and sample).
+#[test]
+fn gpu_matches_cpu_reference_with_the_sobol_sampler() {
+    let mut scene = cornell_with_metal_and_glass(16);
+    scene.settings.sampler = rt_core::reference::rng::SamplerKind::Sobol;
+    assert_images_agree(&scene, 2048, 2048);
+}
+
 #[test]
 fn gpu_matches_cpu_reference_on_cornell_with_metal_and_glass() {
     assert_images_agree(&cornell_with_metal_and_glass(12), 8192, 4096);

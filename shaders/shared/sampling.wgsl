@@ -14,7 +14,7 @@ fn onb(n: vec3<f32>) -> Basis {
 }
 
 // pdf = cos(theta) / pi, so the Lambertian weight f cos / pdf is the albedo.
-fn sample_cosine_hemisphere(n: vec3<f32>, rng: ptr<function, u32>) -> vec3<f32> {
+fn sample_cosine_hemisphere(n: vec3<f32>, rng: ptr<function, Sampler>) -> vec3<f32> {
     let u1 = rng_next(rng);
     let u2 = rng_next(rng);
     let r = sqrt(u1);
@@ -23,7 +23,7 @@ fn sample_cosine_hemisphere(n: vec3<f32>, rng: ptr<function, u32>) -> vec3<f32> 
     return normalize(basis.t * (r * cos(phi)) + basis.b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0)));
 }
 
-fn sample_unit_ball(rng: ptr<function, u32>) -> vec3<f32> {
+fn sample_unit_ball(rng: ptr<function, Sampler>) -> vec3<f32> {
     let z = 1.0 - 2.0 * rng_next(rng);
     let phi = TAU * rng_next(rng);
     let radius = pow(rng_next(rng), 1.0 / 3.0);
@@ -31,7 +31,7 @@ fn sample_unit_ball(rng: ptr<function, u32>) -> vec3<f32> {
     return vec3(s * cos(phi), s * sin(phi), z) * radius;
 }
 
-fn sample_disk(rng: ptr<function, u32>) -> vec2<f32> {
+fn sample_disk(rng: ptr<function, Sampler>) -> vec2<f32> {
     let r = sqrt(rng_next(rng));
     let phi = TAU * rng_next(rng);
     return vec2(r * cos(phi), r * sin(phi));

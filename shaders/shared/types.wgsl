@@ -75,6 +75,10 @@ struct Frame {
     roulette_from_depth: u32,    // 116
     tile_row_begin: u32,         // 120
     tile_row_end: u32,           // 124
+    sampler: u32,                // 128: 0 independent, 1 Sobol (the kernel uses the SOBOL constant)
+    _pad_a: u32,                 // 132
+    _pad_b: u32,                 // 136
+    _pad_c: u32,                 // 140
 }
 
 struct Emitter {

@@ -74,6 +74,7 @@ pub fn settings(width: u32, height: u32, spp: u32, max_depth: u32) -> RenderSett
         next_event_estimation: true,
         russian_roulette: true,
         clamp: None,
+        sampler: Default::default(),
     }
 }
 

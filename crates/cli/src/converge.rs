@@ -16,7 +16,7 @@ use rt_core::metrics::{RgbImage, compare};
 use rt_gpu::{AdapterChoice, GpuContext, RenderOptions, Renderer};
 
 use crate::plot;
-use crate::scene_args::SceneArgs;
+use crate::scene_args::{SamplerArg, SceneArgs};
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum Quality {
@@ -60,6 +60,10 @@ pub struct ConvergeArgs {
     /// Firefly clamp (biased): no channel of a bounced-light contribution above X.
     #[arg(long, value_name = "X")]
     clamp: Option<f32>,
+    /// Random numbers: independent (PCG streams) or sobol (Owen-scrambled Sobol points: less
+    /// noise for the same samples on smooth lighting).
+    #[arg(long, value_enum)]
+    sampler: Option<SamplerArg>,
     /// BVH build preset: faster builds make slower traversal.
     #[arg(long, value_enum, default_value = "medium")]
     bvh_quality: Quality,
@@ -133,6 +137,9 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     settings.next_event_estimation = !args.no_nee;
     settings.russian_roulette = !args.no_roulette;
     settings.clamp = args.clamp.or(settings.clamp);
+    if let Some(sampler) = args.sampler {
+        settings.sampler = sampler.into();
+    }
     settings.samples_per_pixel = args.max_spp.max(1);
     rt_core::frame::validate(&scene)?;
     let reference = RgbImage::load(&args.reference)?;
@@ -149,7 +156,12 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
             } else {
                 ""
             },
-            args.clamp.map_or(String::new(), |c| format!("clamp {c}, ")),
+            args.clamp.map_or(String::new(), |c| format!("clamp {c}, "))
+                + if matches!(args.sampler, Some(SamplerArg::Sobol)) {
+                    "Sobol, "
+                } else {
+                    ""
+                },
             scene.settings.max_depth,
             args.bvh_quality
         )

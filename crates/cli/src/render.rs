@@ -10,7 +10,7 @@ use rt_core::GpuScene;
 use rt_core::metrics::estimated_rel_mse;
 use rt_gpu::{AdapterChoice, GpuContext, RenderOptions, Renderer};
 
-use crate::scene_args::SceneArgs;
+use crate::scene_args::{SamplerArg, SceneArgs};
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -49,6 +49,10 @@ pub struct RenderArgs {
     /// (directly seen emitters stay exact). Biased (removes energy); off by default.
     #[arg(long, value_name = "X")]
     clamp: Option<f32>,
+    /// Random numbers: independent (PCG streams) or sobol (Owen-scrambled Sobol points: less
+    /// noise for the same samples on smooth lighting).
+    #[arg(long, value_enum)]
+    sampler: Option<SamplerArg>,
     /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     adapter: AdapterChoice,
@@ -76,6 +80,9 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     settings.next_event_estimation = !args.no_nee;
     settings.russian_roulette = !args.no_roulette;
     settings.clamp = args.clamp.or(settings.clamp);
+    if let Some(sampler) = args.sampler {
+        settings.sampler = sampler.into();
+    }
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
 

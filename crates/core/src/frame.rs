@@ -68,5 +68,9 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         },
         tile_row_begin: 0,
         tile_row_end: settings.height,
+        sampler: u32::from(settings.sampler == crate::reference::rng::SamplerKind::Sobol),
+        _pad_a: 0,
+        _pad_b: 0,
+        _pad_c: 0,
     })
 }

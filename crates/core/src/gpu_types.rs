@@ -115,6 +115,11 @@ pub struct Frame {
     /// unless it is rendered in tiles to fit the adapter's buffer limits).
     pub tile_row_begin: u32, // 120
     pub tile_row_end: u32,    // 124
+    /// 0: independent PCG sampler; 1: Owen-scrambled Sobol (`reference::rng`).
+    pub sampler: u32, // 128
+    pub _pad_a: u32,          // 132
+    pub _pad_b: u32,          // 136
+    pub _pad_c: u32,          // 140
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power
@@ -257,7 +262,11 @@ pub fn layouts() -> Vec<StructLayout> {
                 emitter_power_inv,
                 roulette_from_depth,
                 tile_row_begin,
-                tile_row_end
+                tile_row_end,
+                sampler,
+                _pad_a,
+                _pad_b,
+                _pad_c
             ]
         ),
         layout!("Emitter", Emitter, [triangle, alias_index, threshold, _pad]),

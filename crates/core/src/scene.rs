@@ -102,6 +102,10 @@ pub struct RenderSettings {
     /// `None`, the default, leaves samples alone.
     #[serde(default)]
     pub clamp: Option<f32>,
+    /// Where the random numbers come from: independent PCG streams (the default) or
+    /// Owen-scrambled Sobol points (less noise on smooth integrands; `reference::rng`).
+    #[serde(default)]
+    pub sampler: crate::reference::rng::SamplerKind,
 }
 
 fn default_true() -> bool {
@@ -119,6 +123,7 @@ impl Default for RenderSettings {
             next_event_estimation: true,
             russian_roulette: true,
             clamp: None,
+            sampler: Default::default(),
         }
     }
 }

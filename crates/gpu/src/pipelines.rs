@@ -16,10 +16,12 @@ pub struct PipelineKey {
     pub clamp_bits: u32,
     /// Work-group width and height.
     pub workgroup: [u32; 2],
+    /// Owen-scrambled Sobol points instead of independent random numbers.
+    pub sobol: bool,
 }
 
 impl PipelineKey {
-    fn constants(&self) -> [(&'static str, f64); 10] {
+    fn constants(&self) -> [(&'static str, f64); 11] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("HAS_TEXTURES", flag(self.features.textures)),
@@ -32,6 +34,7 @@ impl PipelineKey {
             ("CLAMP_MAX", f64::from(f32::from_bits(self.clamp_bits))),
             ("WG_X", f64::from(self.workgroup[0])),
             ("WG_Y", f64::from(self.workgroup[1])),
+            ("SOBOL", flag(self.sobol)),
         ]
     }
 }

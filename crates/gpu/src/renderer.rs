@@ -156,6 +156,7 @@ impl<'a> Renderer<'a> {
                     .filter(|c| c.is_finite() && *c > 0.0)
                     .map_or(0, f32::to_bits),
                 workgroup: options.workgroup.map(|w| w.max(1)),
+                sobol: frame.sampler == 1,
             },
         )?;
         let buffers = [
@@ -248,7 +249,12 @@ impl<'a> Renderer<'a> {
         })?;
         // Each path segment traces one ray, a shadow ray for NEE and one per delta light.
         let rays_per_segment = 2 + scene.delta_lights.len() as u32;
-        let steps_per_segment = (2 * scene.bvh_depth as u32 + 8) * rays_per_segment;
+        let mut steps_per_segment = (2 * scene.bvh_depth as u32 + 8) * rays_per_segment;
+        if frame.sampler == 1 {
+            // Sobol's second dimension loops over the sample index's bits: up to 20 (a million
+            // samples) for each of the ~4 such draws of a segment.
+            steps_per_segment += 80;
+        }
         let loop_cap = (LOOP_BUDGET / (frame.max_depth.max(1) * steps_per_segment)).clamp(1, 64);
         let loop_cap = options
             .max_samples_per_dispatch

@@ -622,6 +622,21 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
     ui.checkbox(&mut settings.russian_roulette, "Russian roulette")
         .on_hover_text("End dim paths early at random (unbiased, faster)");
     ui.horizontal(|ui| {
+        use rt_core::reference::rng::SamplerKind;
+        ui.label("Sampler")
+            .on_hover_text("Where the random numbers come from");
+        ui.selectable_value(
+            &mut settings.sampler,
+            SamplerKind::Independent,
+            "Independent",
+        )
+        .on_hover_text("Independent random numbers (PCG)");
+        ui.selectable_value(&mut settings.sampler, SamplerKind::Sobol, "Sobol")
+            .on_hover_text(
+                "Owen-scrambled Sobol points: evenly spread samples, less noise on smooth lighting",
+            );
+    });
+    ui.horizontal(|ui| {
         let mut on = settings.clamp.is_some();
         if ui
             .checkbox(&mut on, "Firefly clamp")

@@ -256,7 +256,12 @@ pub fn sample_texture(scene: &GpuScene, offset: u32, w: u32, h: u32, uv: Vec2) -
 
 /// One path's radiance estimate for pixel (x, y), sample `sample`.
 pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
-    let mut rng = Rng::new(y * frame.width + x, sample, frame.seed);
+    let kind = if frame.sampler == 1 {
+        rng::SamplerKind::Sobol
+    } else {
+        rng::SamplerKind::Independent
+    };
+    let mut rng = Rng::with_sampler(y * frame.width + x, sample, frame.seed, kind);
     let (mut origin, mut direction) = camera_ray(frame, x, y, &mut rng);
     let mut beta = Vec3::ONE;
     let mut radiance = Vec3::ZERO;
