@@ -14,6 +14,7 @@ cli=target/release/rt-cli
 common=(--reference "$ref" --width 128 --height 128 --max-spp 256 --csv "$csv")
 "$cli" converge "${common[@]}" --label "NEE+MIS, depth 8 (default)"
 "$cli" converge "${common[@]}" --sampler sobol --label "NEE+MIS, Sobol sampler"
+"$cli" converge "${common[@]}" --denoise --label "NEE+MIS, denoised"
 "$cli" converge "${common[@]}" --no-nee --label "BSDF sampling only"
 "$cli" converge "${common[@]}" --no-roulette --label "no Russian roulette"
 "$cli" converge "${common[@]}" --max-depth 3 --label "max depth 3"

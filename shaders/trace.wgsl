@@ -16,6 +16,8 @@ override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
 override HAS_NEE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
+// Also accumulate the first hit's albedo and normal (for the denoiser).
+override WRITE_AOVS: bool = false;
 // Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
 // emitters and sky reached after a bounce) is scaled down so its largest channel is at most this;
 // emitters and sky seen directly stay exact. 0 is off. Biased (it removes energy); off by default.
@@ -43,6 +45,15 @@ fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;
 @group(0) @binding(8) var<storage, read> emitters: array<Emitter>;
 @group(0) @binding(9) var<storage, read> delta_lights: array<DeltaLight>;
+// Per pixel of the tile: [3i] running mean of the first hit's albedo, [3i + 1] of its normal,
+// [3i + 2] of the light seen directly (emitters and sky at the first segment, which need no
+// denoising).
+@group(0) @binding(10) var<storage, read_write> aovs: array<vec4<f32>>;
+
+// The current sample's first-hit albedo and normal (zero when the camera ray escapes).
+var<private> aov_albedo: vec3<f32>;
+var<private> aov_normal: vec3<f32>;
+var<private> aov_emission: vec3<f32>;
 
 fn power_heuristic(a: f32, b: f32) -> f32 {
     let a2 = a * a;
@@ -177,12 +188,31 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, Sampler>, rays: ptr<function
         if (hit.triangle == MISS) {
             let sky = beta * frame.ambient;
             radiance += select(clamp_bounced(sky), sky, depth == 0u);
+            if (WRITE_AOVS && depth == 0u) {
+                aov_emission = sky;
+            }
             break;
         }
         let tri = triangles[hit.triangle];
         let material = materials[tri.material];
         let ng_raw = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
         let front = dot(direction, ng_raw) < 0.0;
+        if (WRITE_AOVS && depth == 0u) {
+            let n = normalize(ng_raw);
+            aov_normal = select(-n, n, front);
+            if (material.kind == MAT_EMISSIVE) {
+                let e = material.emission;
+                aov_albedo = e / max(max(e.x, max(e.y, e.z)), 1e-6);
+            } else {
+                var a = material.albedo;
+                if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
+                    let s0 = shading[hit.triangle];
+                    let c0 = 1.0 - hit.b1 - hit.b2;
+                    a = sample_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2);
+                }
+                aov_albedo = a;
+            }
+        }
         if (front) {
             var weight = 1.0;
             if (HAS_NEE && prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
@@ -192,6 +222,9 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, Sampler>, rays: ptr<function
             }
             let emitted = beta * material.emission * weight;
             radiance += select(clamp_bounced(emitted), emitted, depth == 0u);
+            if (WRITE_AOVS && depth == 0u) {
+                aov_emission = emitted;
+            }
         }
         if (material.kind == MAT_EMISSIVE || depth + 1u >= frame.max_depth) {
             break;
@@ -276,11 +309,22 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let pixel = y * frame.width + x;
     let slot = (y - frame.tile_row_begin) * frame.width + x;
     var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
+    var mean_albedo = vec4(0.0);
+    var mean_normal = vec4(0.0);
+    var mean_emission = vec4(0.0);
+    if (WRITE_AOVS && frame.sample_base != 0u) {
+        mean_albedo = aovs[3u * slot];
+        mean_normal = aovs[3u * slot + 1u];
+        mean_emission = aovs[3u * slot + 2u];
+    }
     var rays = 0u;
     var dropped = 0u;
     for (var s = 0u; s < frame.samples_this_dispatch; s++) {
         let sample_index = frame.sample_base + s;
         var rng = rng_init(pixel, sample_index, frame.seed);
+        aov_albedo = vec3(0.0);
+        aov_normal = vec3(0.0);
+        aov_emission = vec3(0.0);
         var l = path_radiance(x, y, &rng, &rays);
         if (!is_finite3(l)) {
             l = vec3(0.0);
@@ -290,8 +334,18 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         let lum = luminance(l);
         // Running mean, one sample at a time: the same float operations however samples are batched.
         mean += (vec4(l, lum * lum) - mean) / f32(sample_index + 1u);
+        if (WRITE_AOVS) {
+            mean_albedo += (vec4(aov_albedo, 0.0) - mean_albedo) / f32(sample_index + 1u);
+            mean_normal += (vec4(aov_normal, 0.0) - mean_normal) / f32(sample_index + 1u);
+            mean_emission += (vec4(aov_emission, 0.0) - mean_emission) / f32(sample_index + 1u);
+        }
     }
     accum[slot] = mean;
+    if (WRITE_AOVS) {
+        aovs[3u * slot] = mean_albedo;
+        aovs[3u * slot + 1u] = mean_normal;
+        aovs[3u * slot + 2u] = mean_emission;
+    }
     if (COUNT_RAYS) {
         atomicAdd(&counters[0], rays);
     }

@@ -64,6 +64,9 @@ pub struct ConvergeArgs {
     /// noise for the same samples on smooth lighting).
     #[arg(long, value_enum)]
     sampler: Option<SamplerArg>,
+    /// Measure the denoised image at each step (the denoising time counts).
+    #[arg(long)]
+    denoise: bool,
     /// BVH build preset: faster builds make slower traversal.
     #[arg(long, value_enum, default_value = "medium")]
     bvh_quality: Quality,
@@ -161,7 +164,8 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
                     "Sobol, "
                 } else {
                     ""
-                },
+                }
+                + if args.denoise { "denoised, " } else { "" },
             scene.settings.max_depth,
             args.bvh_quality
         )
@@ -171,7 +175,11 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     let start = Instant::now();
     let gpu_scene = GpuScene::build_with(&scene, args.bvh_quality.into())?;
     let bvh = start.elapsed();
-    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, RenderOptions::default())?;
+    let options = RenderOptions {
+        aovs: args.denoise,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
     // The first dispatch includes compiling the kernel; a warm-up sample keeps that out of the
     // curve (it is a one-off per feature set, cached afterwards).
     {
@@ -192,6 +200,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     );
     let mut rows = Vec::new();
     let mut rendering = Duration::ZERO;
+    let mut denoise_time = Duration::ZERO;
     let mut step = 1u32;
     loop {
         let step_start = Instant::now();
@@ -201,10 +210,36 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         // render_batch waits for its dispatches, so this is GPU time as the user sees it.
         rendering += step_start.elapsed();
         let image = renderer.read_image()?;
+        let pixels = if args.denoise {
+            let aovs = renderer
+                .read_aovs()?
+                .context("the renderer did not keep albedo and normals")?;
+            let started = Instant::now();
+            let color = image.rgb();
+            let variance = rt_core::output::pixel_variance(&image.pixels, image.samples_per_pixel);
+            let denoised = rt_core::denoise::denoise(
+                &rt_core::denoise::DenoiseInput {
+                    width: image.width,
+                    height: image.height,
+                    color: &color,
+                    emission: &aovs.emission,
+                    albedo: &aovs.albedo,
+                    normal: &aovs.normal,
+                    variance: &variance,
+                },
+                &rt_core::denoise::DenoiseParams::default(),
+            )
+            .map_err(anyhow::Error::msg)?;
+            // The user waits for the denoiser too (but only for the image they keep).
+            denoise_time = started.elapsed();
+            denoised
+        } else {
+            image.rgb()
+        };
         let measured = RgbImage {
             width: image.width,
             height: image.height,
-            pixels: image.rgb(),
+            pixels,
         };
         let e = compare(&measured, &reference)
             .map_err(anyhow::Error::msg)
@@ -212,7 +247,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         let row = Row {
             label: label.clone(),
             spp: step,
-            seconds: (bvh + rendering).as_secs_f64(),
+            seconds: (bvh + rendering + denoise_time).as_secs_f64(),
             rel_mse: e.rel_mse,
             rmse: e.rmse,
             mean_ratio: e.mean_ratio,

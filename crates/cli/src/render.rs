@@ -53,6 +53,10 @@ pub struct RenderArgs {
     /// noise for the same samples on smooth lighting).
     #[arg(long, value_enum)]
     sampler: Option<SamplerArg>,
+    /// Also write a denoised copy beside the output (NAME.denoised.EXT), filtered with the
+    /// edge-avoiding À-Trous denoiser guided by albedo and normals; the output itself stays raw.
+    #[arg(long)]
+    denoise: bool,
     /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     adapter: AdapterChoice,
@@ -105,7 +109,11 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         }
         return render_in_tiles(&args, &scene, &ctx, &gpu_scene, max_buffer);
     }
-    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, RenderOptions::default())?;
+    let options = RenderOptions {
+        aovs: args.denoise,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
 
     let spp = scene.settings.samples_per_pixel;
     let bar = if open_ended {
@@ -229,6 +237,19 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         let m = image.channel_means();
         eprintln!("channel means:  {:.6} {:.6} {:.6}", m[0], m[1], m[2]);
     }
+    if args.denoise {
+        let started = Instant::now();
+        let denoised = denoised_path(&args.output);
+        let aovs = renderer
+            .read_aovs()?
+            .context("the renderer did not keep albedo and normals")?;
+        save_denoised(&image, &aovs, &denoised, args.exposure)?;
+        eprintln!(
+            "denoised:       {} ({:.2?}; biased: a preview of the converged image, not a measurement)",
+            denoised.display(),
+            started.elapsed()
+        );
+    }
     eprintln!("saved:          {}", args.output.display());
     Ok(())
 }
@@ -317,4 +338,43 @@ fn save_after_failure(
             "the render failed, and saving the samples read back before it failed too: {save}"
         )),
     }
+}
+
+/// `out.png` -> `out.denoised.png`.
+fn denoised_path(output: &std::path::Path) -> PathBuf {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "render".into());
+    let extension = output
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "png".into());
+    output.with_file_name(format!("{stem}.denoised.{extension}"))
+}
+
+/// Denoises `image` with its albedo and normals and saves the result.
+pub fn save_denoised(
+    image: &rt_gpu::Image,
+    aovs: &rt_gpu::Aovs,
+    path: &std::path::Path,
+    exposure: f32,
+) -> Result<()> {
+    let color = image.rgb();
+    let variance = rt_core::output::pixel_variance(&image.pixels, image.samples_per_pixel);
+    let denoised = rt_core::denoise::denoise(
+        &rt_core::denoise::DenoiseInput {
+            width: image.width,
+            height: image.height,
+            color: &color,
+            emission: &aovs.emission,
+            albedo: &aovs.albedo,
+            normal: &aovs.normal,
+            variance: &variance,
+        },
+        &rt_core::denoise::DenoiseParams::default(),
+    )
+    .map_err(anyhow::Error::msg)?;
+    rt_core::output::save_image(path, image.width, image.height, &denoised, exposure)
+        .with_context(|| format!("saving {}", path.display()))
 }

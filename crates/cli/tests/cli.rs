@@ -401,3 +401,45 @@ fn a_device_lost_mid_render_saves_the_samples_read_back_before() {
     assert_eq!((w, h), (24, 24));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--denoise` writes a denoised copy beside the raw output, which stays as rendered.
+#[test]
+fn denoise_writes_a_second_image_and_keeps_the_raw_one() {
+    if !has_gpu() && std::env::var_os("CI").is_none() {
+        return;
+    }
+    let dir = temp_dir("denoise");
+    let out = dir.join("img.exr");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--spp",
+        "4",
+        "--denoise",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let raw = image::open(&out).unwrap().to_rgb32f();
+    let denoised = image::open(dir.join("img.denoised.exr"))
+        .unwrap()
+        .to_rgb32f();
+    assert_eq!(raw.dimensions(), denoised.dimensions());
+    // Smoother: the denoised image varies less from pixel to pixel.
+    let roughness = |img: &image::Rgb32FImage| {
+        img.pixels()
+            .zip(img.pixels().skip(1))
+            .map(|(a, b)| f64::from((a.0[1] - b.0[1]).abs().min(1.0)))
+            .sum::<f64>()
+    };
+    assert!(
+        roughness(&denoised) < roughness(&raw) * 0.8,
+        "{} vs {}",
+        roughness(&denoised),
+        roughness(&raw)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

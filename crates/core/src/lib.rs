@@ -4,6 +4,7 @@
 pub mod assets;
 pub mod bvh;
 pub mod camera;
+pub mod denoise;
 pub mod emitters;
 pub mod error;
 pub mod frame;

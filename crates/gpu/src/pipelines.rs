@@ -18,10 +18,12 @@ pub struct PipelineKey {
     pub workgroup: [u32; 2],
     /// Owen-scrambled Sobol points instead of independent random numbers.
     pub sobol: bool,
+    /// Accumulate first-hit albedo and normal for the denoiser.
+    pub aovs: bool,
 }
 
 impl PipelineKey {
-    fn constants(&self) -> [(&'static str, f64); 11] {
+    fn constants(&self) -> [(&'static str, f64); 12] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("HAS_TEXTURES", flag(self.features.textures)),
@@ -35,6 +37,7 @@ impl PipelineKey {
             ("WG_X", f64::from(self.workgroup[0])),
             ("WG_Y", f64::from(self.workgroup[1])),
             ("SOBOL", flag(self.sobol)),
+            ("WRITE_AOVS", flag(self.aovs)),
         ]
     }
 }

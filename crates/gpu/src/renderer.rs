@@ -31,6 +31,9 @@ pub struct RenderOptions {
     pub generic_kernel: bool,
     /// Work-group width and height (benchmarks); 8 x 8 by default.
     pub workgroup: [u32; 2],
+    /// Also accumulate each pixel's first-hit albedo and normal (for `rt_core::denoise`; read them
+    /// with `Renderer::read_aovs`).
+    pub aovs: bool,
 }
 
 impl Default for RenderOptions {
@@ -42,6 +45,7 @@ impl Default for RenderOptions {
             clamp: None,
             generic_kernel: false,
             workgroup: [8, 8],
+            aovs: false,
         }
     }
 }
@@ -76,6 +80,17 @@ impl Image {
     }
 }
 
+/// Per-pixel auxiliary outputs for the denoiser, means over the samples like the image.
+#[derive(Clone, Debug, Default)]
+pub struct Aovs {
+    /// The first hit's albedo (texture, metal colour, glass tint; an emitter's normalised colour).
+    pub albedo: Vec<[f32; 3]>,
+    /// The first hit's geometric normal, facing the camera.
+    pub normal: Vec<[f32; 3]>,
+    /// Light seen directly: emitters and sky at the first segment.
+    pub emission: Vec<[f32; 3]>,
+}
+
 /// What one batch did.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BatchStats {
@@ -90,6 +105,7 @@ pub struct Renderer<'a> {
     bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     accum: wgpu::Buffer,
+    aovs: wgpu::Buffer,
     counters: wgpu::Buffer,
     frame: Frame,
     options: RenderOptions,
@@ -134,6 +150,12 @@ impl<'a> Renderer<'a> {
         let pixels = u64::from(frame.width) * u64::from(frame.tile_row_end - frame.tile_row_begin);
         let accum_size = pixels * 16;
         ctx.check_buffer("accumulation (width x height x 16 bytes)", accum_size)?;
+        // Albedo and normal, or a placeholder the kernel never touches.
+        let aov_size = if options.aovs { pixels * 48 } else { 48 };
+        ctx.check_buffer(
+            "albedo, normal, emission (width x height x 48 bytes)",
+            aov_size,
+        )?;
         let mut features = scene.features;
         features.thin_lens = frame.lens_radius > 0.0;
         features.nee = frame.emitter_count > 0;
@@ -157,6 +179,7 @@ impl<'a> Renderer<'a> {
                     .map_or(0, f32::to_bits),
                 workgroup: options.workgroup.map(|w| w.max(1)),
                 sobol: frame.sampler == 1,
+                aovs: options.aovs,
             },
         )?;
         let buffers = [
@@ -188,7 +211,7 @@ impl<'a> Renderer<'a> {
                 wgpu::BufferUsages::empty(),
             )?,
         ];
-        let (frame_buffer, accum, counters, bind_group) = ctx.scoped(|| {
+        let (frame_buffer, accum, aovs, counters, bind_group) = ctx.scoped(|| {
             let frame_buffer = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -199,6 +222,12 @@ impl<'a> Renderer<'a> {
             let accum = ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("accumulation"),
                 size: accum_size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let aovs = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("albedo and normal"),
+                size: aov_size,
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
@@ -232,6 +261,7 @@ impl<'a> Renderer<'a> {
                 (7, &counters),
                 (8, emitters),
                 (9, delta_lights),
+                (10, &aovs),
             ];
             let entries: Vec<wgpu::BindGroupEntry> = bound
                 .iter()
@@ -245,7 +275,7 @@ impl<'a> Renderer<'a> {
                 layout: &pipeline.get_bind_group_layout(0),
                 entries: &entries,
             });
-            (frame_buffer, accum, counters, bind_group)
+            (frame_buffer, accum, aovs, counters, bind_group)
         })?;
         // Each path segment traces one ray, a shadow ray for NEE and one per delta light.
         let rays_per_segment = 2 + scene.delta_lights.len() as u32;
@@ -265,6 +295,7 @@ impl<'a> Renderer<'a> {
             bind_group,
             frame_buffer,
             accum,
+            aovs,
             counters,
             frame,
             options,
@@ -392,6 +423,31 @@ impl<'a> Renderer<'a> {
             }
         }
         Ok(())
+    }
+
+    /// The mean first-hit albedo, normal and directly seen light of each pixel (of this
+    /// renderer's tile), when the renderer was made with `RenderOptions::aovs`.
+    pub fn read_aovs(&self) -> Result<Option<Aovs>> {
+        if !self.options.aovs {
+            return Ok(None);
+        }
+        let rows = self.frame.tile_row_end - self.frame.tile_row_begin;
+        let size = u64::from(self.frame.width) * u64::from(rows) * 48;
+        let bytes = read_buffer(self.ctx, &self.aovs, size)?;
+        let values: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        let take = |k: usize| {
+            values
+                .iter()
+                .skip(k)
+                .step_by(3)
+                .map(|v| [v[0], v[1], v[2]])
+                .collect()
+        };
+        Ok(Some(Aovs {
+            albedo: take(0),
+            normal: take(1),
+            emission: take(2),
+        }))
     }
 
     /// The accumulated image so far (of this renderer's tile: `height` is the tile's rows).
