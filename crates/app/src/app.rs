@@ -11,7 +11,7 @@ use rt_core::{Material, Object, Scene, Transform};
 
 use crate::document::{Document, Origin, recommended_max_depth};
 use crate::recent::RecentFiles;
-use crate::render_job::{JobState, RenderDevice, RenderJob};
+use crate::render_job::{JobOptions, JobState, RenderDevice, RenderJob};
 
 /// Settings fixed when the editor starts.
 #[derive(Clone, Debug, Default)]
@@ -31,8 +31,12 @@ pub struct RenderView {
     pub exposure: f32,
     pub zoom: f32,
     pub texture: Option<egui::TextureHandle>,
-    /// (image revision, exposure) the texture was made from.
-    pub texture_key: Option<(u64, f32)>,
+    /// (image revision, exposure, denoised) the texture was made from.
+    pub texture_key: Option<(u64, f32, bool)>,
+    /// Show (and save) the denoised image instead of the raw one.
+    pub show_denoised: bool,
+    /// The denoised image, computed on first use.
+    pub denoised: Option<Vec<[f32; 3]>>,
 }
 
 /// The path-traced viewport: a render job at viewport size, restarted when anything changes.
@@ -449,7 +453,10 @@ impl RtApp {
             self.device.clone(),
             self.doc.scene.clone(),
             None,
-            Some(Duration::from_millis(500)),
+            JobOptions {
+                preview_every: Some(Duration::from_millis(500)),
+                keep_aovs: true,
+            },
             self.waker(),
         );
         self.renders.push(RenderView {
@@ -460,6 +467,8 @@ impl RtApp {
             zoom: 1.0,
             texture: None,
             texture_key: None,
+            show_denoised: false,
+            denoised: None,
         });
         Some(id)
     }
@@ -549,7 +558,10 @@ impl RtApp {
             self.device.clone(),
             scene,
             reuse,
-            Some(Duration::from_millis(150)),
+            JobOptions {
+                preview_every: Some(Duration::from_millis(150)),
+                keep_aovs: false,
+            },
             self.waker(),
         ));
     }

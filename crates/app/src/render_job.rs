@@ -56,6 +56,8 @@ pub enum JobEvent {
     Preview(Image),
     Finished {
         image: Image,
+        /// Albedo, normal and directly seen light, for the denoiser (when asked for).
+        aovs: Option<rt_gpu::Aovs>,
         cancelled: bool,
     },
     Failed(String),
@@ -96,6 +98,15 @@ pub enum JobState {
     Failed(String),
 }
 
+/// How a job reports and what it keeps.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct JobOptions {
+    /// How often to send the image so far (`None`: only progress).
+    pub preview_every: Option<Duration>,
+    /// Keep albedo, normals and direct light for the denoiser.
+    pub keep_aovs: bool,
+}
+
 /// A render in progress or done.
 pub struct RenderJob {
     pub scene: Scene,
@@ -108,20 +119,22 @@ pub struct RenderJob {
     pub adapter: Option<String>,
     /// The scene's GPU arrays once built (or as given).
     pub gpu_scene: Option<Arc<GpuScene>>,
+    /// The denoiser's guides, once finished (if the job kept them).
+    pub aovs: Option<rt_gpu::Aovs>,
     cancel: Arc<AtomicBool>,
     events: Receiver<JobEvent>,
     thread: Option<JoinHandle<()>>,
 }
 
 impl RenderJob {
-    /// Starts rendering `scene` with its settings; `preview_every` is how often to send the image
-    /// so far (`None`: only progress). `wake` is called after each event (to repaint the UI).
+    /// Starts rendering `scene` with its settings. `wake` is called after each event (to repaint
+    /// the UI).
     /// `gpu_scene`, when given, must have been built from the same objects and settings.
     pub fn start(
         device: RenderDevice,
         scene: Scene,
         gpu_scene: Option<Arc<GpuScene>>,
-        preview_every: Option<Duration>,
+        options: JobOptions,
         wake: impl Fn() + Send + 'static,
     ) -> Self {
         let cancel = Arc::new(AtomicBool::new(false));
@@ -134,15 +147,7 @@ impl RenderJob {
                 .name("rt-render".into())
                 .spawn(move || {
                     let failed = tx.clone();
-                    if let Err(e) = run(
-                        &device,
-                        &scene,
-                        gpu_scene,
-                        preview_every,
-                        &cancel,
-                        &tx,
-                        &wake,
-                    ) {
+                    if let Err(e) = run(&device, &scene, gpu_scene, options, &cancel, &tx, &wake) {
                         let _ = failed.send(JobEvent::Failed(format!("{e:#}")));
                     }
                     wake();
@@ -166,6 +171,7 @@ impl RenderJob {
             image_revision: 0,
             adapter: None,
             gpu_scene,
+            aovs: None,
             cancel,
             events: rx,
             thread,
@@ -192,7 +198,12 @@ impl RenderJob {
                         JobEvent::SceneBuilt(built) => self.gpu_scene = Some(built),
                         JobEvent::Progress(p) => self.progress = p,
                         JobEvent::Preview(image) => self.set_image(image),
-                        JobEvent::Finished { image, cancelled } => {
+                        JobEvent::Finished {
+                            image,
+                            aovs,
+                            cancelled,
+                        } => {
+                            self.aovs = aovs;
                             self.progress.samples_done = image.samples_per_pixel;
                             self.set_image(image);
                             self.state = if cancelled {
@@ -248,7 +259,7 @@ fn run(
     device: &RenderDevice,
     scene: &Scene,
     gpu_scene: Option<Arc<GpuScene>>,
-    preview_every: Option<Duration>,
+    job: JobOptions,
     cancel: &AtomicBool,
     tx: &Sender<JobEvent>,
     wake: &dyn Fn(),
@@ -263,13 +274,19 @@ fn run(
             built
         }
     };
-    let mut renderer = Renderer::for_scene(&ctx, scene, &gpu_scene, RenderOptions::default())?;
+    let options = RenderOptions {
+        aovs: job.keep_aovs,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::for_scene(&ctx, scene, &gpu_scene, options)?;
     let total = scene.settings.samples_per_pixel;
     let mut last_preview = Instant::now();
     let mut noise = None;
     while renderer.samples_done() < total && !cancel.load(Ordering::Relaxed) {
         renderer.render_batch(total - renderer.samples_done())?;
-        let due = preview_every.is_some_and(|every| last_preview.elapsed() >= every);
+        let due = job
+            .preview_every
+            .is_some_and(|every| last_preview.elapsed() >= every);
         if due && renderer.samples_done() < total {
             let image = renderer.read_image()?;
             noise = noise_of(&image);
@@ -298,7 +315,12 @@ fn run(
     };
     let _ = tx.send(JobEvent::Progress(progress));
     let cancelled = renderer.samples_done() < total;
-    let _ = tx.send(JobEvent::Finished { image, cancelled });
+    let aovs = renderer.read_aovs()?;
+    let _ = tx.send(JobEvent::Finished {
+        image,
+        aovs,
+        cancelled,
+    });
     Ok(())
 }
 

@@ -230,6 +230,12 @@ fn start_and_cancel_a_render_then_render_to_the_end() {
     assert!(app.ui.last_render.is_some());
     assert_eq!(app.renders.len(), 2, "the earlier result stays open");
     harness.get_all_by_label("Save as…").next().unwrap();
+    // The finished render kept the denoiser's guides: show the denoised image.
+    assert!(harness.state().renders[1].job.aovs.is_some());
+    harness.get_all_by_label("denoised").last().unwrap().click();
+    harness.run_ok();
+    let view = &harness.state().renders[1];
+    assert!(view.show_denoised && view.denoised.is_some());
 }
 
 #[test]

@@ -183,7 +183,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     // The first dispatch includes compiling the kernel; a warm-up sample keeps that out of the
     // curve (it is a one-off per feature set, cached afterwards).
     {
-        let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, RenderOptions::default())?;
+        let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
         warm.render_batch(1)?;
         warm.read_image()?;
     }

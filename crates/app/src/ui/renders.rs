@@ -8,14 +8,47 @@ use crate::render_job::JobState;
 
 /// The image as 8-bit sRGB for display, `exposure_stops` brighter (clamped, like the PNG output).
 pub fn tone_mapped(image: &Image, exposure_stops: f32) -> egui::ColorImage {
-    let mut bytes = Vec::with_capacity(image.pixels.len() * 4);
-    for p in &image.pixels {
-        for c in &p[..3] {
-            bytes.push(rt_core::output::tone_map_u8(*c, exposure_stops));
+    tone_mapped_rgb(&image.rgb(), image.width, image.height, exposure_stops)
+}
+
+pub fn tone_mapped_rgb(
+    rgb: &[[f32; 3]],
+    width: u32,
+    height: u32,
+    exposure: f32,
+) -> egui::ColorImage {
+    let mut bytes = Vec::with_capacity(rgb.len() * 4);
+    for p in rgb {
+        for c in p {
+            bytes.push(rt_core::output::tone_map_u8(*c, exposure));
         }
         bytes.push(255);
     }
-    egui::ColorImage::from_rgba_unmultiplied([image.width as usize, image.height as usize], &bytes)
+    egui::ColorImage::from_rgba_unmultiplied([width as usize, height as usize], &bytes)
+}
+
+/// The denoised image of a finished render (computed once).
+fn denoised(view: &mut RenderView) -> Option<&Vec<[f32; 3]>> {
+    if view.denoised.is_none() {
+        let (image, aovs) = (view.job.image.as_ref()?, view.job.aovs.as_ref()?);
+        let color = image.rgb();
+        let variance = rt_core::output::pixel_variance(&image.pixels, image.samples_per_pixel);
+        let result = rt_core::denoise::denoise(
+            &rt_core::denoise::DenoiseInput {
+                width: image.width,
+                height: image.height,
+                color: &color,
+                emission: &aovs.emission,
+                albedo: &aovs.albedo,
+                normal: &aovs.normal,
+                variance: &variance,
+            },
+            &rt_core::denoise::DenoiseParams::default(),
+        )
+        .ok()?;
+        view.denoised = Some(result);
+    }
+    view.denoised.as_ref()
 }
 
 pub fn render_windows(app: &mut RtApp, ctx: &egui::Context) {
@@ -101,6 +134,13 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
                 .text("zoom"),
         )
         .on_hover_text("Zoom; drag the scroll bars (or scroll) to pan");
+        if view.job.aovs.is_some() {
+            ui.checkbox(&mut view.show_denoised, "denoised")
+                .on_hover_text(
+                    "Show and save the denoised image (smoother, slightly biased); the raw render \
+                     is kept",
+                );
+        }
     });
     let mut error = None;
     if view.job.image.is_some() && !view.job.is_running() {
@@ -122,10 +162,17 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
             }
         });
     }
+    if view.show_denoised && view.job.aovs.is_some() {
+        let _ = denoised(view);
+    }
     if let Some(image) = &view.job.image {
-        let key = (view.job.image_revision, view.exposure);
+        let show_denoised = view.show_denoised && view.denoised.is_some();
+        let key = (view.job.image_revision, view.exposure, show_denoised);
         if view.texture_key != Some(key) {
-            let color = tone_mapped(image, view.exposure);
+            let color = match (&view.denoised, show_denoised) {
+                (Some(d), true) => tone_mapped_rgb(d, image.width, image.height, view.exposure),
+                _ => tone_mapped(image, view.exposure),
+            };
             match &mut view.texture {
                 Some(t) => t.set(color, egui::TextureOptions::NEAREST),
                 None => {
@@ -155,6 +202,17 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
     let Some(image) = &view.job.image else {
         return Err(rt_core::Error::Scene("nothing rendered yet".into()));
     };
+    if view.show_denoised
+        && let Some(denoised) = &view.denoised
+    {
+        return rt_core::output::save_image(
+            path,
+            image.width,
+            image.height,
+            denoised,
+            view.exposure,
+        );
+    }
     rt_core::output::save_render(
         path,
         image.width,
