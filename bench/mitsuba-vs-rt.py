@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""rt against Mitsuba 3 on the Cornell box, on the same machine: both render assets/cornell at
+512x512, max depth 8, 256 spp; each image's relMSE is measured against a high-spp reference, and
+the equal-error time ratio (t_rt * relMSE_rt) / (t_mitsuba * relMSE_mitsuba) is printed: below 1,
+rt reaches a given error sooner (for unbiased estimators error * time is constant).
+
+Needs: `pip install mitsuba` (its llvm_ad_rgb variant runs on the CPU through LLVM: set
+DRJIT_LIBLLVM_PATH to a libLLVM, e.g. Debian's /usr/lib/x86_64-linux-gnu/libLLVM-15.so.1 that Mesa
+already installs), and a release rt-cli (`cargo build --release -p rt-cli`).
+
+Usage: bench/mitsuba-vs-rt.py REFERENCE.exr [--spp 256] [--size 512] [--sampler independent|sobol]
+"""
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CLI = ROOT / "target" / "release" / "rt-cli"
+
+
+def parse_cornell(folder):
+    """Per-object vertex lists and materials of the Cornell OBJ/MTL."""
+    mtl = {}
+    current = None
+    for line in (folder / "cornell.mtl").read_text().splitlines():
+        parts = line.split()
+        if not parts:
+            continue
+        if parts[0] == "newmtl":
+            current = parts[1]
+            mtl[current] = {}
+        elif parts[0] in ("Kd", "Ke") and current:
+            values = [float(v) for v in parts[1:4]]
+            mtl[current][parts[0]] = values + values[-1:] * (3 - len(values))
+    vertices, objects = [], []
+    for line in (folder / "cornell.obj").read_text().splitlines():
+        parts = line.split()
+        if not parts:
+            continue
+        if parts[0] == "v":
+            vertices.append([float(v) for v in parts[1:4]])
+        elif parts[0] == "o":
+            objects.append({"name": parts[1], "faces": [], "material": None})
+        elif parts[0] == "usemtl":
+            objects[-1]["material"] = parts[1]
+        elif parts[0] == "f":
+            idx = [int(p.split("/")[0]) for p in parts[1:]]
+            idx = [i - 1 if i > 0 else len(vertices) + i for i in idx]
+            objects[-1]["faces"].append(idx)
+    return vertices, objects, mtl
+
+
+def mitsuba_scene(mi, folder, size, spp, tmp):
+    vertices, objects, mtl = parse_cornell(folder)
+    camera = json.loads((folder / "cornell.json").read_text())
+    scene = {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 8},
+        "sensor": {
+            "type": "perspective",
+            "fov": camera["vfov"],
+            "fov_axis": "y",
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=camera["from"], target=camera["to"], up=camera["up"]
+            ),
+            "film": {
+                "type": "hdrfilm",
+                "width": size,
+                "height": size,
+                "rfilter": {"type": "box"},
+            },
+            "sampler": {"type": "independent", "sample_count": spp},
+        },
+    }
+    for i, obj in enumerate(objects):
+        used = sorted({v for f in obj["faces"] for v in f})
+        remap = {v: k + 1 for k, v in enumerate(used)}
+        path = Path(tmp) / f"{i}.obj"
+        with open(path, "w") as f:
+            for v in used:
+                f.write("v {} {} {}\n".format(*vertices[v]))
+            for face in obj["faces"]:
+                f.write("f " + " ".join(str(remap[v]) for v in face) + "\n")
+        m = mtl.get(obj["material"], {})
+        shape = {
+            "type": "obj",
+            "filename": str(path),
+            "face_normals": True,
+            "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": m.get("Kd", [0, 0, 0])}},
+        }
+        if any(m.get("Ke", [0, 0, 0])):
+            shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": m["Ke"]}}
+        scene[f"shape_{i}"] = shape
+    return scene
+
+
+def rel_mse(image, reference):
+    out = subprocess.run(
+        [str(CLI), "compare", str(image), str(reference)], capture_output=True, text=True, check=True
+    ).stdout
+    return float(re.search(r"relMSE:\s+(\S+)", out).group(1))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("reference")
+    parser.add_argument("--spp", type=int, default=256)
+    parser.add_argument("--size", type=int, default=512)
+    parser.add_argument("--sampler", default="independent")
+    args = parser.parse_args()
+    os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM-15.so.1")
+    import mitsuba as mi
+
+    mi.set_variant("llvm_ad_rgb")
+    folder = ROOT / "assets" / "cornell"
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = mi.load_dict(mitsuba_scene(mi, folder, args.size, args.spp, tmp))
+        mi.render(scene, spp=1)  # compiles the kernels: not part of the timing
+        started = time.perf_counter()
+        image = mi.render(scene, spp=args.spp)
+        image = mi.TensorXf(image)  # forces evaluation
+        t_mitsuba = time.perf_counter() - started
+        mitsuba_out = Path(tmp) / "mitsuba.exr"
+        mi.Bitmap(image).write(str(mitsuba_out))
+        rt_out = Path(tmp) / "rt.exr"
+        started = time.perf_counter()
+        log = subprocess.run(
+            [str(CLI), "render", "--width", str(args.size), "--height", str(args.size),
+             "--spp", str(args.spp), "--max-depth", "8", "--sampler", args.sampler, "-o", str(rt_out)],
+            capture_output=True, text=True, check=True,
+        ).stderr
+        t_rt_wall = time.perf_counter() - started
+        t_rt = float(re.search(r"render time:\s+([\d.]+)(ms|s)", log).group(1))
+        if re.search(r"render time:\s+[\d.]+ms", log):
+            t_rt /= 1000.0
+        e_mitsuba = rel_mse(mitsuba_out, args.reference)
+        e_rt = rel_mse(rt_out, args.reference)
+    ratio = (t_rt * e_rt) / (t_mitsuba * e_mitsuba)
+    print(f"machine: {os.cpu_count()} CPUs; rt adapter: {re.search(r'adapter:\s+(.*)', log).group(1)}")
+    print(f"{'':10} {'time (s)':>10} {'relMSE':>12}")
+    print(f"{'Mitsuba 3':10} {t_mitsuba:>10.2f} {e_mitsuba:>12.4e}   (llvm_ad_rgb, path, independent)")
+    print(f"{'rt':10} {t_rt:>10.2f} {e_rt:>12.4e}   (render time; {t_rt_wall:.2f} s with start-up, BVH, save)")
+    print(f"equal-error time ratio (t_rt relMSE_rt) / (t_mitsuba relMSE_mitsuba): {ratio:.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
