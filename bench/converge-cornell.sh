@@ -16,6 +16,7 @@ common=(--reference "$ref" --width 128 --height 128 --max-spp 256 --csv "$csv")
 "$cli" converge "${common[@]}" --sampler sobol --label "NEE+MIS, Sobol sampler"
 "$cli" converge "${common[@]}" --denoise --label "NEE+MIS, denoised"
 "$cli" converge "${common[@]}" --no-nee --label "BSDF sampling only"
+"$cli" converge "${common[@]}" --nee-only --label "NEE only (no MIS)"
 "$cli" converge "${common[@]}" --no-roulette --label "no Russian roulette"
 "$cli" converge "${common[@]}" --max-depth 3 --label "max depth 3"
 "$cli" converge "${common[@]}" --max-depth 16 --label "max depth 16"

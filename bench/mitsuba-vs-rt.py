@@ -4,9 +4,10 @@
 the equal-error time ratio (t_rt * relMSE_rt) / (t_mitsuba * relMSE_mitsuba) is printed: below 1,
 rt reaches a given error sooner (for unbiased estimators error * time is constant).
 
-Needs: `pip install mitsuba` (its llvm_ad_rgb variant runs on the CPU through LLVM: set
-DRJIT_LIBLLVM_PATH to a libLLVM, e.g. Debian's /usr/lib/x86_64-linux-gnu/libLLVM-15.so.1 that Mesa
-already installs), and a release rt-cli (`cargo build --release -p rt-cli`).
+Needs: `pip install mitsuba` (its llvm_ad_rgb variant runs on the CPU through LLVM:
+`apt-get install libllvm19`; LLVM 15, which Mesa installs, crashes compiling Dr.Jit's AVX-512 kernels
+here, and LLVM 14 is too old; DRJIT_LIBLLVM_PATH overrides the library), and a release rt-cli
+(`cargo build --release -p rt-cli`).
 
 Usage: bench/mitsuba-vs-rt.py REFERENCE.exr [--spp 256] [--size 512] [--sampler independent|sobol]
 """
@@ -115,18 +116,22 @@ def main():
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--sampler", default="independent")
     args = parser.parse_args()
-    os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM-15.so.1")
+    os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
+    import drjit as dr
     import mitsuba as mi
 
     mi.set_variant("llvm_ad_rgb")
     folder = ROOT / "assets" / "cornell"
     with tempfile.TemporaryDirectory() as tmp:
         scene = mi.load_dict(mitsuba_scene(mi, folder, args.size, args.spp, tmp))
-        mi.render(scene, spp=1)  # compiles the kernels: not part of the timing
-        started = time.perf_counter()
-        image = mi.render(scene, spp=args.spp)
-        image = mi.TensorXf(image)  # forces evaluation
-        t_mitsuba = time.perf_counter() - started
+        # Dr.Jit records lazily and launches kernels asynchronously: time a second render (kernels
+        # compiled and cached by the first) up to the end of its evaluation.
+        for _ in range(2):
+            started = time.perf_counter()
+            image = mi.render(scene, spp=args.spp, seed=1)
+            dr.eval(image)
+            dr.sync_thread()
+            t_mitsuba = time.perf_counter() - started
         mitsuba_out = Path(tmp) / "mitsuba.exr"
         mi.Bitmap(image).write(str(mitsuba_out))
         rt_out = Path(tmp) / "rt.exr"
@@ -143,7 +148,8 @@ def main():
         e_mitsuba = rel_mse(mitsuba_out, args.reference)
         e_rt = rel_mse(rt_out, args.reference)
     ratio = (t_rt * e_rt) / (t_mitsuba * e_mitsuba)
-    print(f"machine: {os.cpu_count()} CPUs; rt adapter: {re.search(r'adapter:\s+(.*)', log).group(1)}")
+    adapter = re.search(r"adapter:\s+(.*)", log).group(1)
+    print(f"machine: {os.cpu_count()} CPUs; rt adapter: {adapter}")
     print(f"{'':10} {'time (s)':>10} {'relMSE':>12}")
     print(f"{'Mitsuba 3':10} {t_mitsuba:>10.2f} {e_mitsuba:>12.4e}   (llvm_ad_rgb, path, independent)")
     print(f"{'rt':10} {t_rt:>10.2f} {e_rt:>12.4e}   (render time; {t_rt_wall:.2f} s with start-up, BVH, save)")

@@ -6,7 +6,9 @@
 //   L = sum_{k < max_depth} beta_k Le(x_k),  beta_{k+1} = beta_k f cos / pdf = beta_k * albedo
 // with Le the front-face emission (or the ambient radiance on a miss); with next-event estimation,
 // diffuse vertices also sample an emitter point, and both strategies are weighted by the power
-// heuristic (emitters seen from the camera or through specular bounces keep weight 1).
+// heuristic (emitters seen from the camera or through specular bounces keep weight 1). With
+// frame.light_strategy == 1 (a diagnostic) next-event estimation takes weight 1 and BSDF-sampled
+// hits on emitters after a diffuse bounce weight 0.
 
 // Features a scene does not use are compiled out by these pipeline constants.
 override HAS_TEXTURES: bool = true;
@@ -78,8 +80,8 @@ fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, S
     if (dot(y - p, nl) >= 0.0) {
         return vec3(0.0);
     }
-    let origin = offset_ray_origin(p, ng);
-    let to = offset_ray_origin(y, nl) - origin;
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    let to = offset_ray_origin(y, nl, frame.offset_scale) - origin;
     let distance = length(to);
     let dir = to / distance;
     let cos_x = dot(dir, ns);
@@ -94,7 +96,8 @@ fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, S
     let le = materials[tri.material].emission;
     let p_light = luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
     let p_bsdf = cos_x * (1.0 / PI);
-    return le * (p_bsdf * power_heuristic(p_light, p_bsdf) / p_light);
+    let w_light = select(power_heuristic(p_light, p_bsdf), 1.0, frame.light_strategy == 1u);
+    return le * (p_bsdf * w_light / p_light);
 }
 
 // Point, spot and directional lights at diffuse point p: sum over lights of E cos/pi, E the
@@ -102,7 +105,7 @@ fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, S
 // beta applied by the caller). Deterministic: draws no random numbers.
 fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rays: ptr<function, u32>) -> vec3<f32> {
     var sum = vec3(0.0);
-    let origin = offset_ray_origin(p, ng);
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
     for (var i = 0u; i < arrayLength(&delta_lights); i++) {
         let light = delta_lights[i];
         if (light.kind == 0u) {
@@ -218,7 +221,7 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, Sampler>, rays: ptr<function
             if (HAS_NEE && prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
                 let cos_l = -dot(direction, normalize(ng_raw));
                 let p_light = luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
-                weight = power_heuristic(prev_bsdf_pdf, p_light);
+                weight = select(power_heuristic(prev_bsdf_pdf, p_light), 0.0, frame.light_strategy == 1u);
             }
             let emitted = beta * material.emission * weight;
             radiance += select(clamp_bounced(emitted), emitted, depth == 0u);
@@ -281,7 +284,7 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, Sampler>, rays: ptr<function
             }
             beta /= survive;
         }
-        origin = offset_ray_origin(p, select(ng, -ng, transmitted));
+        origin = offset_ray_origin(p, select(ng, -ng, transmitted), frame.offset_scale);
         direction = next;
     }
     return radiance;

@@ -241,7 +241,9 @@ fn scene_scale_and_offset_do_not_change_the_image() {
     };
     let (reference, ref_err) = render_at(1.0, Vec3::ZERO);
     for (scale, offset) in [
-        (1e-4f32, Vec3::ZERO),
+        (1e-8f32, Vec3::ZERO),
+        (1e-6, Vec3::ZERO),
+        (1e-4, Vec3::ZERO),
         (1e4, Vec3::ZERO),
         (1e6, Vec3::ZERO),
         (1.0, Vec3::splat(1e5)),

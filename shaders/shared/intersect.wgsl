@@ -76,9 +76,11 @@ fn intersect_box(ray: PreparedRay, lo: vec3<f32>, hi: vec3<f32>, t_max: f32) -> 
     return select(-1.0, near, near <= far && near < t_max);
 }
 
-// Offsets a surface point along n by ULPs of its own magnitude (Waechter and Binder, Ray Tracing Gems ch. 6).
-fn offset_ray_origin(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+// Offsets a surface point along n by ULPs of its own magnitude (Waechter and Binder, Ray Tracing Gems
+// ch. 6); near the origin, where ULPs vanish, by a fixed distance relative to `scale` (the scene's
+// extent, at most 1), so a scene a thousandth of a unit wide is not offset by a visible amount.
+fn offset_ray_origin(p: vec3<f32>, n: vec3<f32>, scale: f32) -> vec3<f32> {
     let of_i = vec3<i32>(256.0 * n);
     let p_i = bitcast<vec3<f32>>(bitcast<vec3<i32>>(p) + select(of_i, -of_i, p < vec3(0.0)));
-    return select(p_i, p + (1.0 / 65536.0) * n, abs(p) < vec3(1.0 / 32.0));
+    return select(p_i, p + (scale / 65536.0) * n, abs(p) < vec3(scale / 32.0));
 }

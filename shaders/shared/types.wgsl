@@ -76,8 +76,8 @@ struct Frame {
     tile_row_begin: u32,         // 120
     tile_row_end: u32,           // 124
     sampler: u32,                // 128: 0 independent, 1 Sobol (the kernel uses the SOBOL constant)
-    _pad_a: u32,                 // 132
-    _pad_b: u32,                 // 136
+    light_strategy: u32,         // 132: 0 MIS (power heuristic), 1 next-event estimation only
+    offset_scale: f32,           // 136: see offset_ray_origin
     _pad_c: u32,                 // 140
 }
 

@@ -75,6 +75,7 @@ pub fn settings(width: u32, height: u32, spp: u32, max_depth: u32) -> RenderSett
         russian_roulette: true,
         clamp: None,
         sampler: Default::default(),
+        nee_only: false,
     }
 }
 

@@ -55,6 +55,9 @@ pub struct ConvergeArgs {
     max_depth: Option<u32>,
     #[arg(long)]
     no_nee: bool,
+    /// Next-event estimation alone, without MIS (a diagnostic estimator).
+    #[arg(long, conflicts_with = "no_nee")]
+    nee_only: bool,
     #[arg(long)]
     no_roulette: bool,
     /// Firefly clamp (biased): no channel of a bounced-light contribution above X.
@@ -138,6 +141,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     settings.height = args.height.unwrap_or(settings.height);
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
     settings.next_event_estimation = !args.no_nee;
+    settings.nee_only = args.nee_only;
     settings.russian_roulette = !args.no_roulette;
     settings.clamp = args.clamp.or(settings.clamp);
     if let Some(sampler) = args.sampler {
@@ -151,6 +155,8 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
             "{}{}{}depth {} {:?}",
             if args.no_nee {
                 "BSDF only, "
+            } else if args.nee_only {
+                "NEE only, "
             } else {
                 "NEE+MIS, "
             },

@@ -42,6 +42,10 @@ pub struct RenderArgs {
     /// Turn off next-event estimation (sample only the BSDF; noisier, for comparisons).
     #[arg(long)]
     no_nee: bool,
+    /// Diagnostic: take area lights from next-event estimation alone, without MIS (unbiased but
+    /// noisier; for comparing estimators).
+    #[arg(long, conflicts_with = "no_nee")]
+    nee_only: bool,
     /// Turn off Russian roulette (every path runs to max depth unless it is absorbed or escapes).
     #[arg(long)]
     no_roulette: bool,
@@ -82,6 +86,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     }
     settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
     settings.next_event_estimation = !args.no_nee;
+    settings.nee_only = args.nee_only;
     settings.russian_roulette = !args.no_roulette;
     settings.clamp = args.clamp.or(settings.clamp);
     if let Some(sampler) = args.sampler {

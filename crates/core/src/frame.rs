@@ -69,8 +69,8 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         tile_row_begin: 0,
         tile_row_end: settings.height,
         sampler: u32::from(settings.sampler == crate::reference::rng::SamplerKind::Sobol),
-        _pad_a: 0,
-        _pad_b: 0,
+        light_strategy: u32::from(settings.nee_only),
+        offset_scale: gpu_scene.extent.clamp(1e-30, 1.0),
         _pad_c: 0,
     })
 }

@@ -41,8 +41,25 @@ pub struct GpuScene {
     /// Point, spot and directional lights.
     pub delta_lights: Vec<gpu_types::DeltaLight>,
     pub features: SceneFeatures,
+    /// The largest side of the triangles' bounding box (0 without triangles).
+    pub extent: f32,
     pub bvh_depth: usize,
     pub bvh_build_time: Duration,
+}
+
+fn triangle_extent(triangles: &[Triangle]) -> f32 {
+    let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+    for t in triangles {
+        for v in [t.v0, t.v1, t.v2] {
+            lo = lo.min(v.into());
+            hi = hi.max(v.into());
+        }
+    }
+    if triangles.is_empty() {
+        0.0
+    } else {
+        (hi - lo).max_element()
+    }
 }
 
 impl GpuScene {
@@ -178,6 +195,7 @@ impl GpuScene {
             out.shading = Vec::new();
         }
         out.features.thin_lens = scene.camera.aperture_radius > 0.0;
+        out.extent = triangle_extent(&out.triangles);
         (out.emitters, out.emitter_power) =
             crate::emitters::build_emitters(&out.triangles, &out.materials);
         out.features.nee = scene.settings.next_event_estimation && !out.emitters.is_empty();

@@ -117,8 +117,13 @@ pub struct Frame {
     pub tile_row_end: u32,    // 124
     /// 0: independent PCG sampler; 1: Owen-scrambled Sobol (`reference::rng`).
     pub sampler: u32, // 128
-    pub _pad_a: u32,          // 132
-    pub _pad_b: u32,          // 136
+    /// How emitters found by BSDF sampling and by next-event estimation are combined: 0 the power
+    /// heuristic (MIS); 1 next-event estimation only (emitters reached by a diffuse bounce count
+    /// zero; a diagnostic estimator for tests, `RenderSettings::nee_only`).
+    pub light_strategy: u32, // 132
+    /// Size of the zone around the origin where ray origins move by a fixed distance instead of by
+    /// ULPs of their coordinates: the scene's largest extent, at most 1 (`offset_ray_origin`).
+    pub offset_scale: f32, // 136
     pub _pad_c: u32,          // 140
 }
 
@@ -264,8 +269,8 @@ pub fn layouts() -> Vec<StructLayout> {
                 tile_row_begin,
                 tile_row_end,
                 sampler,
-                _pad_a,
-                _pad_b,
+                light_strategy,
+                offset_scale,
                 _pad_c
             ]
         ),

@@ -106,6 +106,12 @@ pub struct RenderSettings {
     /// Owen-scrambled Sobol points (less noise on smooth integrands; `reference::rng`).
     #[serde(default)]
     pub sampler: crate::reference::rng::SamplerKind,
+    /// Diagnostic: with next-event estimation on, take area lights from next-event estimation alone
+    /// (an emitter reached by a BSDF sample after a diffuse bounce counts zero) instead of combining
+    /// both strategies by MIS. Unbiased but noisier; it exists so tests can check that the three
+    /// estimators agree. Off by default.
+    #[serde(default)]
+    pub nee_only: bool,
 }
 
 fn default_true() -> bool {
@@ -124,6 +130,7 @@ impl Default for RenderSettings {
             russian_roulette: true,
             clamp: None,
             sampler: Default::default(),
+            nee_only: false,
         }
     }
 }

@@ -92,14 +92,16 @@ pub fn intersect_box(ray: &PreparedRay, min: Vec3, max: Vec3, t_max: f32) -> Opt
 
 /// Moves a surface point off its surface along `n` by a few ULPs of its own magnitude (Wächter and
 /// Binder, Ray Tracing Gems ch. 6), so the offset scales with the coordinates, not a fixed epsilon.
-pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
-    const ORIGIN: f32 = 1.0 / 32.0;
-    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+/// Near the origin, where ULPs vanish, it moves by a fixed distance relative to `scale` (the scene's
+/// extent, at most 1: `Frame::offset_scale`), so tiny scenes are not offset by a visible amount.
+pub fn offset_ray_origin(p: Vec3, n: Vec3, scale: f32) -> Vec3 {
+    let origin = scale / 32.0;
+    let float_scale = scale / 65536.0;
     const INT_SCALE: f32 = 256.0;
     let mut out = p;
     for i in 0..3 {
-        if p[i].abs() < ORIGIN {
-            out[i] = p[i] + FLOAT_SCALE * n[i];
+        if p[i].abs() < origin {
+            out[i] = p[i] + float_scale * n[i];
         } else {
             let of = (INT_SCALE * n[i]) as i32;
             let of = if p[i] < 0.0 { -of } else { of };
@@ -135,13 +137,17 @@ mod tests {
 
     #[test]
     fn offset_moves_off_the_surface_at_every_scale() {
-        for scale in [1.0f32, 1e4, 1e6] {
-            let p = Vec3::new(0.3, 0.7, 0.5) * scale;
-            let q = offset_ray_origin(p, Vec3::Z);
-            assert!(
-                q.z > p.z && (q.z - p.z) / scale < 1e-3,
-                "scale {scale}: {p} -> {q}"
-            );
+        // Points away from and near the origin (where the fixed-distance branch applies), in scenes
+        // from a millionth of a unit to a million units wide.
+        for scale in [1e-6f32, 1e-4, 1.0, 1e4, 1e6] {
+            for p in [Vec3::new(0.3, 0.7, 0.5), Vec3::new(0.3, 0.7, 0.0)] {
+                let p = p * scale;
+                let q = offset_ray_origin(p, Vec3::Z, scale.min(1.0));
+                assert!(
+                    q.z > p.z && (q.z - p.z) / scale < 1e-3,
+                    "scale {scale}: {p} -> {q}"
+                );
+            }
         }
     }
 }

@@ -129,8 +129,8 @@ pub fn direct_light(
     if (y - p).dot(nl) >= 0.0 {
         return Vec3::ZERO; // p is behind the emitter's front face
     }
-    let origin = offset_ray_origin(p, ng);
-    let to = offset_ray_origin(y, nl) - origin;
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    let to = offset_ray_origin(y, nl, frame.offset_scale) - origin;
     let distance = to.length();
     let dir = to / distance;
     let (cos_x, cos_l) = (dir.dot(ns), -dir.dot(nl));
@@ -141,15 +141,20 @@ pub fn direct_light(
     let le = Vec3::from(scene.materials[tri.material as usize].emission);
     let p_light = luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
     let p_bsdf = cos_x * std::f32::consts::FRAC_1_PI;
-    le * (p_bsdf * power_heuristic(p_light, p_bsdf) / p_light)
+    let w_light = if frame.light_strategy == 1 {
+        1.0
+    } else {
+        power_heuristic(p_light, p_bsdf)
+    };
+    le * (p_bsdf * w_light / p_light)
 }
 
 /// Nearest hit by testing every triangle (for checking `trace`).
 /// Point, spot and directional lights at diffuse point `p`: Σ E cosθ/π over the unoccluded lights
 /// (albedo and β applied by the caller), E = I/d² (times the spot falloff) or the sun's E.
-pub fn delta_lights_at(scene: &GpuScene, p: Vec3, ng: Vec3, ns: Vec3) -> Vec3 {
+pub fn delta_lights_at(scene: &GpuScene, frame: &Frame, p: Vec3, ng: Vec3, ns: Vec3) -> Vec3 {
     use crate::gpu_types::light_kind;
-    let origin = offset_ray_origin(p, ng);
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
     let mut sum = Vec3::ZERO;
     for light in &scene.delta_lights {
         if light.kind == 0 {
@@ -284,7 +289,11 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
             if frame.emitter_count > 0 && prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
                 let cos_l = -direction.dot(ng_raw.normalize());
                 let p_light = luminance(le) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
-                weight = power_heuristic(prev_bsdf_pdf, p_light);
+                weight = if frame.light_strategy == 1 {
+                    0.0
+                } else {
+                    power_heuristic(prev_bsdf_pdf, p_light)
+                };
             }
             radiance += beta * le * weight;
         }
@@ -344,7 +353,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                 if frame.emitter_count > 0 {
                     radiance += beta * albedo * direct_light(scene, frame, p, ng, ns, &mut rng);
                 }
-                radiance += beta * albedo * delta_lights_at(scene, p, ng, ns);
+                radiance += beta * albedo * delta_lights_at(scene, frame, p, ng, ns);
                 beta *= albedo;
                 let d = sample_cosine_hemisphere(ns, &mut rng);
                 prev_bsdf_pdf = d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI;
@@ -367,7 +376,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
             }
             beta /= survive;
         }
-        origin = offset_ray_origin(p, if transmitted { -ng } else { ng });
+        origin = offset_ray_origin(p, if transmitted { -ng } else { ng }, frame.offset_scale);
         direction = next;
     }
     radiance
