@@ -235,7 +235,11 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, Sampler>, rays: ptr<function
         let b0 = 1.0 - hit.b1 - hit.b2;
         let p = tri.v0 * b0 + tri.v1 * hit.b1 + tri.v2 * hit.b2;
         let ng = select(-1.0, 1.0, front) * normalize(ng_raw);
-        let sh = shading[hit.triangle];
+        // Triangles without normals or UVs have no shading record (the buffer may be a placeholder).
+        var sh: Shading;
+        if (tri.has_normals != 0u || tri.has_uvs != 0u) {
+            sh = shading[hit.triangle];
+        }
         var ns = ng;
         if (tri.has_normals != 0u) {
             let n = normalize(sh.n0 * b0 + sh.n1 * hit.b1 + sh.n2 * hit.b2);

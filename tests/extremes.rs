@@ -721,3 +721,58 @@ fn generic_kernels_and_workgroup_shapes_give_identical_images() {
         assert!(image.pixels == base.pixels, "{options:?} changed the image");
     }
 }
+
+/// Leaving wgpu's bounds checks and loop guards out of the kernel (the default for scenes that pass
+/// `GpuScene::check_kernel_indices`) changes no pixel, on scenes that use every kernel feature and on
+/// an empty one: an index the kernel follows outside its array would read other data there.
+#[test]
+fn kernels_without_runtime_checks_give_identical_images() {
+    let Some(ctx) = gpu() else { return };
+    let mut lit = rt_core::assets::cornell_box().unwrap();
+    let mut bulb = rt_core::Light::new(rt_core::LightKind::Point, "bulb");
+    bulb.position = [150.0, 400.0, 250.0];
+    bulb.intensity = 40_000.0;
+    lit.lights.push(bulb);
+    lit.objects[0].material = Material::Metal {
+        albedo: [0.9; 3],
+        fuzz: 0.3,
+    };
+    let mut empty = lit.clone();
+    empty.objects.clear();
+    empty.lights.clear();
+    empty.ambient = [0.5; 3];
+    for (name, mut s) in [
+        ("Cornell box with metal and a point light", lit),
+        (
+            "textures, normals, metal, glass, lens",
+            textured_scene_with_normals_metal_glass_and_lens(),
+        ),
+        ("empty scene", empty),
+    ] {
+        s.settings.width = 23;
+        s.settings.height = 13;
+        s.settings.samples_per_pixel = 4;
+        let gpu_scene = GpuScene::build(&s).unwrap();
+        gpu_scene
+            .check_kernel_indices()
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let unchecked = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
+        let checked = render_gpu(
+            ctx,
+            &s,
+            &gpu_scene,
+            RenderOptions {
+                runtime_checks: true,
+                ..Default::default()
+            },
+        );
+        assert!(
+            unchecked.pixels == checked.pixels,
+            "{name}: the kernel without runtime checks changed the image"
+        );
+        assert!(
+            unchecked.channel_means().iter().any(|m| *m > 0.0),
+            "{name}: black image"
+        );
+    }
+}

@@ -150,3 +150,71 @@ fn libm_erfc(x: f64) -> f64 {
             .exp();
     if x >= 0.0 { r } else { 2.0 - r }
 }
+
+/// Smooth normals, a texture, a mirror sphere, a rotated and mirrored object, glass and a thin lens.
+pub fn textured_scene_with_normals_metal_glass_and_lens() -> Scene {
+    use rt_core::shapes::{quad, uv_sphere};
+    use rt_core::{Texture, Transform};
+    let mut floor = quad(Vec3::ZERO, Vec3::Y, 4.0);
+    floor.uvs = Some(vec![
+        glam::Vec2::new(0.0, 0.0),
+        glam::Vec2::new(2.0, 0.0),
+        glam::Vec2::new(2.0, 2.0),
+        glam::Vec2::new(0.0, 2.0),
+    ]);
+    let checker: Vec<u8> = (0..16)
+        .flat_map(|i| {
+            if (i % 4 + i / 4) % 2 == 0 {
+                [230u8, 40, 40, 255]
+            } else {
+                [30, 30, 200, 255]
+            }
+        })
+        .collect();
+    let mut sphere = object(
+        "sphere",
+        uv_sphere(0.5, 10, 20),
+        Material::Metal {
+            albedo: [0.95; 3],
+            fuzz: 0.0,
+        },
+    );
+    sphere.transform = Transform {
+        translation: [0.0, 0.5, 0.0],
+        rotation_deg: [10.0, 20.0, 30.0],
+        scale: [1.0, -1.0, 1.0],
+    };
+    let mut scene = scene(
+        vec![
+            object(
+                "floor",
+                floor,
+                Material::Lambertian {
+                    albedo: [1.0; 3],
+                    texture: Some(0),
+                },
+            ),
+            sphere,
+            object(
+                "glass",
+                uv_sphere(0.3, 8, 16),
+                Material::Dielectric {
+                    ior: 1.33,
+                    tint: [1.0; 3],
+                },
+            ),
+        ],
+        camera(Vec3::new(0.0, 1.5, 3.0), Vec3::new(0.0, 0.3, 0.0), 50.0),
+        [0.9, 0.9, 1.0],
+        settings(16, 12, 1, 5),
+    );
+    scene.objects[2].transform.translation = [0.8, 0.3, 0.5];
+    scene.camera.aperture_radius = 0.05;
+    scene.textures.push(Texture {
+        name: "checker".into(),
+        width: 4,
+        height: 4,
+        rgba8: checker.into(),
+    });
+    scene
+}

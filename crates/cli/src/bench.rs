@@ -28,6 +28,10 @@ pub struct BenchArgs {
     /// Use the generic kernel (every feature compiled in) instead of one specialised per scene.
     #[arg(long)]
     generic: bool,
+    /// Keep wgpu's injected bounds checks and loop guards in the kernel (by default they are left
+    /// out for scenes whose indices are checked on the CPU).
+    #[arg(long)]
+    checked: bool,
     /// Work-group shape, e.g. 8x8 (the default), 16x4, 32x1.
     #[arg(long, default_value = "8x8", value_parser = parse_workgroup)]
     workgroup: [u32; 2],
@@ -147,6 +151,7 @@ struct Record {
     rays_per_s: f64,
     gpu_scene_bytes: u64,
     generic_kernel: bool,
+    runtime_checks: bool,
     workgroup: String,
 }
 
@@ -221,6 +226,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             count_rays: true,
             generic_kernel: args.generic,
             workgroup: args.workgroup,
+            runtime_checks: args.checked,
             ..Default::default()
         };
         // Warm-up: compiles the pipeline and settles the dispatch size.
@@ -248,6 +254,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             rays_per_s: renderer.rays_traced() as f64 / secs,
             gpu_scene_bytes: gpu_scene.buffer_sizes().iter().map(|(_, b)| b).sum(),
             generic_kernel: args.generic,
+            runtime_checks: args.checked,
             workgroup: format!("{}x{}", args.workgroup[0], args.workgroup[1]),
         };
         println!(

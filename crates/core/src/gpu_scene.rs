@@ -212,6 +212,93 @@ impl GpuScene {
         Ok(out)
     }
 
+    /// Checks every index the tracing kernel follows, so that it may run without wgpu's injected
+    /// bounds checks and loop guards (`rt_gpu` compiles it that way only when this passes): BVH
+    /// children point forwards (so traversal ends) and inside the node array, leaves' triangle
+    /// ranges, triangles' materials and shading records, textures' texel ranges and the emitter
+    /// table all lie inside their arrays. (Private arrays and vector components are indexed only
+    /// under explicit guards in the kernel.) The error names the first bad record.
+    pub fn check_kernel_indices(&self) -> std::result::Result<(), String> {
+        let (nodes, triangles) = (self.nodes.len(), self.triangles.len());
+        if nodes == 0 {
+            return Err("the BVH has no root node".into());
+        }
+        for (i, node) in self.nodes.iter().enumerate() {
+            for (side, index, count, min, max) in [
+                (
+                    "left",
+                    node.left,
+                    node.left_count,
+                    node.left_min,
+                    node.left_max,
+                ),
+                (
+                    "right",
+                    node.right,
+                    node.right_count,
+                    node.right_min,
+                    node.right_max,
+                ),
+            ] {
+                let empty = (0..3).any(|k| !(min[k] <= max[k]));
+                if count > 0 {
+                    if u64::from(index) + u64::from(count) > triangles as u64 {
+                        return Err(format!(
+                            "BVH node {i}: {side} leaf triangles {index}..{} past the {triangles} triangles",
+                            u64::from(index) + u64::from(count)
+                        ));
+                    }
+                } else if !empty && !(index as usize > i && (index as usize) < nodes) {
+                    return Err(format!(
+                        "BVH node {i}: {side} child {index} is not a later node of the {nodes}"
+                    ));
+                }
+            }
+        }
+        let needs_shading = |t: &Triangle| t.has_normals != 0 || t.has_uvs != 0;
+        for (i, t) in self.triangles.iter().enumerate() {
+            if t.material as usize >= self.materials.len() {
+                return Err(format!(
+                    "triangle {i}: material {} of {}",
+                    t.material,
+                    self.materials.len()
+                ));
+            }
+            if needs_shading(t) && i >= self.shading.len() {
+                return Err(format!(
+                    "triangle {i}: no shading record ({} records)",
+                    self.shading.len()
+                ));
+            }
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            if m.texture_offset != NO_TEXTURE {
+                let end = u64::from(m.texture_offset)
+                    + u64::from(m.texture_width) * u64::from(m.texture_height);
+                if m.texture_width == 0 || m.texture_height == 0 || end > self.texels.len() as u64 {
+                    return Err(format!(
+                        "material {i}: texture texels {}..{end} ({}x{}) outside the {} texels",
+                        m.texture_offset,
+                        m.texture_width,
+                        m.texture_height,
+                        self.texels.len()
+                    ));
+                }
+            }
+        }
+        for (i, e) in self.emitters.iter().enumerate() {
+            if e.triangle as usize >= triangles || e.alias_index as usize >= self.emitters.len() {
+                return Err(format!(
+                    "emitter {i}: triangle {} of {triangles}, alias {} of {}",
+                    e.triangle,
+                    e.alias_index,
+                    self.emitters.len()
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Bytes each buffer needs, by buffer name, for limit checks and reports.
     pub fn buffer_sizes(&self) -> [(&'static str, u64); 6] {
         let bytes = |len: usize, size: usize| (len * size) as u64;

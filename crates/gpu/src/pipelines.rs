@@ -20,6 +20,9 @@ pub struct PipelineKey {
     pub sobol: bool,
     /// Accumulate first-hit albedo and normal for the denoiser.
     pub aovs: bool,
+    /// Compile without wgpu's injected bounds checks and loop guards: only for scenes whose indices
+    /// `GpuScene::check_kernel_indices` has proven in range (`Renderer::new` decides).
+    pub trusted: bool,
 }
 
 impl PipelineKey {
@@ -54,12 +57,26 @@ pub fn trace_pipeline(ctx: &GpuContext, key: PipelineKey) -> Result<wgpu::Comput
     }
     let started = std::time::Instant::now();
     let pipeline = ctx.scoped(|| {
-        let module = ctx
-            .device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("trace"),
-                source: wgpu::ShaderSource::Wgsl(shaders::TRACE.source().into()),
-            });
+        let descriptor = wgpu::ShaderModuleDescriptor {
+            label: Some("trace"),
+            source: wgpu::ShaderSource::Wgsl(shaders::TRACE.source().into()),
+        };
+        #[allow(unsafe_code)] // the one unsafe call in rt; see SAFETY below
+        let module = if key.trusted {
+            // SAFETY: the kernel indexes storage arrays only through the scene's indices, which
+            // `GpuScene::check_kernel_indices` checked before this key was made (BVH children point
+            // forwards, so traversal ends), the pixel slot through rows the renderer keeps inside
+            // the accumulation buffer, and private arrays and vectors under explicit guards; the
+            // other loops are bounded by uniforms. `tests/extremes.rs` checks the images match.
+            unsafe {
+                ctx.device.create_shader_module_trusted(
+                    descriptor,
+                    wgpu::ShaderRuntimeChecks::unchecked(),
+                )
+            }
+        } else {
+            ctx.device.create_shader_module(descriptor)
+        };
         let constants = key.constants();
         ctx.device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

@@ -34,6 +34,9 @@ pub struct RenderOptions {
     /// Also accumulate each pixel's first-hit albedo and normal (for `rt_core::denoise`; read them
     /// with `Renderer::read_aovs`).
     pub aovs: bool,
+    /// Keep wgpu's injected bounds checks and loop guards in the kernel even when the scene's
+    /// indices are proven in range (benchmarks compare the two; the images are identical).
+    pub runtime_checks: bool,
 }
 
 impl Default for RenderOptions {
@@ -46,6 +49,7 @@ impl Default for RenderOptions {
             generic_kernel: false,
             workgroup: [8, 8],
             aovs: false,
+            runtime_checks: false,
         }
     }
 }
@@ -156,6 +160,21 @@ impl<'a> Renderer<'a> {
             "albedo, normal, emission (width x height x 48 bytes)",
             aov_size,
         )?;
+        if frame.emitter_count as usize > scene.emitters.len() {
+            return Err(GpuError::Wgpu(format!(
+                "the frame samples {} emitters of {}",
+                frame.emitter_count,
+                scene.emitters.len()
+            )));
+        }
+        let trusted = !options.runtime_checks
+            && match scene.check_kernel_indices() {
+                Ok(()) => true,
+                Err(e) => {
+                    log::error!("kernel runs with bounds checks: the scene's {e}");
+                    false
+                }
+            };
         let mut features = scene.features;
         features.thin_lens = frame.lens_radius > 0.0;
         features.nee = frame.emitter_count > 0;
@@ -180,6 +199,7 @@ impl<'a> Renderer<'a> {
                 workgroup: options.workgroup.map(|w| w.max(1)),
                 sobol: frame.sampler == 1,
                 aovs: options.aovs,
+                trusted,
             },
         )?;
         let buffers = [

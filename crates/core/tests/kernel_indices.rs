@@ -1,0 +1,132 @@
+//! `GpuScene::check_kernel_indices`, the proof obligation for running the tracing kernel without
+//! wgpu's runtime bounds checks: every scene rt builds passes it, and each kind of bad index fails it.
+
+use rt_core::GpuScene;
+use rt_core::bvh::BvhQuality;
+use rt_core::gpu_types::NO_TEXTURE;
+use rt_core::io::obj::load_obj;
+use std::path::Path;
+
+fn shipped_scenes() -> Vec<(String, rt_core::Scene)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets");
+    let mut out = vec![(
+        "cornell".to_string(),
+        rt_core::assets::cornell_box().unwrap(),
+    )];
+    for obj in [
+        "bunny/bunny-lowres-npm.obj",
+        "spot/spot_triangulated_textured.obj",
+    ] {
+        out.push((obj.to_string(), load_obj(&root.join(obj), 0).unwrap()));
+    }
+    out
+}
+
+#[test]
+fn every_shipped_scene_and_bvh_preset_passes() {
+    for (name, scene) in shipped_scenes() {
+        for quality in [
+            BvhQuality::Fastest,
+            BvhQuality::Fast,
+            BvhQuality::Medium,
+            BvhQuality::Slow,
+        ] {
+            let built = GpuScene::build_with(&scene, quality).unwrap();
+            built
+                .check_kernel_indices()
+                .unwrap_or_else(|e| panic!("{name} {quality:?}: {e}"));
+        }
+    }
+    let empty = rt_core::Scene::default();
+    GpuScene::build(&empty)
+        .unwrap()
+        .check_kernel_indices()
+        .unwrap();
+}
+
+#[test]
+fn each_kind_of_bad_index_is_caught() {
+    let spot = &shipped_scenes()[2].1;
+    let good = GpuScene::build(spot).unwrap();
+    assert!(good.features.textures && !good.shading.is_empty());
+    let cornell = GpuScene::build(&rt_core::assets::cornell_box().unwrap()).unwrap();
+    assert!(!cornell.emitters.is_empty());
+    let inner = good
+        .nodes
+        .iter()
+        .position(|n| n.left_count == 0)
+        .expect("an inner node");
+    let leaf = good
+        .nodes
+        .iter()
+        .position(|n| n.left_count > 0)
+        .expect("a leaf");
+    let cases: Vec<(&str, GpuScene)> = vec![
+        ("child pointing backwards (a cycle)", {
+            let mut s = good.clone();
+            s.nodes[inner].left = inner as u32;
+            s
+        }),
+        ("child past the nodes", {
+            let mut s = good.clone();
+            s.nodes[inner].left = s.nodes.len() as u32;
+            s
+        }),
+        ("leaf past the triangles", {
+            let mut s = good.clone();
+            s.nodes[leaf].left = s.triangles.len() as u32 - s.nodes[leaf].left_count + 1;
+            s
+        }),
+        ("material past the materials", {
+            let mut s = good.clone();
+            s.triangles[0].material = s.materials.len() as u32;
+            s
+        }),
+        ("missing shading record", {
+            let mut s = good.clone();
+            s.shading.truncate(1);
+            s
+        }),
+        ("texture past the texels", {
+            let mut s = good.clone();
+            let m = s
+                .materials
+                .iter_mut()
+                .find(|m| m.texture_offset != NO_TEXTURE)
+                .unwrap();
+            m.texture_offset = 1;
+            s
+        }),
+        ("empty texture", {
+            let mut s = good.clone();
+            let m = s
+                .materials
+                .iter_mut()
+                .find(|m| m.texture_offset != NO_TEXTURE)
+                .unwrap();
+            m.texture_width = 0;
+            s
+        }),
+        ("emitter alias past the table", {
+            let mut s = cornell.clone();
+            s.emitters[0].alias_index = s.emitters.len() as u32;
+            s
+        }),
+        ("emitter triangle past the triangles", {
+            let mut s = cornell.clone();
+            s.emitters[0].triangle = s.triangles.len() as u32;
+            s
+        }),
+        ("no root", {
+            let mut s = cornell.clone();
+            s.nodes.clear();
+            s
+        }),
+    ];
+    for (what, scene) in cases {
+        assert!(
+            scene.check_kernel_indices().is_err(),
+            "{what} was not caught"
+        );
+    }
+}
