@@ -305,7 +305,8 @@ override WG_X: u32 = 8u;
 override WG_Y: u32 = 8u;
 
 @compute @workgroup_size(WG_X, WG_Y, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    stack_base = lid * BVH_STACK_SIZE;
     let x = gid.x;
     let y = gid.y + frame.row_begin;
     if (x >= frame.width || y >= frame.row_end) {

@@ -7,7 +7,8 @@
 @group(0) @binding(3) var<storage, read_write> hits: array<Hit>;
 
 @compute @workgroup_size(64, 1, 1)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    stack_base = lid * BVH_STACK_SIZE;
     let i = gid.x;
     if (i >= arrayLength(&rays_in)) {
         return;

@@ -722,8 +722,8 @@ fn generic_kernels_and_workgroup_shapes_give_identical_images() {
     }
 }
 
-/// Leaving wgpu's bounds checks and loop guards out of the kernel (the default for scenes that pass
-/// `GpuScene::check_kernel_indices`) changes no pixel, on scenes that use every kernel feature and on
+/// Leaving wgpu's bounds checks and loop guards out of the kernel (`RenderOptions::unchecked`, for
+/// scenes that pass `GpuScene::check_kernel_indices`) changes no pixel, on scenes that use every kernel feature and on
 /// an empty one: an index the kernel follows outside its array would read other data there.
 #[test]
 fn kernels_without_runtime_checks_give_identical_images() {
@@ -756,13 +756,13 @@ fn kernels_without_runtime_checks_give_identical_images() {
         gpu_scene
             .check_kernel_indices()
             .unwrap_or_else(|e| panic!("{name}: {e}"));
-        let unchecked = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
-        let checked = render_gpu(
+        let checked = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
+        let unchecked = render_gpu(
             ctx,
             &s,
             &gpu_scene,
             RenderOptions {
-                runtime_checks: true,
+                unchecked: true,
                 ..Default::default()
             },
         );
@@ -774,5 +774,24 @@ fn kernels_without_runtime_checks_give_identical_images() {
             unchecked.channel_means().iter().any(|m| *m > 0.0),
             "{name}: black image"
         );
+    }
+}
+
+/// A work group too large for the traversal stacks in work-group memory is a clear error, not a
+/// validation panic.
+#[test]
+fn an_oversized_work_group_is_a_clear_error() {
+    let Some(ctx) = gpu() else { return };
+    let s = rt_core::assets::cornell_box().unwrap();
+    let gpu_scene = GpuScene::build(&s).unwrap();
+    for workgroup in [[16, 16], [0, 8], [65, 1]] {
+        let options = RenderOptions {
+            workgroup,
+            ..Default::default()
+        };
+        let Err(e) = rt_gpu::Renderer::for_scene(ctx, &s, &gpu_scene, options) else {
+            panic!("work group {workgroup:?} was accepted");
+        };
+        assert!(e.to_string().contains("work group"), "{e}");
     }
 }

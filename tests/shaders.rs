@@ -99,3 +99,42 @@ fn gpu_struct_layouts_match_wgsl() {
         );
     }
 }
+
+/// The work-group traversal stacks hold `MAX_WORKGROUP_INVOCATIONS` stacks of the deepest BVH the
+/// builder makes, and fit the default 16 KiB of work-group memory.
+#[test]
+fn bvh_traversal_stacks_fit_the_work_group_and_the_deepest_bvh() {
+    for module in MODULES {
+        let source = module.source();
+        if !source.contains("bvh_stacks") {
+            continue;
+        }
+        let parsed = parse(module.name, &source);
+        let mut layouter = Layouter::default();
+        layouter.update(parsed.to_ctx()).unwrap();
+        let (_, var) = parsed
+            .global_variables
+            .iter()
+            .find(|(_, v)| v.name.as_deref() == Some("bvh_stacks"))
+            .unwrap();
+        assert_eq!(var.space, naga::AddressSpace::WorkGroup);
+        let bytes = layouter[var.ty].size as usize;
+        assert_eq!(
+            bytes,
+            rt_gpu::MAX_WORKGROUP_INVOCATIONS as usize * rt_core::bvh::MAX_BVH_DEPTH * 4,
+            "{}: bvh_stacks size",
+            module.name
+        );
+        assert!(
+            bytes <= 16384,
+            "{}: over the default work-group memory",
+            module.name
+        );
+        assert!(
+            source.contains("const BVH_STACK_SIZE: u32 = 64u;")
+                && rt_core::bvh::MAX_BVH_DEPTH == 64,
+            "{}: BVH_STACK_SIZE must equal MAX_BVH_DEPTH",
+            module.name
+        );
+    }
+}

@@ -28,10 +28,10 @@ pub struct BenchArgs {
     /// Use the generic kernel (every feature compiled in) instead of one specialised per scene.
     #[arg(long)]
     generic: bool,
-    /// Keep wgpu's injected bounds checks and loop guards in the kernel (by default they are left
-    /// out for scenes whose indices are checked on the CPU).
+    /// Leave wgpu's injected bounds checks and loop guards out of the kernel (for scenes whose
+    /// indices pass the CPU-side check; by default they stay in).
     #[arg(long)]
-    checked: bool,
+    unchecked: bool,
     /// Work-group shape, e.g. 8x8 (the default), 16x4, 32x1.
     #[arg(long, default_value = "8x8", value_parser = parse_workgroup)]
     workgroup: [u32; 2],
@@ -151,7 +151,7 @@ struct Record {
     rays_per_s: f64,
     gpu_scene_bytes: u64,
     generic_kernel: bool,
-    runtime_checks: bool,
+    unchecked: bool,
     workgroup: String,
 }
 
@@ -226,7 +226,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             count_rays: true,
             generic_kernel: args.generic,
             workgroup: args.workgroup,
-            runtime_checks: args.checked,
+            unchecked: args.unchecked,
             ..Default::default()
         };
         // Warm-up: compiles the pipeline and settles the dispatch size.
@@ -254,7 +254,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             rays_per_s: renderer.rays_traced() as f64 / secs,
             gpu_scene_bytes: gpu_scene.buffer_sizes().iter().map(|(_, b)| b).sum(),
             generic_kernel: args.generic,
-            runtime_checks: args.checked,
+            unchecked: args.unchecked,
             workgroup: format!("{}x{}", args.workgroup[0], args.workgroup[1]),
         };
         println!(

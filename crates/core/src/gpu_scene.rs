@@ -213,7 +213,7 @@ impl GpuScene {
     }
 
     /// Checks every index the tracing kernel follows, so that it may run without wgpu's injected
-    /// bounds checks and loop guards (`rt_gpu` compiles it that way only when this passes): BVH
+    /// bounds checks and loop guards (`rt_gpu` compiles it that way, when asked, only if this passes): BVH
     /// children point forwards (so traversal ends) and inside the node array, leaves' triangle
     /// ranges, triangles' materials and shading records, textures' texel ranges and the emitter
     /// table all lie inside their arrays. (Private arrays and vector components are indexed only

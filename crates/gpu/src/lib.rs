@@ -11,4 +11,4 @@ pub mod trace_rays;
 
 pub use context::{AdapterChoice, GpuContext};
 pub use error::{GpuError, Result};
-pub use renderer::{Aovs, BatchStats, Image, RenderOptions, Renderer};
+pub use renderer::{Aovs, BatchStats, Image, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Renderer};

@@ -66,8 +66,10 @@ pub fn trace_pipeline(ctx: &GpuContext, key: PipelineKey) -> Result<wgpu::Comput
             // SAFETY: the kernel indexes storage arrays only through the scene's indices, which
             // `GpuScene::check_kernel_indices` checked before this key was made (BVH children point
             // forwards, so traversal ends), the pixel slot through rows the renderer keeps inside
-            // the accumulation buffer, and private arrays and vectors under explicit guards; the
-            // other loops are bounded by uniforms. `tests/extremes.rs` checks the images match.
+            // the accumulation buffer, the work-group traversal stacks at local index x 64 + depth
+            // (under 64 x 64: `Renderer::new` refuses larger work groups, the push is guarded), and
+            // vector components under explicit guards; the other loops are bounded by uniforms.
+            // `tests/extremes.rs` checks the images match those of the checked kernel.
             unsafe {
                 ctx.device.create_shader_module_trusted(
                     descriptor,

@@ -12,6 +12,10 @@ use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 use crate::pipelines::{PipelineKey, trace_pipeline};
 
+/// The most invocations a work group of the tracing kernel may have: each holds a 64-entry BVH
+/// traversal stack in work-group memory (`shaders/shared/bvh.wgsl`), 16 KiB in all.
+pub const MAX_WORKGROUP_INVOCATIONS: u32 = 64;
+
 /// Dispatch sizing: each dispatch should take about `target_dispatch`, well under the ~100 ms at
 /// which operating systems start to suspect a hung GPU.
 #[derive(Clone, Copy, Debug)]
@@ -29,14 +33,17 @@ pub struct RenderOptions {
     /// Compile every optional feature in, as if the scene used them all (benchmarks compare this
     /// generic kernel with the specialised one).
     pub generic_kernel: bool,
-    /// Work-group width and height (benchmarks); 8 x 8 by default.
+    /// Work-group width and height (benchmarks); 8 x 8 by default, at most `MAX_WORKGROUP_INVOCATIONS`
+    /// invocations (the BVH traversal stacks live in work-group memory).
     pub workgroup: [u32; 2],
     /// Also accumulate each pixel's first-hit albedo and normal (for `rt_core::denoise`; read them
     /// with `Renderer::read_aovs`).
     pub aovs: bool,
-    /// Keep wgpu's injected bounds checks and loop guards in the kernel even when the scene's
-    /// indices are proven in range (benchmarks compare the two; the images are identical).
-    pub runtime_checks: bool,
+    /// Leave wgpu's injected bounds checks and loop guards out of the kernel when
+    /// `GpuScene::check_kernel_indices` proves the scene's indices in range (otherwise they stay).
+    /// Off by default: on lavapipe it measured no faster (docs/performance.md); the images are
+    /// identical either way.
+    pub unchecked: bool,
 }
 
 impl Default for RenderOptions {
@@ -49,7 +56,7 @@ impl Default for RenderOptions {
             generic_kernel: false,
             workgroup: [8, 8],
             aovs: false,
-            runtime_checks: false,
+            unchecked: false,
         }
     }
 }
@@ -160,6 +167,13 @@ impl<'a> Renderer<'a> {
             "albedo, normal, emission (width x height x 48 bytes)",
             aov_size,
         )?;
+        let [wx, wy] = options.workgroup;
+        if wx == 0 || wy == 0 || wx * wy > MAX_WORKGROUP_INVOCATIONS {
+            return Err(GpuError::Wgpu(format!(
+                "work group {wx}x{wy}: it must have 1 to {MAX_WORKGROUP_INVOCATIONS} invocations \
+                 (their BVH traversal stacks share the work group's 16 KiB of memory)"
+            )));
+        }
         if frame.emitter_count as usize > scene.emitters.len() {
             return Err(GpuError::Wgpu(format!(
                 "the frame samples {} emitters of {}",
@@ -167,7 +181,7 @@ impl<'a> Renderer<'a> {
                 scene.emitters.len()
             )));
         }
-        let trusted = !options.runtime_checks
+        let trusted = options.unchecked
             && match scene.check_kernel_indices() {
                 Ok(()) => true,
                 Err(e) => {
