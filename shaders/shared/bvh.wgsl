@@ -34,29 +34,26 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
                 }
             }
         }
-        let visit_l = tl >= 0.0 && node.left_count == 0u && tl < hit.t;
-        let visit_r = tr >= 0.0 && node.right_count == 0u && tr < hit.t;
+        // Child 0 with no triangles is no child (the root is nobody's child): an empty scene's root
+        // has two, whose inverted boxes the slab test cannot tell from a hit.
+        let visit_l = tl >= 0.0 && node.left_count == 0u && node.left != 0u && tl < hit.t;
+        let visit_r = tr >= 0.0 && node.right_count == 0u && node.right != 0u && tr < hit.t;
         if (visit_l && visit_r) {
             if (sp < BVH_STACK_SIZE) {
                 bvh_stacks[stack_base + sp] = select(node.left, node.right, tl <= tr);
                 sp++;
             }
             index = select(node.right, node.left, tl <= tr);
-            continue;
-        }
-        if (visit_l) {
+        } else if (visit_l) {
             index = node.left;
-            continue;
-        }
-        if (visit_r) {
+        } else if (visit_r) {
             index = node.right;
-            continue;
-        }
-        if (sp == 0u) {
+        } else if (sp == 0u) {
             break;
+        } else {
+            sp--;
+            index = bvh_stacks[stack_base + sp];
         }
-        sp--;
-        index = bvh_stacks[stack_base + sp];
     }
     return hit;
 }

@@ -47,7 +47,8 @@ pub struct BuiltBvh {
 const EMPTY_MIN: [f32; 3] = [f32::INFINITY; 3];
 const EMPTY_MAX: [f32; 3] = [f32::NEG_INFINITY; 3];
 
-/// Builds over world-space triangles. An empty input gives one node with two empty children.
+/// Builds over world-space triangles. An empty input gives one node with two empty children: child
+/// index 0 with no triangles, which traversals read as no child (the root is nobody's child).
 pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBvh, String> {
     let start = Instant::now();
     let empty_root = BvhNode {

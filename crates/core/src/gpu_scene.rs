@@ -224,23 +224,11 @@ impl GpuScene {
             return Err("the BVH has no root node".into());
         }
         for (i, node) in self.nodes.iter().enumerate() {
-            for (side, index, count, min, max) in [
-                (
-                    "left",
-                    node.left,
-                    node.left_count,
-                    node.left_min,
-                    node.left_max,
-                ),
-                (
-                    "right",
-                    node.right,
-                    node.right_count,
-                    node.right_min,
-                    node.right_max,
-                ),
+            // Child 0 with no triangles is no child (traversals skip it).
+            for (side, index, count) in [
+                ("left", node.left, node.left_count),
+                ("right", node.right, node.right_count),
             ] {
-                let empty = (0..3).any(|k| !(min[k] <= max[k]));
                 if count > 0 {
                     if u64::from(index) + u64::from(count) > triangles as u64 {
                         return Err(format!(
@@ -248,7 +236,7 @@ impl GpuScene {
                             u64::from(index) + u64::from(count)
                         ));
                     }
-                } else if !empty && !(index as usize > i && (index as usize) < nodes) {
+                } else if index != 0 && !(index as usize > i && (index as usize) < nodes) {
                     return Err(format!(
                         "BVH node {i}: {side} child {index} is not a later node of the {nodes}"
                     ));

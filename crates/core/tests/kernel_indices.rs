@@ -51,11 +51,15 @@ fn each_kind_of_bad_index_is_caught() {
     assert!(good.features.textures && !good.shading.is_empty());
     let cornell = GpuScene::build(&rt_core::assets::cornell_box().unwrap()).unwrap();
     assert!(!cornell.emitters.is_empty());
+    // An inner node below the root (child index 0 means "no child", so the root cannot show a cycle).
     let inner = good
         .nodes
         .iter()
-        .position(|n| n.left_count == 0)
-        .expect("an inner node");
+        .enumerate()
+        .skip(1)
+        .find(|(_, n)| n.left_count == 0)
+        .expect("an inner node below the root")
+        .0;
     let leaf = good
         .nodes
         .iter()
@@ -129,4 +133,19 @@ fn each_kind_of_bad_index_is_caught() {
             "{what} was not caught"
         );
     }
+}
+
+/// An empty scene's root has two empty children (index 0, no triangles): the CPU traversal must
+/// read them as no child. (The slab test "hits" their inverted boxes; before child 0 was skipped,
+/// this loop never ended, and the kernel spun until lavapipe's loop budget ran out on every ray.)
+#[test]
+fn an_empty_scene_is_traversed_at_once() {
+    let empty = GpuScene::build(&rt_core::Scene::default()).unwrap();
+    let hit = rt_core::reference::trace(
+        &empty,
+        glam::Vec3::ZERO,
+        glam::Vec3::new(0.3, 0.5, -0.8).normalize(),
+        f32::MAX,
+    );
+    assert_eq!(hit.triangle, u32::MAX, "no triangle to hit");
 }

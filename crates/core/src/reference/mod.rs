@@ -60,7 +60,10 @@ pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit
                 continue;
             };
             if count == 0 {
-                inner[slot] = Some((t, first as usize));
+                // Child 0 is no child (see bvh.wgsl): an empty scene's root has two.
+                if first != 0 {
+                    inner[slot] = Some((t, first as usize));
+                }
                 continue;
             }
             for i in first..first + count {
