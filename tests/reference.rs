@@ -8,7 +8,7 @@ use glam::Vec3;
 use rt_core::gpu_types::Ray;
 use rt_core::reference::{self, trace_brute_force};
 use rt_core::shapes::{quad, uv_sphere};
-use rt_core::{GpuScene, Material, Scene, Texture, Transform};
+use rt_core::{GpuScene, Material, Scene};
 use rt_gpu::RenderOptions;
 
 /// Per-pixel, per-channel Z-test of GPU means against CPU means with the CPU's sample variance

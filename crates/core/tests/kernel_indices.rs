@@ -1,3 +1,4 @@
+#![allow(clippy::unwrap_used)]
 //! `GpuScene::check_kernel_indices`, the proof obligation for running the tracing kernel without
 //! wgpu's runtime bounds checks: every scene rt builds passes it, and each kind of bad index fails it.
 
