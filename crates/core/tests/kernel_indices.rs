@@ -93,24 +93,10 @@ fn each_kind_of_bad_index_is_caught() {
             s
         }),
         ("texture past the texels", {
-            let mut s = good.clone();
-            let m = s
-                .materials
-                .iter_mut()
-                .find(|m| m.texture_offset != NO_TEXTURE)
-                .unwrap();
-            m.texture_offset = 1;
-            s
+            with_textured_material(&good, |m| m.texture_offset = 1)
         }),
         ("empty texture", {
-            let mut s = good.clone();
-            let m = s
-                .materials
-                .iter_mut()
-                .find(|m| m.texture_offset != NO_TEXTURE)
-                .unwrap();
-            m.texture_width = 0;
-            s
+            with_textured_material(&good, |m| m.texture_width = 0)
         }),
         ("emitter alias past the table", {
             let mut s = cornell.clone();
@@ -149,4 +135,19 @@ fn an_empty_scene_is_traversed_at_once() {
         f32::MAX,
     );
     assert_eq!(hit.triangle, u32::MAX, "no triangle to hit");
+}
+
+/// `scene` with `change` applied to its first textured material.
+fn with_textured_material(
+    scene: &GpuScene,
+    change: impl FnOnce(&mut rt_core::gpu_types::Material),
+) -> GpuScene {
+    let mut s = scene.clone();
+    change(
+        s.materials
+            .iter_mut()
+            .find(|m| m.texture_offset != NO_TEXTURE)
+            .unwrap(),
+    );
+    s
 }
