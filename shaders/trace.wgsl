@@ -39,7 +39,7 @@ fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
 @group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(2) var<storage, read> shading: array<Shading>;
 @group(0) @binding(3) var<storage, read> materials: array<Material>;
-@group(0) @binding(4) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(4) var<storage, read> nodes: array<BvhNodeRecord>;
 @group(0) @binding(5) var<storage, read> texels: array<u32>;
 // xyz: running mean of radiance; w: running mean of squared luminance (for variance estimates).
 @group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;

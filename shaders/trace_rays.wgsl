@@ -3,7 +3,7 @@
 
 @group(0) @binding(0) var<storage, read> rays_in: array<Ray>;
 @group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(2) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(2) var<storage, read> nodes: array<BvhNodeRecord>;
 @group(0) @binding(3) var<storage, read_write> hits: array<Hit>;
 
 @compute @workgroup_size(64, 1, 1)

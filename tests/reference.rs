@@ -5,11 +5,12 @@ mod common;
 
 use common::*;
 use glam::Vec3;
+use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::gpu_types::Ray;
 use rt_core::reference::{self, trace_brute_force};
 use rt_core::shapes::{quad, uv_sphere};
 use rt_core::{GpuScene, Material, Scene};
-use rt_gpu::RenderOptions;
+use rt_gpu::{GpuContext, RenderOptions};
 
 /// Per-pixel, per-channel Z-test of GPU means against CPU means with the CPU's sample variance
 /// (both estimate the same quantity with the same variance): α = 0.01 over the whole image with
@@ -166,15 +167,23 @@ fn random_unit(state: &mut u32) -> Vec3 {
     Vec3::new(s * phi.cos(), s * phi.sin(), z)
 }
 
-/// The kernel's BVH traversal finds the same nearest hit as testing every triangle, for rays from
-/// all around a real mesh (the Stanford bunny, 3,674 triangles) aimed into it and past it.
+/// The kernel's BVH traversals (BVH2 and compressed wide BVH) find the same nearest hit as testing
+/// every triangle, for rays from all around a real mesh (the Stanford bunny, 3,674 triangles) aimed
+/// into it and past it.
 #[test]
 fn gpu_bvh_traversal_matches_brute_force() {
     let Some(ctx) = gpu() else { return };
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny/bunny-lowres-npm.obj");
     let scene = rt_core::io::obj::load_obj(&path, 0).unwrap();
-    let gpu_scene = GpuScene::build(&scene).unwrap();
+    for layout in [BvhLayout::Bvh2, BvhLayout::Cwbvh] {
+        let gpu_scene = GpuScene::build_with_layout(&scene, BvhQuality::default(), layout).unwrap();
+        check_traversal_against_brute_force(ctx, &scene, &gpu_scene);
+    }
+}
+
+fn check_traversal_against_brute_force(ctx: &GpuContext, scene: &Scene, gpu_scene: &GpuScene) {
+    let layout = gpu_scene.layout;
     let (lo, hi) = scene.bounds().unwrap();
     let (center, radius) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
     let mut state = 12345u32;
@@ -192,17 +201,17 @@ fn gpu_bvh_traversal_matches_brute_force() {
             }
         })
         .collect();
-    let hits = rt_gpu::trace_rays::trace_rays(ctx, &gpu_scene, &rays).unwrap();
+    let hits = rt_gpu::trace_rays::trace_rays(ctx, gpu_scene, &rays).unwrap();
     let mut hit_count = 0;
     for (ray, gpu_hit) in rays.iter().zip(&hits) {
         let cpu = trace_brute_force(
-            &gpu_scene,
+            gpu_scene,
             ray.origin.into(),
             ray.direction.into(),
             ray.t_max,
         );
         let cpu_bvh = reference::trace(
-            &gpu_scene,
+            gpu_scene,
             ray.origin.into(),
             ray.direction.into(),
             ray.t_max,
@@ -210,26 +219,26 @@ fn gpu_bvh_traversal_matches_brute_force() {
         assert_eq!(
             cpu_bvh.triangle == u32::MAX,
             cpu.triangle == u32::MAX,
-            "CPU BVH vs brute force: {ray:?}"
+            "{layout:?}: CPU BVH vs brute force: {ray:?}"
         );
         assert_eq!(
             gpu_hit.triangle == u32::MAX,
             cpu.triangle == u32::MAX,
-            "hit/miss differs for {ray:?}: {gpu_hit:?} vs {cpu:?}"
+            "{layout:?}: hit/miss differs for {ray:?}: {gpu_hit:?} vs {cpu:?}"
         );
         if cpu.triangle != u32::MAX {
             hit_count += 1;
             // Same distance (a tie on a shared edge may pick either triangle).
             assert!(
                 (gpu_hit.t - cpu.t).abs() <= 1e-5 * cpu.t.max(1.0),
-                "distance differs for {ray:?}: {gpu_hit:?} vs {cpu:?}"
+                "{layout:?}: distance differs for {ray:?}: {gpu_hit:?} vs {cpu:?}"
             );
             assert!((cpu_bvh.t - cpu.t).abs() <= 1e-5 * cpu.t.max(1.0));
         }
     }
     assert!(
         hit_count > 2000,
-        "too few rays hit the mesh ({hit_count}) for the test to mean much"
+        "{layout:?}: too few rays hit the mesh ({hit_count}) for the test to mean much"
     );
 }
 

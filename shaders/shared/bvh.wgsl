@@ -3,6 +3,8 @@
 // Mirrors reference::trace: each node holds both children's boxes; leaves are tested at once and
 // inner children visited near first.
 
+alias BvhNodeRecord = BvhNode;
+
 const BVH_STACK_SIZE: u32 = 64u; // core::bvh::MAX_BVH_DEPTH
 // Each invocation's traversal stack, in work-group memory: 64 invocations at most
 // (rt_gpu::MAX_WORKGROUP_INVOCATIONS) x 64 entries = 16 KiB, the default limit. On lavapipe this was

@@ -52,6 +52,22 @@ struct BvhNode {
     right_count: u32,       // 60
 }
 
+// A compressed wide BVH8 node (core::gpu_types::WideBvhNode): child boxes quantised to bytes, four
+// children's bytes to a word.
+struct WideBvhNode {
+    origin: vec3<f32>,         // 0
+    exponents_imask: u32,      // 12
+    child_base: u32,           // 16
+    primitive_base: u32,       // 20
+    slots: vec2<u32>,           // 24
+    lo_x: vec2<u32>,           // 32
+    hi_x: vec2<u32>,           // 40
+    lo_y: vec2<u32>,           // 48
+    hi_y: vec2<u32>,           // 56
+    lo_z: vec2<u32>,           // 64
+    hi_z: vec2<u32>,           // 72
+}
+
 struct Frame {
     cam_origin: vec3<f32>,       // 0
     lens_radius: f32,            // 12

@@ -35,6 +35,9 @@ pub struct BenchArgs {
     /// Work-group shape, e.g. 8x8 (the default), 16x4, 32x1.
     #[arg(long, default_value = "8x8", value_parser = parse_workgroup)]
     workgroup: [u32; 2],
+    /// BVH layout the kernel traverses.
+    #[arg(long, value_enum, default_value = "cwbvh")]
+    bvh: crate::converge::Layout,
     /// Only the scenes whose names contain this.
     #[arg(long)]
     only: Option<String>,
@@ -141,6 +144,8 @@ struct Record {
     /// Flattening, transforms, BVH and packing: everything before upload.
     scene_build_ms: f64,
     bvh_depth: usize,
+    /// Bvh2 or Cwbvh.
+    bvh: String,
     width: u32,
     height: u32,
     spp: u32,
@@ -220,7 +225,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         scene.settings.height = args.size;
         scene.settings.next_event_estimation = !args.no_nee;
         let build_started = Instant::now();
-        let gpu_scene = GpuScene::build_with(&scene, BvhQuality::Medium)?;
+        let gpu_scene = GpuScene::build_with_layout(&scene, BvhQuality::Medium, args.bvh.into())?;
         let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
         let options = RenderOptions {
             count_rays: true,
@@ -244,6 +249,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             bvh_build_ms: gpu_scene.bvh_build_time.as_secs_f64() * 1e3,
             scene_build_ms: build_ms,
             bvh_depth: gpu_scene.bvh_depth,
+            bvh: format!("{:?}", gpu_scene.layout),
             width: args.size,
             height: args.size,
             spp: args.spp,

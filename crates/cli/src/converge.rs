@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use clap::Args;
 use rt_core::GpuScene;
-use rt_core::bvh::BvhQuality;
+use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::metrics::{RgbImage, compare};
 use rt_gpu::{AdapterChoice, GpuContext, RenderOptions, Renderer};
 
@@ -33,6 +33,24 @@ impl From<Quality> for BvhQuality {
             Quality::Fast => BvhQuality::Fast,
             Quality::Medium => BvhQuality::Medium,
             Quality::Slow => BvhQuality::Slow,
+        }
+    }
+}
+
+/// The BVH the kernel traverses.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Layout {
+    /// Binary BVH, uncompressed boxes.
+    Bvh2,
+    /// Compressed wide BVH8 (the default).
+    Cwbvh,
+}
+
+impl From<Layout> for BvhLayout {
+    fn from(l: Layout) -> Self {
+        match l {
+            Layout::Bvh2 => BvhLayout::Bvh2,
+            Layout::Cwbvh => BvhLayout::Cwbvh,
         }
     }
 }
@@ -73,6 +91,9 @@ pub struct ConvergeArgs {
     /// BVH build preset: faster builds make slower traversal.
     #[arg(long, value_enum, default_value = "medium")]
     bvh_quality: Quality,
+    /// BVH layout the kernel traverses.
+    #[arg(long, value_enum, default_value = "cwbvh")]
+    bvh: Layout,
     /// Name of this series in the CSV and the plot (default: from the settings).
     #[arg(long)]
     label: Option<String>,
@@ -179,7 +200,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
 
     let ctx = GpuContext::new(&args.adapter)?;
     let start = Instant::now();
-    let gpu_scene = GpuScene::build_with(&scene, args.bvh_quality.into())?;
+    let gpu_scene = GpuScene::build_with_layout(&scene, args.bvh_quality.into(), args.bvh.into())?;
     let bvh = start.elapsed();
     let options = RenderOptions {
         aovs: args.denoise,

@@ -1,14 +1,31 @@
-//! Builds the BVH2 the kernel traverses, with obvhs (PLOC + reinsertion + leaf collapse).
+//! Builds the BVH the kernel traverses, with obvhs (PLOC + reinsertion + leaf collapse): a binary
+//! BVH2 of uncompressed boxes, or obvhs' compressed wide BVH8 (CWBVH) collapsed from it.
 
 use std::time::{Duration, Instant};
 
 use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 
-use crate::gpu_types::BvhNode;
+use crate::gpu_types::{BvhNode, WideBvhNode};
 
 /// Deepest tree the kernel's traversal stack can hold (`BVH_STACK_SIZE` in `bvh.wgsl`).
 pub const MAX_BVH_DEPTH: usize = 64;
+
+/// Deepest wide tree the kernel's traversal stack can hold (`BVH_STACK_SIZE` in `cwbvh.wgsl`).
+pub const MAX_WIDE_BVH_DEPTH: usize = 32;
+
+/// Largest vertex coordinate magnitude for which the wide BVH is built (see `build_wide_bvh`).
+pub const MAX_WIDE_BVH_COORDINATE: f32 = 1e15;
+
+/// Which tree the kernel traverses; the pipeline is specialised for one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum BvhLayout {
+    /// Two children per node, 64 bytes, boxes in f32 (`bvh.wgsl`).
+    Bvh2,
+    /// Eight children per node, 80 bytes, boxes quantised to bytes (`cwbvh.wgsl`).
+    #[default]
+    Cwbvh,
+}
 
 /// Build-quality presets, from obvhs' fastest to its very slow builds.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -30,6 +47,9 @@ impl BvhQuality {
         };
         // Small leaves keep each traversal step short in the kernel.
         params.max_prims_per_leaf = params.max_prims_per_leaf.min(4);
+        // Spatial pre-splits (the slow presets) would list a triangle in several leaves; the scene
+        // stores each triangle once, in leaf order.
+        params.pre_split = false;
         params
     }
 }
@@ -138,4 +158,94 @@ fn append_leaf(
     let start = leaf.first_index as usize;
     order.extend_from_slice(&bvh.primitive_indices[start..start + leaf.prim_count as usize]);
     (first, leaf.prim_count)
+}
+
+/// A built wide BVH: nodes (root first) and the triangle order its leaves index, as `BuiltBvh`.
+pub struct BuiltWideBvh {
+    pub nodes: Vec<WideBvhNode>,
+    pub triangle_order: Vec<u32>,
+    pub depth: usize,
+    pub build_time: Duration,
+}
+
+/// Builds a CWBVH over world-space triangles with obvhs (leaves of at most 3 triangles, children
+/// ordered per ray octant). An empty input gives one node without children. Fails for geometry the
+/// builder cannot handle; `GpuScene` then falls back to the BVH2.
+pub fn build_wide_bvh(
+    triangles: &[[Vec3; 3]],
+    quality: BvhQuality,
+) -> Result<BuiltWideBvh, String> {
+    let start = Instant::now();
+    if triangles.is_empty() {
+        return Ok(BuiltWideBvh {
+            nodes: vec![WideBvhNode::default()],
+            triangle_order: Vec::new(),
+            depth: 1,
+            build_time: start.elapsed(),
+        });
+    }
+    let tris: Vec<obvhs::triangle::Triangle> = triangles
+        .iter()
+        .map(|t| obvhs::triangle::Triangle {
+            v0: Vec3A::from(t[0]),
+            v1: Vec3A::from(t[1]),
+            v2: Vec3A::from(t[2]),
+        })
+        .collect();
+    // obvhs' collapse to 8-wide nodes sums surface-area costs in f32: with coordinates near f32's
+    // range they overflow, and its node decisions come out invalid (a debug assertion found by the
+    // project fuzzer). Such scenes take the BVH2, whose builder copes.
+    let largest = triangles
+        .iter()
+        .flatten()
+        .map(|v| v.abs().max_element())
+        .fold(0.0f32, f32::max);
+    if largest > MAX_WIDE_BVH_COORDINATE {
+        return Err(format!(
+            "a vertex coordinate of magnitude {largest:e} is beyond the wide BVH's {MAX_WIDE_BVH_COORDINATE:e}"
+        ));
+    }
+    let bvh = std::panic::catch_unwind(|| {
+        let mut core_time = Duration::ZERO;
+        obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, quality.params(), &mut core_time)
+    })
+    .map_err(|_| "the wide BVH builder failed on this geometry".to_string())?;
+    if bvh.primitive_indices.len() != triangles.len() {
+        return Err(format!(
+            "wide BVH lists {} triangles, the scene has {}",
+            bvh.primitive_indices.len(),
+            triangles.len()
+        ));
+    }
+    let nodes: Vec<WideBvhNode> = bvh.nodes.iter().map(|n| bytemuck::cast(*n)).collect();
+    let depth = wide_depth(&nodes);
+    if depth > MAX_WIDE_BVH_DEPTH {
+        return Err(format!(
+            "wide BVH depth {depth} exceeds the kernel's traversal stack ({MAX_WIDE_BVH_DEPTH})"
+        ));
+    }
+    Ok(BuiltWideBvh {
+        nodes,
+        triangle_order: bvh.primitive_indices,
+        depth,
+        build_time: start.elapsed(),
+    })
+}
+
+/// Levels on the longest root-to-leaf path of a wide tree whose inner children come after their
+/// parent (`GpuScene::check_kernel_indices` checks that), so one forward pass finds every level.
+fn wide_depth(nodes: &[WideBvhNode]) -> usize {
+    let mut level = vec![0usize; nodes.len()];
+    if let Some(root) = level.first_mut() {
+        *root = 1;
+    }
+    for (i, node) in nodes.iter().enumerate() {
+        let inner = (node.exponents_imask >> 24).count_ones() as usize;
+        for child in node.child_base as usize..node.child_base as usize + inner {
+            if child > i && child < nodes.len() {
+                level[child] = level[child].max(level[i] + 1);
+            }
+        }
+    }
+    level.into_iter().max().unwrap_or(0)
 }

@@ -5,9 +5,9 @@ use std::time::Duration;
 
 use glam::{Vec2, Vec3};
 
-use crate::bvh::{BvhQuality, build_bvh};
+use crate::bvh::{BvhLayout, BvhQuality, build_bvh, build_wide_bvh};
 use crate::error::{Error, Result};
-use crate::gpu_types::{self, BvhNode, NO_TEXTURE, Shading, Triangle, material_kind};
+use crate::gpu_types::{self, BvhNode, NO_TEXTURE, Shading, Triangle, WideBvhNode, material_kind};
 use crate::material::Material;
 use crate::scene::Scene;
 
@@ -33,7 +33,10 @@ pub struct GpuScene {
     pub materials: Vec<gpu_types::Material>,
     /// RGBA8 sRGB texels of all textures, one `u32` each (R in the low byte).
     pub texels: Vec<u32>,
+    /// Which of `nodes` and `wide_nodes` the kernel traverses; the other is empty.
+    pub layout: BvhLayout,
     pub nodes: Vec<BvhNode>,
+    pub wide_nodes: Vec<WideBvhNode>,
     /// Emitter triangles for next-event estimation, as an alias table.
     pub emitters: Vec<gpu_types::Emitter>,
     /// Σ area × luminance(emission) over `emitters`.
@@ -68,6 +71,14 @@ impl GpuScene {
     }
 
     pub fn build_with(scene: &Scene, quality: BvhQuality) -> Result<Self> {
+        Self::build_with_layout(scene, quality, BvhLayout::default())
+    }
+
+    pub fn build_with_layout(
+        scene: &Scene,
+        quality: BvhQuality,
+        layout: BvhLayout,
+    ) -> Result<Self> {
         let mut out = GpuScene::default();
         let mut texture_offsets = Vec::with_capacity(scene.textures.len());
         for texture in &scene.textures {
@@ -156,13 +167,33 @@ impl GpuScene {
             }
         }
 
-        let bvh = build_bvh(&world, quality).map_err(Error::Scene)?;
-        out.bvh_depth = bvh.depth;
-        out.bvh_build_time = bvh.build_time;
-        out.nodes = bvh.nodes;
+        out.layout = layout;
+        let triangle_order = match layout {
+            BvhLayout::Bvh2 => {
+                let bvh = build_bvh(&world, quality).map_err(Error::Scene)?;
+                (out.bvh_depth, out.bvh_build_time) = (bvh.depth, bvh.build_time);
+                out.nodes = bvh.nodes;
+                bvh.triangle_order
+            }
+            BvhLayout::Cwbvh => match build_wide_bvh(&world, quality) {
+                Ok(bvh) => {
+                    (out.bvh_depth, out.bvh_build_time) = (bvh.depth, bvh.build_time);
+                    out.wide_nodes = bvh.nodes;
+                    bvh.triangle_order
+                }
+                Err(why) => {
+                    log::warn!("{why}; using the binary BVH instead");
+                    out.layout = BvhLayout::Bvh2;
+                    let bvh = build_bvh(&world, quality).map_err(Error::Scene)?;
+                    (out.bvh_depth, out.bvh_build_time) = (bvh.depth, bvh.build_time);
+                    out.nodes = bvh.nodes;
+                    bvh.triangle_order
+                }
+            },
+        };
         out.triangles.reserve(world.len());
         out.shading.reserve(world.len());
-        for &i in &bvh.triangle_order {
+        for &i in &triangle_order {
             let p = world[i as usize];
             let (material, normals, uvs) = &tri_data[i as usize];
             let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
@@ -219,6 +250,61 @@ impl GpuScene {
     /// table all lie inside their arrays. (Private arrays and vector components are indexed only
     /// under explicit guards in the kernel.) The error names the first bad record.
     pub fn check_kernel_indices(&self) -> std::result::Result<(), String> {
+        match self.layout {
+            BvhLayout::Bvh2 => self.check_bvh2_indices()?,
+            BvhLayout::Cwbvh => self.check_wide_indices()?,
+        }
+        self.check_record_indices()
+    }
+
+    /// The wide BVH's inner children are later nodes, its leaves' triangle ranges lie inside the
+    /// triangles, and each slot's byte is one the kernel decodes as intended: a leaf's bits stay below
+    /// bit 24, where the kernel keeps inner children.
+    fn check_wide_indices(&self) -> std::result::Result<(), String> {
+        let (nodes, triangles) = (self.wide_nodes.len(), self.triangles.len());
+        if nodes == 0 {
+            return Err("the wide BVH has no root node".into());
+        }
+        for (i, node) in self.wide_nodes.iter().enumerate() {
+            let imask = node.exponents_imask >> 24;
+            let inner = imask.count_ones();
+            if inner > 0
+                && !(node.child_base as usize > i
+                    && node.child_base as usize + inner as usize <= nodes)
+            {
+                return Err(format!(
+                    "wide BVH node {i}: inner children {}..{} are not later nodes of the {nodes}",
+                    node.child_base,
+                    u64::from(node.child_base) + u64::from(inner)
+                ));
+            }
+            for slot in 0..8u32 {
+                let meta = (node.slots[(slot / 4) as usize] >> (slot % 4 * 8)) & 0xff;
+                let is_inner = imask & (1 << slot) != 0;
+                let ok = if is_inner {
+                    meta == 0b0010_0000 | (24 + slot)
+                } else if meta == 0 {
+                    true
+                } else {
+                    let (count, offset) = ((meta >> 5).count_ones(), meta & 31);
+                    let end = u64::from(node.primitive_base) + u64::from(offset + count);
+                    matches!(meta >> 5, 1 | 3 | 7)
+                        && offset + count <= 24
+                        && end <= triangles as u64
+                };
+                if !ok {
+                    return Err(format!(
+                        "wide BVH node {i}: slot {slot} ({}) has meta {meta:#010b} (primitive base {} of {triangles} triangles)",
+                        if is_inner { "inner" } else { "leaf" },
+                        node.primitive_base
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_bvh2_indices(&self) -> std::result::Result<(), String> {
         let (nodes, triangles) = (self.nodes.len(), self.triangles.len());
         if nodes == 0 {
             return Err("the BVH has no root node".into());
@@ -243,6 +329,12 @@ impl GpuScene {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// Triangles' materials and shading records, textures' texels and the emitter table.
+    fn check_record_indices(&self) -> std::result::Result<(), String> {
+        let triangles = self.triangles.len();
         let needs_shading = |t: &Triangle| t.has_normals != 0 || t.has_uvs != 0;
         for (i, t) in self.triangles.iter().enumerate() {
             if t.material as usize >= self.materials.len() {
@@ -287,6 +379,14 @@ impl GpuScene {
         Ok(())
     }
 
+    /// The node array of `layout`, as uploaded.
+    pub fn node_bytes(&self) -> &[u8] {
+        match self.layout {
+            BvhLayout::Bvh2 => bytemuck::cast_slice(&self.nodes),
+            BvhLayout::Cwbvh => bytemuck::cast_slice(&self.wide_nodes),
+        }
+    }
+
     /// Bytes each buffer needs, by buffer name, for limit checks and reports.
     pub fn buffer_sizes(&self) -> [(&'static str, u64); 6] {
         let bytes = |len: usize, size: usize| (len * size) as u64;
@@ -301,7 +401,11 @@ impl GpuScene {
                 bytes(self.materials.len(), size_of::<gpu_types::Material>()),
             ),
             ("texels", bytes(self.texels.len(), 4)),
-            ("bvh nodes", bytes(self.nodes.len(), size_of::<BvhNode>())),
+            (
+                "bvh nodes",
+                bytes(self.nodes.len(), size_of::<BvhNode>())
+                    + bytes(self.wide_nodes.len(), size_of::<WideBvhNode>()),
+            ),
             (
                 "emitters",
                 bytes(self.emitters.len(), size_of::<gpu_types::Emitter>()),

@@ -81,6 +81,31 @@ pub struct BvhNode {
     pub right_count: u32,    // 60
 }
 
+/// A node of the compressed wide BVH (CWBVH, Ylitie, Karras and Laine 2017) as obvhs builds it: up
+/// to eight children whose boxes are quantised to 8 bits per plane on a grid with origin `origin`
+/// and power-of-two cell sizes. Byte-for-byte `obvhs::cwbvh::node::CwBvhNode`, with its byte arrays
+/// read as little-endian words (WGSL has no 8-bit types; it unpacks them with `unpack4xU8`).
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct WideBvhNode {
+    pub origin: [f32; 3], // 0
+    /// Bytes 0..3: biased exponents of the x, y and z cell sizes; byte 3: which children are inner.
+    pub exponents_imask: u32, // 12
+    /// Index of the first inner child; inner children are stored consecutively in slot order.
+    pub child_base: u32, // 16
+    /// Index of the first triangle of the leaf children.
+    pub primitive_base: u32, // 20
+    /// Per child slot, one byte: 0 empty; inner: 0b001 << 5 | (24 + slot); leaf: its triangle count in
+    /// unary in the top 3 bits and its first triangle's offset from `primitive_base` in the low 5.
+    pub slots: [u32; 2], // 24
+    pub lo_x: [u32; 2],   // 32
+    pub hi_x: [u32; 2],   // 40
+    pub lo_y: [u32; 2],   // 48
+    pub hi_y: [u32; 2],   // 56
+    pub lo_z: [u32; 2],   // 64
+    pub hi_z: [u32; 2],   // 72
+}
+
 /// Per-dispatch parameters: camera, image and the slice of work this dispatch does.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -240,6 +265,23 @@ pub fn layouts() -> Vec<StructLayout> {
                 right,
                 right_max,
                 right_count
+            ]
+        ),
+        layout!(
+            "WideBvhNode",
+            WideBvhNode,
+            [
+                origin,
+                exponents_imask,
+                child_base,
+                primitive_base,
+                slots,
+                lo_x,
+                hi_x,
+                lo_y,
+                hi_y,
+                lo_z,
+                hi_z
             ]
         ),
         layout!(

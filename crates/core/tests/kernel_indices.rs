@@ -3,7 +3,7 @@
 //! wgpu's runtime bounds checks: every scene rt builds passes it, and each kind of bad index fails it.
 
 use rt_core::GpuScene;
-use rt_core::bvh::BvhQuality;
+use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::gpu_types::NO_TEXTURE;
 use rt_core::io::obj::load_obj;
 use std::path::Path;
@@ -32,25 +32,104 @@ fn every_shipped_scene_and_bvh_preset_passes() {
             BvhQuality::Medium,
             BvhQuality::Slow,
         ] {
-            let built = GpuScene::build_with(&scene, quality).unwrap();
-            built
-                .check_kernel_indices()
-                .unwrap_or_else(|e| panic!("{name} {quality:?}: {e}"));
+            for layout in [BvhLayout::Bvh2, BvhLayout::Cwbvh] {
+                let built = GpuScene::build_with_layout(&scene, quality, layout).unwrap();
+                built
+                    .check_kernel_indices()
+                    .unwrap_or_else(|e| panic!("{name} {quality:?} {layout:?}: {e}"));
+            }
         }
     }
     let empty = rt_core::Scene::default();
-    GpuScene::build(&empty)
-        .unwrap()
-        .check_kernel_indices()
-        .unwrap();
+    for layout in [BvhLayout::Bvh2, BvhLayout::Cwbvh] {
+        GpuScene::build_with_layout(&empty, BvhQuality::default(), layout)
+            .unwrap()
+            .check_kernel_indices()
+            .unwrap();
+    }
+}
+
+fn build(scene: &rt_core::Scene, layout: BvhLayout) -> GpuScene {
+    GpuScene::build_with_layout(scene, BvhQuality::default(), layout).unwrap()
+}
+
+#[test]
+fn each_kind_of_bad_wide_bvh_index_is_caught() {
+    let good = build(&shipped_scenes()[1].1, BvhLayout::Cwbvh);
+    good.check_kernel_indices().unwrap();
+    let imask = |n: &rt_core::gpu_types::WideBvhNode| n.exponents_imask >> 24;
+    let inner = good
+        .wide_nodes
+        .iter()
+        .position(|n| imask(n) != 0)
+        .expect("a node with inner children");
+    let (leaf, slot) = good
+        .wide_nodes
+        .iter()
+        .enumerate()
+        .find_map(|(i, n)| {
+            (0..8).find_map(|slot| {
+                let meta = (n.slots[slot / 4] >> (slot % 4 * 8)) & 0xff;
+                (imask(n) & (1 << slot) == 0 && meta != 0).then_some((i, slot))
+            })
+        })
+        .expect("a leaf slot");
+    let set_meta = |s: &mut GpuScene, node: usize, slot: usize, meta: u32| {
+        let word = &mut s.wide_nodes[node].slots[slot / 4];
+        *word = (*word & !(0xff << (slot % 4 * 8))) | (meta << (slot % 4 * 8));
+    };
+    let cases: Vec<(&str, GpuScene)> = vec![
+        ("inner children pointing backwards (a cycle)", {
+            let mut s = good.clone();
+            s.wide_nodes[inner].child_base = inner as u32;
+            s
+        }),
+        ("inner children past the nodes", {
+            let mut s = good.clone();
+            s.wide_nodes[inner].child_base = s.wide_nodes.len() as u32 - 1;
+            s
+        }),
+        ("leaf past the triangles", {
+            let mut s = good.clone();
+            s.wide_nodes[leaf].primitive_base = s.triangles.len() as u32;
+            s
+        }),
+        ("leaf bits reaching the inner children's bits", {
+            let mut s = good.clone();
+            set_meta(&mut s, leaf, slot, 0b011_10111); // two triangles from offset 23
+            s
+        }),
+        ("leaf count not unary", {
+            let mut s = good.clone();
+            set_meta(&mut s, leaf, slot, 0b101_00000);
+            s
+        }),
+        ("inner slot with a leaf's byte", {
+            let mut s = good.clone();
+            let slot = (0..8).find(|b| imask(&s.wide_nodes[inner]) & (1 << b) != 0);
+            set_meta(&mut s, inner, slot.unwrap(), 0b001_00000);
+            s
+        }),
+        ("no root", {
+            let mut s = good.clone();
+            s.wide_nodes.clear();
+            s
+        }),
+    ];
+    for (what, scene) in cases {
+        assert!(
+            scene.check_kernel_indices().is_err(),
+            "{what} was not caught"
+        );
+    }
 }
 
 #[test]
 fn each_kind_of_bad_index_is_caught() {
     let spot = &shipped_scenes()[2].1;
-    let good = GpuScene::build(spot).unwrap();
+    let good = build(spot, BvhLayout::Bvh2);
     assert!(good.features.textures && !good.shading.is_empty());
-    let cornell = GpuScene::build(&rt_core::assets::cornell_box().unwrap()).unwrap();
+    let cornell = build(&rt_core::assets::cornell_box().unwrap(), BvhLayout::Bvh2);
     assert!(!cornell.emitters.is_empty());
     // An inner node below the root (child index 0 means "no child", so the root cannot show a cycle).
     let inner = good
@@ -127,14 +206,16 @@ fn each_kind_of_bad_index_is_caught() {
 /// this loop never ended, and the kernel spun until lavapipe's loop budget ran out on every ray.)
 #[test]
 fn an_empty_scene_is_traversed_at_once() {
-    let empty = GpuScene::build(&rt_core::Scene::default()).unwrap();
-    let hit = rt_core::reference::trace(
-        &empty,
-        glam::Vec3::ZERO,
-        glam::Vec3::new(0.3, 0.5, -0.8).normalize(),
-        f32::MAX,
-    );
-    assert_eq!(hit.triangle, u32::MAX, "no triangle to hit");
+    for layout in [BvhLayout::Bvh2, BvhLayout::Cwbvh] {
+        let empty = build(&rt_core::Scene::default(), layout);
+        let hit = rt_core::reference::trace(
+            &empty,
+            glam::Vec3::ZERO,
+            glam::Vec3::new(0.3, 0.5, -0.8).normalize(),
+            f32::MAX,
+        );
+        assert_eq!(hit.triangle, u32::MAX, "{layout:?}: no triangle to hit");
+    }
 }
 
 /// `scene` with `change` applied to its first textured material.

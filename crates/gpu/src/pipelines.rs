@@ -2,6 +2,7 @@
 //! context, so a scene that uses no metal or glass runs (and compiles) a kernel without them.
 
 use rt_core::SceneFeatures;
+use rt_core::bvh::BvhLayout;
 
 use crate::context::GpuContext;
 use crate::error::Result;
@@ -11,6 +12,8 @@ use crate::shaders;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PipelineKey {
     pub features: SceneFeatures,
+    /// The BVH the kernel traverses (a different module, not a constant: the node types differ).
+    pub layout: BvhLayout,
     pub count_rays: bool,
     /// Bits of the firefly clamp (`f32::to_bits`); 0 is off.
     pub clamp_bits: u32,
@@ -59,7 +62,7 @@ pub fn trace_pipeline(ctx: &GpuContext, key: PipelineKey) -> Result<wgpu::Comput
     let pipeline = ctx.scoped(|| {
         let descriptor = wgpu::ShaderModuleDescriptor {
             label: Some("trace"),
-            source: wgpu::ShaderSource::Wgsl(shaders::TRACE.source().into()),
+            source: wgpu::ShaderSource::Wgsl(shaders::trace_module(key.layout).source().into()),
         };
         #[allow(unsafe_code)] // the one unsafe call in rt; see SAFETY below
         let module = if key.trusted {
@@ -105,13 +108,15 @@ pub fn trace_pipeline(ctx: &GpuContext, key: PipelineKey) -> Result<wgpu::Comput
 }
 
 /// The ray-query pipeline used by tests to check BVH traversal.
-pub fn trace_rays_pipeline(ctx: &GpuContext) -> Result<wgpu::ComputePipeline> {
+pub fn trace_rays_pipeline(ctx: &GpuContext, layout: BvhLayout) -> Result<wgpu::ComputePipeline> {
     ctx.scoped(|| {
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("trace_rays"),
-                source: wgpu::ShaderSource::Wgsl(shaders::TRACE_RAYS.source().into()),
+                source: wgpu::ShaderSource::Wgsl(
+                    shaders::trace_rays_module(layout).source().into(),
+                ),
             });
         ctx.device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

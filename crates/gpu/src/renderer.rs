@@ -205,6 +205,7 @@ impl<'a> Renderer<'a> {
             ctx,
             PipelineKey {
                 features,
+                layout: scene.layout,
                 count_rays: options.count_rays,
                 clamp_bits: options
                     .clamp
@@ -230,7 +231,12 @@ impl<'a> Renderer<'a> {
                 &scene.materials,
                 wgpu::BufferUsages::empty(),
             )?,
-            storage_buffer(ctx, "bvh nodes", &scene.nodes, wgpu::BufferUsages::empty())?,
+            storage_buffer(
+                ctx,
+                "bvh nodes",
+                scene.node_bytes(),
+                wgpu::BufferUsages::empty(),
+            )?,
             storage_buffer(ctx, "texels", &scene.texels, wgpu::BufferUsages::empty())?,
             storage_buffer(
                 ctx,

@@ -1,6 +1,8 @@
 //! WGSL sources, composed from `shaders/` at compile time. WGSL has no includes, so each entry
 //! point is its shared files followed by its own file.
 
+use rt_core::bvh::BvhLayout;
+
 macro_rules! shader_file {
     ($name:literal) => {
         ($name, include_str!(concat!("../../../shaders/", $name)))
@@ -14,6 +16,7 @@ pub const FILES: &[(&str, &str)] = &[
     shader_file!("shared/sampling.wgsl"),
     shader_file!("shared/intersect.wgsl"),
     shader_file!("shared/bvh.wgsl"),
+    shader_file!("shared/cwbvh.wgsl"),
     shader_file!("trace.wgsl"),
     shader_file!("trace_rays.wgsl"),
     shader_file!("preview.wgsl"),
@@ -38,6 +41,19 @@ pub const TRACE: ShaderModule = ShaderModule {
     ],
 };
 
+/// `TRACE` over the compressed wide BVH.
+pub const TRACE_WIDE: ShaderModule = ShaderModule {
+    name: "trace_wide",
+    files: &[
+        "shared/types.wgsl",
+        "shared/rng.wgsl",
+        "shared/sampling.wgsl",
+        "shared/intersect.wgsl",
+        "shared/cwbvh.wgsl",
+        "trace.wgsl",
+    ],
+};
+
 pub const TRACE_RAYS: ShaderModule = ShaderModule {
     name: "trace_rays",
     files: &[
@@ -47,6 +63,32 @@ pub const TRACE_RAYS: ShaderModule = ShaderModule {
         "trace_rays.wgsl",
     ],
 };
+
+pub const TRACE_RAYS_WIDE: ShaderModule = ShaderModule {
+    name: "trace_rays_wide",
+    files: &[
+        "shared/types.wgsl",
+        "shared/intersect.wgsl",
+        "shared/cwbvh.wgsl",
+        "trace_rays.wgsl",
+    ],
+};
+
+/// The tracing kernel for a BVH layout.
+pub fn trace_module(layout: BvhLayout) -> &'static ShaderModule {
+    match layout {
+        BvhLayout::Bvh2 => &TRACE,
+        BvhLayout::Cwbvh => &TRACE_WIDE,
+    }
+}
+
+/// The ray-query test kernel for a BVH layout.
+pub fn trace_rays_module(layout: BvhLayout) -> &'static ShaderModule {
+    match layout {
+        BvhLayout::Bvh2 => &TRACE_RAYS,
+        BvhLayout::Cwbvh => &TRACE_RAYS_WIDE,
+    }
+}
 
 /// The editor's raster preview (used by `rt-app`; validated here with the others).
 pub const PREVIEW: ShaderModule = ShaderModule {
@@ -59,7 +101,14 @@ pub const PREVIEW_BLIT: ShaderModule = ShaderModule {
     files: &["preview_blit.wgsl"],
 };
 
-pub const MODULES: &[ShaderModule] = &[TRACE, TRACE_RAYS, PREVIEW, PREVIEW_BLIT];
+pub const MODULES: &[ShaderModule] = &[
+    TRACE,
+    TRACE_WIDE,
+    TRACE_RAYS,
+    TRACE_RAYS_WIDE,
+    PREVIEW,
+    PREVIEW_BLIT,
+];
 
 impl ShaderModule {
     /// The composed source.

@@ -13,7 +13,7 @@ pub fn trace_rays(ctx: &GpuContext, scene: &GpuScene, rays: &[Ray]) -> Result<Ve
     if rays.is_empty() {
         return Ok(Vec::new());
     }
-    let pipeline = trace_rays_pipeline(ctx)?;
+    let pipeline = trace_rays_pipeline(ctx, scene.layout)?;
     let rays_buffer = storage_buffer(ctx, "rays", rays, wgpu::BufferUsages::empty())?;
     let triangles = storage_buffer(
         ctx,
@@ -21,7 +21,12 @@ pub fn trace_rays(ctx: &GpuContext, scene: &GpuScene, rays: &[Ray]) -> Result<Ve
         &scene.triangles,
         wgpu::BufferUsages::empty(),
     )?;
-    let nodes = storage_buffer(ctx, "bvh nodes", &scene.nodes, wgpu::BufferUsages::empty())?;
+    let nodes = storage_buffer(
+        ctx,
+        "bvh nodes",
+        scene.node_bytes(),
+        wgpu::BufferUsages::empty(),
+    )?;
     let hits = storage_buffer(
         ctx,
         "hits",

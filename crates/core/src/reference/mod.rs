@@ -20,9 +20,11 @@
 pub mod intersect;
 pub mod rng;
 pub mod sampling;
+mod wide_bvh;
 
 use glam::{Vec2, Vec3};
 
+use crate::bvh::BvhLayout;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Frame, Hit, NO_TEXTURE, material_kind};
 use intersect::{PreparedRay, intersect_box, intersect_triangle, offset_ray_origin};
@@ -41,8 +43,16 @@ fn miss(t_max: f32) -> Hit {
     }
 }
 
-/// Nearest hit through the BVH, as `intersect_scene` in `bvh.wgsl` computes it.
+/// Nearest hit through the scene's BVH, as `intersect_scene` computes it in the kernel.
 pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+    match scene.layout {
+        BvhLayout::Bvh2 => trace_bvh2(scene, origin, direction, t_max),
+        BvhLayout::Cwbvh => wide_bvh::trace_wide(scene, origin, direction, t_max),
+    }
+}
+
+/// Nearest hit through the BVH2, as `intersect_scene` in `bvh.wgsl` computes it.
+fn trace_bvh2(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let mut hit = miss(t_max);
     let mut stack = Vec::with_capacity(64);

@@ -1,0 +1,114 @@
+//! Traversal of the compressed wide BVH (Ylitie, Karras and Laine, "Efficient Incoherent Ray
+//! Traversal on GPUs Through Compressed Wide BVHs", HPG 2017), as `cwbvh.wgsl` does it.
+//!
+//! A node's hit mask packs the children the ray enters: inner children as bits 24..31, ranked so
+//! that the highest bit is the child nearest the ray's origin octant (obvhs orders each node's
+//! slots by octant: slot ^ octant code = rank), and leaf triangles as bits 0..23 (offsets from the
+//! node's `primitive_base`). Traversal keeps one "group" of inner children still to visit (child
+//! base, ranks, and the node's inner-slot mask to turn a rank into a node index) and a stack of
+//! such groups. Triangles of entered leaves are tested before descending, so the nearest hit found
+//! so far culls the boxes below.
+
+use glam::{BVec3, Vec3};
+
+use super::intersect::{PreparedRay, intersect_triangle};
+use super::miss;
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::{Hit, WideBvhNode};
+
+/// Bits of `WideBvhNode::exponents_imask` and of a group's mask that hold the inner-slot mask.
+const IMASK: u32 = 0xff;
+/// Bits of a hit mask (and a group's mask) that rank inner children.
+const INNER_BITS: u32 = 0xff00_0000;
+
+/// The power-of-two cell size of a node's quantisation grid on each axis.
+fn cell_size(node: &WideBvhNode) -> Vec3 {
+    let e = |shift: u32| f32::from_bits(((node.exponents_imask >> shift) & 0xff) << 23);
+    Vec3::new(e(0), e(8), e(16))
+}
+
+/// The hit mask of `node`'s children that the ray enters before `t_max` (see the module doc).
+/// `oct_inv4` is the ray's octant code (4 if x ≥ 0, + 2 if y ≥ 0, + 1 if z ≥ 0) in every byte.
+fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, t_max: f32) -> u32 {
+    // t = (origin + q · cell − o) / d = q · (cell / d) + (origin − o) / d, per plane byte q.
+    let scaled_inv = cell_size(node) * ray.inv_direction;
+    let shifted_origin = (Vec3::from(node.origin) - ray.origin) * ray.inv_direction;
+    let mut hits = 0;
+    for word in 0..2 {
+        let slot_bytes = node.slots[word];
+        // Inner slots' bytes are 0b001_11xxx: the only bytes with bits 3 and 4 set. Their rank is
+        // the slot's octant-flipped index (biased by 24, so it shifts into the inner bits); a
+        // leaf's shift is its triangle offset and its bits the unary triangle count.
+        let inner = (slot_bytes & (slot_bytes << 1)) & 0x1010_1010;
+        let shift = (slot_bytes ^ (oct_inv4 & ((inner >> 4) * 0xff))) & 0x1f1f_1f1f;
+        let bits = (slot_bytes >> 5) & 0x0707_0707;
+        for lane in 0..4 {
+            let byte = |w: [u32; 2]| ((w[word] >> (lane * 8)) & 0xff) as f32;
+            let lo = Vec3::new(byte(node.lo_x), byte(node.lo_y), byte(node.lo_z));
+            let hi = Vec3::new(byte(node.hi_x), byte(node.hi_y), byte(node.hi_z));
+            let t_near = Vec3::select(neg, hi, lo) * scaled_inv + shifted_origin;
+            let t_far = Vec3::select(neg, lo, hi) * scaled_inv + shifted_origin;
+            let near = t_near.max_element().max(0.0);
+            // Widened as `intersect_box` does, for the rounding of the t values.
+            let far = t_far.min_element() * 1.000_000_4;
+            if near <= far && near < t_max {
+                hits |= ((bits >> (lane * 8)) & 0xff) << ((shift >> (lane * 8)) & 0xff);
+            }
+        }
+    }
+    hits
+}
+
+/// Nearest hit through `scene.wide_nodes`.
+pub fn trace_wide(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+    let ray = PreparedRay::new(origin, direction);
+    let mut hit = miss(t_max);
+    let oct_inv = (u32::from(direction.x >= 0.0) << 2)
+        | (u32::from(direction.y >= 0.0) << 1)
+        | u32::from(direction.z >= 0.0);
+    let oct_inv4 = oct_inv * 0x0101_0101;
+    let neg = direction.cmplt(Vec3::ZERO);
+    let mut stack: Vec<(u32, u32)> = Vec::with_capacity(crate::bvh::MAX_WIDE_BVH_DEPTH);
+    // The root is the one inner child (rank 7, no inner slots before it) of a virtual node at 0.
+    let mut group = (0u32, 0x8000_0000u32);
+    let mut triangles = (0u32, 0u32);
+    loop {
+        while triangles.1 != 0 {
+            let bit = triangles.1.trailing_zeros();
+            triangles.1 &= !(1 << bit);
+            let i = triangles.0 + bit;
+            let tri = &scene.triangles[i as usize];
+            if let Some((t, b1, b2)) =
+                intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
+            {
+                hit = Hit {
+                    t,
+                    triangle: i,
+                    b1,
+                    b2,
+                };
+            }
+        }
+        if group.1 & INNER_BITS == 0 {
+            match stack.pop() {
+                Some(next) => group = next,
+                None => break,
+            }
+        }
+        let rank_bit = 31 - group.1.leading_zeros();
+        group.1 &= !(1 << rank_bit);
+        let slot = (rank_bit - 24) ^ oct_inv;
+        let child = group.0 + (group.1 & IMASK & ((1 << slot) - 1)).count_ones();
+        if group.1 & INNER_BITS != 0 {
+            stack.push(group);
+        }
+        let node = &scene.wide_nodes[child as usize];
+        let hits = child_hits(node, &ray, oct_inv4, neg, hit.t);
+        group = (
+            node.child_base,
+            (hits & INNER_BITS) | (node.exponents_imask >> 24),
+        );
+        triangles = (node.primitive_base, hits & !INNER_BITS);
+    }
+    hit
+}
