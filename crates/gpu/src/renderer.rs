@@ -44,7 +44,18 @@ pub struct RenderOptions {
     /// Off by default: on lavapipe it measured no faster (docs/performance.md); the images are
     /// identical either way.
     pub unchecked: bool,
+    /// Rebuild the tracing pipeline once it has run this long, when `Some`. Mesa 22.3's lavapipe
+    /// keeps host memory for every path its compiled kernel traces (~75 MB/s on the Cornell box
+    /// here) until the pipeline is destroyed; `None` picks `CPU_PIPELINE_LIFETIME` on CPU adapters
+    /// and never on GPUs.
+    /// A rebuild comes from Mesa's shader cache and changes no sample (`tests/memory.rs`).
+    pub pipeline_lifetime: Option<Duration>,
 }
+
+/// `RenderOptions::pipeline_lifetime` on CPU adapters by default: about 0.5 GB held by lavapipe
+/// between rebuilds at most (measured on a 2-core VM), for ~50 ms of rebuild (from Mesa's shader
+/// cache) every 5 s.
+pub const CPU_PIPELINE_LIFETIME: Duration = Duration::from_secs(5);
 
 impl Default for RenderOptions {
     fn default() -> Self {
@@ -57,6 +68,7 @@ impl Default for RenderOptions {
             workgroup: [8, 8],
             aovs: false,
             unchecked: false,
+            pipeline_lifetime: None,
         }
     }
 }
@@ -113,6 +125,13 @@ pub struct BatchStats {
 pub struct Renderer<'a> {
     ctx: &'a GpuContext,
     pipeline: wgpu::ComputePipeline,
+    pipeline_key: PipelineKey,
+    /// When `pipeline` was built, and how long it may run (see `RenderOptions::pipeline_lifetime`).
+    pipeline_built: Instant,
+    pipeline_lifetime: Option<Duration>,
+    pipeline_rebuilds: u32,
+    /// (binding, buffer) of every bind-group entry, to bind them to a rebuilt pipeline.
+    bound: Vec<(u32, wgpu::Buffer)>,
     bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     accum: wgpu::Buffer,
@@ -201,22 +220,20 @@ impl<'a> Renderer<'a> {
             features.thin_lens = true;
             features.delta_lights = true;
         }
-        let pipeline = trace_pipeline(
-            ctx,
-            PipelineKey {
-                features,
-                layout: scene.layout,
-                count_rays: options.count_rays,
-                clamp_bits: options
-                    .clamp
-                    .filter(|c| c.is_finite() && *c > 0.0)
-                    .map_or(0, f32::to_bits),
-                workgroup: options.workgroup.map(|w| w.max(1)),
-                sobol: frame.sampler == 1,
-                aovs: options.aovs,
-                trusted,
-            },
-        )?;
+        let pipeline_key = PipelineKey {
+            features,
+            layout: scene.layout,
+            count_rays: options.count_rays,
+            clamp_bits: options
+                .clamp
+                .filter(|c| c.is_finite() && *c > 0.0)
+                .map_or(0, f32::to_bits),
+            workgroup: options.workgroup.map(|w| w.max(1)),
+            sobol: frame.sampler == 1,
+            aovs: options.aovs,
+            trusted,
+        };
+        let pipeline = trace_pipeline(ctx, pipeline_key)?;
         let buffers = [
             storage_buffer(
                 ctx,
@@ -251,7 +268,7 @@ impl<'a> Renderer<'a> {
                 wgpu::BufferUsages::empty(),
             )?,
         ];
-        let (frame_buffer, accum, aovs, counters, bind_group) = ctx.scoped(|| {
+        let (frame_buffer, accum, aovs, counters, bound, bind_group) = ctx.scoped(|| {
             let frame_buffer = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -303,23 +320,21 @@ impl<'a> Renderer<'a> {
                 (9, delta_lights),
                 (10, &aovs),
             ];
-            let entries: Vec<wgpu::BindGroupEntry> = bound
-                .iter()
-                .map(|(binding, buffer)| wgpu::BindGroupEntry {
-                    binding: *binding,
-                    resource: buffer.as_entire_binding(),
-                })
-                .collect();
-            let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("trace"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
-            (frame_buffer, accum, aovs, counters, bind_group)
+            let bound: Vec<(u32, wgpu::Buffer)> =
+                bound.into_iter().map(|(b, buf)| (b, buf.clone())).collect();
+            let bind_group = bind_buffers(ctx, &pipeline, &bound);
+            (frame_buffer, accum, aovs, counters, bound, bind_group)
         })?;
         // Each path segment traces one ray, a shadow ray for NEE and one per delta light.
         let rays_per_segment = 2 + scene.delta_lights.len() as u32;
-        let mut steps_per_segment = (2 * scene.bvh_depth as u32 + 8) * rays_per_segment;
+        // Loop iterations per ray: BVH2 visits ~2 nodes a level; the wide BVH visits fewer nodes but
+        // each may test up to 24 triangles in its inner loop, so count it more generously.
+        let depth = scene.bvh_depth as u32;
+        let steps_per_ray = match scene.layout {
+            rt_core::bvh::BvhLayout::Bvh2 => 2 * depth + 8,
+            rt_core::bvh::BvhLayout::Cwbvh => 4 * depth + 24,
+        };
+        let mut steps_per_segment = steps_per_ray * rays_per_segment;
         if frame.sampler == 1 {
             // Sobol's second dimension loops over the sample index's bits: up to 20 (a million
             // samples) for each of the ~4 such draws of a segment.
@@ -329,9 +344,17 @@ impl<'a> Renderer<'a> {
         let loop_cap = options
             .max_samples_per_dispatch
             .map_or(loop_cap, |m| m.max(1));
+        let pipeline_lifetime = options
+            .pipeline_lifetime
+            .or((ctx.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_PIPELINE_LIFETIME));
         Ok(Renderer {
             ctx,
             pipeline,
+            pipeline_key,
+            pipeline_built: Instant::now(),
+            pipeline_lifetime,
+            pipeline_rebuilds: 0,
+            bound,
             bind_group,
             frame_buffer,
             accum,
@@ -370,8 +393,41 @@ impl<'a> Renderer<'a> {
         self.longest_dispatch
     }
 
+    /// How often the pipeline was rebuilt (see `RenderOptions::pipeline_lifetime`).
+    pub fn pipeline_rebuilds(&self) -> u32 {
+        self.pipeline_rebuilds
+    }
+
+    /// Replaces the pipeline with a freshly built one (dropping this renderer's and the context's
+    /// handles to the old one, so the driver can free what it holds for it) and rebinds the buffers.
+    fn rebuild_pipeline(&mut self) -> Result<()> {
+        self.ctx
+            .pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .remove(&self.pipeline_key);
+        let pipeline = trace_pipeline(self.ctx, self.pipeline_key)?;
+        self.bind_group = self
+            .ctx
+            .scoped(|| bind_buffers(self.ctx, &pipeline, &self.bound))?;
+        self.pipeline = pipeline;
+        self.pipeline_built = Instant::now();
+        self.pipeline_rebuilds += 1;
+        log::debug!(
+            "rebuilt the trace pipeline ({} so far)",
+            self.pipeline_rebuilds
+        );
+        Ok(())
+    }
+
     /// Adds up to `max_samples` samples to every pixel; returns what was done.
     pub fn render_batch(&mut self, max_samples: u32) -> Result<BatchStats> {
+        if self
+            .pipeline_lifetime
+            .is_some_and(|life| self.pipeline_built.elapsed() >= life)
+        {
+            self.rebuild_pipeline()?;
+        }
         let samples = max_samples.min(self.samples_per_dispatch).max(1);
         let mut stats = BatchStats {
             samples,
@@ -508,6 +564,26 @@ impl<'a> Renderer<'a> {
             pixels,
         })
     }
+}
+
+/// A bind group of `bound` for `pipeline`'s (derived) layout.
+fn bind_buffers(
+    ctx: &GpuContext,
+    pipeline: &wgpu::ComputePipeline,
+    bound: &[(u32, wgpu::Buffer)],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = bound
+        .iter()
+        .map(|(binding, buffer)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("trace"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
 }
 
 /// Rows per tile so that a tile's accumulation buffer (16 bytes per pixel) fits in `max_bytes`.
