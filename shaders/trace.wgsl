@@ -18,6 +18,10 @@ override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
 override HAS_NEE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
+// Traversal reads triangle vertices from `triangle_soa` (structure of arrays: all first vertices,
+// then all second, then all third, 16 bytes each) instead of the 48-byte `Triangle` records; a
+// layout experiment (docs/performance.md), off by default.
+override SOA_TRIANGLES: bool = false;
 // Also accumulate the first hit's albedo and normal (for the denoiser).
 override WRITE_AOVS: bool = false;
 // Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
@@ -51,6 +55,19 @@ fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
 // [3i + 2] of the light seen directly (emitters and sky at the first segment, which need no
 // denoising).
 @group(0) @binding(10) var<storage, read_write> aovs: array<vec4<f32>>;
+
+// With SOA_TRIANGLES: vertices of triangle i at [i], [n + i] and [2n + i] (n triangles); else unused.
+@group(0) @binding(11) var<storage, read> triangle_soa: array<vec4<f32>>;
+
+fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
+    if (SOA_TRIANGLES) {
+        let n = arrayLength(&triangles);
+        return intersect_triangle(ray, triangle_soa[i].xyz, triangle_soa[n + i].xyz,
+                                  triangle_soa[2u * n + i].xyz, t_max);
+    }
+    let tri = triangles[i];
+    return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);
+}
 
 // The current sample's first-hit albedo and normal (zero when the camera ray escapes).
 var<private> aov_albedo: vec3<f32>;

@@ -6,6 +6,11 @@
 @group(0) @binding(2) var<storage, read> nodes: array<BvhNodeRecord>;
 @group(0) @binding(3) var<storage, read_write> hits: array<Hit>;
 
+fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
+    let tri = triangles[i];
+    return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);
+}
+
 @compute @workgroup_size(64, 1, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     stack_base = lid * BVH_STACK_SIZE;

@@ -7,7 +7,8 @@ use common::*;
 use glam::Vec3;
 use rt_core::shapes::{cuboid, quad};
 use rt_core::{GpuScene, Material, Mesh};
-use rt_gpu::RenderOptions;
+use rt_gpu::{RenderOptions, Renderer};
+use std::time::Duration;
 
 fn lit_room() -> Vec<rt_core::Object> {
     vec![
@@ -774,6 +775,20 @@ fn kernels_without_runtime_checks_give_identical_images() {
             unchecked.channel_means().iter().any(|m| *m > 0.0),
             "{name}: black image"
         );
+        // The structure-of-arrays vertex copy (a layout experiment) holds the same vertices.
+        let soa = render_gpu(
+            ctx,
+            &s,
+            &gpu_scene,
+            RenderOptions {
+                soa_triangles: true,
+                ..Default::default()
+            },
+        );
+        assert!(
+            soa.pixels == checked.pixels,
+            "{name}: traversal over the structure-of-arrays vertices changed the image"
+        );
     }
 }
 
@@ -794,4 +809,35 @@ fn an_oversized_work_group_is_a_clear_error() {
         };
         assert!(e.to_string().contains("work group"), "{e}");
     }
+}
+
+/// A rebuilt pipeline (`RenderOptions::pipeline_lifetime`, against lavapipe's memory growth:
+/// `tests/memory.rs`) changes no sample: rebuilding before every batch gives the same bytes as
+/// never rebuilding.
+#[test]
+fn rebuilding_the_pipeline_changes_no_sample() {
+    let Some(ctx) = gpu() else { return };
+    let mut scene = rt_core::assets::cornell_box().unwrap();
+    scene.settings.width = 24;
+    scene.settings.height = 24;
+    let gpu_scene = GpuScene::build(&scene).unwrap();
+    let render = |lifetime: Duration| {
+        let options = RenderOptions {
+            pipeline_lifetime: Some(lifetime),
+            max_samples_per_dispatch: Some(1),
+            ..Default::default()
+        };
+        let mut renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, options).unwrap();
+        renderer.render(12, |_| true).unwrap();
+        (renderer.read_image().unwrap(), renderer.pipeline_rebuilds())
+    };
+    let (rebuilt, rebuilds) = render(Duration::ZERO);
+    let (kept, kept_rebuilds) = render(Duration::from_secs(3600));
+    assert!(rebuilds >= 11, "{rebuilds} rebuilds");
+    assert_eq!(kept_rebuilds, 0);
+    assert_eq!(rebuilt.samples_per_pixel, 12);
+    assert!(
+        rebuilt.pixels == kept.pixels,
+        "images differ after pipeline rebuilds"
+    );
 }

@@ -2,8 +2,9 @@
 //! Host memory during long renders. Mesa 22.3's lavapipe keeps memory for every path its compiled
 //! tracing kernel runs (about 75 MB/s on a 128 x 128 Cornell box render on a 2-core VM) and frees it
 //! only when that pipeline is destroyed, so `Renderer` rebuilds its pipeline on CPU adapters every
-//! `RenderOptions::pipeline_lifetime`. Its own test binary: resident memory is per process, and
-//! other tests running alongside would move it.
+//! `RenderOptions::pipeline_lifetime`. Its own test binary with one test: resident memory is per
+//! process, and other tests running alongside would move it. (That a rebuild changes no sample is
+//! `tests/extremes.rs::rebuilding_the_pipeline_changes_no_sample`.)
 
 mod common;
 
@@ -66,39 +67,12 @@ fn rebuilding_the_pipeline_keeps_host_memory_flat_during_long_renders() {
         renderer.pipeline_rebuilds()
     );
     assert!(
-        renderer.pipeline_rebuilds() >= 3,
+        renderer.pipeline_rebuilds() >= 2,
         "the pipeline was rebuilt only {} times",
         renderer.pipeline_rebuilds()
     );
     assert!(
         peak < 100.0,
         "resident memory grew {peak:.0} MB in 4 s of rendering"
-    );
-}
-
-/// A rebuilt pipeline changes no sample: rebuilding before every batch gives the same bytes as
-/// never rebuilding.
-#[test]
-fn rebuilding_the_pipeline_changes_no_sample() {
-    let Some(ctx) = gpu() else { return };
-    let (scene, gpu_scene) = cornell(24, 12);
-    let render = |lifetime: Duration| {
-        let options = RenderOptions {
-            pipeline_lifetime: Some(lifetime),
-            max_samples_per_dispatch: Some(1),
-            ..Default::default()
-        };
-        let mut renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, options).unwrap();
-        renderer.render(12, |_| true).unwrap();
-        (renderer.read_image().unwrap(), renderer.pipeline_rebuilds())
-    };
-    let (rebuilt, rebuilds) = render(Duration::ZERO);
-    let (kept, kept_rebuilds) = render(Duration::from_secs(3600));
-    assert!(rebuilds >= 11, "{rebuilds} rebuilds");
-    assert_eq!(kept_rebuilds, 0);
-    assert_eq!(rebuilt.samples_per_pixel, 12);
-    assert!(
-        rebuilt.pixels == kept.pixels,
-        "images differ after pipeline rebuilds"
     );
 }

@@ -1,5 +1,5 @@
 // BVH2 traversal: the nearest hit, or with `any_hit` the first found (shadow rays). Needs storage
-// bindings `nodes: array<BvhNode>` and `triangles: array<Triangle>` from the entry-point file.
+// bindings `nodes: array<BvhNode>` and `intersect_triangle_at(ray, index, t_max)` from the entry-point file.
 // Mirrors reference::trace: each node holds both children's boxes; leaves are tested at once and
 // inner children visited near first.
 
@@ -27,8 +27,7 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
         let nr = select(0u, node.right_count, tr >= 0.0);
         for (var k = 0u; k < nl + nr; k++) {
             let i = select(node.right + (k - nl), node.left + k, k < nl);
-            let tri = triangles[i];
-            let h = intersect_triangle(ray, tri.v0, tri.v1, tri.v2, hit.t);
+            let h = intersect_triangle_at(ray, i, hit.t);
             if (h.x > 0.0) {
                 hit = Hit(h.x, i, h.y, h.z);
                 if (any_hit) {

@@ -1,6 +1,6 @@
 // Compressed wide BVH8 traversal (Ylitie, Karras and Laine, HPG 2017): the nearest hit, or with
 // `any_hit` the first found (shadow rays). Needs storage bindings `nodes: array<BvhNodeRecord>` and
-// `triangles: array<Triangle>` from the entry-point file. Mirrors core::reference::wide_bvh, whose
+// `intersect_triangle_at(ray, index, t_max)` from the entry-point file. Mirrors core::reference::wide_bvh, whose
 // module doc explains the hit masks and groups.
 
 alias BvhNodeRecord = WideBvhNode;
@@ -71,8 +71,7 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
             let bit = firstTrailingBit(tris.y);
             tris.y &= ~(1u << bit);
             let i = tris.x + bit;
-            let tri = triangles[i];
-            let h = intersect_triangle(ray, tri.v0, tri.v1, tri.v2, hit.t);
+            let h = intersect_triangle_at(ray, i, hit.t);
             if (h.x > 0.0) {
                 hit = Hit(h.x, i, h.y, h.z);
                 if (any_hit) {

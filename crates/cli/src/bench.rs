@@ -35,6 +35,9 @@ pub struct BenchArgs {
     /// Work-group shape, e.g. 8x8 (the default), 16x4, 32x1.
     #[arg(long, default_value = "8x8", value_parser = parse_workgroup)]
     workgroup: [u32; 2],
+    /// Traversal reads triangle vertices from a structure-of-arrays copy (layout experiment).
+    #[arg(long)]
+    soa: bool,
     /// BVH layout the kernel traverses.
     #[arg(long, value_enum, default_value = "cwbvh")]
     bvh: crate::converge::Layout,
@@ -146,6 +149,7 @@ struct Record {
     bvh_depth: usize,
     /// Bvh2 or Cwbvh.
     bvh: String,
+    soa_triangles: bool,
     width: u32,
     height: u32,
     spp: u32,
@@ -232,6 +236,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             generic_kernel: args.generic,
             workgroup: args.workgroup,
             unchecked: args.unchecked,
+            soa_triangles: args.soa,
             ..Default::default()
         };
         // Warm-up: compiles the pipeline and settles the dispatch size.
@@ -250,6 +255,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             scene_build_ms: build_ms,
             bvh_depth: gpu_scene.bvh_depth,
             bvh: format!("{:?}", gpu_scene.layout),
+            soa_triangles: args.soa,
             width: args.size,
             height: args.size,
             spp: args.spp,

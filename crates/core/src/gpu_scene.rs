@@ -379,6 +379,21 @@ impl GpuScene {
         Ok(())
     }
 
+    /// The triangles' vertices as a structure of arrays: every `v0`, then every `v1`, then every
+    /// `v2`, padded to 16 bytes (`triangle_soa` in `trace.wgsl`).
+    pub fn triangle_soa(&self) -> Vec<[f32; 4]> {
+        let field = |get: fn(&Triangle) -> [f32; 3]| {
+            self.triangles.iter().map(move |t| {
+                let [x, y, z] = get(t);
+                [x, y, z, 0.0]
+            })
+        };
+        field(|t| t.v0)
+            .chain(field(|t| t.v1))
+            .chain(field(|t| t.v2))
+            .collect()
+    }
+
     /// The node array of `layout`, as uploaded.
     pub fn node_bytes(&self) -> &[u8] {
         match self.layout {

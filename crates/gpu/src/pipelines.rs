@@ -26,10 +26,12 @@ pub struct PipelineKey {
     /// Compile without wgpu's injected bounds checks and loop guards: only for scenes whose indices
     /// `GpuScene::check_kernel_indices` has proven in range (`Renderer::new` decides).
     pub trusted: bool,
+    /// Traversal reads vertices from the structure-of-arrays copy (a layout experiment).
+    pub soa_triangles: bool,
 }
 
 impl PipelineKey {
-    fn constants(&self) -> [(&'static str, f64); 12] {
+    fn constants(&self) -> [(&'static str, f64); 13] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("HAS_TEXTURES", flag(self.features.textures)),
@@ -44,6 +46,7 @@ impl PipelineKey {
             ("WG_Y", f64::from(self.workgroup[1])),
             ("SOBOL", flag(self.sobol)),
             ("WRITE_AOVS", flag(self.aovs)),
+            ("SOA_TRIANGLES", flag(self.soa_triangles)),
         ]
     }
 }

@@ -44,18 +44,26 @@ pub struct RenderOptions {
     /// Off by default: on lavapipe it measured no faster (docs/performance.md); the images are
     /// identical either way.
     pub unchecked: bool,
-    /// Rebuild the tracing pipeline once it has run this long, when `Some`. Mesa 22.3's lavapipe
-    /// keeps host memory for every path its compiled kernel traces (~75 MB/s on the Cornell box
-    /// here) until the pipeline is destroyed; `None` picks `CPU_PIPELINE_LIFETIME` on CPU adapters
-    /// and never on GPUs.
-    /// A rebuild comes from Mesa's shader cache and changes no sample (`tests/memory.rs`).
+    /// Rebuild the tracing pipeline once its kernel has run this long (not counting the first batch
+    /// after a build), when `Some`. Mesa 22.3's lavapipe keeps host memory for every path its
+    /// compiled kernel traces (60-75 MB/s on the Cornell box here) until the pipeline is destroyed.
+    /// `None` (the default) never rebuilds on GPUs; on CPU adapters it rebuilds after
+    /// `CPU_PIPELINE_LIFETIME` or `REBUILD_AMORTISATION` times the last build's first batch (which
+    /// holds lavapipe's JIT compile, seconds), whichever is longer; `RT_PIPELINE_LIFETIME_S` in the
+    /// environment sets the lifetime exactly. A rebuild changes no sample (`tests/memory.rs`).
     pub pipeline_lifetime: Option<Duration>,
+    /// Traversal reads triangle vertices from a structure-of-arrays copy instead of the 48-byte
+    /// records (a layout experiment: `rt-cli bench --soa`; docs/performance.md).
+    pub soa_triangles: bool,
 }
 
-/// `RenderOptions::pipeline_lifetime` on CPU adapters by default: about 0.5 GB held by lavapipe
-/// between rebuilds at most (measured on a 2-core VM), for ~50 ms of rebuild (from Mesa's shader
-/// cache) every 5 s.
+/// `RenderOptions::pipeline_lifetime` on CPU adapters by default (the compile-time amortisation
+/// usually decides: see docs/performance.md for the memory and time this gives).
 pub const CPU_PIPELINE_LIFETIME: Duration = Duration::from_secs(5);
+
+/// Between rebuilds the kernel runs at least this many times as long as the last (re)build's first
+/// batch took, which holds the JIT compile: rebuilds cost under 1/this of the render time.
+pub const REBUILD_AMORTISATION: u32 = 10;
 
 impl Default for RenderOptions {
     fn default() -> Self {
@@ -69,6 +77,7 @@ impl Default for RenderOptions {
             aovs: false,
             unchecked: false,
             pipeline_lifetime: None,
+            soa_triangles: false,
         }
     }
 }
@@ -126,9 +135,13 @@ pub struct Renderer<'a> {
     ctx: &'a GpuContext,
     pipeline: wgpu::ComputePipeline,
     pipeline_key: PipelineKey,
-    /// When `pipeline` was built, and how long it may run (see `RenderOptions::pipeline_lifetime`).
-    pipeline_built: Instant,
+    /// Kernel time since `pipeline` was built, not counting its first batch (see
+    /// `RenderOptions::pipeline_lifetime`), and that first batch's time (its compile).
+    pipeline_ran: Duration,
+    pipeline_first_batch: Option<Duration>,
     pipeline_lifetime: Option<Duration>,
+    /// Scale `pipeline_first_batch` by this for the least kernel time between rebuilds.
+    rebuild_amortisation: u32,
     pipeline_rebuilds: u32,
     /// (binding, buffer) of every bind-group entry, to bind them to a rebuilt pipeline.
     bound: Vec<(u32, wgpu::Buffer)>,
@@ -232,6 +245,7 @@ impl<'a> Renderer<'a> {
             sobol: frame.sampler == 1,
             aovs: options.aovs,
             trusted,
+            soa_triangles: options.soa_triangles,
         };
         let pipeline = trace_pipeline(ctx, pipeline_key)?;
         let buffers = [
@@ -265,6 +279,16 @@ impl<'a> Renderer<'a> {
                 ctx,
                 "delta lights",
                 &scene.delta_lights,
+                wgpu::BufferUsages::empty(),
+            )?,
+            storage_buffer(
+                ctx,
+                "triangle vertices (structure of arrays)",
+                &if options.soa_triangles {
+                    scene.triangle_soa()
+                } else {
+                    Vec::new()
+                },
                 wgpu::BufferUsages::empty(),
             )?,
         ];
@@ -306,6 +330,7 @@ impl<'a> Renderer<'a> {
                 texels,
                 emitters,
                 delta_lights,
+                triangle_soa,
             ] = &buffers;
             let bound = [
                 (0, &frame_buffer),
@@ -319,6 +344,7 @@ impl<'a> Renderer<'a> {
                 (8, emitters),
                 (9, delta_lights),
                 (10, &aovs),
+                (11, triangle_soa),
             ];
             let bound: Vec<(u32, wgpu::Buffer)> =
                 bound.into_iter().map(|(b, buf)| (b, buf.clone())).collect();
@@ -344,15 +370,28 @@ impl<'a> Renderer<'a> {
         let loop_cap = options
             .max_samples_per_dispatch
             .map_or(loop_cap, |m| m.max(1));
-        let pipeline_lifetime = options
-            .pipeline_lifetime
+        // RT_PIPELINE_LIFETIME_S (seconds) overrides the CPU default.
+        let from_env = std::env::var("RT_PIPELINE_LIFETIME_S")
+            .ok()
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|s| s.is_finite() && *s >= 0.0)
+            .map(Duration::from_secs_f64);
+        let explicit = options.pipeline_lifetime.or(from_env);
+        let pipeline_lifetime = explicit
             .or((ctx.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_PIPELINE_LIFETIME));
+        let rebuild_amortisation = if explicit.is_some() {
+            0
+        } else {
+            REBUILD_AMORTISATION
+        };
         Ok(Renderer {
             ctx,
             pipeline,
             pipeline_key,
-            pipeline_built: Instant::now(),
+            pipeline_ran: Duration::ZERO,
+            pipeline_first_batch: None,
             pipeline_lifetime,
+            rebuild_amortisation,
             pipeline_rebuilds: 0,
             bound,
             bind_group,
@@ -411,7 +450,8 @@ impl<'a> Renderer<'a> {
             .ctx
             .scoped(|| bind_buffers(self.ctx, &pipeline, &self.bound))?;
         self.pipeline = pipeline;
-        self.pipeline_built = Instant::now();
+        self.pipeline_ran = Duration::ZERO;
+        self.pipeline_first_batch = None;
         self.pipeline_rebuilds += 1;
         log::debug!(
             "rebuilt the trace pipeline ({} so far)",
@@ -422,12 +462,13 @@ impl<'a> Renderer<'a> {
 
     /// Adds up to `max_samples` samples to every pixel; returns what was done.
     pub fn render_batch(&mut self, max_samples: u32) -> Result<BatchStats> {
-        if self
-            .pipeline_lifetime
-            .is_some_and(|life| self.pipeline_built.elapsed() >= life)
+        if let (Some(life), Some(first)) = (self.pipeline_lifetime, self.pipeline_first_batch)
+            && self.pipeline_ran >= life.max(first * self.rebuild_amortisation)
         {
             self.rebuild_pipeline()?;
         }
+        let started = Instant::now();
+        let after_rebuild = self.pipeline_rebuilds > 0 && self.pipeline_first_batch.is_none();
         let samples = max_samples.min(self.samples_per_dispatch).max(1);
         let mut stats = BatchStats {
             samples,
@@ -444,9 +485,20 @@ impl<'a> Renderer<'a> {
             row += rows;
         }
         self.samples_done += samples;
-        self.longest_dispatch = self.longest_dispatch.max(stats.longest_dispatch);
         self.read_counters()?;
-        self.adapt(slowest_rate);
+        if after_rebuild {
+            // The batch held the compile: not a measure of the kernel's speed or dispatch length.
+        } else {
+            self.longest_dispatch = self.longest_dispatch.max(stats.longest_dispatch);
+            self.adapt(slowest_rate);
+        }
+        match self.pipeline_first_batch {
+            None => {
+                self.pipeline_first_batch = Some(started.elapsed());
+                log::debug!("first batch of this pipeline: {:.2?}", started.elapsed());
+            }
+            Some(_) => self.pipeline_ran += started.elapsed(),
+        }
         Ok(stats)
     }
 
