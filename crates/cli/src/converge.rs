@@ -204,6 +204,8 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     let bvh = start.elapsed();
     let options = RenderOptions {
         aovs: args.denoise,
+        // Bounds lavapipe's memory growth over long renders (docs/performance.md).
+        rebuild_on_cpu: true,
         ..Default::default()
     };
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;

@@ -86,14 +86,7 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
             build_time: start.elapsed(),
         });
     }
-    let tris: Vec<obvhs::triangle::Triangle> = triangles
-        .iter()
-        .map(|t| obvhs::triangle::Triangle {
-            v0: Vec3A::from(t[0]),
-            v1: Vec3A::from(t[1]),
-            v2: Vec3A::from(t[2]),
-        })
-        .collect();
+    let tris = obvhs_triangles(triangles);
     let mut core_time = Duration::ZERO;
     let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, quality.params(), &mut core_time);
 
@@ -148,6 +141,17 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
     })
 }
 
+fn obvhs_triangles(triangles: &[[Vec3; 3]]) -> Vec<obvhs::triangle::Triangle> {
+    triangles
+        .iter()
+        .map(|t| obvhs::triangle::Triangle {
+            v0: Vec3A::from(t[0]),
+            v1: Vec3A::from(t[1]),
+            v2: Vec3A::from(t[2]),
+        })
+        .collect()
+}
+
 /// Appends a leaf's triangles to the order and returns (first, count).
 fn append_leaf(
     bvh: &obvhs::bvh2::Bvh2,
@@ -184,14 +188,7 @@ pub fn build_wide_bvh(
             build_time: start.elapsed(),
         });
     }
-    let tris: Vec<obvhs::triangle::Triangle> = triangles
-        .iter()
-        .map(|t| obvhs::triangle::Triangle {
-            v0: Vec3A::from(t[0]),
-            v1: Vec3A::from(t[1]),
-            v2: Vec3A::from(t[2]),
-        })
-        .collect();
+    let tris = obvhs_triangles(triangles);
     // obvhs' collapse to 8-wide nodes sums surface-area costs in f32: with coordinates near f32's
     // range they overflow, and its node decisions come out invalid (a debug assertion found by the
     // project fuzzer). Such scenes take the BVH2, whose builder copes.

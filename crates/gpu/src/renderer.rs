@@ -47,11 +47,15 @@ pub struct RenderOptions {
     /// Rebuild the tracing pipeline once its kernel has run this long (not counting the first batch
     /// after a build), when `Some`. Mesa 22.3's lavapipe keeps host memory for every path its
     /// compiled kernel traces (60-75 MB/s on the Cornell box here) until the pipeline is destroyed.
-    /// `None` (the default) never rebuilds on GPUs; on CPU adapters it rebuilds after
-    /// `CPU_PIPELINE_LIFETIME` or `REBUILD_AMORTISATION` times the last build's first batch (which
-    /// holds lavapipe's JIT compile, seconds), whichever is longer; `RT_PIPELINE_LIFETIME_S` in the
-    /// environment sets the lifetime exactly. A rebuild changes no sample (`tests/memory.rs`).
+    /// `None` leaves it to `rebuild_on_cpu`. A rebuild changes no sample (`tests/memory.rs`).
     pub pipeline_lifetime: Option<Duration>,
+    /// With `pipeline_lifetime` `None`: on CPU adapters, rebuild after `CPU_PIPELINE_LIFETIME` or
+    /// `REBUILD_AMORTISATION` times the last build's first batch (which holds lavapipe's JIT
+    /// compile, seconds), whichever is longer (`RT_PIPELINE_LIFETIME_S` in the environment sets the
+    /// lifetime exactly); never on GPUs. Off by default, for renderers that share a device with
+    /// others (the tests, the editor): a CI run of the test suite with it on stalled for over
+    /// 10 minutes inside lavapipe, with several renderers rebuilding at once. `rt-cli` turns it on.
+    pub rebuild_on_cpu: bool,
     /// Traversal reads triangle vertices from a structure-of-arrays copy instead of the 48-byte
     /// records (a layout experiment: `rt-cli bench --soa`; docs/performance.md).
     pub soa_triangles: bool,
@@ -77,6 +81,7 @@ impl Default for RenderOptions {
             aovs: false,
             unchecked: false,
             pipeline_lifetime: None,
+            rebuild_on_cpu: false,
             soa_triangles: false,
         }
     }
@@ -376,9 +381,9 @@ impl<'a> Renderer<'a> {
             .and_then(|v| v.trim().parse::<f64>().ok())
             .filter(|s| s.is_finite() && *s >= 0.0)
             .map(Duration::from_secs_f64);
-        let explicit = options.pipeline_lifetime.or(from_env);
-        let pipeline_lifetime = explicit
-            .or((ctx.info.device_type == wgpu::DeviceType::Cpu).then_some(CPU_PIPELINE_LIFETIME));
+        let auto = options.rebuild_on_cpu && ctx.info.device_type == wgpu::DeviceType::Cpu;
+        let explicit = options.pipeline_lifetime.or(from_env.filter(|_| auto));
+        let pipeline_lifetime = explicit.or(auto.then_some(CPU_PIPELINE_LIFETIME));
         let rebuild_amortisation = if explicit.is_some() {
             0
         } else {

@@ -43,6 +43,21 @@ fn miss(t_max: f32) -> Hit {
     }
 }
 
+/// Tests triangle `i`, keeping its hit in `hit` when nearer (both traversals' leaf test).
+fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &mut Hit) {
+    let tri = &scene.triangles[i as usize];
+    if let Some((t, b1, b2)) =
+        intersect_triangle(ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
+    {
+        *hit = Hit {
+            t,
+            triangle: i,
+            b1,
+            b2,
+        };
+    }
+}
+
 /// Nearest hit through the scene's BVH, as `intersect_scene` computes it in the kernel.
 pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     match scene.layout {
@@ -77,17 +92,7 @@ fn trace_bvh2(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hi
                 continue;
             }
             for i in first..first + count {
-                let tri = &scene.triangles[i as usize];
-                if let Some((t, b1, b2)) =
-                    intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
-                {
-                    hit = Hit {
-                        t,
-                        triangle: i,
-                        b1,
-                        b2,
-                    };
-                }
+                test_triangle(scene, &ray, i, &mut hit);
             }
         }
         let [l, r] = inner.map(|c| c.filter(|(t, _)| *t < hit.t));
@@ -209,17 +214,8 @@ pub fn delta_lights_at(scene: &GpuScene, frame: &Frame, p: Vec3, ng: Vec3, ns: V
 pub fn trace_brute_force(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let mut hit = miss(t_max);
-    for (i, tri) in scene.triangles.iter().enumerate() {
-        if let Some((t, b1, b2)) =
-            intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
-        {
-            hit = Hit {
-                t,
-                triangle: i as u32,
-                b1,
-                b2,
-            };
-        }
+    for i in 0..scene.triangles.len() as u32 {
+        test_triangle(scene, &ray, i, &mut hit);
     }
     hit
 }

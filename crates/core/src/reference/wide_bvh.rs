@@ -11,8 +11,8 @@
 
 use glam::{BVec3, Vec3};
 
-use super::intersect::{PreparedRay, intersect_triangle};
-use super::miss;
+use super::intersect::PreparedRay;
+use super::{miss, test_triangle};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Hit, WideBvhNode};
 
@@ -76,18 +76,7 @@ pub fn trace_wide(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -
         while triangles.1 != 0 {
             let bit = triangles.1.trailing_zeros();
             triangles.1 &= !(1 << bit);
-            let i = triangles.0 + bit;
-            let tri = &scene.triangles[i as usize];
-            if let Some((t, b1, b2)) =
-                intersect_triangle(&ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
-            {
-                hit = Hit {
-                    t,
-                    triangle: i,
-                    b1,
-                    b2,
-                };
-            }
+            test_triangle(scene, &ray, triangles.0 + bit, &mut hit);
         }
         if group.1 & INNER_BITS == 0 {
             match stack.pop() {
