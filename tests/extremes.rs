@@ -691,6 +691,49 @@ fn a_lost_device_is_an_error_and_earlier_readbacks_stay_usable() {
     );
 }
 
+/// Out of memory mid-render (injected: `GpuContext::inject_out_of_memory` fails the next GPU
+/// operation as an allocation would) is a clear error, not a panic; nothing rendered before is
+/// lost (the accumulation reads back unchanged), and the render can go on once memory allows.
+#[test]
+fn out_of_memory_mid_render_is_an_error_and_loses_no_samples() {
+    if gpu().is_none() {
+        return;
+    }
+    // A context of its own: the injection must not hit another test's operation.
+    let ctx = rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Cpu).unwrap();
+    let mut s = rt_core::assets::cornell_box().unwrap();
+    s.settings.width = 16;
+    s.settings.height = 16;
+    let gpu_scene = GpuScene::build(&s).unwrap();
+    for options in [
+        RenderOptions::default(),
+        RenderOptions {
+            wavefront: !RenderOptions::default().wavefront,
+            ..Default::default()
+        },
+    ] {
+        let mut renderer = rt_gpu::Renderer::for_scene(&ctx, &s, &gpu_scene, options).unwrap();
+        renderer.render_batch(2).unwrap();
+        let before = renderer.read_image().unwrap();
+        assert!(before.channel_means()[0] > 0.0);
+        ctx.inject_out_of_memory(1);
+        let error = renderer.render_batch(2).unwrap_err();
+        assert!(
+            matches!(error, rt_gpu::GpuError::OutOfMemory(_))
+                && error.to_string().contains("ran out of memory"),
+            "{error}"
+        );
+        let after = renderer.read_image().unwrap();
+        assert_eq!(after.samples_per_pixel, before.samples_per_pixel);
+        assert!(
+            after.pixels == before.pixels,
+            "the failed batch changed the image"
+        );
+        renderer.render_batch(2).unwrap();
+        assert_eq!(renderer.samples_done(), before.samples_per_pixel + 2);
+    }
+}
+
 /// The generic kernel (every feature compiled in) and other work-group shapes compute the same
 /// image bit for bit as the specialised 8 x 8 default: specialisation only removes dead code, and
 /// each pixel's samples do not depend on how pixels are grouped.
@@ -702,20 +745,30 @@ fn generic_kernels_and_workgroup_shapes_give_identical_images() {
     s.settings.height = 17;
     s.settings.samples_per_pixel = 3;
     let gpu_scene = GpuScene::build(&s).unwrap();
-    let base = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
+    // Work-group shapes are the megakernel's; the wavefront kernels are specialised too.
+    let mega = RenderOptions {
+        wavefront: false,
+        ..Default::default()
+    };
+    let base = render_gpu(ctx, &s, &gpu_scene, mega);
     for options in [
         RenderOptions {
             generic_kernel: true,
-            ..Default::default()
+            ..mega
         },
         RenderOptions {
             workgroup: [16, 4],
-            ..Default::default()
+            ..mega
         },
         RenderOptions {
             workgroup: [32, 1],
             generic_kernel: true,
-            ..Default::default()
+            ..mega
+        },
+        RenderOptions {
+            wavefront: true,
+            generic_kernel: true,
+            ..mega
         },
     ] {
         let image = render_gpu(ctx, &s, &gpu_scene, options);
@@ -757,7 +810,16 @@ fn kernels_without_runtime_checks_give_identical_images() {
         gpu_scene
             .check_kernel_indices()
             .unwrap_or_else(|e| panic!("{name}: {e}"));
-        let checked = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
+        // Both experiments are the megakernel's (and select it).
+        let checked = render_gpu(
+            ctx,
+            &s,
+            &gpu_scene,
+            RenderOptions {
+                wavefront: false,
+                ..Default::default()
+            },
+        );
         let unchecked = render_gpu(
             ctx,
             &s,
@@ -821,23 +883,26 @@ fn rebuilding_the_pipeline_changes_no_sample() {
     scene.settings.width = 24;
     scene.settings.height = 24;
     let gpu_scene = GpuScene::build(&scene).unwrap();
-    let render = |lifetime: Duration| {
-        let options = RenderOptions {
-            pipeline_lifetime: Some(lifetime),
-            max_samples_per_dispatch: Some(1),
-            ..Default::default()
+    for wavefront in [true, false] {
+        let render = |lifetime: Duration| {
+            let options = RenderOptions {
+                pipeline_lifetime: Some(lifetime),
+                max_samples_per_dispatch: Some(1),
+                wavefront,
+                ..Default::default()
+            };
+            let mut renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, options).unwrap();
+            renderer.render(12, |_| true).unwrap();
+            (renderer.read_image().unwrap(), renderer.pipeline_rebuilds())
         };
-        let mut renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, options).unwrap();
-        renderer.render(12, |_| true).unwrap();
-        (renderer.read_image().unwrap(), renderer.pipeline_rebuilds())
-    };
-    let (rebuilt, rebuilds) = render(Duration::ZERO);
-    let (kept, kept_rebuilds) = render(Duration::from_secs(3600));
-    assert!(rebuilds >= 11, "{rebuilds} rebuilds");
-    assert_eq!(kept_rebuilds, 0);
-    assert_eq!(rebuilt.samples_per_pixel, 12);
-    assert!(
-        rebuilt.pixels == kept.pixels,
-        "images differ after pipeline rebuilds"
-    );
+        let (rebuilt, rebuilds) = render(Duration::ZERO);
+        let (kept, kept_rebuilds) = render(Duration::from_secs(3600));
+        assert!(rebuilds >= 11, "wavefront {wavefront}: {rebuilds} rebuilds");
+        assert_eq!(kept_rebuilds, 0);
+        assert_eq!(rebuilt.samples_per_pixel, 12);
+        assert!(
+            rebuilt.pixels == kept.pixels,
+            "wavefront {wavefront}: images differ after pipeline rebuilds"
+        );
+    }
 }

@@ -295,8 +295,11 @@ fn largest_dispatch_gives_the_same_image_as_single_samples() {
     scene.camera = camera(Vec3::new(0.0, 1.0, 4.0), Vec3::new(0.0, 1.0, 0.0), 40.0);
     scene.settings = settings(16, 16, 64, 8);
     let gpu_scene = GpuScene::build(&scene).unwrap();
+    // The megakernel runs whole paths per invocation, so it is the one at risk (a wavefront
+    // invocation traces one ray).
     let slow = RenderOptions {
         target_dispatch: std::time::Duration::from_secs(60),
+        wavefront: false,
         ..Default::default()
     };
     let one = render_gpu(

@@ -143,3 +143,60 @@ fn bvh_traversal_stacks_fit_the_work_group_and_the_deepest_bvh() {
         );
     }
 }
+
+/// The wavefront renderer sizes its path and shadow-ray queues and writes the queue lengths from
+/// these Rust constants and mirror: they must match the WGSL structs.
+#[test]
+fn wavefront_struct_layouts_match_wgsl() {
+    use rt_gpu::wavefront::{SHADOW_RAY_BYTES, WAVE_PATH_BYTES, WAVE_QUEUES_FIELDS, WaveQueues};
+    let source = rt_gpu::shaders::WAVEFRONT_WIDE.source();
+    let module = parse("wavefront_wide", &source);
+    let strukt = |name: &str| {
+        module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .and_then(|(_, t)| match &t.inner {
+                naga::TypeInner::Struct { members, span } => Some((members.clone(), *span)),
+                _ => None,
+            })
+            .unwrap_or_else(|| panic!("WGSL has no struct {name}"))
+    };
+    assert_eq!(
+        u64::from(strukt("WavePath").1),
+        WAVE_PATH_BYTES,
+        "WavePath size"
+    );
+    assert_eq!(
+        u64::from(strukt("ShadowRay").1),
+        SHADOW_RAY_BYTES,
+        "ShadowRay size"
+    );
+    let (members, span) = strukt("WaveQueues");
+    assert_eq!(span as usize, size_of::<WaveQueues>(), "WaveQueues size");
+    let wgsl: Vec<(String, usize)> = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+        .collect();
+    let rust: Vec<(String, usize)> = WAVE_QUEUES_FIELDS
+        .iter()
+        .map(|(n, o)| (n.to_string(), *o))
+        .collect();
+    assert_eq!(wgsl, rust, "WaveQueues member names and offsets");
+    // And the Rust struct has them where the list says.
+    use std::mem::offset_of;
+    let actual = [
+        ("groups_x", offset_of!(WaveQueues, groups)),
+        ("rays", offset_of!(WaveQueues, rays)),
+        ("next_rays", offset_of!(WaveQueues, next_rays)),
+        ("shadows", offset_of!(WaveQueues, shadows)),
+        ("parity", offset_of!(WaveQueues, parity)),
+        ("_pad", offset_of!(WaveQueues, _pad)),
+    ];
+    for (name, offset) in actual {
+        assert!(
+            WAVE_QUEUES_FIELDS.contains(&(name, offset)),
+            "WaveQueues::{name} is at {offset} in Rust"
+        );
+    }
+}

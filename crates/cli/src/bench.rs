@@ -38,6 +38,13 @@ pub struct BenchArgs {
     /// Traversal reads triangle vertices from a structure-of-arrays copy (layout experiment).
     #[arg(long)]
     soa: bool,
+    /// What traces the paths (`--unchecked`, `--soa` and `--workgroup` apply to the megakernel,
+    /// and the first two select it).
+    #[arg(long, value_enum, default_value = "wavefront")]
+    kernel: crate::converge::Kernel,
+    /// Target time of one dispatch (of the megakernel) or one wave (of the wavefront kernels), ms.
+    #[arg(long, default_value_t = 40)]
+    dispatch_ms: u64,
     /// BVH layout the kernel traverses.
     #[arg(long, value_enum, default_value = "cwbvh")]
     bvh: crate::converge::Layout,
@@ -150,6 +157,9 @@ struct Record {
     /// Bvh2 or Cwbvh.
     bvh: String,
     soa_triangles: bool,
+    /// "wavefront" or "megakernel".
+    kernel: String,
+    dispatch_ms: u64,
     width: u32,
     height: u32,
     spp: u32,
@@ -237,6 +247,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             workgroup: args.workgroup,
             unchecked: args.unchecked,
             soa_triangles: args.soa,
+            wavefront: args.kernel == crate::converge::Kernel::Wavefront,
+            target_dispatch: std::time::Duration::from_millis(args.dispatch_ms.max(1)),
             ..Default::default()
         };
         // Warm-up: compiles the pipeline and settles the dispatch size.
@@ -256,6 +268,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
             bvh_depth: gpu_scene.bvh_depth,
             bvh: format!("{:?}", gpu_scene.layout),
             soa_triangles: args.soa,
+            kernel: if options.wavefront && !args.unchecked && !args.soa {
+                "wavefront"
+            } else {
+                "megakernel"
+            }
+            .into(),
+            dispatch_ms: args.dispatch_ms,
             width: args.size,
             height: args.size,
             spp: args.spp,

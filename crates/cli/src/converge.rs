@@ -55,6 +55,15 @@ impl From<Layout> for BvhLayout {
     }
 }
 
+/// What traces the paths (`RenderOptions::wavefront`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Kernel {
+    /// A kernel per path stage over queues of paths (the default).
+    Wavefront,
+    /// One kernel runs whole paths.
+    Megakernel,
+}
+
 #[derive(Args, Debug)]
 pub struct ConvergeArgs {
     #[command(flatten)]
@@ -94,6 +103,9 @@ pub struct ConvergeArgs {
     /// BVH layout the kernel traverses.
     #[arg(long, value_enum, default_value = "cwbvh")]
     bvh: Layout,
+    /// What traces the paths.
+    #[arg(long, value_enum, default_value = "wavefront")]
+    kernel: Kernel,
     /// Name of this series in the CSV and the plot (default: from the settings).
     #[arg(long)]
     label: Option<String>,
@@ -206,6 +218,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         aovs: args.denoise,
         // Bounds lavapipe's memory growth over long renders (docs/performance.md).
         rebuild_on_cpu: true,
+        wavefront: args.kernel == Kernel::Wavefront,
         ..Default::default()
     };
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;

@@ -147,6 +147,10 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let lose_device_after: Option<u32> = std::env::var("RT_FAULT_LOSE_DEVICE_AFTER_BATCHES")
         .ok()
         .and_then(|v| v.parse().ok());
+    // And run out of memory (the next GPU operation fails) after this many.
+    let out_of_memory_after: Option<u32> = std::env::var("RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES")
+        .ok()
+        .and_then(|v| v.parse().ok());
     let mut batches = 0u32;
     while renderer.samples_done() < spp {
         let done = renderer.samples_done();
@@ -158,6 +162,9 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         };
         if lose_device_after == Some(batches) {
             ctx.device.destroy();
+        }
+        if out_of_memory_after == Some(batches) {
+            ctx.inject_out_of_memory(1);
         }
         batches += 1;
         let step = renderer

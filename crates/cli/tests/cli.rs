@@ -402,6 +402,35 @@ fn a_device_lost_mid_render_saves_the_samples_read_back_before() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Out of memory mid-render (injected: the GPU operation after two batches fails as an allocation
+/// would): rt-cli says so, exits 2 and saves the samples it had read back before.
+#[test]
+fn out_of_memory_mid_render_saves_the_samples_read_back_before() {
+    if !has_gpu() && std::env::var_os("CI").is_none() {
+        return;
+    }
+    let dir = temp_dir("oom");
+    let out = dir.join("partial.png");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_rt-cli"))
+        .args([
+            "render", "--width", "24", "--height", "24", "--spp", "100000", "-o",
+        ])
+        .arg(&out)
+        .env("RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES", "2")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("ran out of memory") && stderr.contains("were saved to"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let (w, h) = image::image_dimensions(&out).unwrap();
+    assert_eq!((w, h), (24, 24));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `--denoise` writes a denoised copy beside the raw output, which stays as rendered.
 #[test]
 fn denoise_writes_a_second_image_and_keeps_the_raw_one() {

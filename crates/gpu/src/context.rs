@@ -1,6 +1,7 @@
 //! Adapter and device selection.
 
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::error::{GpuError, Result};
@@ -35,8 +36,13 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
     pub(crate) pipelines: Mutex<HashMap<crate::pipelines::PipelineKey, wgpu::ComputePipeline>>,
+    pub(crate) wave_pipelines:
+        Mutex<HashMap<crate::pipelines::PipelineKey, Arc<crate::wavefront::WavePipelines>>>,
     /// Why the device was lost, once it has been.
     lost: Arc<Mutex<Option<String>>>,
+    /// Fault injection (`inject_out_of_memory`): the scoped operation this many calls on fails as
+    /// out of memory; 0 is off.
+    out_of_memory_in: AtomicU32,
 }
 
 impl GpuContext {
@@ -134,7 +140,9 @@ impl GpuContext {
             queue,
             info,
             pipelines: Mutex::new(HashMap::new()),
+            wave_pipelines: Mutex::new(HashMap::new()),
             lost,
+            out_of_memory_in: AtomicU32::new(0),
         })
     }
 
@@ -174,17 +182,33 @@ impl GpuContext {
         }
     }
 
-    /// Runs `f` and turns any wgpu validation or out-of-memory error it caused into `GpuError::Wgpu`.
+    /// Fault injection for tests: the `operations`-th GPU operation from now (each `scoped` call,
+    /// counting from 1) fails with `GpuError::OutOfMemory` without running, as one whose
+    /// allocation failed. Real out-of-memory errors cannot be provoked on demand (lavapipe takes
+    /// host memory until the system's runs out); this drives the same error path.
+    pub fn inject_out_of_memory(&self, operations: u32) {
+        self.out_of_memory_in.store(operations, Ordering::SeqCst);
+    }
+
+    /// Runs `f` and turns any wgpu validation error it caused into `GpuError::Wgpu`, and an
+    /// out-of-memory error into `GpuError::OutOfMemory`.
     pub fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T> {
+        let countdown =
+            self.out_of_memory_in
+                .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| n.checked_sub(1));
+        if countdown == Ok(1) {
+            return Err(GpuError::OutOfMemory("injected by a test".into()));
+        }
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f();
         let v = pollster::block_on(validation.pop());
         let o = pollster::block_on(oom.pop());
         self.alive()?;
-        match v.or(o) {
-            Some(e) => Err(GpuError::Wgpu(e.to_string())),
-            None => Ok(value),
+        match (v, o) {
+            (_, Some(e)) => Err(GpuError::OutOfMemory(e.to_string())),
+            (Some(e), None) => Err(GpuError::Wgpu(e.to_string())),
+            (None, None) => Ok(value),
         }
     }
 }

@@ -18,9 +18,16 @@ pub enum GpuError {
         limit: u64,
         what: &'static str,
     },
-    /// wgpu reported a validation or out-of-memory error.
+    /// wgpu reported a validation error.
     #[error("GPU error: {0}")]
     Wgpu(String),
+    /// An allocation or submission failed for lack of GPU memory. The device stays usable: what
+    /// was rendered before can still be read back.
+    #[error(
+        "the GPU ran out of memory ({0}); a smaller image, fewer triangles or textures, or another \
+         adapter may fit"
+    )]
+    OutOfMemory(String),
     /// The device was lost (driver reset, GPU removed, watchdog, or destroyed); nothing more can
     /// be rendered or read back on it.
     #[error("the GPU device was lost ({0})")]

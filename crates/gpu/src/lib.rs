@@ -8,6 +8,7 @@ pub mod pipelines;
 pub mod renderer;
 pub mod shaders;
 pub mod trace_rays;
+pub mod wavefront;
 
 pub use context::{AdapterChoice, GpuContext};
 pub use error::{GpuError, Result};

@@ -31,7 +31,10 @@ pub struct PipelineKey {
 }
 
 impl PipelineKey {
-    fn constants(&self) -> [(&'static str, f64); 13] {
+    /// Constants only the megakernel (trace.wgsl) declares.
+    pub(crate) const MEGAKERNEL_ONLY: [&'static str; 3] = ["WG_X", "WG_Y", "SOA_TRIANGLES"];
+
+    pub(crate) fn constants(&self) -> [(&'static str, f64); 13] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         [
             ("HAS_TEXTURES", flag(self.features.textures)),

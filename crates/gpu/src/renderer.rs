@@ -11,6 +11,7 @@ use crate::buffers::{read_buffer, storage_buffer};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 use crate::pipelines::{PipelineKey, trace_pipeline};
+use crate::wavefront::{MAX_WAVE_PATHS, Wavefront};
 
 /// The most invocations a work group of the tracing kernel may have: each holds a 64-entry BVH
 /// traversal stack in work-group memory (`shaders/shared/bvh.wgsl`), 16 KiB in all.
@@ -33,8 +34,9 @@ pub struct RenderOptions {
     /// Compile every optional feature in, as if the scene used them all (benchmarks compare this
     /// generic kernel with the specialised one).
     pub generic_kernel: bool,
-    /// Work-group width and height (benchmarks); 8 x 8 by default, at most `MAX_WORKGROUP_INVOCATIONS`
-    /// invocations (the BVH traversal stacks live in work-group memory).
+    /// The megakernel's work-group width and height (benchmarks); 8 x 8 by default, at most
+    /// `MAX_WORKGROUP_INVOCATIONS` invocations (the BVH traversal stacks live in work-group
+    /// memory). The wavefront kernels run 64 x 1.
     pub workgroup: [u32; 2],
     /// Also accumulate each pixel's first-hit albedo and normal (for `rt_core::denoise`; read them
     /// with `Renderer::read_aovs`).
@@ -42,7 +44,7 @@ pub struct RenderOptions {
     /// Leave wgpu's injected bounds checks and loop guards out of the kernel when
     /// `GpuScene::check_kernel_indices` proves the scene's indices in range (otherwise they stay).
     /// Off by default: on lavapipe it measured no faster (docs/performance.md); the images are
-    /// identical either way.
+    /// identical either way. Megakernel only: it selects the megakernel.
     pub unchecked: bool,
     /// Rebuild the tracing pipeline once its kernel has run this long (not counting the first batch
     /// after a build), when `Some`. Mesa 22.3's lavapipe keeps host memory for every path its
@@ -59,6 +61,11 @@ pub struct RenderOptions {
     /// Traversal reads triangle vertices from a structure-of-arrays copy instead of the 48-byte
     /// records (a layout experiment: `rt-cli bench --soa`; docs/performance.md).
     pub soa_triangles: bool,
+    /// Trace with the wavefront kernels (one per path stage, over queues in storage buffers)
+    /// rather than the megakernel (one invocation runs whole paths); docs/performance.md compares
+    /// them. The same samples either way (bit for bit without delta lights). `unchecked` and
+    /// `soa_triangles`, megakernel experiments, select the megakernel.
+    pub wavefront: bool,
 }
 
 /// `RenderOptions::pipeline_lifetime` on CPU adapters by default (the compile-time amortisation
@@ -83,6 +90,7 @@ impl Default for RenderOptions {
             pipeline_lifetime: None,
             rebuild_on_cpu: false,
             soa_triangles: false,
+            wavefront: true,
         }
     }
 }
@@ -136,9 +144,20 @@ pub struct BatchStats {
     pub longest_dispatch: Duration,
 }
 
+/// What traces the paths.
+enum Engine {
+    /// trace.wgsl: one invocation per pixel runs whole paths.
+    Megakernel {
+        pipeline: wgpu::ComputePipeline,
+        bind_group: wgpu::BindGroup,
+    },
+    /// wavefront.wgsl: a kernel per path stage.
+    Wavefront(Wavefront),
+}
+
 pub struct Renderer<'a> {
     ctx: &'a GpuContext,
-    pipeline: wgpu::ComputePipeline,
+    engine: Engine,
     pipeline_key: PipelineKey,
     /// Kernel time since `pipeline` was built, not counting its first batch (see
     /// `RenderOptions::pipeline_lifetime`), and that first batch's time (its compile).
@@ -150,7 +169,6 @@ pub struct Renderer<'a> {
     pipeline_rebuilds: u32,
     /// (binding, buffer) of every bind-group entry, to bind them to a rebuilt pipeline.
     bound: Vec<(u32, wgpu::Buffer)>,
-    bind_group: wgpu::BindGroup,
     frame_buffer: wgpu::Buffer,
     accum: wgpu::Buffer,
     aovs: wgpu::Buffer,
@@ -164,6 +182,8 @@ pub struct Renderer<'a> {
     rays: u64,
     dropped_samples: u64,
     longest_dispatch: Duration,
+    /// The longest dispatch of the first batch (see `longest_dispatch`).
+    first_dispatch: Duration,
     pub triangles: usize,
 }
 
@@ -218,6 +238,8 @@ impl<'a> Renderer<'a> {
                 scene.emitters.len()
             )));
         }
+        // The megakernel-only experiments select the megakernel.
+        let wavefront = options.wavefront && !options.unchecked && !options.soa_triangles;
         let trusted = options.unchecked
             && match scene.check_kernel_indices() {
                 Ok(()) => true,
@@ -252,7 +274,11 @@ impl<'a> Renderer<'a> {
             trusted,
             soa_triangles: options.soa_triangles,
         };
-        let pipeline = trace_pipeline(ctx, pipeline_key)?;
+        let pipeline = if wavefront {
+            None
+        } else {
+            Some(trace_pipeline(ctx, pipeline_key)?)
+        };
         let buffers = [
             storage_buffer(
                 ctx,
@@ -297,7 +323,7 @@ impl<'a> Renderer<'a> {
                 wgpu::BufferUsages::empty(),
             )?,
         ];
-        let (frame_buffer, accum, aovs, counters, bound, bind_group) = ctx.scoped(|| {
+        let (frame_buffer, accum, aovs, counters, bound) = ctx.scoped(|| {
             let frame_buffer = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -353,8 +379,7 @@ impl<'a> Renderer<'a> {
             ];
             let bound: Vec<(u32, wgpu::Buffer)> =
                 bound.into_iter().map(|(b, buf)| (b, buf.clone())).collect();
-            let bind_group = bind_buffers(ctx, &pipeline, &bound);
-            (frame_buffer, accum, aovs, counters, bound, bind_group)
+            (frame_buffer, accum, aovs, counters, bound)
         })?;
         // Each path segment traces one ray, a shadow ray for NEE and one per delta light.
         let rays_per_segment = 2 + scene.delta_lights.len() as u32;
@@ -375,6 +400,21 @@ impl<'a> Renderer<'a> {
         let loop_cap = options
             .max_samples_per_dispatch
             .map_or(loop_cap, |m| m.max(1));
+        let engine = match pipeline {
+            Some(pipeline) => Engine::Megakernel {
+                bind_group: ctx.scoped(|| bind_buffers(ctx, &pipeline, &bound))?,
+                pipeline,
+            },
+            None => {
+                // Room for the whole tile at the most samples a wave may take, within the cap (but
+                // always a row).
+                let capacity = pixels
+                    .saturating_mul(u64::from(loop_cap))
+                    .min(u64::from(MAX_WAVE_PATHS))
+                    .max(u64::from(frame.width)) as u32;
+                Engine::Wavefront(Wavefront::new(ctx, pipeline_key, &bound, capacity)?)
+            }
+        };
         // RT_PIPELINE_LIFETIME_S (seconds) overrides the CPU default.
         let from_env = std::env::var("RT_PIPELINE_LIFETIME_S")
             .ok()
@@ -391,7 +431,7 @@ impl<'a> Renderer<'a> {
         };
         Ok(Renderer {
             ctx,
-            pipeline,
+            engine,
             pipeline_key,
             pipeline_ran: Duration::ZERO,
             pipeline_first_batch: None,
@@ -399,7 +439,6 @@ impl<'a> Renderer<'a> {
             rebuild_amortisation,
             pipeline_rebuilds: 0,
             bound,
-            bind_group,
             frame_buffer,
             accum,
             aovs,
@@ -415,6 +454,7 @@ impl<'a> Renderer<'a> {
             rays: 0,
             dropped_samples: 0,
             longest_dispatch: Duration::ZERO,
+            first_dispatch: Duration::ZERO,
             triangles: scene.triangles.len(),
         })
     }
@@ -433,8 +473,15 @@ impl<'a> Renderer<'a> {
         self.dropped_samples
     }
 
+    /// The longest dispatch (for the wavefront kernels: the longest submission, one path depth of
+    /// a wave) after the render's first batch, whose time on CPU adapters is mostly the JIT compile
+    /// (that one when there was no other).
     pub fn longest_dispatch(&self) -> Duration {
-        self.longest_dispatch
+        if self.longest_dispatch.is_zero() {
+            self.first_dispatch
+        } else {
+            self.longest_dispatch
+        }
     }
 
     /// How often the pipeline was rebuilt (see `RenderOptions::pipeline_lifetime`).
@@ -445,16 +492,11 @@ impl<'a> Renderer<'a> {
     /// Replaces the pipeline with a freshly built one (dropping this renderer's and the context's
     /// handles to the old one, so the driver can free what it holds for it) and rebinds the buffers.
     fn rebuild_pipeline(&mut self) -> Result<()> {
-        self.ctx
-            .pipelines
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .remove(&self.pipeline_key);
-        let pipeline = trace_pipeline(self.ctx, self.pipeline_key)?;
-        self.bind_group = self
-            .ctx
-            .scoped(|| bind_buffers(self.ctx, &pipeline, &self.bound))?;
-        self.pipeline = pipeline;
+        if let Engine::Wavefront(wave) = &mut self.engine {
+            wave.rebuild(self.ctx, self.pipeline_key, &self.bound)?;
+        } else {
+            self.rebuild_megakernel()?;
+        }
         self.pipeline_ran = Duration::ZERO;
         self.pipeline_first_batch = None;
         self.pipeline_rebuilds += 1;
@@ -462,6 +504,23 @@ impl<'a> Renderer<'a> {
             "rebuilt the trace pipeline ({} so far)",
             self.pipeline_rebuilds
         );
+        Ok(())
+    }
+
+    fn rebuild_megakernel(&mut self) -> Result<()> {
+        self.ctx
+            .pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .remove(&self.pipeline_key);
+        let pipeline = trace_pipeline(self.ctx, self.pipeline_key)?;
+        let bind_group = self
+            .ctx
+            .scoped(|| bind_buffers(self.ctx, &pipeline, &self.bound))?;
+        self.engine = Engine::Megakernel {
+            pipeline,
+            bind_group,
+        };
         Ok(())
     }
 
@@ -473,7 +532,8 @@ impl<'a> Renderer<'a> {
             self.rebuild_pipeline()?;
         }
         let started = Instant::now();
-        let after_rebuild = self.pipeline_rebuilds > 0 && self.pipeline_first_batch.is_none();
+        // On lavapipe the first batch after a pipeline is built holds its JIT compile (seconds).
+        let first_after_build = self.pipeline_first_batch.is_none();
         let samples = max_samples.min(self.samples_per_dispatch).max(1);
         let mut stats = BatchStats {
             samples,
@@ -491,8 +551,12 @@ impl<'a> Renderer<'a> {
         }
         self.samples_done += samples;
         self.read_counters()?;
-        if after_rebuild {
-            // The batch held the compile: not a measure of the kernel's speed or dispatch length.
+        if first_after_build && self.samples_done > samples {
+            // A rebuild's first batch: not a measure of the kernel's speed or dispatch length.
+        } else if first_after_build {
+            // The render's first: it sizes the next batch, but its time is the compile's.
+            self.first_dispatch = stats.longest_dispatch;
+            self.adapt(slowest_rate);
         } else {
             self.longest_dispatch = self.longest_dispatch.max(stats.longest_dispatch);
             self.adapt(slowest_rate);
@@ -522,6 +586,15 @@ impl<'a> Renderer<'a> {
             self.samples_per_dispatch = 1;
             self.rows_per_dispatch = (budget as u32).clamp(1, tile_rows);
         }
+        if let Engine::Wavefront(wave) = &self.engine {
+            // A wave's paths must fit its queues.
+            let row_paths = self.frame.width.max(1);
+            let rows = (wave.capacity / row_paths).max(1);
+            self.rows_per_dispatch = self.rows_per_dispatch.min(rows);
+            let band = self.rows_per_dispatch * row_paths;
+            self.samples_per_dispatch =
+                self.samples_per_dispatch.min((wave.capacity / band).max(1));
+        }
     }
 
     fn dispatch(&mut self, row_begin: u32, rows: u32, samples: u32) -> Result<Duration> {
@@ -533,6 +606,14 @@ impl<'a> Renderer<'a> {
             row_end: row_begin + rows,
             ..self.frame
         };
+        let (pipeline, bind_group) = match &self.engine {
+            Engine::Megakernel {
+                pipeline,
+                bind_group,
+            } => (pipeline, bind_group),
+            // A wave is one submission of several dispatches; its time bounds each one's.
+            Engine::Wavefront(wave) => return wave.run(self.ctx, &self.frame_buffer, &frame),
+        };
         let started = Instant::now();
         self.ctx.scoped(|| {
             self.ctx
@@ -541,8 +622,8 @@ impl<'a> Renderer<'a> {
             let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, bind_group, &[]);
                 let [wx, wy] = self.options.workgroup.map(|w| w.max(1));
                 pass.dispatch_workgroups(self.frame.width.div_ceil(wx), rows.div_ceil(wy), 1);
             }

@@ -17,7 +17,10 @@ pub const FILES: &[(&str, &str)] = &[
     shader_file!("shared/intersect.wgsl"),
     shader_file!("shared/bvh.wgsl"),
     shader_file!("shared/cwbvh.wgsl"),
+    shader_file!("shared/scene_bindings.wgsl"),
+    shader_file!("shared/path.wgsl"),
     shader_file!("trace.wgsl"),
+    shader_file!("wavefront.wgsl"),
     shader_file!("trace_rays.wgsl"),
     shader_file!("preview.wgsl"),
     shader_file!("preview_blit.wgsl"),
@@ -37,6 +40,8 @@ pub const TRACE: ShaderModule = ShaderModule {
         "shared/sampling.wgsl",
         "shared/intersect.wgsl",
         "shared/bvh.wgsl",
+        "shared/scene_bindings.wgsl",
+        "shared/path.wgsl",
         "trace.wgsl",
     ],
 };
@@ -50,7 +55,39 @@ pub const TRACE_WIDE: ShaderModule = ShaderModule {
         "shared/sampling.wgsl",
         "shared/intersect.wgsl",
         "shared/cwbvh.wgsl",
+        "shared/scene_bindings.wgsl",
+        "shared/path.wgsl",
         "trace.wgsl",
+    ],
+};
+
+/// The wavefront kernels (an experiment: `RenderOptions::wavefront`), over the BVH2.
+pub const WAVEFRONT: ShaderModule = ShaderModule {
+    name: "wavefront",
+    files: &[
+        "shared/types.wgsl",
+        "shared/rng.wgsl",
+        "shared/sampling.wgsl",
+        "shared/intersect.wgsl",
+        "shared/bvh.wgsl",
+        "shared/scene_bindings.wgsl",
+        "shared/path.wgsl",
+        "wavefront.wgsl",
+    ],
+};
+
+/// `WAVEFRONT` over the compressed wide BVH.
+pub const WAVEFRONT_WIDE: ShaderModule = ShaderModule {
+    name: "wavefront_wide",
+    files: &[
+        "shared/types.wgsl",
+        "shared/rng.wgsl",
+        "shared/sampling.wgsl",
+        "shared/intersect.wgsl",
+        "shared/cwbvh.wgsl",
+        "shared/scene_bindings.wgsl",
+        "shared/path.wgsl",
+        "wavefront.wgsl",
     ],
 };
 
@@ -82,6 +119,14 @@ pub fn trace_module(layout: BvhLayout) -> &'static ShaderModule {
     }
 }
 
+/// The wavefront kernels for a BVH layout.
+pub fn wavefront_module(layout: BvhLayout) -> &'static ShaderModule {
+    match layout {
+        BvhLayout::Bvh2 => &WAVEFRONT,
+        BvhLayout::Cwbvh => &WAVEFRONT_WIDE,
+    }
+}
+
 /// The ray-query test kernel for a BVH layout.
 pub fn trace_rays_module(layout: BvhLayout) -> &'static ShaderModule {
     match layout {
@@ -104,6 +149,8 @@ pub const PREVIEW_BLIT: ShaderModule = ShaderModule {
 pub const MODULES: &[ShaderModule] = &[
     TRACE,
     TRACE_WIDE,
+    WAVEFRONT,
+    WAVEFRONT_WIDE,
     TRACE_RAYS,
     TRACE_RAYS_WIDE,
     PREVIEW,

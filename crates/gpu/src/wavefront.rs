@@ -1,0 +1,373 @@
+//! The wavefront variant of the tracing kernel (an experiment, `RenderOptions::wavefront`; measured
+//! against the megakernel in docs/performance.md): the same estimator, split into one kernel per
+//! stage over queues of paths in storage buffers (`shaders/wavefront.wgsl` describes the stages).
+//! A wave is one submission: a band of rows times some samples per pixel, every path to its end.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use rt_core::gpu_types::Frame;
+
+use crate::context::GpuContext;
+use crate::error::{GpuError, Result};
+use crate::pipelines::PipelineKey;
+use crate::shaders;
+
+/// Invocations per work group of every wavefront kernel (`WAVE_GROUP` in the shader).
+pub const WAVE_GROUP: u32 = 64;
+
+/// The most paths one wave holds (buffers: `WAVE_PATH_BYTES + SHADOW_RAY_BYTES + 8` bytes each).
+pub const MAX_WAVE_PATHS: u32 = 1 << 18;
+
+/// Size of `WavePath` in `shaders/wavefront.wgsl` (checked against naga in tests/shaders.rs).
+pub const WAVE_PATH_BYTES: u64 = 96;
+
+/// Size of `ShadowRay` in `shaders/shared/path.wgsl` (checked against naga in tests/shaders.rs).
+pub const SHADOW_RAY_BYTES: u64 = 48;
+
+/// Mirror of `WaveQueues` in `shaders/wavefront.wgsl`; its first three words are the indirect
+/// dispatch size of extend, shade and connect.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct WaveQueues {
+    pub groups: [u32; 3],
+    pub rays: u32,
+    pub next_rays: u32,
+    pub shadows: u32,
+    pub parity: u32,
+    pub _pad: u32,
+}
+
+/// Field names and offsets of `WaveQueues`, for the layout test.
+pub const WAVE_QUEUES_FIELDS: &[(&str, usize)] = &[
+    ("groups_x", 0),
+    ("groups_y", 4),
+    ("groups_z", 8),
+    ("rays", 12),
+    ("next_rays", 16),
+    ("shadows", 20),
+    ("parity", 24),
+    ("_pad", 28),
+];
+
+/// The six kernels of one feature set, over one explicit bind-group layout (they share a bind group).
+pub(crate) struct WavePipelines {
+    layout: wgpu::BindGroupLayout,
+    generate: wgpu::ComputePipeline,
+    extend: wgpu::ComputePipeline,
+    shade: wgpu::ComputePipeline,
+    connect: wgpu::ComputePipeline,
+    advance: wgpu::ComputePipeline,
+    finish: wgpu::ComputePipeline,
+}
+
+/// Binding numbers the wavefront kernels write (the rest are read-only, 0 a uniform).
+const WRITTEN: [u32; 8] = [6, 7, 10, 12, 13, 14, 15, 16];
+/// The scene's bindings (shared/scene_bindings.wgsl) and the outputs, as the megakernel numbers them.
+const SHARED: [u32; 11] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10];
+/// The wavefront's own: paths, ray queues, shadow rays, queue lengths, per-path AOVs.
+const OWN: [u32; 5] = [12, 13, 14, 15, 16];
+
+fn bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = SHARED
+        .iter()
+        .chain(&OWN)
+        .map(|&binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: if binding == 0 {
+                    wgpu::BufferBindingType::Uniform
+                } else {
+                    wgpu::BufferBindingType::Storage {
+                        read_only: !WRITTEN.contains(&binding),
+                    }
+                },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        })
+        .collect();
+    ctx.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("wavefront"),
+            entries: &entries,
+        })
+}
+
+/// The wavefront kernels for `key` (its megakernel-only fields ignored), built on first use.
+pub(crate) fn wave_pipelines(ctx: &GpuContext, key: PipelineKey) -> Result<Arc<WavePipelines>> {
+    let key = PipelineKey {
+        workgroup: [WAVE_GROUP, 1],
+        trusted: false,
+        soa_triangles: false,
+        ..key
+    };
+    if let Some(p) = ctx
+        .wave_pipelines
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .get(&key)
+    {
+        return Ok(p.clone());
+    }
+    let started = Instant::now();
+    let constants: Vec<(&str, f64)> = key
+        .constants()
+        .into_iter()
+        .filter(|(name, _)| !PipelineKey::MEGAKERNEL_ONLY.contains(name))
+        .collect();
+    let pipelines = ctx.scoped(|| {
+        let module = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("wavefront"),
+                source: wgpu::ShaderSource::Wgsl(
+                    shaders::wavefront_module(key.layout).source().into(),
+                ),
+            });
+        let layout = bind_group_layout(ctx);
+        let pipeline_layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("wavefront"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let kernel = |entry: &str| {
+            ctx.device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: Some(&pipeline_layout),
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &constants,
+                        ..Default::default()
+                    },
+                    cache: None,
+                })
+        };
+        WavePipelines {
+            generate: kernel("generate"),
+            extend: kernel("extend"),
+            shade: kernel("shade"),
+            connect: kernel("connect"),
+            advance: kernel("advance"),
+            finish: kernel("finish"),
+            layout,
+        }
+    })?;
+    log::info!(
+        "compiled wavefront pipelines {key:?} in {:.2?}",
+        started.elapsed()
+    );
+    let pipelines = Arc::new(pipelines);
+    ctx.wave_pipelines
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .insert(key, pipelines.clone());
+    Ok(pipelines)
+}
+
+/// A renderer's wavefront state: its kernels, queues and the bind group over the scene's buffers.
+pub(crate) struct Wavefront {
+    pipelines: Arc<WavePipelines>,
+    bind_group: wgpu::BindGroup,
+    /// Paths, ray queues, shadow rays, queue lengths and per-path AOVs (bindings `OWN`).
+    own: [wgpu::Buffer; 5],
+    /// The queues' first three words, copied after each advance: a buffer bound as storage cannot
+    /// also hold a dispatch's indirect size.
+    dispatch_size: wgpu::Buffer,
+    /// Paths one wave may hold.
+    pub capacity: u32,
+}
+
+impl Wavefront {
+    /// Queues for `capacity` paths; `bound` are the megakernel's (binding, buffer) pairs, of which
+    /// the scene's, the accumulation, the counters and the AOVs are shared.
+    pub fn new(
+        ctx: &GpuContext,
+        key: PipelineKey,
+        bound: &[(u32, wgpu::Buffer)],
+        capacity: u32,
+    ) -> Result<Self> {
+        let pipelines = wave_pipelines(ctx, key)?;
+        let capacity = capacity.max(1);
+        let sizes = [
+            ("wavefront paths", u64::from(capacity) * WAVE_PATH_BYTES),
+            ("wavefront ray queues", u64::from(capacity) * 8),
+            (
+                "wavefront shadow rays",
+                u64::from(capacity) * SHADOW_RAY_BYTES,
+            ),
+            ("wavefront queue lengths", size_of::<WaveQueues>() as u64),
+            (
+                "wavefront path AOVs",
+                if key.aovs {
+                    u64::from(capacity) * 48
+                } else {
+                    48
+                },
+            ),
+        ];
+        for (name, size) in sizes {
+            ctx.check_buffer(name, size)?;
+        }
+        let (own, dispatch_size) = ctx.scoped(|| {
+            let own = sizes.map(|(label, size)| {
+                ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage: wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_SRC
+                        | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            });
+            let dispatch_size = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("wavefront dispatch size"),
+                size: 12,
+                usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            (own, dispatch_size)
+        })?;
+        let bind_group = bind(ctx, &pipelines, bound, &own)?;
+        Ok(Wavefront {
+            pipelines,
+            bind_group,
+            own,
+            dispatch_size,
+            capacity,
+        })
+    }
+
+    /// Replaces the kernels with freshly built ones (see `Renderer::rebuild_pipeline`: lavapipe
+    /// holds memory per compiled pipeline) over the same buffers.
+    pub fn rebuild(
+        &mut self,
+        ctx: &GpuContext,
+        key: PipelineKey,
+        bound: &[(u32, wgpu::Buffer)],
+    ) -> Result<()> {
+        ctx.wave_pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .retain(|_, p| !Arc::ptr_eq(p, &self.pipelines));
+        let pipelines = wave_pipelines(ctx, key)?;
+        self.bind_group = bind(ctx, &pipelines, bound, &self.own)?;
+        self.pipelines = pipelines;
+        Ok(())
+    }
+
+    /// Runs one wave: `frame.samples_this_dispatch` samples of rows `frame.row_begin..row_end`
+    /// (whose paths must fit the capacity), written into `frame_buffer` first. Each depth is its
+    /// own submission, waited for and timed; returns the longest (which bounds every dispatch's
+    /// time: the renderer sizes waves by it). The accumulation changes only in the last one.
+    pub fn run(
+        &self,
+        ctx: &GpuContext,
+        frame_buffer: &wgpu::Buffer,
+        frame: &Frame,
+    ) -> Result<Duration> {
+        ctx.alive()?;
+        let band = (frame.row_end - frame.row_begin) * frame.width;
+        let paths = band * frame.samples_this_dispatch;
+        if paths > self.capacity {
+            return Err(GpuError::Wgpu(format!(
+                "a wave of {paths} paths exceeds the queues' {}",
+                self.capacity
+            )));
+        }
+        let queues = WaveQueues {
+            groups: [paths.div_ceil(WAVE_GROUP), 1, 1],
+            rays: paths,
+            ..Default::default()
+        };
+        let p = &self.pipelines;
+        // One submission: `record` fills its encoder's passes.
+        let submit = |record: &dyn Fn(&mut wgpu::CommandEncoder)| -> Result<Duration> {
+            let started = Instant::now();
+            ctx.scoped(|| {
+                let mut encoder = ctx.device.create_command_encoder(&Default::default());
+                record(&mut encoder);
+                ctx.queue.submit([encoder.finish()]);
+            })?;
+            ctx.device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| GpuError::Wgpu(e.to_string()))?;
+            Ok(started.elapsed())
+        };
+        let pass = |encoder: &mut wgpu::CommandEncoder,
+                    stages: &[(&wgpu::ComputePipeline, Option<u32>)]| {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            for (pipeline, groups) in stages {
+                pass.set_pipeline(pipeline);
+                match groups {
+                    Some(groups) => pass.dispatch_workgroups(*groups, 1, 1),
+                    None => pass.dispatch_workgroups_indirect(&self.dispatch_size, 0),
+                }
+            }
+        };
+        let depth_stages = [
+            (&p.extend, None),
+            (&p.shade, None),
+            (&p.connect, None),
+            (&p.advance, Some(1)),
+        ];
+        let mut longest = Duration::ZERO;
+        for depth in 0..frame.max_depth.max(1) {
+            longest = longest.max(submit(&|encoder| {
+                if depth == 0 {
+                    ctx.queue
+                        .write_buffer(frame_buffer, 0, bytemuck::bytes_of(frame));
+                    ctx.queue
+                        .write_buffer(&self.own[3], 0, bytemuck::bytes_of(&queues));
+                    ctx.queue.write_buffer(
+                        &self.dispatch_size,
+                        0,
+                        bytemuck::bytes_of(&queues.groups),
+                    );
+                    pass(encoder, &[(&p.generate, Some(paths.div_ceil(WAVE_GROUP)))]);
+                }
+                if frame.max_depth > 0 {
+                    pass(encoder, &depth_stages);
+                    encoder.copy_buffer_to_buffer(&self.own[3], 0, &self.dispatch_size, 0, 12);
+                }
+            })?);
+        }
+        longest = longest.max(submit(&|encoder| {
+            pass(encoder, &[(&p.finish, Some(band.div_ceil(WAVE_GROUP)))]);
+        })?);
+        Ok(longest)
+    }
+}
+
+/// The bind group of `pipelines` over the shared bindings of `bound` and the wavefront's own.
+fn bind(
+    ctx: &GpuContext,
+    pipelines: &WavePipelines,
+    bound: &[(u32, wgpu::Buffer)],
+    own: &[wgpu::Buffer; 5],
+) -> Result<wgpu::BindGroup> {
+    let entries: Vec<wgpu::BindGroupEntry> = bound
+        .iter()
+        .filter(|(binding, _)| SHARED.contains(binding))
+        .map(|(binding, buffer)| (*binding, buffer))
+        .chain(OWN.into_iter().zip(own))
+        .map(|(binding, buffer)| wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    ctx.scoped(|| {
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("wavefront"),
+            layout: &pipelines.layout,
+            entries: &entries,
+        })
+    })
+}

@@ -1,0 +1,329 @@
+// One path vertex at a time: the estimator shared by the megakernel (trace.wgsl, which loops over
+// a path's vertices in one invocation) and the wavefront kernels (wavefront.wgsl, which run each
+// stage for a queue of paths). Needs shared/scene_bindings.wgsl and a BVH traversal.
+//
+// Estimator: see crates/core/src/reference/mod.rs, which implements the same one on the CPU.
+//   L = sum_{k < max_depth} beta_k Le(x_k),  beta_{k+1} = beta_k f cos / pdf = beta_k * albedo
+// with Le the front-face emission (or the ambient radiance on a miss); with next-event estimation,
+// diffuse vertices also sample an emitter point, and both strategies are weighted by the power
+// heuristic (emitters seen from the camera or through specular bounces keep weight 1). With
+// frame.light_strategy == 1 (a diagnostic) next-event estimation takes weight 1 and BSDF-sampled
+// hits on emitters after a diffuse bounce weight 0.
+
+// Features a scene does not use are compiled out by these pipeline constants.
+override HAS_TEXTURES: bool = true;
+override HAS_METAL: bool = true;
+override HAS_DIELECTRIC: bool = true;
+override HAS_THIN_LENS: bool = true;
+override COUNT_RAYS: bool = false;
+override HAS_NEE: bool = true;
+override HAS_DELTA_LIGHTS: bool = true;
+// Also record the first hit's albedo and normal (for the denoiser; the megakernel only).
+override WRITE_AOVS: bool = false;
+// Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
+// emitters and sky reached after a bounce) is scaled down so its largest channel is at most this;
+// emitters and sky seen directly stay exact. 0 is off. Biased (it removes energy); off by default.
+override CLAMP_MAX: f32 = 0.0;
+
+// A path between vertices: the ray to trace next and what the path carries.
+struct PathState {
+    origin: vec3<f32>,
+    depth: u32,
+    direction: vec3<f32>,
+    // Density of the BSDF sample that led here; 0 after the camera or a specular bounce.
+    prev_bsdf_pdf: f32,
+    beta: vec3<f32>,
+    radiance: vec3<f32>,
+}
+
+// A next-event estimation ray: `contribution` reaches the path's radiance if nothing lies within
+// `distance`. `distance` <= 0: no ray (the sampled point faces away or lies below the surface).
+struct ShadowRay {
+    origin: vec3<f32>,
+    distance: f32,
+    direction: vec3<f32>,
+    // The path it belongs to (wavefront only).
+    path: u32,
+    contribution: vec3<f32>,
+}
+
+// The current sample's first-hit albedo and normal (zero when the camera ray escapes).
+var<private> aov_albedo: vec3<f32>;
+var<private> aov_normal: vec3<f32>;
+var<private> aov_emission: vec3<f32>;
+
+fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
+    if (CLAMP_MAX > 0.0) {
+        let peak = max(c.x, max(c.y, c.z));
+        if (peak > CLAMP_MAX) {
+            return c * (CLAMP_MAX / peak);
+        }
+    }
+    return c;
+}
+
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    let b2 = b * b;
+    return select(0.0, a2 / (a2 + b2), a2 + b2 > 0.0);
+}
+
+fn is_finite3(v: vec3<f32>) -> bool {
+    // Exponent all ones means Inf or NaN; tested on the bits so fast-math cannot fold it away.
+    let e = bitcast<vec3<u32>>(v) & vec3(0x7f800000u);
+    return all(e != vec3(0x7f800000u));
+}
+
+// Next-event estimation at diffuse point p: the ray to one emitter point and, should it arrive,
+// Le cos/pi * w_light / p_light (albedo and beta applied by the caller). Always draws four random
+// numbers.
+fn sample_emitter(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, Sampler>) -> ShadowRay {
+    var none: ShadowRay;
+    none.distance = -1.0;
+    let u_pick = rng_next(rng);
+    let u_alias = rng_next(rng);
+    let u_a = rng_next(rng);
+    let u_b = rng_next(rng);
+    let n = frame.emitter_count;
+    let slot = emitters[min(u32(u_pick * f32(n)), n - 1u)];
+    let chosen = select(emitters[slot.alias_index].triangle, slot.triangle, u_alias < slot.threshold);
+    let tri = triangles[chosen];
+    let b = sample_triangle(u_a, u_b);
+    let y = tri.v0 * b.x + tri.v1 * b.y + tri.v2 * b.z;
+    let nl = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    if (dot(y - p, nl) >= 0.0) {
+        return none;
+    }
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    let to = offset_ray_origin(y, nl, frame.offset_scale) - origin;
+    let distance = length(to);
+    let dir = to / distance;
+    let cos_x = dot(dir, ns);
+    let cos_l = -dot(dir, nl);
+    if (!(cos_x > 0.0 && dot(dir, ng) > 0.0 && cos_l > 0.0)) {
+        return none;
+    }
+    let le = materials[tri.material].emission;
+    let p_light = luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
+    let p_bsdf = cos_x * (1.0 / PI);
+    let w_light = select(power_heuristic(p_light, p_bsdf), 1.0, frame.light_strategy == 1u);
+    return ShadowRay(origin, distance, dir, 0u, le * (p_bsdf * w_light / p_light));
+}
+
+// `sample_emitter` with its ray traced here: the contribution, or zero if occluded.
+fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
+    let shadow = sample_emitter(p, ng, ns, rng);
+    if (!(shadow.distance > 0.0)) {
+        return vec3(0.0);
+    }
+    *rays += 1u;
+    if (intersect_scene(shadow.origin, shadow.direction, shadow.distance, true).triangle != MISS) {
+        return vec3(0.0);
+    }
+    return shadow.contribution;
+}
+
+// Point, spot and directional lights at diffuse point p: sum over lights of E cos/pi, E the
+// irradiance from the light (I/d^2, falloff for spots; E for the sun), if unoccluded (albedo and
+// beta applied by the caller). Deterministic: draws no random numbers.
+fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rays: ptr<function, u32>) -> vec3<f32> {
+    var sum = vec3(0.0);
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    for (var i = 0u; i < arrayLength(&delta_lights); i++) {
+        let light = delta_lights[i];
+        if (light.kind == 0u) {
+            continue;
+        }
+        var dir = -light.direction;
+        var distance = 3.0e38;
+        var irradiance = light.power;
+        if (light.kind != LIGHT_DIRECTIONAL) {
+            let to = light.position - origin;
+            let d2 = dot(to, to);
+            distance = sqrt(d2);
+            dir = to / distance;
+            irradiance = light.power / d2;
+            if (light.kind == LIGHT_SPOT) {
+                let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-6), 0.0, 1.0);
+                irradiance *= t * t * (3.0 - 2.0 * t);
+            }
+        }
+        let cos_x = dot(dir, ns);
+        if (!(cos_x > 0.0 && dot(dir, ng) > 0.0) || all(irradiance == vec3(0.0))) {
+            continue;
+        }
+        *rays += 1u;
+        if (intersect_scene(origin, dir, distance, true).triangle != MISS) {
+            continue;
+        }
+        sum += irradiance * (cos_x / PI);
+    }
+    return sum;
+}
+
+fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<vec3<f32>, 2> {
+    let jx = rng_next(rng);
+    let jy = rng_next(rng);
+    let sx = (2.0 * (f32(x) + jx) / f32(frame.width) - 1.0) * frame.tan_half_vfov * frame.aspect;
+    let sy = (1.0 - 2.0 * (f32(y) + jy) / f32(frame.height)) * frame.tan_half_vfov;
+    let direction = normalize(sx * frame.cam_u + sy * frame.cam_v - frame.cam_w);
+    if (!HAS_THIN_LENS || frame.lens_radius <= 0.0) {
+        return array(frame.cam_origin, direction);
+    }
+    let focus = frame.cam_origin + direction * (frame.focus_distance / dot(direction, -frame.cam_w));
+    let d = sample_disk(rng);
+    let lens_origin = frame.cam_origin + frame.lens_radius * (d.x * frame.cam_u + d.y * frame.cam_v);
+    return array(lens_origin, normalize(focus - lens_origin));
+}
+
+// A new path through pixel (x, y): its camera ray.
+fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
+    let cam = camera_ray_origin_dir(x, y, rng);
+    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), vec3(0.0));
+}
+
+fn texel(m: Material, x: i32, y: i32) -> vec3<f32> {
+    let w = i32(m.texture_width);
+    let h = i32(m.texture_height);
+    let xi = u32(((x % w) + w) % w);
+    let yi = u32(((y % h) + h) % h);
+    let p = unpack4x8unorm(texels[m.texture_offset + yi * m.texture_width + xi]);
+    return srgb_to_linear(p.rgb);
+}
+
+// Bilinear, repeating; uv.y = 0 is the image's bottom row (OBJ convention).
+fn sample_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
+    let x = uv.x * f32(m.texture_width) - 0.5;
+    let y = (1.0 - uv.y) * f32(m.texture_height) - 0.5;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let xi = i32(x0);
+    let yi = i32(y0);
+    let top = mix(texel(m, xi, yi), texel(m, xi + 1, yi), fx);
+    let bottom = mix(texel(m, xi, yi + 1), texel(m, xi + 1, yi + 1), fx);
+    return mix(top, bottom, fy);
+}
+
+// The vertex where `path`'s ray found `hit`: adds the light it sees there, samples the next
+// direction, and returns whether the path goes on (with `path` then holding the next ray). The
+// next-event estimation ray is traced here unless `defer_shadow`: then it is left in `shadow` for
+// the caller (its `distance` <= 0 when there is none), whose contribution the caller adds before
+// the path's next vertex, so the sums come out in the same order either way.
+fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sampler>,
+                shadow: ptr<function, ShadowRay>, defer_shadow: bool, rays: ptr<function, u32>) -> bool {
+    (*shadow).distance = -1.0;
+    let depth = (*path).depth;
+    let direction = (*path).direction;
+    if (hit.triangle == MISS) {
+        let sky = (*path).beta * frame.ambient;
+        (*path).radiance += select(clamp_bounced(sky), sky, depth == 0u);
+        if (WRITE_AOVS && depth == 0u) {
+            aov_emission = sky;
+        }
+        return false;
+    }
+    let tri = triangles[hit.triangle];
+    let material = materials[tri.material];
+    let ng_raw = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+    let front = dot(direction, ng_raw) < 0.0;
+    if (WRITE_AOVS && depth == 0u) {
+        let n = normalize(ng_raw);
+        aov_normal = select(-n, n, front);
+        if (material.kind == MAT_EMISSIVE) {
+            let e = material.emission;
+            aov_albedo = e / max(max(e.x, max(e.y, e.z)), 1e-6);
+        } else {
+            var a = material.albedo;
+            if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
+                let s0 = shading[hit.triangle];
+                let c0 = 1.0 - hit.b1 - hit.b2;
+                a = sample_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2);
+            }
+            aov_albedo = a;
+        }
+    }
+    if (front) {
+        var weight = 1.0;
+        if (HAS_NEE && (*path).prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
+            let cos_l = -dot(direction, normalize(ng_raw));
+            let p_light = luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
+            weight = select(power_heuristic((*path).prev_bsdf_pdf, p_light), 0.0, frame.light_strategy == 1u);
+        }
+        let emitted = (*path).beta * material.emission * weight;
+        (*path).radiance += select(clamp_bounced(emitted), emitted, depth == 0u);
+        if (WRITE_AOVS && depth == 0u) {
+            aov_emission = emitted;
+        }
+    }
+    if (material.kind == MAT_EMISSIVE || depth + 1u >= frame.max_depth) {
+        return false;
+    }
+    let b0 = 1.0 - hit.b1 - hit.b2;
+    let p = tri.v0 * b0 + tri.v1 * hit.b1 + tri.v2 * hit.b2;
+    let ng = select(-1.0, 1.0, front) * normalize(ng_raw);
+    // Triangles without normals or UVs have no shading record (the buffer may be a placeholder).
+    var sh: Shading;
+    if (tri.has_normals != 0u || tri.has_uvs != 0u) {
+        sh = shading[hit.triangle];
+    }
+    var ns = ng;
+    if (tri.has_normals != 0u) {
+        let n = normalize(sh.n0 * b0 + sh.n1 * hit.b1 + sh.n2 * hit.b2);
+        ns = select(n, -n, dot(n, ng) < 0.0);
+    }
+    var albedo = material.albedo;
+    if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
+        albedo = sample_texture(material, sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2);
+    }
+    var next: vec3<f32>;
+    (*path).prev_bsdf_pdf = 0.0;
+    if (HAS_METAL && material.kind == MAT_METAL) {
+        let fuzz = sample_unit_ball(rng) * material.param;
+        next = normalize(reflect_dir(direction, ns) + fuzz);
+        (*path).beta *= albedo;
+    } else if (HAS_DIELECTRIC && material.kind == MAT_DIELECTRIC) {
+        let eta = select(1.0 / material.param, material.param, front);
+        let f = fresnel_dielectric(-dot(direction, ns), eta);
+        if (rng_next(rng) < f) {
+            next = reflect_dir(direction, ns);
+        } else {
+            (*path).beta *= albedo / (eta * eta);
+            next = refract_dir(direction, ns, eta);
+        }
+    } else {
+        if (HAS_NEE) {
+            if (defer_shadow) {
+                *shadow = sample_emitter(p, ng, ns, rng);
+                (*shadow).contribution = clamp_bounced((*path).beta * albedo * (*shadow).contribution);
+            } else {
+                (*path).radiance += clamp_bounced((*path).beta * albedo * direct_light(p, ng, ns, rng, rays));
+            }
+        }
+        if (HAS_DELTA_LIGHTS) {
+            (*path).radiance += clamp_bounced((*path).beta * albedo * delta_lights_at(p, ng, ns, rays));
+        }
+        (*path).beta *= albedo;
+        next = sample_cosine_hemisphere(ns, rng);
+        (*path).prev_bsdf_pdf = max(dot(next, ns), 0.0) * (1.0 / PI);
+    }
+    let side = dot(next, ng);
+    let transmitted = side < 0.0;
+    if (side == 0.0 || (transmitted && material.kind != MAT_DIELECTRIC)) {
+        return false;
+    }
+    // Russian roulette: continue with probability q = min(1, max(beta)), re-weighted by 1/q.
+    if (frame.roulette_from_depth > 0u && depth >= frame.roulette_from_depth) {
+        let beta = (*path).beta;
+        let survive = min(max(max(beta.x, beta.y), beta.z), 1.0);
+        if (rng_next(rng) >= survive) {
+            return false;
+        }
+        (*path).beta = beta / survive;
+    }
+    (*path).origin = offset_ray_origin(p, select(ng, -ng, transmitted), frame.offset_scale);
+    (*path).direction = next;
+    (*path).depth = depth + 1u;
+    return true;
+}

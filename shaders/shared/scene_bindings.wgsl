@@ -1,0 +1,11 @@
+// The scene's bindings, shared by the megakernel (trace.wgsl) and the wavefront kernels
+// (wavefront.wgsl); each entry file adds its own outputs at the other binding numbers.
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(2) var<storage, read> shading: array<Shading>;
+@group(0) @binding(3) var<storage, read> materials: array<Material>;
+@group(0) @binding(4) var<storage, read> nodes: array<BvhNodeRecord>;
+@group(0) @binding(5) var<storage, read> texels: array<u32>;
+@group(0) @binding(8) var<storage, read> emitters: array<Emitter>;
+@group(0) @binding(9) var<storage, read> delta_lights: array<DeltaLight>;

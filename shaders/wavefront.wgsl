@@ -1,0 +1,205 @@
+// The wavefront variant of trace.wgsl (an experiment: docs/performance.md): the same estimator
+// (shared/path.wgsl), but each stage of a path is its own kernel over a queue of paths, so every
+// invocation of a dispatch runs the same code:
+//   generate: one path per (pixel, sample) of the wave, its camera ray queued;
+//   then max_depth times:
+//     extend:  the nearest hit of each queued ray;
+//     shade:   each queued path's vertex (shade_vertex): light seen there added, a shadow ray queued
+//              for next-event estimation, the path re-queued if it goes on;
+//     connect: each shadow ray traced, its contribution added to its path if unoccluded;
+//     advance: (one invocation) the next queue becomes current;
+//   finish: each pixel's samples folded into the running mean in sample order, as the megakernel
+//           does, so the two give the same image.
+// Composed with shared/{types,rng,sampling,intersect,bvh or cwbvh,scene_bindings,path}.wgsl.
+
+// xyz: running mean of radiance; w: running mean of squared luminance (as in trace.wgsl).
+@group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
+// [0]: rays traced; [1]: samples dropped as NaN/Inf.
+@group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;
+// With WRITE_AOVS, per pixel of the tile: running means of the first hit's albedo, normal and the
+// light seen directly (as in trace.wgsl); and per path of the wave, its sample's three values.
+@group(0) @binding(10) var<storage, read_write> aovs: array<vec4<f32>>;
+@group(0) @binding(16) var<storage, read_write> path_aovs: array<vec4<f32>>;
+
+struct WavePath {
+    path: PathState,
+    rng: Sampler,
+    hit: Hit,
+}
+
+// Queue lengths and the indirect dispatch size over the current queue. Rust mirror:
+// rt_gpu::wavefront::WaveQueues (its layout is checked against this one).
+struct WaveQueues {
+    // Work groups (x, y, z) for extend, shade and connect: ceil(rays / 64), 1, 1.
+    groups_x: u32,
+    groups_y: u32,
+    groups_z: u32,
+    // Paths in the current queue, in the next, and shadow rays of this depth.
+    rays: atomic<u32>,
+    next_rays: atomic<u32>,
+    shadows: atomic<u32>,
+    // Which half of `ray_queues` is current (0 or 1).
+    parity: u32,
+    _pad: u32,
+}
+
+// Path i of the wave is sample i / band_pixels of pixel i % band_pixels of the band.
+@group(0) @binding(12) var<storage, read_write> paths: array<WavePath>;
+// Two queues of path indices, `arrayLength / 2` each: the current one and the next.
+@group(0) @binding(13) var<storage, read_write> ray_queues: array<u32>;
+@group(0) @binding(14) var<storage, read_write> shadow_rays: array<ShadowRay>;
+@group(0) @binding(15) var<storage, read_write> queues: WaveQueues;
+
+const WAVE_GROUP: u32 = 64u;
+
+fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
+    let tri = triangles[i];
+    return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);
+}
+
+fn band_pixels() -> u32 {
+    return (frame.row_end - frame.row_begin) * frame.width;
+}
+
+fn current_queue() -> u32 {
+    return queues.parity * (arrayLength(&ray_queues) / 2u);
+}
+
+@compute @workgroup_size(WAVE_GROUP, 1, 1)
+fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let band = band_pixels();
+    if (i >= band * frame.samples_this_dispatch) {
+        return;
+    }
+    let in_band = i % band;
+    let x = in_band % frame.width;
+    let y = frame.row_begin + in_band / frame.width;
+    var rng = rng_init(y * frame.width + x, frame.sample_base + i / band, frame.seed);
+    let path = start_path(x, y, &rng);
+    paths[i] = WavePath(path, rng, Hit(0.0, MISS, 0.0, 0.0));
+    ray_queues[i] = i;
+    if (WRITE_AOVS) {
+        // Stay zero if the path never reaches a vertex (max depth 0).
+        path_aovs[3u * i] = vec4(0.0);
+        path_aovs[3u * i + 1u] = vec4(0.0);
+        path_aovs[3u * i + 2u] = vec4(0.0);
+    }
+}
+
+@compute @workgroup_size(WAVE_GROUP, 1, 1)
+fn extend(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    stack_base = lid * BVH_STACK_SIZE;
+    if (gid.x >= atomicLoad(&queues.rays)) {
+        return;
+    }
+    let p = ray_queues[current_queue() + gid.x];
+    paths[p].hit = intersect_scene(paths[p].path.origin, paths[p].path.direction, 3.0e38, false);
+}
+
+@compute @workgroup_size(WAVE_GROUP, 1, 1)
+fn shade(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    stack_base = lid * BVH_STACK_SIZE;
+    if (gid.x >= atomicLoad(&queues.rays)) {
+        return;
+    }
+    let p = ray_queues[current_queue() + gid.x];
+    var path = paths[p].path;
+    var rng = paths[p].rng;
+    var shadow: ShadowRay;
+    var rays = 0u;
+    let first = path.depth == 0u;
+    aov_albedo = vec3(0.0);
+    aov_normal = vec3(0.0);
+    aov_emission = vec3(0.0);
+    let goes_on = shade_vertex(&path, paths[p].hit, &rng, &shadow, true, &rays);
+    if (WRITE_AOVS && first) {
+        path_aovs[3u * p] = vec4(aov_albedo, 0.0);
+        path_aovs[3u * p + 1u] = vec4(aov_normal, 0.0);
+        path_aovs[3u * p + 2u] = vec4(aov_emission, 0.0);
+    }
+    paths[p].path = path;
+    paths[p].rng = rng;
+    if (shadow.distance > 0.0) {
+        shadow.path = p;
+        shadow_rays[atomicAdd(&queues.shadows, 1u)] = shadow;
+    }
+    if (goes_on) {
+        let next = (1u - queues.parity) * (arrayLength(&ray_queues) / 2u);
+        ray_queues[next + atomicAdd(&queues.next_rays, 1u)] = p;
+    }
+    // Delta-light rays, traced in shade_vertex (extend and connect rays are counted by advance).
+    if (COUNT_RAYS && rays > 0u) {
+        atomicAdd(&counters[0], rays);
+    }
+}
+
+@compute @workgroup_size(WAVE_GROUP, 1, 1)
+fn connect(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    stack_base = lid * BVH_STACK_SIZE;
+    if (gid.x >= atomicLoad(&queues.shadows)) {
+        return;
+    }
+    let shadow = shadow_rays[gid.x];
+    if (intersect_scene(shadow.origin, shadow.direction, shadow.distance, true).triangle == MISS) {
+        // One shadow ray per path and depth: no other invocation touches this path.
+        paths[shadow.path].path.radiance += shadow.contribution;
+    }
+}
+
+@compute @workgroup_size(1, 1, 1)
+fn advance() {
+    let next = atomicLoad(&queues.next_rays);
+    if (COUNT_RAYS) {
+        atomicAdd(&counters[0], atomicLoad(&queues.rays) + atomicLoad(&queues.shadows));
+    }
+    atomicStore(&queues.rays, next);
+    atomicStore(&queues.next_rays, 0u);
+    atomicStore(&queues.shadows, 0u);
+    queues.parity = 1u - queues.parity;
+    queues.groups_x = (next + WAVE_GROUP - 1u) / WAVE_GROUP;
+}
+
+@compute @workgroup_size(WAVE_GROUP, 1, 1)
+fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let band = band_pixels();
+    if (gid.x >= band) {
+        return;
+    }
+    let slot = (frame.row_begin - frame.tile_row_begin) * frame.width + gid.x;
+    var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
+    var mean_albedo = vec4(0.0);
+    var mean_normal = vec4(0.0);
+    var mean_emission = vec4(0.0);
+    if (WRITE_AOVS && frame.sample_base != 0u) {
+        mean_albedo = aovs[3u * slot];
+        mean_normal = aovs[3u * slot + 1u];
+        mean_emission = aovs[3u * slot + 2u];
+    }
+    var dropped = 0u;
+    for (var s = 0u; s < frame.samples_this_dispatch; s++) {
+        let i = s * band + gid.x;
+        var l = paths[i].path.radiance;
+        if (!is_finite3(l)) {
+            l = vec3(0.0);
+            dropped += 1u;
+        }
+        let lum = luminance(l);
+        let n = f32(frame.sample_base + s + 1u);
+        mean += (vec4(l, lum * lum) - mean) / n;
+        if (WRITE_AOVS) {
+            mean_albedo += (path_aovs[3u * i] - mean_albedo) / n;
+            mean_normal += (path_aovs[3u * i + 1u] - mean_normal) / n;
+            mean_emission += (path_aovs[3u * i + 2u] - mean_emission) / n;
+        }
+    }
+    accum[slot] = mean;
+    if (WRITE_AOVS) {
+        aovs[3u * slot] = mean_albedo;
+        aovs[3u * slot + 1u] = mean_normal;
+        aovs[3u * slot + 2u] = mean_emission;
+    }
+    if (dropped > 0u) {
+        atomicAdd(&counters[1], dropped);
+    }
+}

@@ -1,0 +1,144 @@
+//! The wavefront kernels (`RenderOptions::wavefront`, an experiment) run the megakernel's estimator
+//! stage by stage: the same random numbers in the same order, so the same image and ray count.
+
+mod common;
+
+use common::{gpu, textured_scene_with_normals_metal_glass_and_lens};
+use rt_core::bvh::{BvhLayout, BvhQuality};
+use rt_core::reference::rng::SamplerKind;
+use rt_core::{GpuScene, Material, Scene};
+use rt_gpu::{Aovs, Image, RenderOptions, Renderer};
+
+/// Renders in batches of at most 2 samples (so waves start mid-image and mid-sample); returns the
+/// image, its AOVs and the rays traced.
+fn render(
+    ctx: &rt_gpu::GpuContext,
+    scene: &Scene,
+    gpu_scene: &GpuScene,
+    wavefront: bool,
+) -> (Image, Aovs, u64) {
+    let options = RenderOptions {
+        wavefront,
+        count_rays: true,
+        aovs: true,
+        max_samples_per_dispatch: Some(2),
+        ..Default::default()
+    };
+    let mut renderer = Renderer::for_scene(ctx, scene, gpu_scene, options).expect("renderer");
+    renderer
+        .render(scene.settings.samples_per_pixel, |_| true)
+        .expect("render");
+    assert_eq!(renderer.dropped_samples(), 0, "NaN/Inf samples");
+    (
+        renderer.read_image().expect("read back"),
+        renderer.read_aovs().expect("read back").expect("AOVs"),
+        renderer.rays_traced(),
+    )
+}
+
+fn cornell_with_metal_and_glass() -> Scene {
+    let mut s = rt_core::assets::cornell_box().unwrap();
+    s.objects[0].material = Material::Metal {
+        albedo: [0.9; 3],
+        fuzz: 0.3,
+    };
+    s.objects[1].material = Material::Dielectric {
+        ior: 1.5,
+        tint: [1.0; 3],
+    };
+    s
+}
+
+fn scenes() -> Vec<(&'static str, Scene)> {
+    let mut sobol = rt_core::assets::cornell_box().unwrap();
+    sobol.settings.sampler = SamplerKind::Sobol;
+    sobol.settings.max_depth = 12;
+    let mut empty = rt_core::assets::cornell_box().unwrap();
+    empty.objects.clear();
+    empty.ambient = [0.5; 3];
+    vec![
+        (
+            "Cornell box with metal and glass",
+            cornell_with_metal_and_glass(),
+        ),
+        (
+            "textures, normals, metal, glass, lens",
+            textured_scene_with_normals_metal_glass_and_lens(),
+        ),
+        ("Cornell box, Sobol sampler, depth 12", sobol),
+        ("empty scene", empty),
+    ]
+}
+
+/// Bit for bit: every stage does the megakernel's float operations in its order (the next-event
+/// contribution is added by connect before the path's next vertex, as the megakernel adds it).
+#[test]
+fn the_wavefront_kernels_give_the_megakernels_image() {
+    let Some(ctx) = gpu() else { return };
+    for (name, mut s) in scenes() {
+        s.settings.width = 23;
+        s.settings.height = 13;
+        s.settings.samples_per_pixel = 5;
+        for layout in [BvhLayout::Cwbvh, BvhLayout::Bvh2] {
+            let gpu_scene = GpuScene::build_with_layout(&s, BvhQuality::Medium, layout).unwrap();
+            let (mega, mega_aovs, mega_rays) = render(ctx, &s, &gpu_scene, false);
+            let (wave, wave_aovs, wave_rays) = render(ctx, &s, &gpu_scene, true);
+            assert_eq!(wave.samples_per_pixel, 5, "{name}, {layout:?}");
+            assert!(
+                wave.channel_means().iter().any(|m| *m > 0.0),
+                "{name}, {layout:?}: black image"
+            );
+            let differing = wave
+                .pixels
+                .iter()
+                .zip(&mega.pixels)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(
+                differing, 0,
+                "{name}, {layout:?}: {differing} pixels differ from the megakernel's"
+            );
+            assert_eq!(wave_rays, mega_rays, "{name}, {layout:?}: rays traced");
+            assert!(
+                wave_aovs.albedo == mega_aovs.albedo
+                    && wave_aovs.normal == mega_aovs.normal
+                    && wave_aovs.emission == mega_aovs.emission,
+                "{name}, {layout:?}: the AOVs differ from the megakernel's"
+            );
+            assert!(
+                name == "empty scene" || wave_aovs.albedo.iter().flatten().any(|a| *a > 0.0),
+                "{name}, {layout:?}: no albedo recorded"
+            );
+        }
+    }
+}
+
+/// With point lights the light sums are added in another order (delta lights before the
+/// next-event estimate), so the images agree to rounding, not bit for bit.
+#[test]
+fn the_wavefront_kernels_agree_with_delta_lights() {
+    let Some(ctx) = gpu() else { return };
+    let mut s = cornell_with_metal_and_glass();
+    let mut bulb = rt_core::Light::new(rt_core::LightKind::Point, "bulb");
+    bulb.position = [150.0, 400.0, 250.0];
+    bulb.intensity = 40_000.0;
+    s.lights.push(bulb);
+    s.settings.width = 23;
+    s.settings.height = 13;
+    s.settings.samples_per_pixel = 3;
+    let gpu_scene = GpuScene::build(&s).unwrap();
+    let (mega, _, mega_rays) = render(ctx, &s, &gpu_scene, false);
+    let (wave, _, wave_rays) = render(ctx, &s, &gpu_scene, true);
+    for (i, (a, b)) in wave.pixels.iter().zip(&mega.pixels).enumerate() {
+        for c in 0..3 {
+            let tolerance = 1e-5 * a[c].abs().max(b[c].abs()) + 1e-12;
+            assert!(
+                (a[c] - b[c]).abs() <= tolerance,
+                "pixel {i} channel {c}: wavefront {} vs megakernel {}",
+                a[c],
+                b[c]
+            );
+        }
+    }
+    assert_eq!(wave_rays, mega_rays, "rays traced");
+}
