@@ -60,13 +60,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     let pixel = y * frame.width + x;
     let slot = (y - frame.tile_row_begin) * frame.width + x;
     var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
-    var mean_albedo = vec4(0.0);
-    var mean_normal = vec4(0.0);
-    var mean_emission = vec4(0.0);
-    if (WRITE_AOVS && frame.sample_base != 0u) {
-        mean_albedo = aovs[3u * slot];
-        mean_normal = aovs[3u * slot + 1u];
-        mean_emission = aovs[3u * slot + 2u];
+    var aov_means: AovMeans;
+    if (WRITE_AOVS) {
+        aov_means = load_aov_means(slot);
     }
     var rays = 0u;
     var dropped = 0u;
@@ -86,16 +82,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
         // Running mean, one sample at a time: the same float operations however samples are batched.
         mean += (vec4(l, lum * lum) - mean) / f32(sample_index + 1u);
         if (WRITE_AOVS) {
-            mean_albedo += (vec4(aov_albedo, 0.0) - mean_albedo) / f32(sample_index + 1u);
-            mean_normal += (vec4(aov_normal, 0.0) - mean_normal) / f32(sample_index + 1u);
-            mean_emission += (vec4(aov_emission, 0.0) - mean_emission) / f32(sample_index + 1u);
+            let values = AovMeans(vec4(aov_albedo, 0.0), vec4(aov_normal, 0.0), vec4(aov_emission, 0.0));
+            add_aov_sample(&aov_means, values, f32(sample_index + 1u));
         }
     }
     accum[slot] = mean;
     if (WRITE_AOVS) {
-        aovs[3u * slot] = mean_albedo;
-        aovs[3u * slot + 1u] = mean_normal;
-        aovs[3u * slot + 2u] = mean_emission;
+        store_aov_means(slot, aov_means);
     }
     if (COUNT_RAYS) {
         atomicAdd(&counters[0], rays);

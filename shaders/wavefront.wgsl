@@ -168,13 +168,9 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let slot = (frame.row_begin - frame.tile_row_begin) * frame.width + gid.x;
     var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
-    var mean_albedo = vec4(0.0);
-    var mean_normal = vec4(0.0);
-    var mean_emission = vec4(0.0);
-    if (WRITE_AOVS && frame.sample_base != 0u) {
-        mean_albedo = aovs[3u * slot];
-        mean_normal = aovs[3u * slot + 1u];
-        mean_emission = aovs[3u * slot + 2u];
+    var aov_means: AovMeans;
+    if (WRITE_AOVS) {
+        aov_means = load_aov_means(slot);
     }
     var dropped = 0u;
     for (var s = 0u; s < frame.samples_this_dispatch; s++) {
@@ -188,16 +184,13 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
         let n = f32(frame.sample_base + s + 1u);
         mean += (vec4(l, lum * lum) - mean) / n;
         if (WRITE_AOVS) {
-            mean_albedo += (path_aovs[3u * i] - mean_albedo) / n;
-            mean_normal += (path_aovs[3u * i + 1u] - mean_normal) / n;
-            mean_emission += (path_aovs[3u * i + 2u] - mean_emission) / n;
+            let values = AovMeans(path_aovs[3u * i], path_aovs[3u * i + 1u], path_aovs[3u * i + 2u]);
+            add_aov_sample(&aov_means, values, n);
         }
     }
     accum[slot] = mean;
     if (WRITE_AOVS) {
-        aovs[3u * slot] = mean_albedo;
-        aovs[3u * slot + 1u] = mean_normal;
-        aovs[3u * slot + 2u] = mean_emission;
+        store_aov_means(slot, aov_means);
     }
     if (dropped > 0u) {
         atomicAdd(&counters[1], dropped);

@@ -657,6 +657,17 @@ fn the_firefly_clamp_only_lowers_bounced_light_and_is_exact_when_it_does_not_bit
     assert!(rt_core::frame::validate(&s).is_err());
 }
 
+/// A context of its own (for faults that must not disturb the other tests) and a 16 x 16 Cornell
+/// box.
+fn own_context_and_small_cornell() -> (rt_gpu::GpuContext, rt_core::Scene, GpuScene) {
+    let ctx = rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Cpu).unwrap();
+    let mut s = rt_core::assets::cornell_box().unwrap();
+    s.settings.width = 16;
+    s.settings.height = 16;
+    let gpu_scene = GpuScene::build(&s).unwrap();
+    (ctx, s, gpu_scene)
+}
+
 /// A device lost mid-render (simulated with `Device::destroy`) makes the next batch and readback
 /// return errors, not panic; the image read back before the loss is intact, so it can be saved.
 #[test]
@@ -664,12 +675,7 @@ fn a_lost_device_is_an_error_and_earlier_readbacks_stay_usable() {
     if gpu().is_none() {
         return;
     }
-    // A context of its own: destroying it must not disturb the other tests.
-    let ctx = rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Cpu).unwrap();
-    let mut s = rt_core::assets::cornell_box().unwrap();
-    s.settings.width = 16;
-    s.settings.height = 16;
-    let gpu_scene = GpuScene::build(&s).unwrap();
+    let (ctx, s, gpu_scene) = own_context_and_small_cornell();
     let mut renderer =
         rt_gpu::Renderer::for_scene(&ctx, &s, &gpu_scene, RenderOptions::default()).unwrap();
     renderer.render_batch(2).unwrap();
@@ -699,12 +705,7 @@ fn out_of_memory_mid_render_is_an_error_and_loses_no_samples() {
     if gpu().is_none() {
         return;
     }
-    // A context of its own: the injection must not hit another test's operation.
-    let ctx = rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Cpu).unwrap();
-    let mut s = rt_core::assets::cornell_box().unwrap();
-    s.settings.width = 16;
-    s.settings.height = 16;
-    let gpu_scene = GpuScene::build(&s).unwrap();
+    let (ctx, s, gpu_scene) = own_context_and_small_cornell();
     for options in [
         RenderOptions::default(),
         RenderOptions {
@@ -729,8 +730,13 @@ fn out_of_memory_mid_render_is_an_error_and_loses_no_samples() {
             after.pixels == before.pixels,
             "the failed batch changed the image"
         );
-        renderer.render_batch(2).unwrap();
-        assert_eq!(renderer.samples_done(), before.samples_per_pixel + 2);
+        // A batch takes up to 2 samples (how many depends on the measured speed).
+        let batch = renderer.render_batch(2).unwrap();
+        assert!(batch.samples >= 1);
+        assert_eq!(
+            renderer.samples_done(),
+            before.samples_per_pixel + batch.samples
+        );
     }
 }
 

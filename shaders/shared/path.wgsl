@@ -52,6 +52,34 @@ var<private> aov_albedo: vec3<f32>;
 var<private> aov_normal: vec3<f32>;
 var<private> aov_emission: vec3<f32>;
 
+// Running means of a pixel's first-hit albedo, normal and directly seen light (the denoiser's
+// guides), kept at [3 slot], [3 slot + 1] and [3 slot + 2] of the entry file's `aovs` binding.
+struct AovMeans {
+    albedo: vec4<f32>,
+    normal: vec4<f32>,
+    emission: vec4<f32>,
+}
+
+fn load_aov_means(slot: u32) -> AovMeans {
+    if (frame.sample_base == 0u) {
+        return AovMeans(vec4(0.0), vec4(0.0), vec4(0.0));
+    }
+    return AovMeans(aovs[3u * slot], aovs[3u * slot + 1u], aovs[3u * slot + 2u]);
+}
+
+// Folds in the `n`-th sample's values.
+fn add_aov_sample(m: ptr<function, AovMeans>, values: AovMeans, n: f32) {
+    (*m).albedo += (values.albedo - (*m).albedo) / n;
+    (*m).normal += (values.normal - (*m).normal) / n;
+    (*m).emission += (values.emission - (*m).emission) / n;
+}
+
+fn store_aov_means(slot: u32, m: AovMeans) {
+    aovs[3u * slot] = m.albedo;
+    aovs[3u * slot + 1u] = m.normal;
+    aovs[3u * slot + 2u] = m.emission;
+}
+
 fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
     if (CLAMP_MAX > 0.0) {
         let peak = max(c.x, max(c.y, c.z));

@@ -268,7 +268,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             bvh_depth: gpu_scene.bvh_depth,
             bvh: format!("{:?}", gpu_scene.layout),
             soa_triangles: args.soa,
-            kernel: if options.wavefront && !args.unchecked && !args.soa {
+            kernel: if renderer.wavefront() {
                 "wavefront"
             } else {
                 "megakernel"

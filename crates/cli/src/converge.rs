@@ -64,6 +64,15 @@ pub enum Kernel {
     Megakernel,
 }
 
+impl Kernel {
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Wavefront => "wavefront",
+            Kernel::Megakernel => "megakernel",
+        }
+    }
+}
+
 #[derive(Args, Debug)]
 pub struct ConvergeArgs {
     #[command(flatten)]

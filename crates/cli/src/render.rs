@@ -61,6 +61,9 @@ pub struct RenderArgs {
     /// edge-avoiding À-Trous denoiser guided by albedo and normals; the output itself stays raw.
     #[arg(long)]
     denoise: bool,
+    /// What traces the paths (the same image either way; docs/performance.md compares them).
+    #[arg(long, value_enum, default_value = "wavefront")]
+    kernel: crate::converge::Kernel,
     /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     adapter: AdapterChoice,
@@ -116,8 +119,9 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     }
     let options = RenderOptions {
         aovs: args.denoise,
-        // Bounds lavapipe's memory growth over long renders (docs/performance.md).
+        // Bounds lavapipe's memory growth over long megakernel renders (docs/performance.md).
         rebuild_on_cpu: true,
+        wavefront: args.kernel == crate::converge::Kernel::Wavefront,
         ..Default::default()
     };
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
@@ -220,6 +224,14 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let secs = render_time.as_secs_f64().max(1e-9);
     let paths = pixels as f64 * f64::from(image.samples_per_pixel);
     eprintln!("adapter:        {}", ctx.adapter_label());
+    eprintln!(
+        "kernel:         {}",
+        if renderer.wavefront() {
+            "wavefront"
+        } else {
+            "megakernel"
+        }
+    );
     eprintln!("triangles:      {}", gpu_scene.triangles.len());
     eprintln!(
         "BVH build:      {:.2?} (depth {})",
@@ -294,7 +306,10 @@ fn render_in_tiles(
         ctx,
         gpu_scene,
         frame,
-        RenderOptions::default(),
+        RenderOptions {
+            wavefront: args.kernel == crate::converge::Kernel::Wavefront,
+            ..Default::default()
+        },
         settings.samples_per_pixel,
         Some(max_buffer),
         |fraction| {
@@ -314,6 +329,7 @@ fn render_in_tiles(
     )
     .with_context(|| format!("saving {}", args.output.display()))?;
     eprintln!("adapter:        {}", ctx.adapter_label());
+    eprintln!("kernel:         {}", args.kernel.name());
     eprintln!("triangles:      {}", gpu_scene.triangles.len());
     eprintln!(
         "image:          {}x{}, {} spp, max depth {}, in {tiles} tiles of {rows} rows (the \

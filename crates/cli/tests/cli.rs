@@ -373,27 +373,26 @@ fn converge_writes_csv_and_plot_and_render_reads_projects() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// When the GPU is lost mid-render (injected: the device is destroyed after two batches), rt-cli
-/// exits with an error that says so and saves the samples it had read back before.
-#[test]
-fn a_device_lost_mid_render_saves_the_samples_read_back_before() {
+/// Runs a long render with the fault injected by `fault_env` after two batches; rt-cli must exit 2
+/// with an error containing `says` and save the samples it had read back before to `file`.
+fn fault_mid_render_saves_the_samples_read_back_before(fault_env: &str, says: &str, file: &str) {
     if !has_gpu() && std::env::var_os("CI").is_none() {
         return;
     }
-    let dir = temp_dir("lost");
-    let out = dir.join("partial.exr");
+    let dir = temp_dir(fault_env);
+    let out = dir.join(file);
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_rt-cli"))
         .args([
             "render", "--width", "24", "--height", "24", "--spp", "100000", "-o",
         ])
         .arg(&out)
-        .env("RT_FAULT_LOSE_DEVICE_AFTER_BATCHES", "2")
+        .env(fault_env, "2")
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(2), "{stderr}");
     assert!(
-        stderr.contains("device was lost") && stderr.contains("were saved to"),
+        stderr.contains(says) && stderr.contains("were saved to"),
         "{stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -402,32 +401,95 @@ fn a_device_lost_mid_render_saves_the_samples_read_back_before() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// When the GPU is lost mid-render (injected: the device is destroyed after two batches), rt-cli
+/// exits with an error that says so and saves the samples it had read back before.
+#[test]
+fn a_device_lost_mid_render_saves_the_samples_read_back_before() {
+    fault_mid_render_saves_the_samples_read_back_before(
+        "RT_FAULT_LOSE_DEVICE_AFTER_BATCHES",
+        "device was lost",
+        "partial.exr",
+    );
+}
+
 /// Out of memory mid-render (injected: the GPU operation after two batches fails as an allocation
 /// would): rt-cli says so, exits 2 and saves the samples it had read back before.
 #[test]
 fn out_of_memory_mid_render_saves_the_samples_read_back_before() {
+    fault_mid_render_saves_the_samples_read_back_before(
+        "RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES",
+        "ran out of memory",
+        "partial.png",
+    );
+}
+
+/// `--kernel megakernel` renders the default (wavefront) image, bit for bit, and the summary names
+/// the kernel.
+#[test]
+fn both_kernels_render_the_same_image() {
     if !has_gpu() && std::env::var_os("CI").is_none() {
         return;
     }
-    let dir = temp_dir("oom");
-    let out = dir.join("partial.png");
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_rt-cli"))
-        .args([
-            "render", "--width", "24", "--height", "24", "--spp", "100000", "-o",
-        ])
-        .arg(&out)
-        .env("RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES", "2")
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    let dir = temp_dir("kernels");
+    let render = |kernel: &str| {
+        let out = dir.join(format!("{kernel}.exr"));
+        let (code, _, stderr) = rt_cli(&[
+            "render",
+            "--width",
+            "24",
+            "--height",
+            "16",
+            "--spp",
+            "3",
+            "--kernel",
+            kernel,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(
+            stderr.contains(&format!("kernel:         {kernel}")),
+            "{stderr}"
+        );
+        image::open(&out).unwrap().to_rgba32f().into_raw()
+    };
+    let wavefront = render("wavefront");
+    let megakernel = render("megakernel");
+    assert!(wavefront.iter().any(|v| *v > 0.0), "black image");
     assert!(
-        stderr.contains("ran out of memory") && stderr.contains("were saved to"),
-        "{stderr}"
+        wavefront == megakernel,
+        "the two kernels rendered different images"
     );
-    assert!(!stderr.contains("panicked"), "{stderr}");
-    let (w, h) = image::image_dimensions(&out).unwrap();
-    assert_eq!((w, h), (24, 24));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `-v` reports the longest dispatch (the figure that must stay well under an OS GPU watchdog's
+/// ~100 ms on a real GPU; sized to ~40 ms, see docs/robustness.md), with its unit.
+#[test]
+fn a_verbose_render_reports_its_longest_dispatch() {
+    if !has_gpu() && std::env::var_os("CI").is_none() {
+        return;
+    }
+    let dir = temp_dir("verbose");
+    let out = dir.join("v.png");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--spp",
+        "8",
+        "-v",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let line = stderr
+        .lines()
+        .find(|l| l.starts_with("longest dispatch:"))
+        .unwrap_or_else(|| panic!("no longest dispatch in: {stderr}"));
+    assert!(line.ends_with('s'), "{line}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -46,17 +46,19 @@ pub struct RenderOptions {
     /// Off by default: on lavapipe it measured no faster (docs/performance.md); the images are
     /// identical either way. Megakernel only: it selects the megakernel.
     pub unchecked: bool,
-    /// Rebuild the tracing pipeline once its kernel has run this long (not counting the first batch
-    /// after a build), when `Some`. Mesa 22.3's lavapipe keeps host memory for every path its
-    /// compiled kernel traces (60-75 MB/s on the Cornell box here) until the pipeline is destroyed.
-    /// `None` leaves it to `rebuild_on_cpu`. A rebuild changes no sample (`tests/memory.rs`).
+    /// Rebuild the tracing pipeline(s) once the kernels have run this long (not counting the first
+    /// batch after a build), when `Some`. Mesa 22.3's lavapipe keeps host memory for every path the
+    /// compiled megakernel traces (60-75 MB/s on the Cornell box here) until the pipeline is
+    /// destroyed; the wavefront kernels do not grow (`tests/memory.rs`). `None` leaves it to
+    /// `rebuild_on_cpu`. A rebuild changes no sample (`tests/extremes.rs`).
     pub pipeline_lifetime: Option<Duration>,
-    /// With `pipeline_lifetime` `None`: on CPU adapters, rebuild after `CPU_PIPELINE_LIFETIME` or
-    /// `REBUILD_AMORTISATION` times the last build's first batch (which holds lavapipe's JIT
-    /// compile, seconds), whichever is longer (`RT_PIPELINE_LIFETIME_S` in the environment sets the
-    /// lifetime exactly); never on GPUs. Off by default, for renderers that share a device with
-    /// others (the tests, the editor): a CI run of the test suite with it on stalled for over
-    /// 10 minutes inside lavapipe, with several renderers rebuilding at once. `rt-cli` turns it on.
+    /// With `pipeline_lifetime` `None`: on CPU adapters and with the megakernel, rebuild after
+    /// `CPU_PIPELINE_LIFETIME` or `REBUILD_AMORTISATION` times the last build's first batch (which
+    /// holds lavapipe's JIT compile, seconds), whichever is longer (`RT_PIPELINE_LIFETIME_S` in the
+    /// environment sets the lifetime exactly); never on GPUs or with the wavefront kernels. Off by
+    /// default, for renderers that share a device with others (the tests): a CI run of the test
+    /// suite with it on stalled for over 10 minutes inside lavapipe (not reproduced by three
+    /// threads rebuilding at once). `rt-cli render` and `converge` turn it on.
     pub rebuild_on_cpu: bool,
     /// Traversal reads triangle vertices from a structure-of-arrays copy instead of the 48-byte
     /// records (a layout experiment: `rt-cli bench --soa`; docs/performance.md).
@@ -421,7 +423,9 @@ impl<'a> Renderer<'a> {
             .and_then(|v| v.trim().parse::<f64>().ok())
             .filter(|s| s.is_finite() && *s >= 0.0)
             .map(Duration::from_secs_f64);
-        let auto = options.rebuild_on_cpu && ctx.info.device_type == wgpu::DeviceType::Cpu;
+        // Only the megakernel's pipelines grow (tests/memory.rs).
+        let auto =
+            options.rebuild_on_cpu && !wavefront && ctx.info.device_type == wgpu::DeviceType::Cpu;
         let explicit = options.pipeline_lifetime.or(from_env.filter(|_| auto));
         let pipeline_lifetime = explicit.or(auto.then_some(CPU_PIPELINE_LIFETIME));
         let rebuild_amortisation = if explicit.is_some() {
@@ -457,6 +461,11 @@ impl<'a> Renderer<'a> {
             first_dispatch: Duration::ZERO,
             triangles: scene.triangles.len(),
         })
+    }
+
+    /// Whether the wavefront kernels trace (else the megakernel: see `RenderOptions::wavefront`).
+    pub fn wavefront(&self) -> bool {
+        matches!(self.engine, Engine::Wavefront(_))
     }
 
     pub fn samples_done(&self) -> u32 {
