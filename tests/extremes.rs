@@ -740,6 +740,54 @@ fn out_of_memory_mid_render_is_an_error_and_loses_no_samples() {
     }
 }
 
+/// A batch that fails part-way (out of memory injected after its first band of rows has been
+/// rendered) is finished by the next one: the render then goes on to the same image, bit for bit,
+/// as one that never failed; no band gets a sample twice. (A first batch would hide the bug: it
+/// starts every pixel's mean afresh.)
+#[test]
+fn a_batch_failing_part_way_is_finished_by_the_next() {
+    if gpu().is_none() {
+        return;
+    }
+    let (ctx, mut s, _) = own_context_and_small_cornell();
+    s.settings.width = 64;
+    s.settings.height = 20;
+    s.settings.samples_per_pixel = 3;
+    let gpu_scene = GpuScene::build(&s).unwrap();
+    for wavefront in [true, false] {
+        // A 1 µs target shrinks batches after the first to one sample in bands of one row.
+        let options = RenderOptions {
+            wavefront,
+            target_dispatch: Duration::from_micros(1),
+            ..Default::default()
+        };
+        let clean = render_gpu(&ctx, &s, &gpu_scene, options);
+        let mut renderer = rt_gpu::Renderer::for_scene(&ctx, &s, &gpu_scene, options).unwrap();
+        renderer.render_batch(1).unwrap();
+        // The second band's first GPU operation: a band is one dispatch of the megakernel, or
+        // max depth + 1 submissions of a wave.
+        let first_band_operations = if wavefront {
+            s.settings.max_depth + 1
+        } else {
+            1
+        };
+        ctx.inject_out_of_memory(first_band_operations + 1);
+        let error = renderer.render_batch(1).unwrap_err();
+        assert!(
+            matches!(error, rt_gpu::GpuError::OutOfMemory(_)),
+            "wavefront {wavefront}: {error}"
+        );
+        assert_eq!(renderer.samples_done(), 1);
+        renderer.render(3, |_| true).unwrap();
+        let resumed = renderer.read_image().unwrap();
+        assert_eq!(resumed.samples_per_pixel, 3);
+        assert!(
+            resumed.pixels == clean.pixels,
+            "wavefront {wavefront}: the resumed render differs from one that never failed"
+        );
+    }
+}
+
 /// The generic kernel (every feature compiled in) and other work-group shapes compute the same
 /// image bit for bit as the specialised 8 x 8 default: specialisation only removes dead code, and
 /// each pixel's samples do not depend on how pixels are grouped.

@@ -18,7 +18,7 @@ override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
 override HAS_NEE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
-// Also record the first hit's albedo and normal (for the denoiser; the megakernel only).
+// Also record the first hit's albedo, normal and directly seen light (for the denoiser).
 override WRITE_AOVS: bool = false;
 // Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
 // emitters and sky reached after a bounce) is scaled down so its largest channel is at most this;
@@ -238,7 +238,8 @@ fn sample_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
 // direction, and returns whether the path goes on (with `path` then holding the next ray). The
 // next-event estimation ray is traced here unless `defer_shadow`: then it is left in `shadow` for
 // the caller (its `distance` <= 0 when there is none), whose contribution the caller adds before
-// the path's next vertex, so the sums come out in the same order either way.
+// the path's next vertex, so without point, spot or sun lights the sums come out in the same order
+// either way (with them, their sum is added before the next-event estimate instead of after).
 fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sampler>,
                 shadow: ptr<function, ShadowRay>, defer_shadow: bool, rays: ptr<function, u32>) -> bool {
     (*shadow).distance = -1.0;

@@ -21,8 +21,9 @@ pub enum GpuError {
     /// wgpu reported a validation error.
     #[error("GPU error: {0}")]
     Wgpu(String),
-    /// An allocation or submission failed for lack of GPU memory. The device stays usable: what
-    /// was rendered before can still be read back.
+    /// Creating a resource (buffer, texture) failed for lack of GPU memory. The device stays
+    /// usable: what was rendered before can still be read back. (wgpu 30 marks the device lost when
+    /// memory runs out in a submission or a pipeline: that arrives as `DeviceLost`.)
     #[error(
         "the GPU ran out of memory ({0}); a smaller image, fewer triangles or textures, or another \
          adapter may fit"

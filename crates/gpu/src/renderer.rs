@@ -180,6 +180,9 @@ pub struct Renderer<'a> {
     samples_done: u32,
     samples_per_dispatch: u32,
     rows_per_dispatch: u32,
+    /// A batch that failed part-way: the first row it had not rendered, and its samples per pixel.
+    /// The rows before already hold its samples, so the next batch finishes this one.
+    unfinished: Option<(u32, u32)>,
     loop_cap: u32,
     rays: u64,
     dropped_samples: u64,
@@ -454,6 +457,7 @@ impl<'a> Renderer<'a> {
             // Start with a band of about 16k pixels to measure the cost safely, then grow.
             rows_per_dispatch: (16_384 / frame.width)
                 .clamp(1, frame.tile_row_end - frame.tile_row_begin),
+            unfinished: None,
             loop_cap,
             rays: 0,
             dropped_samples: 0,
@@ -533,7 +537,9 @@ impl<'a> Renderer<'a> {
         Ok(())
     }
 
-    /// Adds up to `max_samples` samples to every pixel; returns what was done.
+    /// Adds up to `max_samples` samples to every pixel; returns what was done. After an error
+    /// part-way through a batch (some bands of rows already hold its samples), the next call
+    /// finishes that batch, with its sample count, instead of starting a new one.
     pub fn render_batch(&mut self, max_samples: u32) -> Result<BatchStats> {
         if let (Some(life), Some(first)) = (self.pipeline_lifetime, self.pipeline_first_batch)
             && self.pipeline_ran >= life.max(first * self.rebuild_amortisation)
@@ -543,16 +549,24 @@ impl<'a> Renderer<'a> {
         let started = Instant::now();
         // On lavapipe the first batch after a pipeline is built holds its JIT compile (seconds).
         let first_after_build = self.pipeline_first_batch.is_none();
-        let samples = max_samples.min(self.samples_per_dispatch).max(1);
+        let (mut row, samples) = self.unfinished.take().unwrap_or((
+            self.frame.tile_row_begin,
+            max_samples.min(self.samples_per_dispatch).max(1),
+        ));
         let mut stats = BatchStats {
             samples,
             ..Default::default()
         };
-        let mut row = self.frame.tile_row_begin;
         let mut slowest_rate = 0.0f64; // seconds per (sample x row)
         while row < self.frame.tile_row_end {
             let rows = self.rows_per_dispatch.min(self.frame.tile_row_end - row);
-            let elapsed = self.dispatch(row, rows, samples)?;
+            let elapsed = match self.dispatch(row, rows, samples) {
+                Ok(elapsed) => elapsed,
+                Err(e) => {
+                    self.unfinished = Some((row, samples));
+                    return Err(e);
+                }
+            };
             stats.dispatches += 1;
             stats.longest_dispatch = stats.longest_dispatch.max(elapsed);
             slowest_rate = slowest_rate.max(elapsed.as_secs_f64() / f64::from(samples * rows));
@@ -693,7 +707,9 @@ impl<'a> Renderer<'a> {
         }))
     }
 
-    /// The accumulated image so far (of this renderer's tile: `height` is the tile's rows).
+    /// The accumulated image so far (of this renderer's tile: `height` is the tile's rows). After a
+    /// batch failed part-way, its finished rows hold one batch more than `samples_per_pixel` says
+    /// until the next batch completes it (keep the last image read before the failure to save).
     pub fn read_image(&self) -> Result<Image> {
         let rows = self.frame.tile_row_end - self.frame.tile_row_begin;
         let size = u64::from(self.frame.width) * u64::from(rows) * 16;

@@ -144,7 +144,9 @@ pub(crate) fn wave_pipelines(ctx: &GpuContext, key: PipelineKey) -> Result<Arc<W
                     entry_point: Some(entry),
                     compilation_options: wgpu::PipelineCompilationOptions {
                         constants: &constants,
-                        ..Default::default()
+                        // The BVH stacks in work-group memory are pushed before they are read; a
+                        // 16 KiB clear per work group, three dispatches per depth, would be waste.
+                        zero_initialize_workgroup_memory: false,
                     },
                     cache: None,
                 })
