@@ -423,8 +423,7 @@ fn out_of_memory_mid_render_saves_the_samples_read_back_before() {
     );
 }
 
-/// `--kernel megakernel` renders the default (wavefront) image, bit for bit, and the summary names
-/// the kernel.
+/// `--kernel megakernel` renders the default (wavefront) image, and the summary names the kernel.
 #[test]
 fn both_kernels_render_the_same_image() {
     if !has_gpu() && std::env::var_os("CI").is_none() {
@@ -456,10 +455,14 @@ fn both_kernels_render_the_same_image() {
     let wavefront = render("wavefront");
     let megakernel = render("megakernel");
     assert!(wavefront.iter().any(|v| *v > 0.0), "black image");
-    assert!(
-        wavefront == megakernel,
-        "the two kernels rendered different images"
-    );
+    // Bit for bit on lavapipe (tests/wavefront.rs); a GPU may round one multiply-add differently.
+    assert_eq!(wavefront.len(), megakernel.len());
+    for (w, m) in wavefront.iter().zip(&megakernel) {
+        assert!(
+            (w - m).abs() <= 1e-5 * w.abs().max(m.abs()),
+            "the two kernels rendered different images: {w} against {m}"
+        );
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -67,6 +67,8 @@ const WRITTEN: [u32; 8] = [6, 7, 10, 12, 13, 14, 15, 16];
 const SHARED: [u32; 11] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10];
 /// The wavefront's own: paths, ray queues, shadow rays, queue lengths, per-path AOVs.
 const OWN: [u32; 5] = [12, 13, 14, 15, 16];
+/// Index of the queue lengths (`WaveQueues`) among the own buffers.
+const QUEUE_LENGTHS: usize = 3;
 
 fn bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
     let entries: Vec<wgpu::BindGroupLayoutEntry> = SHARED
@@ -326,8 +328,11 @@ impl Wavefront {
                 if depth == 0 {
                     ctx.queue
                         .write_buffer(frame_buffer, 0, bytemuck::bytes_of(frame));
-                    ctx.queue
-                        .write_buffer(&self.own[3], 0, bytemuck::bytes_of(&queues));
+                    ctx.queue.write_buffer(
+                        &self.own[QUEUE_LENGTHS],
+                        0,
+                        bytemuck::bytes_of(&queues),
+                    );
                     ctx.queue.write_buffer(
                         &self.dispatch_size,
                         0,
@@ -337,7 +342,13 @@ impl Wavefront {
                 }
                 if frame.max_depth > 0 {
                     pass(encoder, &depth_stages);
-                    encoder.copy_buffer_to_buffer(&self.own[3], 0, &self.dispatch_size, 0, 12);
+                    encoder.copy_buffer_to_buffer(
+                        &self.own[QUEUE_LENGTHS],
+                        0,
+                        &self.dispatch_size,
+                        0,
+                        12,
+                    );
                 }
             })?);
         }
