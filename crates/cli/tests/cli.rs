@@ -18,6 +18,23 @@ fn rt_cli(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// `rt-cli render` of the embedded Cornell box at `width` x `height` and `spp` into `out`, with
+/// `extra` arguments; returns the exit code and stderr.
+fn render_cornell(
+    width: u32,
+    height: u32,
+    spp: u32,
+    out: &std::path::Path,
+    extra: &[&str],
+) -> (i32, String) {
+    let (w, h, n) = (width.to_string(), height.to_string(), spp.to_string());
+    let mut args = vec!["render", "--width", &w, "--height", &h, "--spp", &n, "-o"];
+    args.push(out.to_str().expect("a UTF-8 path"));
+    args.extend_from_slice(extra);
+    let (code, _, stderr) = rt_cli(&args);
+    (code, stderr)
+}
+
 fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("rt-cli-test-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -303,17 +320,7 @@ fn converge_writes_csv_and_plot_and_render_reads_projects() {
     }
     let dir = temp_dir("converge");
     let reference = dir.join("ref.exr");
-    let (code, _, stderr) = rt_cli(&[
-        "render",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--spp",
-        "64",
-        "-o",
-        reference.to_str().unwrap(),
-    ]);
+    let (code, stderr) = render_cornell(32, 32, 64, &reference, &[]);
     assert_eq!(code, 0, "{stderr}");
     let csv = dir.join("c.csv");
     let svg = dir.join("c.svg");
@@ -432,19 +439,7 @@ fn both_kernels_render_the_same_image() {
     let dir = temp_dir("kernels");
     let render = |kernel: &str| {
         let out = dir.join(format!("{kernel}.exr"));
-        let (code, _, stderr) = rt_cli(&[
-            "render",
-            "--width",
-            "24",
-            "--height",
-            "16",
-            "--spp",
-            "3",
-            "--kernel",
-            kernel,
-            "-o",
-            out.to_str().unwrap(),
-        ]);
+        let (code, stderr) = render_cornell(24, 16, 3, &out, &["--kernel", kernel]);
         assert_eq!(code, 0, "{stderr}");
         assert!(
             stderr.contains(&format!("kernel:         {kernel}")),
@@ -475,18 +470,7 @@ fn a_verbose_render_reports_its_longest_dispatch() {
     }
     let dir = temp_dir("verbose");
     let out = dir.join("v.png");
-    let (code, _, stderr) = rt_cli(&[
-        "render",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--spp",
-        "8",
-        "-v",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let (code, stderr) = render_cornell(32, 32, 8, &out, &["-v"]);
     assert_eq!(code, 0, "{stderr}");
     let line = stderr
         .lines()
