@@ -12,8 +12,8 @@ rm -f "$csv"
 cargo build --release --locked -p rt-cli
 cli=target/release/rt-cli
 common=(--reference "$ref" --width 128 --height 128 --max-spp 256 --csv "$csv")
-"$cli" converge "${common[@]}" --label "NEE+MIS, depth 8 (default)"
-"$cli" converge "${common[@]}" --sampler sobol --label "NEE+MIS, Sobol sampler"
+"$cli" converge "${common[@]}" --label "NEE+MIS, Sobol, depth 8 (default)"
+"$cli" converge "${common[@]}" --sampler independent --label "NEE+MIS, independent sampler"
 "$cli" converge "${common[@]}" --denoise --label "NEE+MIS, denoised"
 "$cli" converge "${common[@]}" --no-nee --label "BSDF sampling only"
 "$cli" converge "${common[@]}" --nee-only --label "NEE only (no MIS)"

@@ -10,6 +10,7 @@ here, and LLVM 14 is too old; DRJIT_LIBLLVM_PATH overrides the library), and a r
 (`cargo build --release -p rt-cli`).
 
 Usage: bench/mitsuba-vs-rt.py REFERENCE.exr [--spp 256] [--size 512] [--sampler independent|sobol]
+(rt's own default sampler, Sobol, unless --sampler is given; Mitsuba keeps its independent one)
 """
 
 import argparse
@@ -114,7 +115,7 @@ def main():
     parser.add_argument("reference")
     parser.add_argument("--spp", type=int, default=256)
     parser.add_argument("--size", type=int, default=512)
-    parser.add_argument("--sampler", default="independent")
+    parser.add_argument("--sampler", default=None)
     args = parser.parse_args()
     os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
     import drjit as dr
@@ -138,7 +139,8 @@ def main():
         started = time.perf_counter()
         log = subprocess.run(
             [str(CLI), "render", "--width", str(args.size), "--height", str(args.size),
-             "--spp", str(args.spp), "--max-depth", "8", "--sampler", args.sampler, "-o", str(rt_out)],
+             "--spp", str(args.spp), "--max-depth", "8", "-o", str(rt_out)]
+            + (["--sampler", args.sampler] if args.sampler else []),
             capture_output=True, text=True, check=True,
         ).stderr
         t_rt_wall = time.perf_counter() - started
@@ -152,7 +154,8 @@ def main():
     print(f"machine: {os.cpu_count()} CPUs; rt adapter: {adapter}")
     print(f"{'':10} {'time (s)':>10} {'relMSE':>12}")
     print(f"{'Mitsuba 3':10} {t_mitsuba:>10.2f} {e_mitsuba:>12.4e}   (llvm_ad_rgb, path, independent)")
-    print(f"{'rt':10} {t_rt:>10.2f} {e_rt:>12.4e}   (render time; {t_rt_wall:.2f} s with start-up, BVH, save)")
+    sampler = args.sampler or "default sampler"
+    print(f"{'rt':10} {t_rt:>10.2f} {e_rt:>12.4e}   ({sampler}; render time; {t_rt_wall:.2f} s with start-up, BVH, save)")
     print(f"equal-error time ratio (t_rt relMSE_rt) / (t_mitsuba relMSE_mitsuba): {ratio:.3f}")
     return 0
 

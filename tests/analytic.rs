@@ -363,6 +363,7 @@ fn the_sobol_sampler_has_less_error_on_smooth_lighting() {
     };
     s.settings.samples_per_pixel = 64;
     s.settings.seed = 7;
+    s.settings.sampler = rt_core::reference::rng::SamplerKind::Independent;
     let independent = render(ctx, &s);
     s.settings.sampler = rt_core::reference::rng::SamplerKind::Sobol;
     let sobol = render(ctx, &s);

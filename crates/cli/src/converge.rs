@@ -99,8 +99,8 @@ pub struct ConvergeArgs {
     /// Firefly clamp (biased): no channel of a bounced-light contribution above X.
     #[arg(long, value_name = "X")]
     clamp: Option<f32>,
-    /// Random numbers: independent (PCG streams) or sobol (Owen-scrambled Sobol points: less
-    /// noise for the same samples on smooth lighting).
+    /// Random numbers: sobol (Owen-scrambled Sobol points, the default: less noise for the same
+    /// samples) or independent (PCG streams).
     #[arg(long, value_enum)]
     sampler: Option<SamplerArg>,
     /// Measure the denoised image at each step (the denoising time counts).
@@ -208,10 +208,10 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
                 ""
             },
             args.clamp.map_or(String::new(), |c| format!("clamp {c}, "))
-                + if matches!(args.sampler, Some(SamplerArg::Sobol)) {
+                + if scene.settings.sampler == rt_core::reference::rng::SamplerKind::Sobol {
                     "Sobol, "
                 } else {
-                    ""
+                    "independent, "
                 }
                 + if args.denoise { "denoised, " } else { "" },
             scene.settings.max_depth,

@@ -53,8 +53,8 @@ pub struct RenderArgs {
     /// (directly seen emitters stay exact). Biased (removes energy); off by default.
     #[arg(long, value_name = "X")]
     clamp: Option<f32>,
-    /// Random numbers: independent (PCG streams) or sobol (Owen-scrambled Sobol points: less
-    /// noise for the same samples on smooth lighting).
+    /// Random numbers: sobol (Owen-scrambled Sobol points, the default: less noise for the same
+    /// samples) or independent (PCG streams).
     #[arg(long, value_enum)]
     sampler: Option<SamplerArg>,
     /// Also write a denoised copy beside the output (NAME.denoised.EXT), filtered with the
@@ -238,12 +238,16 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         gpu_scene.bvh_build_time, gpu_scene.bvh_depth
     );
     eprintln!(
-        "image:          {}x{}, {} spp, max depth {}, next-event estimation {}",
+        "image:          {}x{}, {} spp, max depth {}, next-event estimation {}, {} sampler",
         image.width,
         image.height,
         image.samples_per_pixel,
         scene.settings.max_depth,
-        if gpu_scene.features.nee { "on" } else { "off" }
+        if gpu_scene.features.nee { "on" } else { "off" },
+        match scene.settings.sampler {
+            rt_core::reference::rng::SamplerKind::Sobol => "Sobol",
+            rt_core::reference::rng::SamplerKind::Independent => "independent",
+        }
     );
     eprintln!("render time:    {render_time:.2?} (stopped by {stopped_by})");
     eprintln!("noise:          {noise:.5} (estimated sqrt(relMSE) against the converged image)");

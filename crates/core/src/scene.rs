@@ -102,8 +102,8 @@ pub struct RenderSettings {
     /// `None`, the default, leaves samples alone.
     #[serde(default)]
     pub clamp: Option<f32>,
-    /// Where the random numbers come from: independent PCG streams (the default) or
-    /// Owen-scrambled Sobol points (less noise on smooth integrands; `reference::rng`).
+    /// Where the random numbers come from: Owen-scrambled Sobol points (the default: less noise
+    /// for the same samples; `reference::rng`) or independent PCG streams.
     #[serde(default)]
     pub sampler: crate::reference::rng::SamplerKind,
     /// Diagnostic: with next-event estimation on, take area lights from next-event estimation alone

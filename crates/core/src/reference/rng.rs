@@ -49,12 +49,15 @@ pub fn sobol_dim1(i: u32) -> u32 {
     x
 }
 
-/// The sampler of a render.
+/// The sampler of a render. Sobol is the default: at equal samples its error is 1.5–2× lower on
+/// the Cornell box and it costs ~8% more time with the wavefront kernels (docs/quality.md), so it
+/// is the better trade for every render; independent samples remain for tests whose statistics
+/// need independent samples, and for comparison.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SamplerKind {
-    #[default]
     Independent,
+    #[default]
     Sobol,
 }
 
