@@ -1,11 +1,15 @@
-//! The wavefront kernels (`RenderOptions::wavefront`, an experiment) run the megakernel's estimator
+//! The wavefront kernels (`RenderOptions::wavefront`, the default) run the megakernel's estimator
 //! stage by stage: the same random numbers in the same order, so the same image and ray count.
 
 mod common;
 
-use common::{gpu, textured_scene_with_normals_metal_glass_and_lens};
+use common::{
+    camera, gpu, object, scene, settings, textured_scene_with_normals_metal_glass_and_lens,
+};
+use glam::Vec3;
 use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::reference::rng::SamplerKind;
+use rt_core::shapes::{cuboid, quad};
 use rt_core::{GpuScene, Material, Scene};
 use rt_gpu::{Aovs, Image, RenderOptions, Renderer};
 
@@ -50,9 +54,10 @@ fn cornell_with_metal_and_glass() -> Scene {
 }
 
 fn scenes() -> Vec<(&'static str, Scene)> {
-    let mut sobol = rt_core::assets::cornell_box().unwrap();
-    sobol.settings.sampler = SamplerKind::Sobol;
-    sobol.settings.max_depth = 12;
+    // The other scenes use the default Sobol sampler.
+    let mut independent = rt_core::assets::cornell_box().unwrap();
+    independent.settings.sampler = SamplerKind::Independent;
+    independent.settings.max_depth = 12;
     let mut empty = rt_core::assets::cornell_box().unwrap();
     empty.objects.clear();
     empty.ambient = [0.5; 3];
@@ -65,7 +70,7 @@ fn scenes() -> Vec<(&'static str, Scene)> {
             "textures, normals, metal, glass, lens",
             textured_scene_with_normals_metal_glass_and_lens(),
         ),
-        ("Cornell box, Sobol sampler, depth 12", sobol),
+        ("Cornell box, independent sampler, depth 12", independent),
         ("empty scene", empty),
     ]
 }
@@ -153,4 +158,42 @@ fn the_wavefront_kernels_agree_with_delta_lights() {
         panic!("{d}");
     }
     assert_eq!(wave_rays, mega_rays, "rays traced");
+}
+
+/// A wave stops at its first empty queue. Under an open sky every path leaves after its bounce off
+/// a floor, so a max depth of 64 runs two depths a wave (the hit and the bounce that escapes);
+/// inside a closed room without roulette every path lives to the max depth, so all 64 run.
+#[test]
+fn a_wave_stops_once_every_path_has_ended() {
+    let Some(ctx) = gpu() else { return };
+    let depths_per_wave = |objects, roulette: bool| {
+        let mut s = scene(
+            objects,
+            camera(Vec3::new(0.0, 3.0, 0.1), Vec3::ZERO, 60.0),
+            [0.5; 3],
+            settings(16, 16, 4, 64),
+        );
+        s.settings.russian_roulette = roulette;
+        let gpu_scene = GpuScene::build(&s).unwrap();
+        let mut renderer =
+            Renderer::for_scene(ctx, &s, &gpu_scene, RenderOptions::default()).unwrap();
+        assert!(renderer.wavefront());
+        let stats = renderer.render_batch(4).unwrap();
+        assert!(stats.dispatches > 0);
+        f64::from(stats.wave_depths) / f64::from(stats.dispatches)
+    };
+    let floor = vec![object(
+        "floor",
+        quad(Vec3::ZERO, Vec3::Y, 100.0),
+        Material::lambertian([0.5; 3]),
+    )];
+    let open = depths_per_wave(floor, true);
+    assert_eq!(open, 2.0, "depths a wave ran under an open sky");
+    let room = vec![object(
+        "room",
+        cuboid(Vec3::splat(-5.0), Vec3::splat(5.0), true),
+        Material::lambertian([0.5; 3]),
+    )];
+    let closed = depths_per_wave(room, false);
+    assert_eq!(closed, 64.0, "depths a wave ran in a closed room");
 }

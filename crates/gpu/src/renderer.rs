@@ -144,6 +144,9 @@ pub struct BatchStats {
     pub samples: u32,
     pub dispatches: u32,
     pub longest_dispatch: Duration,
+    /// With the wavefront kernels, path depths run over all of the batch's waves (each wave
+    /// stops at its first empty queue); 0 with the megakernel.
+    pub wave_depths: u32,
 }
 
 /// What traces the paths.
@@ -560,14 +563,15 @@ impl<'a> Renderer<'a> {
         let mut slowest_rate = 0.0f64; // seconds per (sample x row)
         while row < self.frame.tile_row_end {
             let rows = self.rows_per_dispatch.min(self.frame.tile_row_end - row);
-            let elapsed = match self.dispatch(row, rows, samples) {
-                Ok(elapsed) => elapsed,
+            let (elapsed, depths) = match self.dispatch(row, rows, samples) {
+                Ok(done) => done,
                 Err(e) => {
                     self.unfinished = Some((row, samples));
                     return Err(e);
                 }
             };
             stats.dispatches += 1;
+            stats.wave_depths += depths;
             stats.longest_dispatch = stats.longest_dispatch.max(elapsed);
             slowest_rate = slowest_rate.max(elapsed.as_secs_f64() / f64::from(samples * rows));
             row += rows;
@@ -620,7 +624,9 @@ impl<'a> Renderer<'a> {
         }
     }
 
-    fn dispatch(&mut self, row_begin: u32, rows: u32, samples: u32) -> Result<Duration> {
+    /// Runs one dispatch (megakernel) or wave (wavefront); returns its longest submission's time
+    /// and, for a wave, the path depths it ran.
+    fn dispatch(&mut self, row_begin: u32, rows: u32, samples: u32) -> Result<(Duration, u32)> {
         self.ctx.alive()?;
         let frame = Frame {
             sample_base: self.samples_done,
@@ -635,7 +641,10 @@ impl<'a> Renderer<'a> {
                 bind_group,
             } => (pipeline, bind_group),
             // A wave is one submission of several dispatches; its time bounds each one's.
-            Engine::Wavefront(wave) => return wave.run(self.ctx, &self.frame_buffer, &frame),
+            Engine::Wavefront(wave) => {
+                let run = wave.run(self.ctx, &self.frame_buffer, &frame)?;
+                return Ok((run.longest, run.depths));
+            }
         };
         let started = Instant::now();
         self.ctx.scoped(|| {
@@ -656,7 +665,7 @@ impl<'a> Renderer<'a> {
             .device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::Wgpu(e.to_string()))?;
-        Ok(started.elapsed())
+        Ok((started.elapsed(), 0))
     }
 
     fn read_counters(&mut self) -> Result<()> {

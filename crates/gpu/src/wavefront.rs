@@ -38,6 +38,9 @@ pub struct WaveQueues {
     pub _pad: u32,
 }
 
+/// Where the current queue's length sits in `WaveQueues` (read back after each depth).
+const WAVE_QUEUES_RAYS_OFFSET: u64 = std::mem::offset_of!(WaveQueues, rays) as u64;
+
 /// Field names and offsets of `WaveQueues`, for the layout test.
 pub const WAVE_QUEUES_FIELDS: &[(&str, usize)] = &[
     ("groups_x", 0),
@@ -268,14 +271,19 @@ impl Wavefront {
 
     /// Runs one wave: `frame.samples_this_dispatch` samples of rows `frame.row_begin..row_end`
     /// (whose paths must fit the capacity), written into `frame_buffer` first. Each depth is its
-    /// own submission, waited for and timed; returns the longest (which bounds every dispatch's
-    /// time: the renderer sizes waves by it). The accumulation changes only in the last one.
+    /// own submission, waited for and timed (the renderer sizes waves by the longest, which bounds
+    /// every dispatch's time). The accumulation changes only in the last submission.
+    ///
+    /// Each depth's submission also copies the next queue's length back, read when the wait ends
+    /// (no extra synchronisation), and the wave stops at the first empty queue: with a max depth
+    /// of 64 and paths that leave an open scene after a bounce or two, the other ~60 submissions
+    /// would each cost a round trip for nothing.
     pub fn run(
         &self,
         ctx: &GpuContext,
         frame_buffer: &wgpu::Buffer,
         frame: &Frame,
-    ) -> Result<Duration> {
+    ) -> Result<WaveRun> {
         ctx.alive()?;
         let band = (frame.row_end - frame.row_begin) * frame.width;
         let paths = band * frame.samples_this_dispatch;
@@ -291,18 +299,59 @@ impl Wavefront {
             ..Default::default()
         };
         let p = &self.pipelines;
-        // One submission: `record` fills its encoder's passes.
-        let submit = |record: &dyn Fn(&mut wgpu::CommandEncoder)| -> Result<Duration> {
+        // Made per wave, so a wave that failed mid-way leaves no mapping pending for the next.
+        let length = ctx.scoped(|| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("wavefront queue length readback"),
+                size: 4,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        })?;
+        // One submission: `record` fills its encoder's passes; with `read_length`, returns the
+        // length of the queue the submission left current.
+        let submit = |record: &dyn Fn(&mut wgpu::CommandEncoder),
+                      read_length: bool|
+         -> Result<(Duration, Option<u32>)> {
             let started = Instant::now();
+            let (tx, rx) = std::sync::mpsc::channel();
             ctx.scoped(|| {
                 let mut encoder = ctx.device.create_command_encoder(&Default::default());
                 record(&mut encoder);
+                if read_length {
+                    encoder.copy_buffer_to_buffer(
+                        &self.own[QUEUE_LENGTHS],
+                        WAVE_QUEUES_RAYS_OFFSET,
+                        &length,
+                        0,
+                        4,
+                    );
+                }
                 ctx.queue.submit([encoder.finish()]);
+                if read_length {
+                    length.map_async(wgpu::MapMode::Read, .., move |r| {
+                        let _ = tx.send(r);
+                    });
+                }
             })?;
             ctx.device
                 .poll(wgpu::PollType::wait_indefinitely())
                 .map_err(|e| GpuError::Wgpu(e.to_string()))?;
-            Ok(started.elapsed())
+            let elapsed = started.elapsed();
+            if !read_length {
+                return Ok((elapsed, None));
+            }
+            rx.recv()
+                .map_err(|e| GpuError::Wgpu(e.to_string()))?
+                .map_err(|e| GpuError::Wgpu(format!("reading back a queue length: {e}")))?;
+            let rays = {
+                let bytes = length
+                    .get_mapped_range(..)
+                    .map_err(|e| GpuError::Wgpu(e.to_string()))?;
+                u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
+            };
+            length.unmap();
+            Ok((elapsed, Some(rays)))
         };
         let pass = |encoder: &mut wgpu::CommandEncoder,
                     stages: &[(&wgpu::ComputePipeline, Option<u32>)]| {
@@ -322,41 +371,63 @@ impl Wavefront {
             (&p.connect, None),
             (&p.advance, Some(1)),
         ];
-        let mut longest = Duration::ZERO;
+        let mut run = WaveRun::default();
         for depth in 0..frame.max_depth.max(1) {
-            longest = longest.max(submit(&|encoder| {
-                if depth == 0 {
-                    ctx.queue
-                        .write_buffer(frame_buffer, 0, bytemuck::bytes_of(frame));
-                    ctx.queue.write_buffer(
-                        &self.own[QUEUE_LENGTHS],
-                        0,
-                        bytemuck::bytes_of(&queues),
-                    );
-                    ctx.queue.write_buffer(
-                        &self.dispatch_size,
-                        0,
-                        bytemuck::bytes_of(&queues.groups),
-                    );
-                    pass(encoder, &[(&p.generate, Some(paths.div_ceil(WAVE_GROUP)))]);
-                }
-                if frame.max_depth > 0 {
-                    pass(encoder, &depth_stages);
-                    encoder.copy_buffer_to_buffer(
-                        &self.own[QUEUE_LENGTHS],
-                        0,
-                        &self.dispatch_size,
-                        0,
-                        12,
-                    );
-                }
-            })?);
+            let (elapsed, rays) = submit(
+                &|encoder| {
+                    if depth == 0 {
+                        ctx.queue
+                            .write_buffer(frame_buffer, 0, bytemuck::bytes_of(frame));
+                        ctx.queue.write_buffer(
+                            &self.own[QUEUE_LENGTHS],
+                            0,
+                            bytemuck::bytes_of(&queues),
+                        );
+                        ctx.queue.write_buffer(
+                            &self.dispatch_size,
+                            0,
+                            bytemuck::bytes_of(&queues.groups),
+                        );
+                        pass(encoder, &[(&p.generate, Some(paths.div_ceil(WAVE_GROUP)))]);
+                    }
+                    if frame.max_depth > 0 {
+                        pass(encoder, &depth_stages);
+                        encoder.copy_buffer_to_buffer(
+                            &self.own[QUEUE_LENGTHS],
+                            0,
+                            &self.dispatch_size,
+                            0,
+                            12,
+                        );
+                    }
+                },
+                frame.max_depth > 0,
+            )?;
+            run.longest = run.longest.max(elapsed);
+            run.depths += u32::from(frame.max_depth > 0);
+            if rays == Some(0) {
+                break;
+            }
         }
-        longest = longest.max(submit(&|encoder| {
-            pass(encoder, &[(&p.finish, Some(band.div_ceil(WAVE_GROUP)))]);
-        })?);
-        Ok(longest)
+        let (elapsed, _) = submit(
+            &|encoder| {
+                pass(encoder, &[(&p.finish, Some(band.div_ceil(WAVE_GROUP)))]);
+            },
+            false,
+        )?;
+        run.longest = run.longest.max(elapsed);
+        Ok(run)
     }
+}
+
+/// What one wave did.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WaveRun {
+    /// The longest submission.
+    pub longest: Duration,
+    /// Path depths run (extend, shade, connect and advance each): fewer than the max depth when
+    /// every path ended sooner.
+    pub depths: u32,
 }
 
 /// The bind group of `pipelines` over the shared bindings of `bound` and the wavefront's own.
