@@ -204,6 +204,11 @@ impl GpuContext {
         let value = f();
         let v = pollster::block_on(validation.pop());
         let o = pollster::block_on(oom.pop());
+        if v.is_some() || o.is_some() {
+            // A destroyed or lost device makes every later object invalid, but wgpu reports the
+            // loss only from a poll: let it, so the error names the cause.
+            let _ = self.device.poll(wgpu::PollType::Poll);
+        }
         self.alive()?;
         match (v, o) {
             (_, Some(e)) => Err(GpuError::OutOfMemory(e.to_string())),
