@@ -764,10 +764,12 @@ fn a_batch_failing_part_way_is_finished_by_the_next() {
         let clean = render_gpu(&ctx, &s, &gpu_scene, options);
         let mut renderer = rt_gpu::Renderer::for_scene(&ctx, &s, &gpu_scene, options).unwrap();
         renderer.render_batch(1).unwrap();
-        // The second band's first GPU operation: a band is one dispatch of the megakernel, or
-        // max depth + 1 submissions of a wave.
+        // Fail after the first band: a band is one dispatch of the megakernel, or at most
+        // max depth + 2 GPU operations of a wave (its readback buffer, a submission per depth
+        // until its queue empties, and `finish`), so this lands in the second band or, if the
+        // first stopped early, a later one; the batch has 20 bands either way.
         let first_band_operations = if wavefront {
-            s.settings.max_depth + 1
+            s.settings.max_depth + 2
         } else {
             1
         };

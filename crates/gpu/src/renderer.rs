@@ -640,7 +640,7 @@ impl<'a> Renderer<'a> {
                 pipeline,
                 bind_group,
             } => (pipeline, bind_group),
-            // A wave is one submission of several dispatches; its time bounds each one's.
+            // A wave is a submission per path depth; the longest one's time bounds each dispatch's.
             Engine::Wavefront(wave) => {
                 let run = wave.run(self.ctx, &self.frame_buffer, &frame)?;
                 return Ok((run.longest, run.depths));

@@ -1,7 +1,8 @@
-//! The wavefront variant of the tracing kernel (an experiment, `RenderOptions::wavefront`; measured
+//! The wavefront variant of the tracing kernel (the default, `RenderOptions::wavefront`; measured
 //! against the megakernel in docs/performance.md): the same estimator, split into one kernel per
 //! stage over queues of paths in storage buffers (`shaders/wavefront.wgsl` describes the stages).
-//! A wave is one submission: a band of rows times some samples per pixel, every path to its end.
+//! A wave is a band of rows times some samples per pixel, every path to its end: one submission
+//! per path depth until the queue empties, then one for `finish`.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
