@@ -117,6 +117,24 @@ fn time(
         .fold(f64::INFINITY, f64::min)
 }
 
+/// A bind group of `pipeline`'s group 0 with `resources` at bindings 0, 1, 2, …
+fn bind_group<'a>(
+    ctx: &GpuContext,
+    pipeline: &wgpu::ComputePipeline,
+    resources: impl IntoIterator<Item = wgpu::BindingResource<'a>>,
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = resources
+        .into_iter()
+        .zip(0..)
+        .map(|(resource, binding)| wgpu::BindGroupEntry { binding, resource })
+        .collect();
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
+
 fn buffer(ctx: &GpuContext, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
     ctx.device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -177,28 +195,16 @@ fn main() -> Result<(), rt_gpu::GpuError> {
         (4, "uniform buffer, divergent index"),
     ] {
         let pipeline = pipeline(&ctx, LOADS, mode);
-        let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: data.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: small.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: out.as_entire_binding(),
-                },
+        let bind = bind_group(
+            &ctx,
+            &pipeline,
+            [
+                data.as_entire_binding(),
+                small.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&view),
+                out.as_entire_binding(),
             ],
-        });
+        );
         let ns = time(&ctx, &pipeline, &bind, INVOCATIONS / 64, None) * 1e9 / steps;
         if mode == 0 {
             baseline = ns;
@@ -225,20 +231,11 @@ fn main() -> Result<(), rt_gpu::GpuError> {
         (2, "push: one per work group (barriers)"),
     ] {
         let pipeline = pipeline(&ctx, PUSHES, mode);
-        let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: length.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: queue.as_entire_binding(),
-                },
-            ],
-        });
+        let bind = bind_group(
+            &ctx,
+            &pipeline,
+            [length.as_entire_binding(), queue.as_entire_binding()],
+        );
         // Half the invocations push.
         let ns =
             time(&ctx, &pipeline, &bind, pushes / 64, Some(&length)) * 1e9 / f64::from(pushes / 2);
