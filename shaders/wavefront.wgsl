@@ -1,8 +1,8 @@
-// The wavefront variant of trace.wgsl (an experiment: docs/performance.md): the same estimator
+// The wavefront variant of trace.wgsl (the default; docs/performance.md): the same estimator
 // (shared/path.wgsl), but each stage of a path is its own kernel over a queue of paths, so every
 // invocation of a dispatch runs the same code:
 //   generate: one path per (pixel, sample) of the wave, its camera ray queued;
-//   then max_depth times:
+//   then up to max_depth times (the host stops once the queue is empty):
 //     extend:  the nearest hit of each queued ray;
 //     shade:   each queued path's vertex (shade_vertex): light seen there added, a shadow ray queued
 //              for next-event estimation, the path re-queued if it goes on;

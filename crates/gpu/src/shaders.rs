@@ -61,7 +61,7 @@ pub const TRACE_WIDE: ShaderModule = ShaderModule {
     ],
 };
 
-/// The wavefront kernels (an experiment: `RenderOptions::wavefront`), over the BVH2.
+/// The wavefront kernels (the default: `RenderOptions::wavefront`), over the BVH2.
 pub const WAVEFRONT: ShaderModule = ShaderModule {
     name: "wavefront",
     files: &[
