@@ -205,9 +205,10 @@ impl GpuContext {
         let v = pollster::block_on(validation.pop());
         let o = pollster::block_on(oom.pop());
         if v.is_some() || o.is_some() {
-            // A destroyed or lost device makes every later object invalid, but wgpu reports the
-            // loss only from a poll: let it, so the error names the cause.
-            let _ = self.device.poll(wgpu::PollType::Poll);
+            // A destroyed or lost device makes every later object invalid, but wgpu calls the
+            // device-lost callback only from a poll that finds the queue empty: wait for it, so
+            // the error names the cause (an error path: the wait costs nothing that matters).
+            let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
         }
         self.alive()?;
         match (v, o) {
