@@ -2,7 +2,7 @@
 # The wavefront kernels against the megakernel on the whole bench suite, and optionally against an
 # older rt-cli binary (e.g. the first version, d599ca9, whose bench has neither --kernel nor
 # --only), in alternating rounds so that drift on a shared machine hits every side. Each JSON
-# record gets a "bin" field: old, wavefront or megakernel. Medians: see docs/performance.md.
+# record gets a "bin" field: old, wavefront or megakernel. Medians: see docs/performance-log.md.
 # Usage: bench/wavefront-vs-megakernel.sh [ROUNDS] [SIZE] [SPP] [OLD_RT_CLI] > results.jsonl
 set -euo pipefail
 cd "$(dirname "$0")/.."

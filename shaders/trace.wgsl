@@ -3,11 +3,6 @@
 // of dispatches can be stopped after any one. Composed with shared/{types,rng,sampling,intersect,
 // bvh or cwbvh,scene_bindings,path}.wgsl (see crates/gpu/src/shaders.rs).
 
-// Traversal reads triangle vertices from `triangle_soa` (structure of arrays: all first vertices,
-// then all second, then all third, 16 bytes each) instead of the 48-byte `Triangle` records; a
-// layout experiment (docs/performance.md), off by default.
-override SOA_TRIANGLES: bool = false;
-
 // xyz: running mean of radiance; w: running mean of squared luminance (for variance estimates).
 @group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 // [0]: rays traced; [1]: samples dropped as NaN/Inf.
@@ -16,19 +11,6 @@ override SOA_TRIANGLES: bool = false;
 // [3i + 2] of the light seen directly (emitters and sky at the first segment, which need no
 // denoising).
 @group(0) @binding(10) var<storage, read_write> aovs: array<vec4<f32>>;
-
-// With SOA_TRIANGLES: vertices of triangle i at [i], [n + i] and [2n + i] (n triangles); else unused.
-@group(0) @binding(11) var<storage, read> triangle_soa: array<vec4<f32>>;
-
-fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
-    if (SOA_TRIANGLES) {
-        let n = arrayLength(&triangles);
-        return intersect_triangle(ray, triangle_soa[i].xyz, triangle_soa[n + i].xyz,
-                                  triangle_soa[2u * n + i].xyz, t_max);
-    }
-    let tri = triangles[i];
-    return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);
-}
 
 fn path_radiance(x: u32, y: u32, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
     var path = start_path(x, y, rng);
@@ -43,7 +25,7 @@ fn path_radiance(x: u32, y: u32, rng: ptr<function, Sampler>, rays: ptr<function
     return path.radiance;
 }
 
-// Work-group shape (measured in docs/benchmarks.md; 8 x 8 unless a benchmark asks otherwise).
+// Work-group shape (measured in docs/performance-log.md; 8 x 8 unless a benchmark asks otherwise).
 override WG_X: u32 = 8u;
 override WG_Y: u32 = 8u;
 

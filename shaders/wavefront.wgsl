@@ -52,11 +52,6 @@ struct WaveQueues {
 
 const WAVE_GROUP: u32 = 64u;
 
-fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
-    let tri = triangles[i];
-    return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);
-}
-
 fn band_pixels() -> u32 {
     return (frame.row_end - frame.row_begin) * frame.width;
 }

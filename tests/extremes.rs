@@ -7,7 +7,7 @@ use common::*;
 use glam::Vec3;
 use rt_core::shapes::{cuboid, quad};
 use rt_core::{GpuScene, Material, Mesh};
-use rt_gpu::{RenderOptions, Renderer};
+use rt_gpu::{Experiments, Kernel, RenderOptions, Renderer};
 use std::time::Duration;
 
 fn lit_room() -> Vec<rt_core::Object> {
@@ -588,14 +588,22 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
     );
     s.settings.seed = 7;
     let gpu_scene = GpuScene::build(&s).unwrap();
-    let whole = render_gpu(ctx, &s, &gpu_scene, RenderOptions::default());
+    // With the denoiser's AOVs, which tiles must stitch too.
+    let options = RenderOptions {
+        aovs: true,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::for_scene(ctx, &s, &gpu_scene, options).unwrap();
+    renderer.render(3, |_| true).unwrap();
+    let whole = renderer.read_image().unwrap();
+    let whole_aovs = renderer.read_aovs().unwrap().unwrap();
     let frame = rt_core::frame::frame_for(&s, &gpu_scene).unwrap();
     for rows in [1u32, 5, 22] {
-        let tiled = rt_gpu::renderer::render_tiled(
+        let rt_gpu::TiledRender { image: tiled, aovs } = rt_gpu::render_tiled(
             ctx,
             &gpu_scene,
             frame,
-            RenderOptions::default(),
+            options,
             3,
             Some(u64::from(rows) * 37 * 16),
             |_| true,
@@ -607,8 +615,15 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
             tiled.pixels == whole.pixels,
             "tiles of {rows} rows differ from the untiled image"
         );
+        let aovs = aovs.unwrap();
+        assert!(
+            aovs.albedo == whole_aovs.albedo
+                && aovs.normal == whole_aovs.normal
+                && aovs.emission == whole_aovs.emission,
+            "tiles of {rows} rows: the stitched AOVs differ from the untiled ones"
+        );
     }
-    assert_eq!(rt_gpu::renderer::tile_rows(16384, 16384, 128 << 20), 512);
+    assert_eq!(rt_gpu::tile_rows(16384, 16384, 128 << 20), 512);
 }
 
 /// The firefly clamp scales down light that has bounced (never a directly seen emitter), so with
@@ -709,7 +724,7 @@ fn out_of_memory_mid_render_is_an_error_and_loses_no_samples() {
     for options in [
         RenderOptions::default(),
         RenderOptions {
-            wavefront: !RenderOptions::default().wavefront,
+            kernel: Kernel::Megakernel,
             ..Default::default()
         },
     ] {
@@ -740,10 +755,12 @@ fn out_of_memory_mid_render_is_an_error_and_loses_no_samples() {
     }
 }
 
-/// A batch that fails part-way (out of memory injected after its first band of rows has been
+/// A batch that fails part-way (out of memory injected while its bands of rows are being
 /// rendered) is finished by the next one: the render then goes on to the same image, bit for bit,
 /// as one that never failed; no band gets a sample twice. (A first batch would hide the bug: it
-/// starts every pixel's mean afresh.)
+/// starts every pixel's mean afresh.) The failure is injected at many points of the batch, without
+/// knowing how many GPU operations a band takes; a failure that left some rows rendered and others
+/// not (seen in the image read back after it) must occur among them.
 #[test]
 fn a_batch_failing_part_way_is_finished_by_the_next() {
     if gpu().is_none() {
@@ -754,38 +771,56 @@ fn a_batch_failing_part_way_is_finished_by_the_next() {
     s.settings.height = 20;
     s.settings.samples_per_pixel = 3;
     let gpu_scene = GpuScene::build(&s).unwrap();
-    for wavefront in [true, false] {
+    for kernel in [Kernel::Wavefront, Kernel::Megakernel] {
         // A 1 µs target shrinks batches after the first to one sample in bands of one row.
         let options = RenderOptions {
-            wavefront,
+            kernel,
             target_dispatch: Duration::from_micros(1),
             ..Default::default()
         };
         let clean = render_gpu(&ctx, &s, &gpu_scene, options);
-        let mut renderer = rt_gpu::Renderer::for_scene(&ctx, &s, &gpu_scene, options).unwrap();
-        renderer.render_batch(1).unwrap();
-        // Fail after the first band: a band is one dispatch of the megakernel, or at most
-        // max depth + 2 GPU operations of a wave (its readback buffer, a submission per depth
-        // until its queue empties, and `finish`), so this lands in the second band or, if the
-        // first stopped early, a later one; the batch has 20 bands either way.
-        let first_band_operations = if wavefront {
-            s.settings.max_depth + 2
-        } else {
-            1
-        };
-        ctx.inject_out_of_memory(first_band_operations + 1);
-        let error = renderer.render_batch(1).unwrap_err();
+        let mut failed_part_way = false;
+        for operations in [2, 3, 5, 8, 13, 21, 34, 55, 89] {
+            let mut renderer = rt_gpu::Renderer::for_scene(&ctx, &s, &gpu_scene, options).unwrap();
+            renderer.render_batch(1).unwrap();
+            let before = renderer.read_image().unwrap();
+            ctx.inject_out_of_memory(operations);
+            let Err(error) = renderer.render_batch(1) else {
+                // The batch ended before the failure: disarm it for the next renderer.
+                ctx.inject_out_of_memory(0);
+                continue;
+            };
+            assert!(
+                matches!(error, rt_gpu::GpuError::OutOfMemory(_)),
+                "{kernel:?}: {error}"
+            );
+            // A failure in the batch's last operation (reading its counters back) comes after
+            // every band has its sample.
+            assert!(
+                matches!(renderer.samples_done(), 1 | 2),
+                "{kernel:?}: {} samples",
+                renderer.samples_done()
+            );
+            let after = renderer.read_image().unwrap();
+            let rows_changed = (0..20)
+                .filter(|y| {
+                    let row = y * 64..(y + 1) * 64;
+                    after.pixels[row.clone()] != before.pixels[row]
+                })
+                .count();
+            failed_part_way |= rows_changed > 0 && rows_changed < 20;
+            renderer.render(3, |_| true).unwrap();
+            let resumed = renderer.read_image().unwrap();
+            assert_eq!(resumed.samples_per_pixel, 3);
+            assert!(
+                resumed.pixels == clean.pixels,
+                "{kernel:?}, failing at GPU operation {operations}: the resumed render differs \
+                 from one that never failed"
+            );
+        }
         assert!(
-            matches!(error, rt_gpu::GpuError::OutOfMemory(_)),
-            "wavefront {wavefront}: {error}"
-        );
-        assert_eq!(renderer.samples_done(), 1);
-        renderer.render(3, |_| true).unwrap();
-        let resumed = renderer.read_image().unwrap();
-        assert_eq!(resumed.samples_per_pixel, 3);
-        assert!(
-            resumed.pixels == clean.pixels,
-            "wavefront {wavefront}: the resumed render differs from one that never failed"
+            failed_part_way,
+            "{kernel:?}: no injected failure landed part-way through a batch"
         );
     }
 }
@@ -803,129 +838,59 @@ fn generic_kernels_and_workgroup_shapes_give_identical_images() {
     let gpu_scene = GpuScene::build(&s).unwrap();
     // Work-group shapes are the megakernel's; the wavefront kernels are specialised too.
     let mega = RenderOptions {
-        wavefront: false,
+        kernel: Kernel::Megakernel,
+        ..Default::default()
+    };
+    let experiment = |kernel: Kernel, generic_kernel: bool, workgroup: [u32; 2]| RenderOptions {
+        kernel,
+        experiments: Experiments {
+            generic_kernel,
+            workgroup,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let base = render_gpu(ctx, &s, &gpu_scene, mega);
     for options in [
-        RenderOptions {
-            generic_kernel: true,
-            ..mega
-        },
-        RenderOptions {
-            workgroup: [16, 4],
-            ..mega
-        },
-        RenderOptions {
-            workgroup: [32, 1],
-            generic_kernel: true,
-            ..mega
-        },
-        RenderOptions {
-            wavefront: true,
-            generic_kernel: true,
-            ..mega
-        },
+        experiment(Kernel::Megakernel, true, [8, 8]),
+        experiment(Kernel::Megakernel, false, [16, 4]),
+        experiment(Kernel::Megakernel, true, [32, 1]),
+        experiment(Kernel::Wavefront, true, [8, 8]),
     ] {
         let image = render_gpu(ctx, &s, &gpu_scene, options);
         assert!(image.pixels == base.pixels, "{options:?} changed the image");
     }
 }
 
-/// Leaving wgpu's bounds checks and loop guards out of the kernel (`RenderOptions::unchecked`, for
-/// scenes that pass `GpuScene::check_kernel_indices`) changes no pixel, on scenes that use every kernel feature and on
-/// an empty one: an index the kernel follows outside its array would read other data there.
+/// A work group too large for the traversal stacks in work-group memory, or a work-group shape
+/// asked of the wavefront kernels (whose shape is fixed), is a clear error, not a validation panic
+/// or a silently ignored option.
 #[test]
-fn kernels_without_runtime_checks_give_identical_images() {
-    let Some(ctx) = gpu() else { return };
-    let mut lit = rt_core::assets::cornell_box().unwrap();
-    let mut bulb = rt_core::Light::new(rt_core::LightKind::Point, "bulb");
-    bulb.position = [150.0, 400.0, 250.0];
-    bulb.intensity = 40_000.0;
-    lit.lights.push(bulb);
-    lit.objects[0].material = Material::Metal {
-        albedo: [0.9; 3],
-        fuzz: 0.3,
-    };
-    let mut empty = lit.clone();
-    empty.objects.clear();
-    empty.lights.clear();
-    empty.ambient = [0.5; 3];
-    for (name, mut s) in [
-        ("Cornell box with metal and a point light", lit),
-        (
-            "textures, normals, metal, glass, lens",
-            textured_scene_with_normals_metal_glass_and_lens(),
-        ),
-        ("empty scene", empty),
-    ] {
-        s.settings.width = 23;
-        s.settings.height = 13;
-        s.settings.samples_per_pixel = 4;
-        let gpu_scene = GpuScene::build(&s).unwrap();
-        gpu_scene
-            .check_kernel_indices()
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
-        // Both experiments are the megakernel's (and select it).
-        let checked = render_gpu(
-            ctx,
-            &s,
-            &gpu_scene,
-            RenderOptions {
-                wavefront: false,
-                ..Default::default()
-            },
-        );
-        let unchecked = render_gpu(
-            ctx,
-            &s,
-            &gpu_scene,
-            RenderOptions {
-                unchecked: true,
-                ..Default::default()
-            },
-        );
-        assert!(
-            unchecked.pixels == checked.pixels,
-            "{name}: the kernel without runtime checks changed the image"
-        );
-        assert!(
-            unchecked.channel_means().iter().any(|m| *m > 0.0),
-            "{name}: black image"
-        );
-        // The structure-of-arrays vertex copy (a layout experiment) holds the same vertices.
-        let soa = render_gpu(
-            ctx,
-            &s,
-            &gpu_scene,
-            RenderOptions {
-                soa_triangles: true,
-                ..Default::default()
-            },
-        );
-        assert!(
-            soa.pixels == checked.pixels,
-            "{name}: traversal over the structure-of-arrays vertices changed the image"
-        );
-    }
-}
-
-/// A work group too large for the traversal stacks in work-group memory is a clear error, not a
-/// validation panic.
-#[test]
-fn an_oversized_work_group_is_a_clear_error() {
+fn an_impossible_work_group_is_a_clear_error() {
     let Some(ctx) = gpu() else { return };
     let s = rt_core::assets::cornell_box().unwrap();
     let gpu_scene = GpuScene::build(&s).unwrap();
-    for workgroup in [[16, 16], [0, 8], [65, 1]] {
+    for (kernel, workgroup) in [
+        (Kernel::Megakernel, [16, 16]),
+        (Kernel::Megakernel, [0, 8]),
+        (Kernel::Megakernel, [65, 1]),
+        (Kernel::Wavefront, [16, 4]),
+    ] {
         let options = RenderOptions {
-            workgroup,
+            kernel,
+            experiments: Experiments {
+                workgroup,
+                ..Default::default()
+            },
             ..Default::default()
         };
         let Err(e) = rt_gpu::Renderer::for_scene(ctx, &s, &gpu_scene, options) else {
-            panic!("work group {workgroup:?} was accepted");
+            panic!("{kernel:?} with work group {workgroup:?} was accepted");
         };
-        assert!(e.to_string().contains("work group"), "{e}");
+        assert!(
+            matches!(e, rt_gpu::GpuError::Options(_)) && e.to_string().contains("work group"),
+            "{e}"
+        );
     }
 }
 
@@ -939,12 +904,15 @@ fn rebuilding_the_pipeline_changes_no_sample() {
     scene.settings.width = 24;
     scene.settings.height = 24;
     let gpu_scene = GpuScene::build(&scene).unwrap();
-    for wavefront in [true, false] {
+    for kernel in [Kernel::Wavefront, Kernel::Megakernel] {
         let render = |lifetime: Duration| {
             let options = RenderOptions {
-                pipeline_lifetime: Some(lifetime),
                 max_samples_per_dispatch: Some(1),
-                wavefront,
+                kernel,
+                experiments: Experiments {
+                    pipeline_lifetime: Some(lifetime),
+                    ..Default::default()
+                },
                 ..Default::default()
             };
             let mut renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, options).unwrap();
@@ -953,12 +921,12 @@ fn rebuilding_the_pipeline_changes_no_sample() {
         };
         let (rebuilt, rebuilds) = render(Duration::ZERO);
         let (kept, kept_rebuilds) = render(Duration::from_secs(3600));
-        assert!(rebuilds >= 11, "wavefront {wavefront}: {rebuilds} rebuilds");
+        assert!(rebuilds >= 11, "{kernel:?}: {rebuilds} rebuilds");
         assert_eq!(kept_rebuilds, 0);
         assert_eq!(rebuilt.samples_per_pixel, 12);
         assert!(
             rebuilt.pixels == kept.pixels,
-            "wavefront {wavefront}: images differ after pipeline rebuilds"
+            "{kernel:?}: images differ after pipeline rebuilds"
         );
     }
 }

@@ -46,8 +46,8 @@ fn growth(ctx: &rt_gpu::GpuContext, options: RenderOptions) -> (f64, u32) {
         }
     }
     eprintln!(
-        "wavefront {}: {} samples, {} pipeline rebuilds, peak growth {peak:.0} MB",
-        options.wavefront,
+        "{:?}: {} samples, {} pipeline rebuilds, peak growth {peak:.0} MB",
+        options.kernel,
         renderer.samples_done(),
         renderer.pipeline_rebuilds()
     );
@@ -78,8 +78,11 @@ fn long_renders_keep_host_memory_flat() {
     let (peak, rebuilds) = growth(
         ctx,
         RenderOptions {
-            wavefront: false,
-            pipeline_lifetime: Some(Duration::from_millis(300)),
+            kernel: rt_gpu::Kernel::Megakernel,
+            experiments: rt_gpu::Experiments {
+                pipeline_lifetime: Some(Duration::from_millis(300)),
+                ..Default::default()
+            },
             ..Default::default()
         },
     );

@@ -200,3 +200,83 @@ fn wavefront_struct_layouts_match_wgsl() {
         );
     }
 }
+
+/// The bind-group table (`rt_gpu::bindings`, from which every tracing layout and bind group is
+/// built) lists exactly the bindings each kernel's WGSL declares: number, name, uniform or storage,
+/// and read-only or read-write.
+#[test]
+fn the_binding_table_matches_every_tracing_kernel() {
+    use naga::{AddressSpace, StorageAccess};
+    use rt_gpu::bindings::{self, Access};
+    use rt_gpu::shaders::{TRACE, TRACE_WIDE, WAVEFRONT, WAVEFRONT_WIDE};
+    for (module, kernel) in [
+        (&TRACE, rt_gpu::Kernel::Megakernel),
+        (&TRACE_WIDE, rt_gpu::Kernel::Megakernel),
+        (&WAVEFRONT, rt_gpu::Kernel::Wavefront),
+        (&WAVEFRONT_WIDE, rt_gpu::Kernel::Wavefront),
+    ] {
+        let parsed = parse(module.name, &module.source());
+        let mut in_wgsl: Vec<(u32, String, Access)> = parsed
+            .global_variables
+            .iter()
+            .filter_map(|(_, var)| {
+                let binding = var.binding.as_ref()?;
+                assert_eq!(binding.group, 0, "{}: {:?}", module.name, var.name);
+                let access = match var.space {
+                    AddressSpace::Uniform => Access::Uniform,
+                    AddressSpace::Storage { access } if access.contains(StorageAccess::STORE) => {
+                        Access::ReadWrite
+                    }
+                    AddressSpace::Storage { .. } => Access::Read,
+                    other => panic!("{}: {:?} in {other:?}", module.name, var.name),
+                };
+                Some((
+                    binding.binding,
+                    var.name.clone().unwrap_or_default(),
+                    access,
+                ))
+            })
+            .collect();
+        in_wgsl.sort_by_key(|(number, _, _)| *number);
+        let table: Vec<(u32, String, Access)> = bindings::of(kernel)
+            .map(|b| (b.number, b.name.to_string(), b.access))
+            .collect();
+        assert_eq!(
+            table, in_wgsl,
+            "{}: rt_gpu::bindings against the WGSL",
+            module.name
+        );
+    }
+}
+
+/// The constants the CPU and the kernels share (material and light kinds, the no-texture
+/// sentinel) have the same values in `rt_core::gpu_types` and in `shaders/shared/types.wgsl`.
+#[test]
+fn shared_constants_match_wgsl() {
+    use rt_core::gpu_types::{NO_TEXTURE, light_kind, material_kind};
+    let module = &rt_gpu::shaders::TRACE;
+    let parsed = parse(module.name, &module.source());
+    let value = |name: &str| -> u32 {
+        let (_, constant) = parsed
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no WGSL constant {name}"));
+        match parsed.global_expressions[constant.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref other => panic!("{name} = {other:?}, not a u32 literal"),
+        }
+    };
+    for (wgsl, rust) in [
+        ("MAT_LAMBERTIAN", material_kind::LAMBERTIAN),
+        ("MAT_METAL", material_kind::METAL),
+        ("MAT_DIELECTRIC", material_kind::DIELECTRIC),
+        ("MAT_EMISSIVE", material_kind::EMISSIVE),
+        ("NO_TEXTURE", NO_TEXTURE),
+        ("LIGHT_POINT", light_kind::POINT),
+        ("LIGHT_SPOT", light_kind::SPOT),
+        ("LIGHT_DIRECTIONAL", light_kind::DIRECTIONAL),
+    ] {
+        assert_eq!(value(wgsl), rust, "{wgsl}");
+    }
+}

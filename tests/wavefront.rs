@@ -1,4 +1,4 @@
-//! The wavefront kernels (`RenderOptions::wavefront`, the default) run the megakernel's estimator
+//! The wavefront kernels (`Kernel::Wavefront`, the default) run the megakernel's estimator
 //! stage by stage: the same random numbers in the same order, so the same image and ray count.
 
 mod common;
@@ -11,7 +11,7 @@ use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::reference::rng::SamplerKind;
 use rt_core::shapes::{cuboid, quad};
 use rt_core::{GpuScene, Material, Scene};
-use rt_gpu::{Aovs, Image, RenderOptions, Renderer};
+use rt_gpu::{Aovs, Image, Kernel, RenderOptions, Renderer};
 
 /// Renders in batches of at most 2 samples (so waves start mid-image and mid-sample); returns the
 /// image, its AOVs and the rays traced.
@@ -19,10 +19,10 @@ fn render(
     ctx: &rt_gpu::GpuContext,
     scene: &Scene,
     gpu_scene: &GpuScene,
-    wavefront: bool,
+    kernel: Kernel,
 ) -> (Image, Aovs, u64) {
     let options = RenderOptions {
-        wavefront,
+        kernel,
         count_rays: true,
         aovs: true,
         max_samples_per_dispatch: Some(2),
@@ -110,8 +110,8 @@ fn the_wavefront_kernels_give_the_megakernels_image() {
         s.settings.samples_per_pixel = 5;
         for layout in [BvhLayout::Cwbvh, BvhLayout::Bvh2] {
             let gpu_scene = GpuScene::build_with_layout(&s, BvhQuality::Medium, layout).unwrap();
-            let (mega, mega_aovs, mega_rays) = render(ctx, &s, &gpu_scene, false);
-            let (wave, wave_aovs, wave_rays) = render(ctx, &s, &gpu_scene, true);
+            let (mega, mega_aovs, mega_rays) = render(ctx, &s, &gpu_scene, Kernel::Megakernel);
+            let (wave, wave_aovs, wave_rays) = render(ctx, &s, &gpu_scene, Kernel::Wavefront);
             assert_eq!(wave.samples_per_pixel, 5, "{name}, {layout:?}");
             assert!(
                 wave.channel_means().iter().any(|m| *m > 0.0),
@@ -152,8 +152,8 @@ fn the_wavefront_kernels_agree_with_delta_lights() {
     s.settings.height = 13;
     s.settings.samples_per_pixel = 3;
     let gpu_scene = GpuScene::build(&s).unwrap();
-    let (mega, _, mega_rays) = render(ctx, &s, &gpu_scene, false);
-    let (wave, _, wave_rays) = render(ctx, &s, &gpu_scene, true);
+    let (mega, _, mega_rays) = render(ctx, &s, &gpu_scene, Kernel::Megakernel);
+    let (wave, _, wave_rays) = render(ctx, &s, &gpu_scene, Kernel::Wavefront);
     if let Some(d) = first_difference(&wave.rgb(), &mega.rgb(), 1e-5) {
         panic!("{d}");
     }
@@ -177,7 +177,7 @@ fn a_wave_stops_once_every_path_has_ended() {
         let gpu_scene = GpuScene::build(&s).unwrap();
         let mut renderer =
             Renderer::for_scene(ctx, &s, &gpu_scene, RenderOptions::default()).unwrap();
-        assert!(renderer.wavefront());
+        assert_eq!(renderer.kernel(), Kernel::Wavefront);
         let stats = renderer.render_batch(4).unwrap();
         assert!(stats.dispatches > 0);
         f64::from(stats.wave_depths) / f64::from(stats.dispatches)

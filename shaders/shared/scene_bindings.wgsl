@@ -9,3 +9,9 @@
 @group(0) @binding(5) var<storage, read> texels: array<u32>;
 @group(0) @binding(8) var<storage, read> emitters: array<Emitter>;
 @group(0) @binding(9) var<storage, read> delta_lights: array<DeltaLight>;
+
+// The triangle test BVH traversal (shared/bvh.wgsl, shared/cwbvh.wgsl) calls on leaf triangles.
+fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
+    let tri = triangles[i];
+    return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);
+}

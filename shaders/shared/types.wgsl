@@ -1,4 +1,4 @@
-// GPU structs. Rust mirrors: crates/core/src/gpu_types.rs (offsets checked by tests/layout.rs).
+// GPU structs. Rust mirrors: crates/core/src/gpu_types.rs (offsets checked by tests/shaders.rs).
 
 const MAT_LAMBERTIAN: u32 = 0u;
 const MAT_METAL: u32 = 1u;

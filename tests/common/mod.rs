@@ -6,28 +6,14 @@ use std::sync::OnceLock;
 
 use glam::Vec3;
 use rt_core::{Camera, GpuScene, Material, Mesh, Object, RenderSettings, Scene};
-use rt_gpu::{AdapterChoice, GpuContext, Image, RenderOptions, Renderer};
+use rt_gpu::{GpuContext, Image, RenderOptions, Renderer};
 
-/// The test GPU context: a CPU adapter (lavapipe) when there is one, so results are repeatable.
-/// Without any adapter the test fails when `CI` is set, and otherwise says why and returns `None`.
+/// The test GPU context, one for the whole test binary, under the suites' one adapter policy
+/// (`GpuContext::for_tests`: a CPU adapter when there is one; without any adapter the test fails
+/// when `CI` is set, and otherwise says why and returns `None`).
 pub fn gpu() -> Option<&'static GpuContext> {
     static CONTEXT: OnceLock<Option<GpuContext>> = OnceLock::new();
-    CONTEXT
-        .get_or_init(|| {
-            let ctx = GpuContext::new(&AdapterChoice::Cpu).or_else(|_| GpuContext::new(&AdapterChoice::Auto));
-            match ctx {
-                Ok(ctx) => {
-                    eprintln!("GPU tests on {}", ctx.adapter_label());
-                    Some(ctx)
-                }
-                Err(e) if std::env::var_os("CI").is_some() => panic!("CI is set but no GPU adapter: {e}"),
-                Err(e) => {
-                    eprintln!("SKIPPED: no GPU adapter ({e}); install mesa-vulkan-drivers to run GPU tests");
-                    None
-                }
-            }
-        })
-        .as_ref()
+    CONTEXT.get_or_init(GpuContext::for_tests).as_ref()
 }
 
 pub fn object(name: &str, mesh: Mesh, material: Material) -> Object {

@@ -125,7 +125,7 @@ impl RtApp {
             crate::preview::gpu::install(render_state);
             app.preview_available = true;
             let info = render_state.adapter.get_info();
-            app.display_adapter = Some(format!("{} ({:?})", info.name, info.backend));
+            app.display_adapter = Some(rt_gpu::context::adapter_label(&info));
         }
         app
     }

@@ -1,8 +1,9 @@
 //! The rt editor: open, preview, edit, light, render and save scenes. The binary (`rt`) is a thin
-//! shell around [`app::RtApp`], which tests drive headless through `egui_kittest`.
+//! shell around [`launch::main`] and [`app::RtApp`], which tests drive headless through `egui_kittest`.
 
 pub mod app;
 pub mod document;
+pub mod launch;
 pub mod navigation;
 pub mod presets;
 pub mod preview;

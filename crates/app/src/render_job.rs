@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use rt_core::{GpuScene, Scene};
 use rt_gpu::context::{AdapterChoice, GpuContext};
-use rt_gpu::renderer::{Image, RenderOptions, Renderer};
+use rt_gpu::{Image, RenderOptions, Renderer};
 
 /// The render device, opened on first use and shared by every job (opening one takes a while, and
 /// pipelines are cached on it).

@@ -9,16 +9,10 @@ use rt_app::render_job::JobState;
 use rt_app::{AppOptions, RtApp};
 use rt_core::Material;
 
-/// Whether a GPU adapter exists; without one the test fails under CI and is skipped elsewhere.
+/// Whether a GPU adapter exists, under the suites' one policy (`GpuContext::for_tests`): without
+/// one the test fails under CI and is skipped with a message elsewhere.
 fn have_gpu() -> bool {
-    match rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Auto) {
-        Ok(_) => true,
-        Err(e) if std::env::var_os("CI").is_some() => panic!("no GPU adapter under CI: {e}"),
-        Err(e) => {
-            eprintln!("skipping: no GPU adapter ({e})");
-            false
-        }
-    }
+    rt_gpu::GpuContext::for_tests().is_some()
 }
 
 fn harness() -> Harness<'static, RtApp> {

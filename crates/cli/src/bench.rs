@@ -5,9 +5,10 @@ use std::time::Instant;
 
 use anyhow::Result;
 use clap::Args;
-use rt_core::bvh::BvhQuality;
 use rt_core::{GpuScene, Scene};
-use rt_gpu::{AdapterChoice, GpuContext, RenderOptions, Renderer};
+use rt_gpu::{Experiments, GpuContext, Kernel, RenderOptions, Renderer};
+
+use crate::options::{BvhArgs, EngineArgs};
 use serde::Serialize;
 
 #[derive(Args, Debug)]
@@ -16,8 +17,6 @@ pub struct BenchArgs {
     /// files are missing are skipped with a message.
     #[arg(long, default_value = "../shared/models")]
     models: PathBuf,
-    #[arg(long, default_value = "auto")]
-    adapter: AdapterChoice,
     #[arg(long, default_value_t = 512)]
     size: u32,
     #[arg(long, default_value_t = 16)]
@@ -28,26 +27,17 @@ pub struct BenchArgs {
     /// Use the generic kernel (every feature compiled in) instead of one specialised per scene.
     #[arg(long)]
     generic: bool,
-    /// Leave wgpu's injected bounds checks and loop guards out of the kernel (for scenes whose
-    /// indices pass the CPU-side check; by default they stay in).
-    #[arg(long)]
-    unchecked: bool,
-    /// Work-group shape, e.g. 8x8 (the default), 16x4, 32x1.
+    /// The megakernel's work-group shape, e.g. 8x8 (the default), 16x4, 32x1; another shape than
+    /// 8x8 selects the megakernel unless --kernel says otherwise (then it is an error).
     #[arg(long, default_value = "8x8", value_parser = parse_workgroup)]
     workgroup: [u32; 2],
-    /// Traversal reads triangle vertices from a structure-of-arrays copy (layout experiment).
-    #[arg(long)]
-    soa: bool,
-    /// What traces the paths (`--unchecked`, `--soa` and `--workgroup` apply to the megakernel,
-    /// and the first two select it).
-    #[arg(long, value_enum, default_value = "wavefront")]
-    kernel: crate::converge::Kernel,
     /// Target time of one dispatch (of the megakernel) or one wave (of the wavefront kernels), ms.
     #[arg(long, default_value_t = 40)]
     dispatch_ms: u64,
-    /// BVH layout the kernel traverses.
-    #[arg(long, value_enum, default_value = "cwbvh")]
-    bvh: crate::converge::Layout,
+    #[command(flatten)]
+    bvh: BvhArgs,
+    #[command(flatten)]
+    engine: EngineArgs,
     /// Only the scenes whose names contain this.
     #[arg(long)]
     only: Option<String>,
@@ -156,7 +146,6 @@ struct Record {
     bvh_depth: usize,
     /// Bvh2 or Cwbvh.
     bvh: String,
-    soa_triangles: bool,
     /// "wavefront" or "megakernel".
     kernel: String,
     dispatch_ms: u64,
@@ -170,7 +159,6 @@ struct Record {
     rays_per_s: f64,
     gpu_scene_bytes: u64,
     generic_kernel: bool,
-    unchecked: bool,
     workgroup: String,
 }
 
@@ -189,7 +177,26 @@ fn mesh_scene(path: &Path) -> Result<Scene> {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    let ctx = GpuContext::new(&args.adapter)?;
+    let ctx = GpuContext::new(&args.engine.adapter)?;
+    let kernel = match args.engine.kernel {
+        Some(kernel) => kernel.into(),
+        None if args.workgroup != rt_gpu::options::DEFAULT_WORKGROUP => Kernel::Megakernel,
+        None => Kernel::Wavefront,
+    };
+    let options = RenderOptions {
+        kernel,
+        count_rays: true,
+        target_dispatch: std::time::Duration::from_millis(args.dispatch_ms.max(1)),
+        // A benchmark measures the kernels without lavapipe's memory workaround.
+        rebuild_on_cpu: false,
+        experiments: Experiments {
+            generic_kernel: args.generic,
+            workgroup: args.workgroup,
+            ..Default::default()
+        },
+        ..args.engine.render_options(false)
+    };
+    options.validate()?;
     let mut suite: Vec<(String, Result<Scene>)> = vec![
         (
             "cornell".into(),
@@ -239,18 +246,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
         scene.settings.height = args.size;
         scene.settings.next_event_estimation = !args.no_nee;
         let build_started = Instant::now();
-        let gpu_scene = GpuScene::build_with_layout(&scene, BvhQuality::Medium, args.bvh.into())?;
+        let gpu_scene =
+            GpuScene::build_with_layout(&scene, args.bvh.bvh_quality.into(), args.bvh.bvh.into())?;
         let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
-        let options = RenderOptions {
-            count_rays: true,
-            generic_kernel: args.generic,
-            workgroup: args.workgroup,
-            unchecked: args.unchecked,
-            soa_triangles: args.soa,
-            wavefront: args.kernel == crate::converge::Kernel::Wavefront,
-            target_dispatch: std::time::Duration::from_millis(args.dispatch_ms.max(1)),
-            ..Default::default()
-        };
         // Warm-up: compiles the pipeline and settles the dispatch size.
         let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
         warm.render(2, |_| true)?;
@@ -267,13 +265,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             scene_build_ms: build_ms,
             bvh_depth: gpu_scene.bvh_depth,
             bvh: format!("{:?}", gpu_scene.layout),
-            soa_triangles: args.soa,
-            kernel: if renderer.wavefront() {
-                "wavefront"
-            } else {
-                "megakernel"
-            }
-            .into(),
+            kernel: renderer.kernel().name().into(),
             dispatch_ms: args.dispatch_ms,
             width: args.size,
             height: args.size,
@@ -285,7 +277,6 @@ pub fn run(args: BenchArgs) -> Result<()> {
             rays_per_s: renderer.rays_traced() as f64 / secs,
             gpu_scene_bytes: gpu_scene.buffer_sizes().iter().map(|(_, b)| b).sum(),
             generic_kernel: args.generic,
-            unchecked: args.unchecked,
             workgroup: format!("{}x{}", args.workgroup[0], args.workgroup[1]),
         };
         println!(

@@ -11,67 +11,12 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use clap::Args;
 use rt_core::GpuScene;
-use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::metrics::{RgbImage, compare};
-use rt_gpu::{AdapterChoice, GpuContext, RenderOptions, Renderer};
+use rt_gpu::{GpuContext, Renderer};
 
+use crate::options::{BvhArgs, EngineArgs, EstimatorArgs};
 use crate::plot;
-use crate::scene_args::{SamplerArg, SceneArgs};
-
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub enum Quality {
-    Fastest,
-    Fast,
-    Medium,
-    Slow,
-}
-
-impl From<Quality> for BvhQuality {
-    fn from(q: Quality) -> Self {
-        match q {
-            Quality::Fastest => BvhQuality::Fastest,
-            Quality::Fast => BvhQuality::Fast,
-            Quality::Medium => BvhQuality::Medium,
-            Quality::Slow => BvhQuality::Slow,
-        }
-    }
-}
-
-/// The BVH the kernel traverses.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub enum Layout {
-    /// Binary BVH, uncompressed boxes.
-    Bvh2,
-    /// Compressed wide BVH8 (the default).
-    Cwbvh,
-}
-
-impl From<Layout> for BvhLayout {
-    fn from(l: Layout) -> Self {
-        match l {
-            Layout::Bvh2 => BvhLayout::Bvh2,
-            Layout::Cwbvh => BvhLayout::Cwbvh,
-        }
-    }
-}
-
-/// What traces the paths (`RenderOptions::wavefront`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Kernel {
-    /// A kernel per path stage over queues of paths (the default).
-    Wavefront,
-    /// One kernel runs whole paths.
-    Megakernel,
-}
-
-impl Kernel {
-    pub fn name(self) -> &'static str {
-        match self {
-            Kernel::Wavefront => "wavefront",
-            Kernel::Megakernel => "megakernel",
-        }
-    }
-}
+use crate::scene_args::SceneArgs;
 
 #[derive(Args, Debug)]
 pub struct ConvergeArgs {
@@ -83,38 +28,15 @@ pub struct ConvergeArgs {
     /// Largest sample count (a power of two is reached exactly; steps double from 1).
     #[arg(long, default_value_t = 256)]
     max_spp: u32,
-    #[arg(long)]
-    width: Option<u32>,
-    #[arg(long)]
-    height: Option<u32>,
-    #[arg(long)]
-    max_depth: Option<u32>,
-    #[arg(long)]
-    no_nee: bool,
-    /// Next-event estimation alone, without MIS (a diagnostic estimator).
-    #[arg(long, conflicts_with = "no_nee")]
-    nee_only: bool,
-    #[arg(long)]
-    no_roulette: bool,
-    /// Firefly clamp (biased): no channel of a bounced-light contribution above X.
-    #[arg(long, value_name = "X")]
-    clamp: Option<f32>,
-    /// Random numbers: sobol (Owen-scrambled Sobol points, the default: less noise for the same
-    /// samples) or independent (PCG streams).
-    #[arg(long, value_enum)]
-    sampler: Option<SamplerArg>,
+    #[command(flatten)]
+    estimator: EstimatorArgs,
     /// Measure the denoised image at each step (the denoising time counts).
     #[arg(long)]
     denoise: bool,
-    /// BVH build preset: faster builds make slower traversal.
-    #[arg(long, value_enum, default_value = "medium")]
-    bvh_quality: Quality,
-    /// BVH layout the kernel traverses.
-    #[arg(long, value_enum, default_value = "cwbvh")]
-    bvh: Layout,
-    /// What traces the paths.
-    #[arg(long, value_enum, default_value = "wavefront")]
-    kernel: Kernel,
+    #[command(flatten)]
+    bvh: BvhArgs,
+    #[command(flatten)]
+    engine: EngineArgs,
     /// Name of this series in the CSV and the plot (default: from the settings).
     #[arg(long)]
     label: Option<String>,
@@ -124,8 +46,6 @@ pub struct ConvergeArgs {
     /// Write an SVG plot of relMSE against time of every series in the CSV.
     #[arg(long)]
     plot: Option<PathBuf>,
-    #[arg(long, default_value = "auto")]
-    adapter: AdapterChoice,
 }
 
 /// One measured step.
@@ -178,36 +98,29 @@ impl Row {
 
 pub fn run(args: ConvergeArgs) -> Result<()> {
     let mut scene = args.scene.load()?;
-    let settings = &mut scene.settings;
-    settings.width = args.width.unwrap_or(settings.width);
-    settings.height = args.height.unwrap_or(settings.height);
-    settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
-    settings.next_event_estimation = !args.no_nee;
-    settings.nee_only = args.nee_only;
-    settings.russian_roulette = !args.no_roulette;
-    settings.clamp = args.clamp.or(settings.clamp);
-    if let Some(sampler) = args.sampler {
-        settings.sampler = sampler.into();
-    }
-    settings.samples_per_pixel = args.max_spp.max(1);
+    args.estimator.apply(&mut scene.settings);
+    scene.settings.samples_per_pixel = args.max_spp.max(1);
     rt_core::frame::validate(&scene)?;
     let reference = RgbImage::load(&args.reference)?;
     let label = args.label.clone().unwrap_or_else(|| {
         format!(
             "{}{}{}depth {} {:?}",
-            if args.no_nee {
+            if args.estimator.no_nee {
                 "BSDF only, "
-            } else if args.nee_only {
+            } else if args.estimator.nee_only {
                 "NEE only, "
             } else {
                 "NEE+MIS, "
             },
-            if args.no_roulette {
+            if args.estimator.no_roulette {
                 "no roulette, "
             } else {
                 ""
             },
-            args.clamp.map_or(String::new(), |c| format!("clamp {c}, "))
+            scene
+                .settings
+                .clamp
+                .map_or(String::new(), |c| format!("clamp {c}, "))
                 + if scene.settings.sampler == rt_core::reference::rng::SamplerKind::Sobol {
                     "Sobol, "
                 } else {
@@ -215,21 +128,16 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
                 }
                 + if args.denoise { "denoised, " } else { "" },
             scene.settings.max_depth,
-            args.bvh_quality
+            args.bvh.bvh_quality
         )
     });
 
-    let ctx = GpuContext::new(&args.adapter)?;
+    let ctx = GpuContext::new(&args.engine.adapter)?;
     let start = Instant::now();
-    let gpu_scene = GpuScene::build_with_layout(&scene, args.bvh_quality.into(), args.bvh.into())?;
+    let gpu_scene =
+        GpuScene::build_with_layout(&scene, args.bvh.bvh_quality.into(), args.bvh.bvh.into())?;
     let bvh = start.elapsed();
-    let options = RenderOptions {
-        aovs: args.denoise,
-        // Bounds lavapipe's memory growth over long renders (docs/performance.md).
-        rebuild_on_cpu: true,
-        wavefront: args.kernel == Kernel::Wavefront,
-        ..Default::default()
-    };
+    let options = args.engine.render_options(args.denoise);
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
     // The first dispatch includes compiling the kernel; a warm-up sample keeps that out of the
     // curve (it is a one-off per feature set, cached afterwards).
@@ -266,21 +174,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
                 .read_aovs()?
                 .context("the renderer did not keep albedo and normals")?;
             let started = Instant::now();
-            let color = image.rgb();
-            let variance = rt_core::output::pixel_variance(&image.pixels, image.samples_per_pixel);
-            let denoised = rt_core::denoise::denoise(
-                &rt_core::denoise::DenoiseInput {
-                    width: image.width,
-                    height: image.height,
-                    color: &color,
-                    emission: &aovs.emission,
-                    albedo: &aovs.albedo,
-                    normal: &aovs.normal,
-                    variance: &variance,
-                },
-                &rt_core::denoise::DenoiseParams::default(),
-            )
-            .map_err(anyhow::Error::msg)?;
+            let denoised = image.denoised(&aovs).map_err(anyhow::Error::msg)?;
             // The user waits for the denoiser too (but only for the image they keep).
             denoise_time = started.elapsed();
             denoised

@@ -9,9 +9,12 @@ use crate::scene_args::SceneArgs;
 pub struct InfoArgs {
     #[command(flatten)]
     scene: SceneArgs,
+    /// With -v: also the adapter (and driver) that `render` would use.
+    #[arg(long, default_value = "auto")]
+    adapter: rt_gpu::AdapterChoice,
 }
 
-pub fn run(args: InfoArgs) -> Result<()> {
+pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
     let scene = args.scene.load()?;
     println!("objects: {}", scene.objects.len());
     for o in &scene.objects {
@@ -38,5 +41,12 @@ pub fn run(args: InfoArgs) -> Result<()> {
         c.from, c.to, c.up, c.vfov_deg
     );
     println!("ambient: {:?}", scene.ambient);
+    if verbose {
+        // The adapter is opened only on request: it takes a second on lavapipe.
+        match rt_gpu::GpuContext::new(&args.adapter) {
+            Ok(ctx) => println!("adapter: {}", ctx.adapter_label()),
+            Err(e) => println!("adapter: none ({e})"),
+        }
+    }
     Ok(())
 }

@@ -4,6 +4,7 @@ mod bench;
 mod compare;
 mod converge;
 mod info;
+mod options;
 mod plot;
 mod render;
 mod scene_args;
@@ -67,7 +68,7 @@ fn main() -> ExitCode {
         .init();
     let result = match cli.command {
         Command::Render(args) => render::run(args, cli.verbose),
-        Command::Info(args) => info::run(args),
+        Command::Info(args) => info::run(args, cli.verbose),
         Command::Bench(args) => bench::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Converge(args) => converge::run(args),

@@ -8,9 +8,10 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use rt_core::GpuScene;
 use rt_core::metrics::estimated_rel_mse;
-use rt_gpu::{AdapterChoice, GpuContext, RenderOptions, Renderer};
+use rt_gpu::{GpuContext, Renderer};
 
-use crate::scene_args::{SamplerArg, SceneArgs};
+use crate::options::{EngineArgs, EstimatorArgs};
+use crate::scene_args::SceneArgs;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -19,10 +20,6 @@ pub struct RenderArgs {
     /// Output image: .png, .jpg, .ppm (sRGB, clamped) or .exr (linear float).
     #[arg(short, long, default_value = "render.png")]
     output: PathBuf,
-    #[arg(long)]
-    width: Option<u32>,
-    #[arg(long)]
-    height: Option<u32>,
     /// Samples per pixel (default 64; with --time-limit or --noise-target, the most to take).
     #[arg(long)]
     spp: Option<u32>,
@@ -33,48 +30,24 @@ pub struct RenderArgs {
     /// converged version, from per-pixel sample variance) is at most this, e.g. 0.05.
     #[arg(long, value_name = "X")]
     noise_target: Option<f64>,
-    /// Ray segments per path (1: emitters only, 2: direct light, ...).
-    #[arg(long)]
-    max_depth: Option<u32>,
     /// Exposure in stops for 8-bit outputs (EXR is always linear).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
-    /// Turn off next-event estimation (sample only the BSDF; noisier, for comparisons).
-    #[arg(long)]
-    no_nee: bool,
-    /// Diagnostic: take area lights from next-event estimation alone, without MIS (unbiased but
-    /// noisier; for comparing estimators).
-    #[arg(long, conflicts_with = "no_nee")]
-    nee_only: bool,
-    /// Turn off Russian roulette (every path runs to max depth unless it is absorbed or escapes).
-    #[arg(long)]
-    no_roulette: bool,
-    /// Firefly clamp: scale each contribution of bounced light down so no channel exceeds X
-    /// (directly seen emitters stay exact). Biased (removes energy); off by default.
-    #[arg(long, value_name = "X")]
-    clamp: Option<f32>,
-    /// Random numbers: sobol (Owen-scrambled Sobol points, the default: less noise for the same
-    /// samples) or independent (PCG streams).
-    #[arg(long, value_enum)]
-    sampler: Option<SamplerArg>,
     /// Also write a denoised copy beside the output (NAME.denoised.EXT), filtered with the
     /// edge-avoiding À-Trous denoiser guided by albedo and normals; the output itself stays raw.
     #[arg(long)]
     denoise: bool,
-    /// What traces the paths (the same image either way; docs/performance.md compares them).
-    #[arg(long, value_enum, default_value = "wavefront")]
-    kernel: crate::converge::Kernel,
-    /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
-    #[arg(long, default_value = "auto")]
-    adapter: AdapterChoice,
+    #[command(flatten)]
+    estimator: EstimatorArgs,
+    #[command(flatten)]
+    engine: EngineArgs,
 }
 
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     rt_core::output::ImageFormat::from_path(&args.output)?;
     let mut scene = args.scene.load()?;
+    args.estimator.apply(&mut scene.settings);
     let settings = &mut scene.settings;
-    settings.width = args.width.unwrap_or(settings.width);
-    settings.height = args.height.unwrap_or(settings.height);
     let open_ended = args.time_limit.is_some() || args.noise_target.is_some();
     settings.samples_per_pixel = args.spp.unwrap_or(if open_ended {
         1 << 20
@@ -87,23 +60,12 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     if let Some(x) = args.noise_target.filter(|x| !(x.is_finite() && *x > 0.0)) {
         anyhow::bail!("--noise-target must be a positive number, got {x}");
     }
-    settings.max_depth = args.max_depth.unwrap_or(settings.max_depth);
-    settings.next_event_estimation = !args.no_nee;
-    settings.nee_only = args.nee_only;
-    settings.russian_roulette = !args.no_roulette;
-    settings.clamp = args.clamp.or(settings.clamp);
-    if let Some(sampler) = args.sampler {
-        settings.sampler = sampler.into();
-    }
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
 
-    let ctx = GpuContext::new(&args.adapter)?;
+    let ctx = GpuContext::new(&args.engine.adapter)?;
     let gpu_scene = GpuScene::build(&scene)?;
-    let limits = ctx.device.limits();
-    let max_buffer = limits
-        .max_storage_buffer_binding_size
-        .min(limits.max_buffer_size);
+    let max_buffer = max_accumulation_bytes(&ctx);
     let accum_bytes = u64::from(scene.settings.width) * u64::from(scene.settings.height) * 16;
     if accum_bytes > max_buffer {
         if open_ended {
@@ -117,13 +79,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         }
         return render_in_tiles(&args, &scene, &ctx, &gpu_scene, max_buffer);
     }
-    let options = RenderOptions {
-        aovs: args.denoise,
-        // Bounds lavapipe's memory growth over long megakernel renders (docs/performance.md).
-        rebuild_on_cpu: true,
-        wavefront: args.kernel == crate::converge::Kernel::Wavefront,
-        ..Default::default()
-    };
+    let options = args.engine.render_options(args.denoise);
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
 
     let spp = scene.settings.samples_per_pixel;
@@ -223,31 +179,13 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
 
     let secs = render_time.as_secs_f64().max(1e-9);
     let paths = pixels as f64 * f64::from(image.samples_per_pixel);
-    eprintln!("adapter:        {}", ctx.adapter_label());
+    print_scene_summary(&ctx, renderer.kernel(), &gpu_scene);
     eprintln!(
-        "kernel:         {}",
-        if renderer.wavefront() {
-            "wavefront"
-        } else {
-            "megakernel"
-        }
-    );
-    eprintln!("triangles:      {}", gpu_scene.triangles.len());
-    eprintln!(
-        "BVH build:      {:.2?} (depth {})",
-        gpu_scene.bvh_build_time, gpu_scene.bvh_depth
-    );
-    eprintln!(
-        "image:          {}x{}, {} spp, max depth {}, next-event estimation {}, {} sampler",
+        "image:          {}x{}, {} spp, {}",
         image.width,
         image.height,
         image.samples_per_pixel,
-        scene.settings.max_depth,
-        if gpu_scene.features.nee { "on" } else { "off" },
-        match scene.settings.sampler {
-            rt_core::reference::rng::SamplerKind::Sobol => "Sobol",
-            rt_core::reference::rng::SamplerKind::Independent => "independent",
-        }
+        estimator_summary(&scene.settings, &gpu_scene)
     );
     eprintln!("render time:    {render_time:.2?} (stopped by {stopped_by})");
     eprintln!("noise:          {noise:.5} (estimated sqrt(relMSE) against the converged image)");
@@ -268,24 +206,52 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         eprintln!("channel means:  {:.6} {:.6} {:.6}", m[0], m[1], m[2]);
     }
     if args.denoise {
-        let started = Instant::now();
-        let denoised = denoised_path(&args.output);
-        let aovs = renderer
-            .read_aovs()?
-            .context("the renderer did not keep albedo and normals")?;
-        save_denoised(&image, &aovs, &denoised, args.exposure)?;
-        eprintln!(
-            "denoised:       {} ({:.2?}; biased: a preview of the converged image, not a measurement)",
-            denoised.display(),
-            started.elapsed()
-        );
+        let aovs = renderer.read_aovs()?;
+        save_denoised(&args, &image, aovs.as_ref())?;
     }
     eprintln!("saved:          {}", args.output.display());
     Ok(())
 }
 
+/// The adapter, kernel, triangles and BVH build, as both render paths print them.
+fn print_scene_summary(ctx: &GpuContext, kernel: rt_gpu::Kernel, gpu_scene: &GpuScene) {
+    eprintln!("adapter:        {}", ctx.adapter_label());
+    eprintln!("kernel:         {}", kernel.name());
+    eprintln!("triangles:      {}", gpu_scene.triangles.len());
+    eprintln!(
+        "BVH build:      {:.2?} (depth {})",
+        gpu_scene.bvh_build_time, gpu_scene.bvh_depth
+    );
+}
+
+/// "max depth D, next-event estimation on|off, S sampler".
+fn estimator_summary(settings: &rt_core::RenderSettings, gpu_scene: &GpuScene) -> String {
+    format!(
+        "max depth {}, next-event estimation {}, {} sampler",
+        settings.max_depth,
+        if gpu_scene.features.nee { "on" } else { "off" },
+        match settings.sampler {
+            rt_core::reference::rng::SamplerKind::Sobol => "Sobol",
+            rt_core::reference::rng::SamplerKind::Independent => "independent",
+        }
+    )
+}
+
+/// The largest accumulation buffer this adapter allows: the adapter's limit, or less when
+/// `RT_MAX_ACCUMULATION_BYTES` says so (tests use it to render small images in tiles).
+fn max_accumulation_bytes(ctx: &GpuContext) -> u64 {
+    let limits = ctx.device.limits();
+    let limit = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    std::env::var("RT_MAX_ACCUMULATION_BYTES")
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok())
+        .map_or(limit, |cap| cap.clamp(16, limit))
+}
+
 /// Renders an image too large for one accumulation buffer in bands of rows (see
-/// `rt_gpu::renderer::render_tiled`); the result is the same as an untiled render.
+/// `rt_gpu::render_tiled`), with the same options; the result is the same as an untiled render.
 fn render_in_tiles(
     args: &RenderArgs,
     scene: &rt_core::Scene,
@@ -294,7 +260,7 @@ fn render_in_tiles(
     max_buffer: u64,
 ) -> Result<()> {
     let settings = &scene.settings;
-    let rows = rt_gpu::renderer::tile_rows(settings.width, settings.height, max_buffer);
+    let rows = rt_gpu::tile_rows(settings.width, settings.height, max_buffer);
     let tiles = settings.height.div_ceil(rows);
     let bar = ProgressBar::new(1000);
     bar.set_style(
@@ -306,14 +272,13 @@ fn render_in_tiles(
     bar.set_message(format!("{tiles} tiles of {rows} rows"));
     let started = Instant::now();
     let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
-    let image = rt_gpu::renderer::render_tiled(
+    let rt_gpu::TiledRender { image, aovs } = rt_gpu::render_tiled(
         ctx,
         gpu_scene,
         frame,
-        RenderOptions {
-            wavefront: args.kernel == crate::converge::Kernel::Wavefront,
-            ..Default::default()
-        },
+        args.engine
+            .render_options(args.denoise)
+            .with_scene_settings(settings),
         settings.samples_per_pixel,
         Some(max_buffer),
         |fraction| {
@@ -332,15 +297,19 @@ fn render_in_tiles(
         args.exposure,
     )
     .with_context(|| format!("saving {}", args.output.display()))?;
-    eprintln!("adapter:        {}", ctx.adapter_label());
-    eprintln!("kernel:         {}", args.kernel.name());
-    eprintln!("triangles:      {}", gpu_scene.triangles.len());
+    print_scene_summary(ctx, args.engine.kernel(), gpu_scene);
     eprintln!(
-        "image:          {}x{}, {} spp, max depth {}, in {tiles} tiles of {rows} rows (the \
-         accumulation buffer would exceed the adapter's {max_buffer} bytes)",
-        image.width, image.height, image.samples_per_pixel, settings.max_depth
+        "image:          {}x{}, {} spp, {}, in {tiles} tiles of {rows} rows (the accumulation \
+         buffer would exceed the adapter's {max_buffer} bytes)",
+        image.width,
+        image.height,
+        image.samples_per_pixel,
+        estimator_summary(settings, gpu_scene)
     );
     eprintln!("render time:    {render_time:.2?}");
+    if args.denoise {
+        save_denoised(args, &image, aovs.as_ref())?;
+    }
     eprintln!("saved:          {}", args.output.display());
     Ok(())
 }
@@ -387,28 +356,22 @@ fn denoised_path(output: &std::path::Path) -> PathBuf {
     output.with_file_name(format!("{stem}.denoised.{extension}"))
 }
 
-/// Denoises `image` with its albedo and normals and saves the result.
-pub fn save_denoised(
+/// Denoises `image` with its AOVs and saves it beside the output (`denoised_path`).
+fn save_denoised(
+    args: &RenderArgs,
     image: &rt_gpu::Image,
-    aovs: &rt_gpu::Aovs,
-    path: &std::path::Path,
-    exposure: f32,
+    aovs: Option<&rt_gpu::Aovs>,
 ) -> Result<()> {
-    let color = image.rgb();
-    let variance = rt_core::output::pixel_variance(&image.pixels, image.samples_per_pixel);
-    let denoised = rt_core::denoise::denoise(
-        &rt_core::denoise::DenoiseInput {
-            width: image.width,
-            height: image.height,
-            color: &color,
-            emission: &aovs.emission,
-            albedo: &aovs.albedo,
-            normal: &aovs.normal,
-            variance: &variance,
-        },
-        &rt_core::denoise::DenoiseParams::default(),
-    )
-    .map_err(anyhow::Error::msg)?;
-    rt_core::output::save_image(path, image.width, image.height, &denoised, exposure)
-        .with_context(|| format!("saving {}", path.display()))
+    let started = Instant::now();
+    let path = denoised_path(&args.output);
+    let aovs = aovs.context("the renderer did not keep albedo and normals")?;
+    let denoised = image.denoised(aovs).map_err(anyhow::Error::msg)?;
+    rt_core::output::save_image(&path, image.width, image.height, &denoised, args.exposure)
+        .with_context(|| format!("saving {}", path.display()))?;
+    eprintln!(
+        "denoised:       {} ({:.2?}; biased: a preview of the converged image, not a measurement)",
+        path.display(),
+        started.elapsed()
+    );
+    Ok(())
 }

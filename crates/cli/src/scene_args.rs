@@ -76,19 +76,3 @@ fn is_project(path: &std::path::Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case(rt_core::io::project::PROJECT_EXTENSION))
 }
-
-/// `--sampler` values.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub enum SamplerArg {
-    Independent,
-    Sobol,
-}
-
-impl From<SamplerArg> for rt_core::reference::rng::SamplerKind {
-    fn from(s: SamplerArg) -> Self {
-        match s {
-            SamplerArg::Independent => Self::Independent,
-            SamplerArg::Sobol => Self::Sobol,
-        }
-    }
-}

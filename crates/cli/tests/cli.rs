@@ -41,26 +41,16 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// Whether the GPU tests here can run, under the suites' one policy (`GpuContext::for_tests`):
+/// without an adapter they fail under CI and are skipped with a message elsewhere.
 fn has_gpu() -> bool {
-    // The GPU tests in tests/ decide whether a missing adapter fails; here we only skip.
-    let (code, _, stderr) = rt_cli(&[
-        "render",
-        "-o",
-        "/dev/null.png",
-        "--width",
-        "1",
-        "--height",
-        "1",
-        "--spp",
-        "1",
-    ]);
-    code != 2 || !stderr.contains("no GPU adapter")
+    static FOUND: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *FOUND.get_or_init(|| rt_gpu::GpuContext::for_tests().is_some())
 }
 
 #[test]
 fn renders_the_embedded_cornell_box_to_every_format() {
-    if !has_gpu() && std::env::var_os("CI").is_none() {
-        eprintln!("SKIPPED: no GPU adapter");
+    if !has_gpu() {
         return;
     }
     let dir = temp_dir("render");
@@ -206,8 +196,7 @@ fn spp_and_noise(stderr: &str) -> (u32, f64) {
 /// samples taken and the error estimate, not by the clock.
 #[test]
 fn noise_target_and_time_limit_stop_the_render() {
-    if !has_gpu() && std::env::var_os("CI").is_none() {
-        eprintln!("SKIPPED: no GPU adapter");
+    if !has_gpu() {
         return;
     }
     let dir = temp_dir("stop");
@@ -269,7 +258,7 @@ fn noise_target_and_time_limit_stop_the_render() {
 /// is a clear error instead.
 #[test]
 fn images_larger_than_a_buffer_render_in_tiles() {
-    if !has_gpu() && std::env::var_os("CI").is_none() {
+    if !has_gpu() {
         return;
     }
     let dir = temp_dir("tiles");
@@ -315,7 +304,7 @@ fn images_larger_than_a_buffer_render_in_tiles() {
 /// `render` renders a project file with the project's own settings.
 #[test]
 fn converge_writes_csv_and_plot_and_render_reads_projects() {
-    if !has_gpu() && std::env::var_os("CI").is_none() {
+    if !has_gpu() {
         return;
     }
     let dir = temp_dir("converge");
@@ -383,7 +372,7 @@ fn converge_writes_csv_and_plot_and_render_reads_projects() {
 /// Runs a long render with the fault injected by `fault_env` after two batches; rt-cli must exit 2
 /// with an error containing `says` and save the samples it had read back before to `file`.
 fn fault_mid_render_saves_the_samples_read_back_before(fault_env: &str, says: &str, file: &str) {
-    if !has_gpu() && std::env::var_os("CI").is_none() {
+    if !has_gpu() {
         return;
     }
     let dir = temp_dir(fault_env);
@@ -433,7 +422,7 @@ fn out_of_memory_mid_render_saves_the_samples_read_back_before() {
 /// `--kernel megakernel` renders the default (wavefront) image, and the summary names the kernel.
 #[test]
 fn both_kernels_render_the_same_image() {
-    if !has_gpu() && std::env::var_os("CI").is_none() {
+    if !has_gpu() {
         return;
     }
     let dir = temp_dir("kernels");
@@ -465,7 +454,7 @@ fn both_kernels_render_the_same_image() {
 /// ~100 ms on a real GPU; sized to ~40 ms, see docs/robustness.md), with its unit.
 #[test]
 fn a_verbose_render_reports_its_longest_dispatch() {
-    if !has_gpu() && std::env::var_os("CI").is_none() {
+    if !has_gpu() {
         return;
     }
     let dir = temp_dir("verbose");
@@ -483,7 +472,7 @@ fn a_verbose_render_reports_its_longest_dispatch() {
 /// `--denoise` writes a denoised copy beside the raw output, which stays as rendered.
 #[test]
 fn denoise_writes_a_second_image_and_keeps_the_raw_one() {
-    if !has_gpu() && std::env::var_os("CI").is_none() {
+    if !has_gpu() {
         return;
     }
     let dir = temp_dir("denoise");
@@ -519,5 +508,69 @@ fn denoise_writes_a_second_image_and_keeps_the_raw_one() {
         roughness(&denoised),
         roughness(&raw)
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every render flag reaches both render paths (`render` builds their options in one place): the
+/// Cornell box rendered in tiles (the accumulation capped by `RT_MAX_ACCUMULATION_BYTES` to seven
+/// rows) writes the same files, raw and denoised, byte for byte, as the same render in one piece.
+#[test]
+fn tiled_renders_honour_every_flag() {
+    if !has_gpu() {
+        return;
+    }
+    let dir = temp_dir("tiled-flags");
+    let flag_sets: [&[&str]; 2] = [
+        &[
+            "--denoise",
+            "--clamp",
+            "2",
+            "--no-roulette",
+            "--sampler",
+            "independent",
+            "--max-depth",
+            "4",
+            "--seed",
+            "3",
+        ],
+        &["--denoise", "--kernel", "megakernel", "--nee-only"],
+    ];
+    for flags in flag_sets {
+        let render = |name: &str, max_bytes: Option<&str>| {
+            let out = dir.join(format!("{name}.exr"));
+            let mut command = Command::new(env!("CARGO_BIN_EXE_rt-cli"));
+            command
+                .args(["render", "--width", "24", "--height", "20", "--spp", "3"])
+                .arg("-o")
+                .arg(&out)
+                .args(flags);
+            if let Some(bytes) = max_bytes {
+                command.env("RT_MAX_ACCUMULATION_BYTES", bytes);
+            }
+            let result = command.output().unwrap();
+            let stderr = String::from_utf8_lossy(&result.stderr).into_owned();
+            assert!(result.status.success(), "{flags:?}: {stderr}");
+            (out, stderr)
+        };
+        let (whole, whole_log) = render("whole", None);
+        let (tiled, tiled_log) = render("tiled", Some(&(24 * 16 * 7).to_string()));
+        assert!(!whole_log.contains("tiles of"), "{whole_log}");
+        assert!(tiled_log.contains("3 tiles of 7 rows"), "{tiled_log}");
+        assert!(
+            std::fs::read(&whole).unwrap() == std::fs::read(&tiled).unwrap(),
+            "{flags:?}: the tiled render differs from the whole one"
+        );
+        let denoised = |path: &std::path::Path| {
+            std::fs::read(path.with_file_name(format!(
+                "{}.denoised.exr",
+                path.file_stem().unwrap().to_string_lossy()
+            )))
+            .unwrap()
+        };
+        assert!(
+            denoised(&whole) == denoised(&tiled),
+            "{flags:?}: the tiled render's denoised image differs from the whole one's"
+        );
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -243,12 +243,12 @@ impl GpuScene {
         Ok(out)
     }
 
-    /// Checks every index the tracing kernel follows, so that it may run without wgpu's injected
-    /// bounds checks and loop guards (`rt_gpu` compiles it that way, when asked, only if this passes): BVH
-    /// children point forwards (so traversal ends) and inside the node array, leaves' triangle
-    /// ranges, triangles' materials and shading records, textures' texel ranges and the emitter
-    /// table all lie inside their arrays. (Private arrays and vector components are indexed only
-    /// under explicit guards in the kernel.) The error names the first bad record.
+    /// Checks every index the tracing kernels follow, the invariants the builder promises them
+    /// (wgpu's injected bounds checks keep a broken one from reading outside an array, but it
+    /// would give a wrong image): BVH children point forwards (so traversal ends, and `bvh_depth`
+    /// is found in one pass) and inside the node array, leaves' triangle ranges, triangles'
+    /// materials and shading records, textures' texel ranges and the emitter table all lie inside
+    /// their arrays. The error names the first bad record.
     pub fn check_kernel_indices(&self) -> std::result::Result<(), String> {
         match self.layout {
             BvhLayout::Bvh2 => self.check_bvh2_indices()?,
@@ -377,21 +377,6 @@ impl GpuScene {
             }
         }
         Ok(())
-    }
-
-    /// The triangles' vertices as a structure of arrays: every `v0`, then every `v1`, then every
-    /// `v2`, padded to 16 bytes (`triangle_soa` in `trace.wgsl`).
-    pub fn triangle_soa(&self) -> Vec<[f32; 4]> {
-        let field = |get: fn(&Triangle) -> [f32; 3]| {
-            self.triangles.iter().map(move |t| {
-                let [x, y, z] = get(t);
-                [x, y, z, 0.0]
-            })
-        };
-        field(|t| t.v0)
-            .chain(field(|t| t.v1))
-            .chain(field(|t| t.v2))
-            .collect()
     }
 
     /// The node array of `layout`, as uploaded.

@@ -1,7 +1,7 @@
 //! Plain-old-data mirrors of the WGSL structs in `shaders/shared/types.wgsl`.
 //!
 //! Every type here is uploaded byte-for-byte, so each field carries its byte offset as a comment and
-//! `tests/layout.rs` checks size, alignment, member names and offsets against what naga reports.
+//! `tests/shaders.rs` checks size, alignment, member names and offsets against what naga reports.
 
 use bytemuck::{Pod, Zeroable};
 

@@ -1,6 +1,6 @@
 #![allow(clippy::unwrap_used)]
-//! `GpuScene::check_kernel_indices`, the proof obligation for running the tracing kernel without
-//! wgpu's runtime bounds checks: every scene rt builds passes it, and each kind of bad index fails it.
+//! `GpuScene::check_kernel_indices`, the index invariants the tracing kernels rely on: every scene
+//! rt builds passes it, and each kind of bad index fails it.
 
 use rt_core::GpuScene;
 use rt_core::bvh::{BvhLayout, BvhQuality};

@@ -1,5 +1,5 @@
 //! What memory operations cost per invocation on the adapter (run on lavapipe to see why its
-//! traversal is load-bound; docs/performance.md, "What lavapipe's kernels spend their time on"):
+//! traversal is load-bound; docs/performance-log.md, "What lavapipe's kernels spend their time on"):
 //!
 //!     cargo run --release -p rt-gpu --example lavapipe_costs
 //!

@@ -35,14 +35,33 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
-    pub(crate) pipelines: Mutex<HashMap<crate::pipelines::PipelineKey, wgpu::ComputePipeline>>,
-    pub(crate) wave_pipelines:
-        Mutex<HashMap<crate::pipelines::PipelineKey, Arc<crate::wavefront::WavePipelines>>>,
+    pub(crate) pipelines:
+        Mutex<HashMap<crate::pipelines::PipelineKey, Arc<crate::pipelines::KernelPipelines>>>,
     /// Why the device was lost, once it has been.
     lost: Arc<Mutex<Option<String>>>,
     /// Fault injection (`inject_out_of_memory`): the scoped operation this many calls on fails as
     /// out of memory; 0 is off.
     out_of_memory_in: AtomicU32,
+}
+
+/// "name (backend, driver version)", e.g. "llvmpipe (LLVM 19.1.7, 256 bits) (Vulkan, Mesa 25.0.7)":
+/// lavapipe's speed and limits depend on the Mesa release (docs/performance.md), so summaries and
+/// benchmark records name it.
+pub fn adapter_label(info: &wgpu::AdapterInfo) -> String {
+    let driver = [info.driver.as_str(), info.driver_info.as_str()]
+        .into_iter()
+        .filter(|s| !s.is_empty())
+        .collect::<Vec<_>>();
+    // lavapipe reports driver "llvmpipe" and driver_info "Mesa 25.0.7 (LLVM 19.1.7)"; keep the
+    // version and not a repeat of the name.
+    let driver = match driver.as_slice() {
+        [] => String::new(),
+        [one] => format!(", {one}"),
+        [name, version] if info.name.contains(name) => format!(", {version}"),
+        [name, version] => format!(", {name} {version}"),
+        _ => String::new(),
+    };
+    format!("{} ({:?}{driver})", info.name, info.backend)
 }
 
 impl GpuContext {
@@ -113,12 +132,7 @@ impl GpuContext {
             })
             .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
-        log::info!(
-            "adapter: {} ({:?}, {:?})",
-            info.name,
-            info.backend,
-            info.device_type
-        );
+        log::info!("adapter: {} ({:?})", adapter_label(&info), info.device_type);
         let lost: Arc<Mutex<Option<String>>> = Arc::default();
         {
             let lost = lost.clone();
@@ -140,15 +154,38 @@ impl GpuContext {
             queue,
             info,
             pipelines: Mutex::new(HashMap::new()),
-            wave_pipelines: Mutex::new(HashMap::new()),
             lost,
             out_of_memory_in: AtomicU32::new(0),
         })
     }
 
-    /// "name (backend)" for summaries.
+    /// "name (backend, driver)" for summaries: see `adapter_label`.
     pub fn adapter_label(&self) -> String {
-        format!("{} ({:?})", self.info.name, self.info.backend)
+        adapter_label(&self.info)
+    }
+
+    /// The test suites' policy for a machine without a GPU adapter, in one place: the test context
+    /// prefers a CPU adapter (lavapipe) so results are repeatable; without any adapter a test fails
+    /// when `CI` is set (it never passes silently there) and otherwise prints why and returns
+    /// `None`, for the test to return early.
+    pub fn for_tests() -> Option<GpuContext> {
+        let found =
+            GpuContext::new(&AdapterChoice::Cpu).or_else(|_| GpuContext::new(&AdapterChoice::Auto));
+        match found {
+            Ok(ctx) => {
+                eprintln!("GPU tests on {}", ctx.adapter_label());
+                Some(ctx)
+            }
+            Err(e) if std::env::var_os("CI").is_some() => {
+                panic!("CI is set but there is no GPU adapter: {e}")
+            }
+            Err(e) => {
+                eprintln!(
+                    "SKIPPED: no GPU adapter ({e}); install mesa-vulkan-drivers (scripts/ensure-vulkan) to run GPU tests"
+                );
+                None
+            }
+        }
     }
 
     /// Checks one buffer against the binding and buffer size limits.

@@ -18,6 +18,9 @@ pub enum GpuError {
         limit: u64,
         what: &'static str,
     },
+    /// The render options contradict each other or the adapter.
+    #[error("invalid render options: {0}")]
+    Options(String),
     /// wgpu reported a validation error.
     #[error("GPU error: {0}")]
     Wgpu(String),

@@ -1,142 +1,22 @@
 //! Progressive rendering: each `render_batch` adds samples to every pixel through one or more short
 //! dispatches, so a render can be stopped, cancelled or read back after any batch.
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
 use wgpu::util::DeviceExt;
 
+use crate::bindings::{self, Binding};
 use crate::buffers::{read_buffer, storage_buffer};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
-use crate::pipelines::{PipelineKey, trace_pipeline};
+use crate::image::{Aovs, Image};
+use crate::options::{CPU_PIPELINE_LIFETIME, Kernel, REBUILD_AMORTISATION, RenderOptions};
+use crate::pipelines::{KernelPipelines, PipelineKey, forget, kernel_pipelines};
+use crate::sizing;
 use crate::wavefront::{MAX_WAVE_PATHS, Wavefront};
-
-/// The most invocations a work group of the tracing kernel may have: each holds a 64-entry BVH
-/// traversal stack in work-group memory (`shaders/shared/bvh.wgsl`), 16 KiB in all.
-pub const MAX_WORKGROUP_INVOCATIONS: u32 = 64;
-
-/// Dispatch sizing: each dispatch should take about `target_dispatch`, well under the ~100 ms at
-/// which operating systems start to suspect a hung GPU.
-#[derive(Clone, Copy, Debug)]
-pub struct RenderOptions {
-    pub target_dispatch: Duration,
-    /// Count rays in the kernel (benchmarks); compiled out otherwise.
-    pub count_rays: bool,
-    /// Upper bound on samples per pixel in one dispatch; `None` derives it from the loop budget.
-    pub max_samples_per_dispatch: Option<u32>,
-    /// Firefly clamp: scale each contribution of bounced light down so its largest channel is at
-    /// most this (directly seen emitters stay exact). Biased (it removes energy); `None` (the
-    /// default) leaves samples alone.
-    /// `Renderer::for_scene` takes it from the scene's settings when unset here.
-    pub clamp: Option<f32>,
-    /// Compile every optional feature in, as if the scene used them all (benchmarks compare this
-    /// generic kernel with the specialised one).
-    pub generic_kernel: bool,
-    /// The megakernel's work-group width and height (benchmarks); 8 x 8 by default, at most
-    /// `MAX_WORKGROUP_INVOCATIONS` invocations (the BVH traversal stacks live in work-group
-    /// memory). The wavefront kernels run 64 x 1.
-    pub workgroup: [u32; 2],
-    /// Also accumulate each pixel's first-hit albedo and normal (for `rt_core::denoise`; read them
-    /// with `Renderer::read_aovs`).
-    pub aovs: bool,
-    /// Leave wgpu's injected bounds checks and loop guards out of the kernel when
-    /// `GpuScene::check_kernel_indices` proves the scene's indices in range (otherwise they stay).
-    /// Off by default: on lavapipe it measured no faster (docs/performance.md); the images are
-    /// identical either way. Megakernel only: it selects the megakernel.
-    pub unchecked: bool,
-    /// Rebuild the tracing pipeline(s) once the kernels have run this long (not counting the first
-    /// batch after a build), when `Some`. Mesa 22.3's lavapipe keeps host memory for every path the
-    /// compiled megakernel traces (60-75 MB/s on the Cornell box here) until the pipeline is
-    /// destroyed; the wavefront kernels do not grow (`tests/memory.rs`). `None` leaves it to
-    /// `rebuild_on_cpu`. A rebuild changes no sample (`tests/extremes.rs`).
-    pub pipeline_lifetime: Option<Duration>,
-    /// With `pipeline_lifetime` `None`: on CPU adapters and with the megakernel, rebuild after
-    /// `CPU_PIPELINE_LIFETIME` or `REBUILD_AMORTISATION` times the last build's first batch (which
-    /// holds lavapipe's JIT compile, seconds), whichever is longer (`RT_PIPELINE_LIFETIME_S` in the
-    /// environment sets the lifetime exactly); never on GPUs or with the wavefront kernels. Off by
-    /// default, for renderers that share a device with others (the tests): a CI run of the test
-    /// suite with it on stalled for over 10 minutes inside lavapipe (not reproduced by three
-    /// threads rebuilding at once). `rt-cli render` and `converge` turn it on.
-    pub rebuild_on_cpu: bool,
-    /// Traversal reads triangle vertices from a structure-of-arrays copy instead of the 48-byte
-    /// records (a layout experiment: `rt-cli bench --soa`; docs/performance.md).
-    pub soa_triangles: bool,
-    /// Trace with the wavefront kernels (one per path stage, over queues in storage buffers)
-    /// rather than the megakernel (one invocation runs whole paths); docs/performance.md compares
-    /// them. The same samples either way (bit for bit without delta lights). `unchecked` and
-    /// `soa_triangles`, megakernel experiments, select the megakernel.
-    pub wavefront: bool,
-}
-
-/// `RenderOptions::pipeline_lifetime` on CPU adapters by default (the compile-time amortisation
-/// usually decides: see docs/performance.md for the memory and time this gives).
-pub const CPU_PIPELINE_LIFETIME: Duration = Duration::from_secs(5);
-
-/// Between rebuilds the kernel runs at least this many times as long as the last (re)build's first
-/// batch took, which holds the JIT compile: rebuilds cost under 1/this of the render time.
-pub const REBUILD_AMORTISATION: u32 = 10;
-
-impl Default for RenderOptions {
-    fn default() -> Self {
-        RenderOptions {
-            target_dispatch: Duration::from_millis(40),
-            count_rays: false,
-            max_samples_per_dispatch: None,
-            clamp: None,
-            generic_kernel: false,
-            workgroup: [8, 8],
-            aovs: false,
-            unchecked: false,
-            pipeline_lifetime: None,
-            rebuild_on_cpu: false,
-            soa_triangles: false,
-            wavefront: true,
-        }
-    }
-}
-
-/// Mesa's lavapipe runs at most 65,535 loop iterations per invocation, over all loops, and then
-/// silently cuts every loop short. Keep the estimated iterations of one dispatch well under it.
-const LOOP_BUDGET: u32 = 16_384;
-
-/// A rendered image: per pixel, the mean radiance (rgb) and mean squared luminance (a).
-#[derive(Clone, Debug)]
-pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    pub samples_per_pixel: u32,
-    pub pixels: Vec<[f32; 4]>,
-}
-
-impl Image {
-    pub fn rgb(&self) -> Vec<[f32; 3]> {
-        self.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect()
-    }
-
-    /// Mean of each channel over the image.
-    pub fn channel_means(&self) -> [f64; 3] {
-        let mut sum = [0.0f64; 3];
-        for p in &self.pixels {
-            for c in 0..3 {
-                sum[c] += f64::from(p[c]);
-            }
-        }
-        sum.map(|s| s / self.pixels.len().max(1) as f64)
-    }
-}
-
-/// Per-pixel auxiliary outputs for the denoiser, means over the samples like the image.
-#[derive(Clone, Debug, Default)]
-pub struct Aovs {
-    /// The first hit's albedo (texture, metal colour, glass tint; an emitter's normalised colour).
-    pub albedo: Vec<[f32; 3]>,
-    /// The first hit's geometric normal, facing the camera.
-    pub normal: Vec<[f32; 3]>,
-    /// Light seen directly: emitters and sky at the first segment.
-    pub emission: Vec<[f32; 3]>,
-}
 
 /// What one batch did.
 #[derive(Clone, Copy, Debug, Default)]
@@ -153,7 +33,7 @@ pub struct BatchStats {
 enum Engine {
     /// trace.wgsl: one invocation per pixel runs whole paths.
     Megakernel {
-        pipeline: wgpu::ComputePipeline,
+        pipelines: Arc<KernelPipelines>,
         bind_group: wgpu::BindGroup,
     },
     /// wavefront.wgsl: a kernel per path stage.
@@ -172,8 +52,8 @@ pub struct Renderer<'a> {
     /// Scale `pipeline_first_batch` by this for the least kernel time between rebuilds.
     rebuild_amortisation: u32,
     pipeline_rebuilds: u32,
-    /// (binding, buffer) of every bind-group entry, to bind them to a rebuilt pipeline.
-    bound: Vec<(u32, wgpu::Buffer)>,
+    /// The scene's buffers and the outputs, to bind them to a rebuilt pipeline.
+    bound: Vec<(Binding, wgpu::Buffer)>,
     frame_buffer: wgpu::Buffer,
     accum: wgpu::Buffer,
     aovs: wgpu::Buffer,
@@ -204,11 +84,12 @@ impl<'a> Renderer<'a> {
         options: RenderOptions,
     ) -> Result<Self> {
         let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
-        let options = RenderOptions {
-            clamp: options.clamp.or(scene.settings.clamp),
-            ..options
-        };
-        Self::new(ctx, gpu_scene, frame, options)
+        Self::new(
+            ctx,
+            gpu_scene,
+            frame,
+            options.with_scene_settings(&scene.settings),
+        )
     }
 
     pub fn new(
@@ -232,13 +113,7 @@ impl<'a> Renderer<'a> {
             "albedo, normal, emission (width x height x 48 bytes)",
             aov_size,
         )?;
-        let [wx, wy] = options.workgroup;
-        if wx == 0 || wy == 0 || wx * wy > MAX_WORKGROUP_INVOCATIONS {
-            return Err(GpuError::Wgpu(format!(
-                "work group {wx}x{wy}: it must have 1 to {MAX_WORKGROUP_INVOCATIONS} invocations \
-                 (their BVH traversal stacks share the work group's 16 KiB of memory)"
-            )));
-        }
+        options.validate()?;
         if frame.emitter_count as usize > scene.emitters.len() {
             return Err(GpuError::Wgpu(format!(
                 "the frame samples {} emitters of {}",
@@ -246,20 +121,10 @@ impl<'a> Renderer<'a> {
                 scene.emitters.len()
             )));
         }
-        // The megakernel-only experiments select the megakernel.
-        let wavefront = options.wavefront && !options.unchecked && !options.soa_triangles;
-        let trusted = options.unchecked
-            && match scene.check_kernel_indices() {
-                Ok(()) => true,
-                Err(e) => {
-                    log::error!("kernel runs with bounds checks: the scene's {e}");
-                    false
-                }
-            };
         let mut features = scene.features;
         features.thin_lens = frame.lens_radius > 0.0;
         features.nee = frame.emitter_count > 0;
-        if options.generic_kernel {
+        if options.experiments.generic_kernel {
             // Every branch compiled in; each still checks its data at run time. (NEE stays as the
             // scene needs: the emitter table must not be empty.)
             features.textures = true;
@@ -269,6 +134,7 @@ impl<'a> Renderer<'a> {
             features.delta_lights = true;
         }
         let pipeline_key = PipelineKey {
+            kernel: options.kernel,
             features,
             layout: scene.layout,
             count_rays: options.count_rays,
@@ -276,62 +142,70 @@ impl<'a> Renderer<'a> {
                 .clamp
                 .filter(|c| c.is_finite() && *c > 0.0)
                 .map_or(0, f32::to_bits),
-            workgroup: options.workgroup.map(|w| w.max(1)),
+            workgroup: options.experiments.workgroup,
             sobol: frame.sampler == 1,
             aovs: options.aovs,
-            trusted,
-            soa_triangles: options.soa_triangles,
         };
-        let pipeline = if wavefront {
-            None
-        } else {
-            Some(trace_pipeline(ctx, pipeline_key)?)
+        let megakernel = match options.kernel {
+            Kernel::Megakernel => Some(kernel_pipelines(ctx, pipeline_key)?),
+            Kernel::Wavefront => None,
         };
-        let buffers = [
-            storage_buffer(
-                ctx,
-                "triangles",
-                &scene.triangles,
-                wgpu::BufferUsages::empty(),
-            )?,
-            storage_buffer(ctx, "shading", &scene.shading, wgpu::BufferUsages::empty())?,
-            storage_buffer(
-                ctx,
-                "materials",
-                &scene.materials,
-                wgpu::BufferUsages::empty(),
-            )?,
-            storage_buffer(
-                ctx,
-                "bvh nodes",
-                scene.node_bytes(),
-                wgpu::BufferUsages::empty(),
-            )?,
-            storage_buffer(ctx, "texels", &scene.texels, wgpu::BufferUsages::empty())?,
-            storage_buffer(
-                ctx,
-                "emitters",
-                &scene.emitters,
-                wgpu::BufferUsages::empty(),
-            )?,
-            storage_buffer(
-                ctx,
-                "delta lights",
-                &scene.delta_lights,
-                wgpu::BufferUsages::empty(),
-            )?,
-            storage_buffer(
-                ctx,
-                "triangle vertices (structure of arrays)",
-                &if options.soa_triangles {
-                    scene.triangle_soa()
-                } else {
-                    Vec::new()
-                },
-                wgpu::BufferUsages::empty(),
-            )?,
+        let scene_buffers = [
+            (
+                bindings::TRIANGLES,
+                storage_buffer(
+                    ctx,
+                    "triangles",
+                    &scene.triangles,
+                    wgpu::BufferUsages::empty(),
+                )?,
+            ),
+            (
+                bindings::SHADING,
+                storage_buffer(ctx, "shading", &scene.shading, wgpu::BufferUsages::empty())?,
+            ),
+            (
+                bindings::MATERIALS,
+                storage_buffer(
+                    ctx,
+                    "materials",
+                    &scene.materials,
+                    wgpu::BufferUsages::empty(),
+                )?,
+            ),
+            (
+                bindings::NODES,
+                storage_buffer(
+                    ctx,
+                    "bvh nodes",
+                    scene.node_bytes(),
+                    wgpu::BufferUsages::empty(),
+                )?,
+            ),
+            (
+                bindings::TEXELS,
+                storage_buffer(ctx, "texels", &scene.texels, wgpu::BufferUsages::empty())?,
+            ),
+            (
+                bindings::EMITTERS,
+                storage_buffer(
+                    ctx,
+                    "emitters",
+                    &scene.emitters,
+                    wgpu::BufferUsages::empty(),
+                )?,
+            ),
+            (
+                bindings::DELTA_LIGHTS,
+                storage_buffer(
+                    ctx,
+                    "delta lights",
+                    &scene.delta_lights,
+                    wgpu::BufferUsages::empty(),
+                )?,
+            ),
         ];
-        let (frame_buffer, accum, aovs, counters, bound) = ctx.scoped(|| {
+        let (frame_buffer, accum, aovs, counters) = ctx.scoped(|| {
             let frame_buffer = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -339,79 +213,40 @@ impl<'a> Renderer<'a> {
                     contents: bytemuck::bytes_of(&frame),
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 });
-            let accum = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("accumulation"),
-                size: accum_size,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let aovs = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("albedo and normal"),
-                size: aov_size,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let counters = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("counters"),
-                size: 8,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            // 0: frame; 1-5: scene buffers; 6: accumulation; 7: counters; 8: emitters;
-            // 9: delta lights.
-            let [
-                triangles,
-                shading,
-                materials,
-                nodes,
-                texels,
-                emitters,
-                delta_lights,
-                triangle_soa,
-            ] = &buffers;
-            let bound = [
-                (0, &frame_buffer),
-                (1, triangles),
-                (2, shading),
-                (3, materials),
-                (4, nodes),
-                (5, texels),
-                (6, &accum),
-                (7, &counters),
-                (8, emitters),
-                (9, delta_lights),
-                (10, &aovs),
-                (11, triangle_soa),
-            ];
-            let bound: Vec<(u32, wgpu::Buffer)> =
-                bound.into_iter().map(|(b, buf)| (b, buf.clone())).collect();
-            (frame_buffer, accum, aovs, counters, bound)
+            let output = |label: &str, size: u64| {
+                ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage: wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_SRC
+                        | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            (
+                frame_buffer,
+                output("accumulation", accum_size),
+                output("albedo and normal", aov_size),
+                output("counters", 8),
+            )
         })?;
-        // Each path segment traces one ray, a shadow ray for NEE and one per delta light.
-        let rays_per_segment = 2 + scene.delta_lights.len() as u32;
-        // Loop iterations per ray: BVH2 visits ~2 nodes a level; the wide BVH visits fewer nodes but
-        // each may test up to 24 triangles in its inner loop, so count it more generously.
-        let depth = scene.bvh_depth as u32;
-        let steps_per_ray = match scene.layout {
-            rt_core::bvh::BvhLayout::Bvh2 => 2 * depth + 8,
-            rt_core::bvh::BvhLayout::Cwbvh => 4 * depth + 24,
-        };
-        let mut steps_per_segment = steps_per_ray * rays_per_segment;
-        if frame.sampler == 1 {
-            // Sobol's second dimension loops over the sample index's bits: up to 20 (a million
-            // samples) for each of the ~4 such draws of a segment.
-            steps_per_segment += 80;
-        }
-        let loop_cap = (LOOP_BUDGET / (frame.max_depth.max(1) * steps_per_segment)).clamp(1, 64);
+        let bound: Vec<(Binding, wgpu::Buffer)> = [
+            (bindings::FRAME, frame_buffer.clone()),
+            (bindings::ACCUM, accum.clone()),
+            (bindings::COUNTERS, counters.clone()),
+            (bindings::AOVS, aovs.clone()),
+        ]
+        .into_iter()
+        .chain(scene_buffers)
+        .collect();
+        let loop_cap = sizing::loop_cap(scene, &frame);
         let loop_cap = options
             .max_samples_per_dispatch
             .map_or(loop_cap, |m| m.max(1));
-        let engine = match pipeline {
-            Some(pipeline) => Engine::Megakernel {
-                bind_group: ctx.scoped(|| bind_buffers(ctx, &pipeline, &bound))?,
-                pipeline,
+        let engine = match megakernel {
+            Some(pipelines) => Engine::Megakernel {
+                bind_group: ctx.scoped(|| megakernel_bind_group(ctx, &pipelines, &bound))?,
+                pipelines,
             },
             None => {
                 // Room for the whole tile at the most samples a wave may take, within the cap (but
@@ -430,9 +265,13 @@ impl<'a> Renderer<'a> {
             .filter(|s| s.is_finite() && *s >= 0.0)
             .map(Duration::from_secs_f64);
         // Only the megakernel's pipelines grow (tests/memory.rs).
-        let auto =
-            options.rebuild_on_cpu && !wavefront && ctx.info.device_type == wgpu::DeviceType::Cpu;
-        let explicit = options.pipeline_lifetime.or(from_env.filter(|_| auto));
+        let auto = options.rebuild_on_cpu
+            && options.kernel == Kernel::Megakernel
+            && ctx.info.device_type == wgpu::DeviceType::Cpu;
+        let explicit = options
+            .experiments
+            .pipeline_lifetime
+            .or(from_env.filter(|_| auto));
         let pipeline_lifetime = explicit.or(auto.then_some(CPU_PIPELINE_LIFETIME));
         let rebuild_amortisation = if explicit.is_some() {
             0
@@ -470,9 +309,9 @@ impl<'a> Renderer<'a> {
         })
     }
 
-    /// Whether the wavefront kernels trace (else the megakernel: see `RenderOptions::wavefront`).
-    pub fn wavefront(&self) -> bool {
-        matches!(self.engine, Engine::Wavefront(_))
+    /// What traces the paths.
+    pub fn kernel(&self) -> Kernel {
+        self.options.kernel
     }
 
     pub fn samples_done(&self) -> u32 {
@@ -524,17 +363,15 @@ impl<'a> Renderer<'a> {
     }
 
     fn rebuild_megakernel(&mut self) -> Result<()> {
-        self.ctx
-            .pipelines
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .remove(&self.pipeline_key);
-        let pipeline = trace_pipeline(self.ctx, self.pipeline_key)?;
+        if let Engine::Megakernel { pipelines, .. } = &self.engine {
+            forget(self.ctx, pipelines);
+        }
+        let pipelines = kernel_pipelines(self.ctx, self.pipeline_key)?;
         let bind_group = self
             .ctx
-            .scoped(|| bind_buffers(self.ctx, &pipeline, &self.bound))?;
+            .scoped(|| megakernel_bind_group(self.ctx, &pipelines, &self.bound))?;
         self.engine = Engine::Megakernel {
-            pipeline,
+            pipelines,
             bind_group,
         };
         Ok(())
@@ -600,27 +437,19 @@ impl<'a> Renderer<'a> {
 
     /// Chooses rows and samples per dispatch so one dispatch takes about the target time.
     fn adapt(&mut self, seconds_per_sample_row: f64) {
-        if seconds_per_sample_row <= 0.0 {
-            return;
-        }
-        let budget = self.options.target_dispatch.as_secs_f64() / seconds_per_sample_row;
-        let tile_rows = self.frame.tile_row_end - self.frame.tile_row_begin;
-        let height = f64::from(tile_rows);
-        if budget >= height {
-            self.rows_per_dispatch = tile_rows;
-            self.samples_per_dispatch = ((budget / height) as u32).clamp(1, self.loop_cap);
-        } else {
-            self.samples_per_dispatch = 1;
-            self.rows_per_dispatch = (budget as u32).clamp(1, tile_rows);
-        }
-        if let Engine::Wavefront(wave) = &self.engine {
-            // A wave's paths must fit its queues.
-            let row_paths = self.frame.width.max(1);
-            let rows = (wave.capacity / row_paths).max(1);
-            self.rows_per_dispatch = self.rows_per_dispatch.min(rows);
-            let band = self.rows_per_dispatch * row_paths;
-            self.samples_per_dispatch =
-                self.samples_per_dispatch.min((wave.capacity / band).max(1));
+        let wave_capacity = match &self.engine {
+            Engine::Wavefront(wave) => Some(wave.capacity),
+            Engine::Megakernel { .. } => None,
+        };
+        if let Some(shape) = sizing::dispatch_shape(
+            seconds_per_sample_row,
+            self.options.target_dispatch,
+            self.frame.width,
+            self.frame.tile_row_end - self.frame.tile_row_begin,
+            self.loop_cap,
+            wave_capacity,
+        ) {
+            (self.rows_per_dispatch, self.samples_per_dispatch) = shape;
         }
     }
 
@@ -637,9 +466,9 @@ impl<'a> Renderer<'a> {
         };
         let (pipeline, bind_group) = match &self.engine {
             Engine::Megakernel {
-                pipeline,
+                pipelines,
                 bind_group,
-            } => (pipeline, bind_group),
+            } => (pipelines.stage("main"), bind_group),
             // A wave is a submission per path depth; the longest one's time bounds each dispatch's.
             Engine::Wavefront(wave) => {
                 let run = wave.run(self.ctx, &self.frame_buffer, &frame)?;
@@ -656,7 +485,7 @@ impl<'a> Renderer<'a> {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, bind_group, &[]);
-                let [wx, wy] = self.options.workgroup.map(|w| w.max(1));
+                let [wx, wy] = self.options.experiments.workgroup;
                 pass.dispatch_workgroups(self.frame.width.div_ceil(wx), rows.div_ceil(wy), 1);
             }
             self.ctx.queue.submit([encoder.finish()]);
@@ -738,85 +567,12 @@ impl<'a> Renderer<'a> {
     }
 }
 
-/// A bind group of `bound` for `pipeline`'s (derived) layout.
-fn bind_buffers(
+/// The megakernel's bind group over `bound`.
+fn megakernel_bind_group(
     ctx: &GpuContext,
-    pipeline: &wgpu::ComputePipeline,
-    bound: &[(u32, wgpu::Buffer)],
+    pipelines: &KernelPipelines,
+    bound: &[(Binding, wgpu::Buffer)],
 ) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> = bound
-        .iter()
-        .map(|(binding, buffer)| wgpu::BindGroupEntry {
-            binding: *binding,
-            resource: buffer.as_entire_binding(),
-        })
-        .collect();
-    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("trace"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &entries,
-    })
-}
-
-/// Rows per tile so that a tile's accumulation buffer (16 bytes per pixel) fits in `max_bytes`.
-pub fn tile_rows(width: u32, height: u32, max_bytes: u64) -> u32 {
-    let row_bytes = u64::from(width.max(1)) * 16;
-    ((max_bytes / row_bytes).max(1) as u32).min(height.max(1))
-}
-
-/// Renders `spp` samples per pixel of an image too large for one accumulation buffer, tile by
-/// tile (bands of whole rows), and stitches the tiles. Each pixel's samples are the same as in an
-/// untiled render (random numbers are keyed by the pixel's number in the whole image), so the result
-/// is bit-identical. `max_tile_bytes` defaults to the adapter's largest storage binding;
-/// `progress(fraction)` returning false stops after the current batch (the unrendered rest is black).
-pub fn render_tiled(
-    ctx: &GpuContext,
-    gpu_scene: &GpuScene,
-    frame: Frame,
-    options: RenderOptions,
-    spp: u32,
-    max_tile_bytes: Option<u64>,
-    mut progress: impl FnMut(f64) -> bool,
-) -> Result<Image> {
-    let limits = ctx.device.limits();
-    let max_bytes = max_tile_bytes.unwrap_or(
-        limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size),
-    );
-    let rows_per_tile = tile_rows(frame.width, frame.height, max_bytes);
-    let mut pixels = vec![[0.0f32; 4]; frame.width as usize * frame.height as usize];
-    let mut done_samples = spp;
-    let mut begin = 0;
-    let mut keep_going = true;
-    while begin < frame.height && keep_going {
-        let end = (begin + rows_per_tile).min(frame.height);
-        let tile_frame = Frame {
-            tile_row_begin: begin,
-            tile_row_end: end,
-            ..frame
-        };
-        let mut renderer = Renderer::new(ctx, gpu_scene, tile_frame, options)?;
-        while renderer.samples_done() < spp {
-            renderer.render_batch(spp - renderer.samples_done())?;
-            let fraction = (f64::from(begin)
-                + f64::from(end - begin) * f64::from(renderer.samples_done()) / f64::from(spp))
-                / f64::from(frame.height);
-            if !progress(fraction) {
-                keep_going = false;
-                break;
-            }
-        }
-        done_samples = done_samples.min(renderer.samples_done());
-        let tile = renderer.read_image()?;
-        let start = begin as usize * frame.width as usize;
-        pixels[start..start + tile.pixels.len()].copy_from_slice(&tile.pixels);
-        begin = end;
-    }
-    Ok(Image {
-        width: frame.width,
-        height: frame.height,
-        samples_per_pixel: done_samples,
-        pixels,
-    })
+    let buffers: Vec<(Binding, &wgpu::Buffer)> = bound.iter().map(|(b, buf)| (*b, buf)).collect();
+    bindings::bind_group(ctx, Kernel::Megakernel, &pipelines.layout, &buffers)
 }

@@ -1,4 +1,4 @@
-//! The wavefront variant of the tracing kernel (the default, `RenderOptions::wavefront`; measured
+//! The wavefront variant of the tracing kernel (the default, `Kernel::Wavefront`; measured
 //! against the megakernel in docs/performance.md): the same estimator, split into one kernel per
 //! stage over queues of paths in storage buffers (`shaders/wavefront.wgsl` describes the stages).
 //! A wave is a band of rows times some samples per pixel, every path to its end: one submission
@@ -9,10 +9,11 @@ use std::time::{Duration, Instant};
 
 use rt_core::gpu_types::Frame;
 
+use crate::bindings::{self, Binding};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
-use crate::pipelines::PipelineKey;
-use crate::shaders;
+use crate::options::Kernel;
+use crate::pipelines::{KernelPipelines, PipelineKey, forget, kernel_pipelines};
 
 /// Invocations per work group of every wavefront kernel (`WAVE_GROUP` in the shader).
 pub const WAVE_GROUP: u32 = 64;
@@ -54,134 +55,20 @@ pub const WAVE_QUEUES_FIELDS: &[(&str, usize)] = &[
     ("_pad", 28),
 ];
 
-/// The six kernels of one feature set, over one explicit bind-group layout (they share a bind group).
-pub(crate) struct WavePipelines {
-    layout: wgpu::BindGroupLayout,
-    generate: wgpu::ComputePipeline,
-    extend: wgpu::ComputePipeline,
-    shade: wgpu::ComputePipeline,
-    connect: wgpu::ComputePipeline,
-    advance: wgpu::ComputePipeline,
-    finish: wgpu::ComputePipeline,
-}
-
-/// Binding numbers the wavefront kernels write (the rest are read-only, 0 a uniform).
-const WRITTEN: [u32; 8] = [6, 7, 10, 12, 13, 14, 15, 16];
-/// The scene's bindings (shared/scene_bindings.wgsl) and the outputs, as the megakernel numbers them.
-const SHARED: [u32; 11] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10];
-/// The wavefront's own: paths, ray queues, shadow rays, queue lengths, per-path AOVs.
-const OWN: [u32; 5] = [12, 13, 14, 15, 16];
+/// The wavefront's own buffers, in the order `Wavefront::own` holds them.
+const OWN: [Binding; 5] = [
+    bindings::PATHS,
+    bindings::RAY_QUEUES,
+    bindings::SHADOW_RAYS,
+    bindings::QUEUES,
+    bindings::PATH_AOVS,
+];
 /// Index of the queue lengths (`WaveQueues`) among the own buffers.
 const QUEUE_LENGTHS: usize = 3;
 
-fn bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = SHARED
-        .iter()
-        .chain(&OWN)
-        .map(|&binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: if binding == 0 {
-                    wgpu::BufferBindingType::Uniform
-                } else {
-                    wgpu::BufferBindingType::Storage {
-                        read_only: !WRITTEN.contains(&binding),
-                    }
-                },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        })
-        .collect();
-    ctx.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("wavefront"),
-            entries: &entries,
-        })
-}
-
-/// The wavefront kernels for `key` (its megakernel-only fields ignored), built on first use.
-pub(crate) fn wave_pipelines(ctx: &GpuContext, key: PipelineKey) -> Result<Arc<WavePipelines>> {
-    let key = PipelineKey {
-        workgroup: [WAVE_GROUP, 1],
-        trusted: false,
-        soa_triangles: false,
-        ..key
-    };
-    if let Some(p) = ctx
-        .wave_pipelines
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .get(&key)
-    {
-        return Ok(p.clone());
-    }
-    let started = Instant::now();
-    let constants: Vec<(&str, f64)> = key
-        .constants()
-        .into_iter()
-        .filter(|(name, _)| !PipelineKey::MEGAKERNEL_ONLY.contains(name))
-        .collect();
-    let pipelines = ctx.scoped(|| {
-        let module = ctx
-            .device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("wavefront"),
-                source: wgpu::ShaderSource::Wgsl(
-                    shaders::wavefront_module(key.layout).source().into(),
-                ),
-            });
-        let layout = bind_group_layout(ctx);
-        let pipeline_layout = ctx
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("wavefront"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-        let kernel = |entry: &str| {
-            ctx.device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &constants,
-                        // The BVH stacks in work-group memory are pushed before they are read; a
-                        // 16 KiB clear per work group, three dispatches per depth, would be waste.
-                        zero_initialize_workgroup_memory: false,
-                    },
-                    cache: None,
-                })
-        };
-        WavePipelines {
-            generate: kernel("generate"),
-            extend: kernel("extend"),
-            shade: kernel("shade"),
-            connect: kernel("connect"),
-            advance: kernel("advance"),
-            finish: kernel("finish"),
-            layout,
-        }
-    })?;
-    log::info!(
-        "compiled wavefront pipelines {key:?} in {:.2?}",
-        started.elapsed()
-    );
-    let pipelines = Arc::new(pipelines);
-    ctx.wave_pipelines
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .insert(key, pipelines.clone());
-    Ok(pipelines)
-}
-
 /// A renderer's wavefront state: its kernels, queues and the bind group over the scene's buffers.
 pub(crate) struct Wavefront {
-    pipelines: Arc<WavePipelines>,
+    pipelines: Arc<KernelPipelines>,
     bind_group: wgpu::BindGroup,
     /// Paths, ray queues, shadow rays, queue lengths and per-path AOVs (bindings `OWN`).
     own: [wgpu::Buffer; 5],
@@ -193,15 +80,21 @@ pub(crate) struct Wavefront {
 }
 
 impl Wavefront {
-    /// Queues for `capacity` paths; `bound` are the megakernel's (binding, buffer) pairs, of which
-    /// the scene's, the accumulation, the counters and the AOVs are shared.
+    /// Queues for `capacity` paths; `bound` are the scene's buffers and the outputs (shared with
+    /// the megakernel's bindings).
     pub fn new(
         ctx: &GpuContext,
         key: PipelineKey,
-        bound: &[(u32, wgpu::Buffer)],
+        bound: &[(Binding, wgpu::Buffer)],
         capacity: u32,
     ) -> Result<Self> {
-        let pipelines = wave_pipelines(ctx, key)?;
+        let pipelines = kernel_pipelines(
+            ctx,
+            PipelineKey {
+                kernel: Kernel::Wavefront,
+                ..key
+            },
+        )?;
         let capacity = capacity.max(1);
         let sizes = [
             ("wavefront paths", u64::from(capacity) * WAVE_PATH_BYTES),
@@ -258,13 +151,16 @@ impl Wavefront {
         &mut self,
         ctx: &GpuContext,
         key: PipelineKey,
-        bound: &[(u32, wgpu::Buffer)],
+        bound: &[(Binding, wgpu::Buffer)],
     ) -> Result<()> {
-        ctx.wave_pipelines
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .retain(|_, p| !Arc::ptr_eq(p, &self.pipelines));
-        let pipelines = wave_pipelines(ctx, key)?;
+        forget(ctx, &self.pipelines);
+        let pipelines = kernel_pipelines(
+            ctx,
+            PipelineKey {
+                kernel: Kernel::Wavefront,
+                ..key
+            },
+        )?;
         self.bind_group = bind(ctx, &pipelines, bound, &self.own)?;
         self.pipelines = pipelines;
         Ok(())
@@ -367,10 +263,10 @@ impl Wavefront {
             }
         };
         let depth_stages = [
-            (&p.extend, None),
-            (&p.shade, None),
-            (&p.connect, None),
-            (&p.advance, Some(1)),
+            (p.stage("extend"), None),
+            (p.stage("shade"), None),
+            (p.stage("connect"), None),
+            (p.stage("advance"), Some(1)),
         ];
         let mut run = WaveRun::default();
         for depth in 0..frame.max_depth.max(1) {
@@ -389,7 +285,10 @@ impl Wavefront {
                             0,
                             bytemuck::bytes_of(&queues.groups),
                         );
-                        pass(encoder, &[(&p.generate, Some(paths.div_ceil(WAVE_GROUP)))]);
+                        pass(
+                            encoder,
+                            &[(p.stage("generate"), Some(paths.div_ceil(WAVE_GROUP)))],
+                        );
                     }
                     if frame.max_depth > 0 {
                         pass(encoder, &depth_stages);
@@ -412,7 +311,10 @@ impl Wavefront {
         }
         let (elapsed, _) = submit(
             &|encoder| {
-                pass(encoder, &[(&p.finish, Some(band.div_ceil(WAVE_GROUP)))]);
+                pass(
+                    encoder,
+                    &[(p.stage("finish"), Some(band.div_ceil(WAVE_GROUP)))],
+                );
             },
             false,
         )?;
@@ -434,25 +336,14 @@ pub struct WaveRun {
 /// The bind group of `pipelines` over the shared bindings of `bound` and the wavefront's own.
 fn bind(
     ctx: &GpuContext,
-    pipelines: &WavePipelines,
-    bound: &[(u32, wgpu::Buffer)],
+    pipelines: &KernelPipelines,
+    bound: &[(Binding, wgpu::Buffer)],
     own: &[wgpu::Buffer; 5],
 ) -> Result<wgpu::BindGroup> {
-    let entries: Vec<wgpu::BindGroupEntry> = bound
+    let buffers: Vec<(Binding, &wgpu::Buffer)> = bound
         .iter()
-        .filter(|(binding, _)| SHARED.contains(binding))
         .map(|(binding, buffer)| (*binding, buffer))
         .chain(OWN.into_iter().zip(own))
-        .map(|(binding, buffer)| wgpu::BindGroupEntry {
-            binding,
-            resource: buffer.as_entire_binding(),
-        })
         .collect();
-    ctx.scoped(|| {
-        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("wavefront"),
-            layout: &pipelines.layout,
-            entries: &entries,
-        })
-    })
+    ctx.scoped(|| bindings::bind_group(ctx, Kernel::Wavefront, &pipelines.layout, &buffers))
 }

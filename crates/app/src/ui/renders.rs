@@ -1,7 +1,7 @@
 //! One window per render: progress and Cancel while it runs, then the image with zoom, pan, an
 //! exposure slider and Save as PNG / JPEG / PPM / EXR.
 
-use rt_gpu::renderer::Image;
+use rt_gpu::Image;
 
 use crate::app::{RenderView, RtApp};
 use crate::render_job::JobState;
@@ -31,21 +31,7 @@ pub fn tone_mapped_rgb(
 fn denoised(view: &mut RenderView) -> Option<&Vec<[f32; 3]>> {
     if view.denoised.is_none() {
         let (image, aovs) = (view.job.image.as_ref()?, view.job.aovs.as_ref()?);
-        let color = image.rgb();
-        let variance = rt_core::output::pixel_variance(&image.pixels, image.samples_per_pixel);
-        let result = rt_core::denoise::denoise(
-            &rt_core::denoise::DenoiseInput {
-                width: image.width,
-                height: image.height,
-                color: &color,
-                emission: &aovs.emission,
-                albedo: &aovs.albedo,
-                normal: &aovs.normal,
-                variance: &variance,
-            },
-            &rt_core::denoise::DenoiseParams::default(),
-        )
-        .ok()?;
+        let result = image.denoised(aovs).ok()?;
         view.denoised = Some(result);
     }
     view.denoised.as_ref()

@@ -1,0 +1,105 @@
+//! The editor's command line and window: `rt [FILE] [--adapter ...] [--smoke-test DIR]`. Both the
+//! `rt` binary (crates/app) and `cargo run` at the workspace root (the root package's
+//! `rt-editor`) call `main` here.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use crate::smoke::{Outcome, SmokeTest};
+use crate::{AppOptions, RtApp};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "rt",
+    version,
+    about = "rt: a physically based path tracer and scene editor"
+)]
+struct Args {
+    /// A Wavefront OBJ, an rt project (.rtproj) or lighting file (.rtlight) to open.
+    path: Option<PathBuf>,
+    /// Which GPU renders: "auto", "cpu" (lavapipe) or part of an adapter's name.
+    #[arg(long, default_value = "auto")]
+    adapter: String,
+    /// Render a few samples, save an image, a project and a screenshot into DIR, and quit (a
+    /// test of the real window).
+    #[arg(long, value_name = "DIR")]
+    smoke_test: Option<PathBuf>,
+}
+
+fn has_display() -> bool {
+    if !cfg!(target_os = "linux") {
+        return true;
+    }
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|d| !d.is_empty()))
+}
+
+/// Parses the command line and runs the editor until its window closes.
+pub fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let args = Args::parse();
+    if !has_display() {
+        eprintln!(
+            "rt: no display (neither DISPLAY nor WAYLAND_DISPLAY is set). On a headless machine \
+             render with the command line instead, e.g. `rt-cli render -o cornell.png`."
+        );
+        return ExitCode::from(2);
+    }
+    let options = AppOptions {
+        config_dir: if args.smoke_test.is_some() {
+            None
+        } else {
+            crate::recent::default_config_dir()
+        },
+        open: args.path.clone(),
+        adapter: args.adapter.parse().unwrap_or_default(),
+    };
+    let native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("rt")
+            .with_inner_size([1280.0, 800.0])
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        ..Default::default()
+    };
+    let outcome: Outcome = Default::default();
+    let smoke_dir = args.smoke_test.clone();
+    if let Some(dir) = &smoke_dir
+        && let Err(e) = std::fs::create_dir_all(dir)
+    {
+        eprintln!("rt: {}: {e}", dir.display());
+        return ExitCode::from(2);
+    }
+    let result = {
+        let outcome = outcome.clone();
+        eframe::run_native(
+            "rt",
+            native,
+            Box::new(move |cc| {
+                let app = RtApp::from_creation_context(cc, &options);
+                Ok(match smoke_dir {
+                    Some(dir) => Box::new(SmokeTest::new(app, dir, outcome)),
+                    None => Box::new(app),
+                })
+            }),
+        )
+    };
+    if let Err(e) = result {
+        eprintln!("rt: could not open the window: {e}");
+        return ExitCode::FAILURE;
+    }
+    if args.smoke_test.is_some() {
+        let passed = outcome
+            .lock()
+            .ok()
+            .and_then(|o| o.clone())
+            .is_some_and(|r| r.is_ok());
+        if !passed {
+            return ExitCode::FAILURE;
+        }
+    }
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,246 @@
+//! The flags `render`, `converge` and `bench` share, as clap structs flattened into each, and the
+//! one place they become `RenderSettings` and `RenderOptions`.
+
+use clap::Args;
+use rt_core::RenderSettings;
+use rt_core::bvh::{BvhLayout, BvhQuality};
+use rt_core::reference::rng::SamplerKind;
+use rt_gpu::{AdapterChoice, Kernel, RenderOptions};
+
+/// Image size and estimator (render, converge).
+#[derive(Args, Debug, Clone, Default)]
+pub struct EstimatorArgs {
+    #[arg(long)]
+    pub width: Option<u32>,
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Ray segments per path (1: emitters only, 2: direct light, ...).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Turn off next-event estimation (sample only the BSDF; noisier, for comparisons).
+    #[arg(long)]
+    pub no_nee: bool,
+    /// Diagnostic: take area lights from next-event estimation alone, without MIS (unbiased but
+    /// noisier; for comparing estimators).
+    #[arg(long, conflicts_with = "no_nee")]
+    pub nee_only: bool,
+    /// Turn off Russian roulette (every path runs to max depth unless it is absorbed or escapes).
+    #[arg(long)]
+    pub no_roulette: bool,
+    /// Firefly clamp: scale each contribution of bounced light down so no channel exceeds X
+    /// (directly seen emitters stay exact). Biased (removes energy); off by default.
+    #[arg(long, value_name = "X")]
+    pub clamp: Option<f32>,
+    /// Random numbers: sobol (Owen-scrambled Sobol points, the default: less noise for the same
+    /// samples) or independent (PCG streams).
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerArg>,
+}
+
+impl EstimatorArgs {
+    /// Applies the flags over the scene's own settings (a flag left out keeps the scene's value).
+    pub fn apply(&self, settings: &mut RenderSettings) {
+        settings.width = self.width.unwrap_or(settings.width);
+        settings.height = self.height.unwrap_or(settings.height);
+        settings.max_depth = self.max_depth.unwrap_or(settings.max_depth);
+        settings.next_event_estimation = !self.no_nee;
+        settings.nee_only = self.nee_only;
+        settings.russian_roulette = !self.no_roulette;
+        settings.clamp = self.clamp.or(settings.clamp);
+        if let Some(sampler) = self.sampler {
+            settings.sampler = sampler.into();
+        }
+    }
+}
+
+/// Which adapter and kernel render (render, converge, bench).
+#[derive(Args, Debug, Clone, Default)]
+pub struct EngineArgs {
+    /// What traces the paths: wavefront (the default) or megakernel; the same image either way
+    /// (docs/performance.md compares them).
+    #[arg(long, value_enum)]
+    pub kernel: Option<KernelArg>,
+    /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
+    #[arg(long, default_value = "auto")]
+    pub adapter: AdapterChoice,
+}
+
+impl EngineArgs {
+    pub fn kernel(&self) -> Kernel {
+        self.kernel.map(Into::into).unwrap_or_default()
+    }
+
+    /// The options a user's render runs with: `render` (whole or tiled) and `converge` use these
+    /// as they are; `bench` adds its measurement switches on top.
+    pub fn render_options(&self, denoise: bool) -> RenderOptions {
+        RenderOptions {
+            kernel: self.kernel(),
+            aovs: denoise,
+            // Bounds lavapipe's memory growth over long megakernel renders (docs/performance.md).
+            rebuild_on_cpu: true,
+            ..Default::default()
+        }
+    }
+}
+
+/// The BVH (converge, bench).
+#[derive(Args, Debug, Clone)]
+pub struct BvhArgs {
+    /// BVH build preset: faster builds make slower traversal.
+    #[arg(long, value_enum, default_value = "medium")]
+    pub bvh_quality: Quality,
+    /// BVH layout the kernel traverses.
+    #[arg(long, value_enum, default_value = "cwbvh")]
+    pub bvh: Layout,
+}
+
+/// `--sampler` values.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum SamplerArg {
+    Independent,
+    Sobol,
+}
+
+impl From<SamplerArg> for SamplerKind {
+    fn from(s: SamplerArg) -> Self {
+        match s {
+            SamplerArg::Independent => Self::Independent,
+            SamplerArg::Sobol => Self::Sobol,
+        }
+    }
+}
+
+/// `--kernel` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum KernelArg {
+    /// A kernel per path stage over queues of paths (the default).
+    Wavefront,
+    /// One kernel runs whole paths.
+    Megakernel,
+}
+
+impl From<KernelArg> for Kernel {
+    fn from(k: KernelArg) -> Self {
+        match k {
+            KernelArg::Wavefront => Kernel::Wavefront,
+            KernelArg::Megakernel => Kernel::Megakernel,
+        }
+    }
+}
+
+/// `--bvh-quality` values.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Quality {
+    Fastest,
+    Fast,
+    Medium,
+    Slow,
+}
+
+impl From<Quality> for BvhQuality {
+    fn from(q: Quality) -> Self {
+        match q {
+            Quality::Fastest => BvhQuality::Fastest,
+            Quality::Fast => BvhQuality::Fast,
+            Quality::Medium => BvhQuality::Medium,
+            Quality::Slow => BvhQuality::Slow,
+        }
+    }
+}
+
+/// `--bvh` values.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Layout {
+    /// Binary BVH, uncompressed boxes.
+    Bvh2,
+    /// Compressed wide BVH8 (the default).
+    Cwbvh,
+}
+
+impl From<Layout> for BvhLayout {
+    fn from(l: Layout) -> Self {
+        match l {
+            Layout::Bvh2 => BvhLayout::Bvh2,
+            Layout::Cwbvh => BvhLayout::Cwbvh,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Parser)]
+    struct Flags {
+        #[command(flatten)]
+        estimator: EstimatorArgs,
+        #[command(flatten)]
+        engine: EngineArgs,
+    }
+
+    fn parse(args: &[&str]) -> Flags {
+        match Flags::try_parse_from(std::iter::once("rt-cli").chain(args.iter().copied())) {
+            Ok(flags) => flags,
+            Err(e) => panic!("{args:?}: {e}"),
+        }
+    }
+
+    #[test]
+    fn every_estimator_flag_reaches_the_settings() {
+        let flags = parse(&[
+            "--width",
+            "7",
+            "--height",
+            "5",
+            "--max-depth",
+            "3",
+            "--nee-only",
+            "--no-roulette",
+            "--clamp",
+            "2.5",
+            "--sampler",
+            "independent",
+        ]);
+        let mut settings = RenderSettings::default();
+        flags.estimator.apply(&mut settings);
+        assert_eq!(
+            (settings.width, settings.height, settings.max_depth),
+            (7, 5, 3)
+        );
+        assert!(settings.nee_only && settings.next_event_estimation);
+        assert!(!settings.russian_roulette);
+        assert_eq!(settings.clamp, Some(2.5));
+        assert_eq!(settings.sampler, SamplerKind::Independent);
+        let mut settings = RenderSettings::default();
+        parse(&["--no-nee"]).estimator.apply(&mut settings);
+        assert!(!settings.next_event_estimation);
+    }
+
+    #[test]
+    fn flags_left_out_keep_the_scene_settings() {
+        let scene = RenderSettings {
+            width: 33,
+            max_depth: 11,
+            clamp: Some(4.0),
+            sampler: SamplerKind::Independent,
+            ..RenderSettings::default()
+        };
+        let mut settings = scene.clone();
+        parse(&[]).estimator.apply(&mut settings);
+        assert_eq!(settings, scene);
+    }
+
+    #[test]
+    fn the_engine_flags_reach_the_options() {
+        let options = parse(&["--kernel", "megakernel"])
+            .engine
+            .render_options(true);
+        assert_eq!(options.kernel, Kernel::Megakernel);
+        assert!(options.aovs && options.rebuild_on_cpu);
+        let options = parse(&[]).engine.render_options(false);
+        assert_eq!(options.kernel, Kernel::Wavefront);
+        assert!(!options.aovs);
+    }
+}

@@ -1,0 +1,144 @@
+//! What a caller may ask of a render: the kernel, dispatch sizing, ray counting, AOVs and the
+//! firefly clamp (the contract), and `Experiments`, switches kept for benchmarks and tests.
+
+use std::time::Duration;
+
+use crate::error::{GpuError, Result};
+
+/// The most invocations a work group of the megakernel may have: each holds a 64-entry BVH
+/// traversal stack in work-group memory (`shaders/shared/bvh.wgsl`), 16 KiB in all.
+pub const MAX_WORKGROUP_INVOCATIONS: u32 = 64;
+
+/// The megakernel's work group unless an experiment asks for another (measured in
+/// docs/performance-log.md, "Work-group shape").
+pub const DEFAULT_WORKGROUP: [u32; 2] = [8, 8];
+
+/// `Experiments::pipeline_lifetime` on CPU adapters with `RenderOptions::rebuild_on_cpu` (the
+/// compile-time amortisation usually decides: see docs/performance.md).
+pub const CPU_PIPELINE_LIFETIME: Duration = Duration::from_secs(5);
+
+/// Between rebuilds the kernel runs at least this many times as long as the last (re)build's first
+/// batch took, which holds the JIT compile: rebuilds cost under 1/this of the render time.
+pub const REBUILD_AMORTISATION: u32 = 10;
+
+/// What traces the paths. Both run the one estimator of `shaders/shared/path.wgsl` and give the
+/// same samples (bit for bit on lavapipe without delta lights; `tests/wavefront.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Kernel {
+    /// `shaders/wavefront.wgsl`: a kernel per path stage over queues of paths (the default:
+    /// 1.35-1.9x the megakernel on lavapipe, docs/performance.md).
+    #[default]
+    Wavefront,
+    /// `shaders/trace.wgsl`: one invocation runs whole paths.
+    Megakernel,
+}
+
+impl Kernel {
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Wavefront => "wavefront",
+            Kernel::Megakernel => "megakernel",
+        }
+    }
+}
+
+/// How to render. `Default` is what `rt` and `rt-cli` use, apart from the switches they set.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderOptions {
+    pub kernel: Kernel,
+    /// Each dispatch (of the wavefront kernels: each submission of a wave) should take about this,
+    /// well under the ~100 ms at which operating systems start to suspect a hung GPU.
+    pub target_dispatch: Duration,
+    /// Upper bound on samples per pixel in one dispatch; `None` derives it from the loop budget.
+    pub max_samples_per_dispatch: Option<u32>,
+    /// Count rays in the kernel (benchmarks); compiled out otherwise.
+    pub count_rays: bool,
+    /// Also accumulate each pixel's first-hit albedo and normal and the light seen directly (for
+    /// the denoiser; read them with `Renderer::read_aovs`).
+    pub aovs: bool,
+    /// Firefly clamp: scale each contribution of bounced light down so its largest channel is at
+    /// most this (directly seen emitters stay exact). Biased (it removes energy); `None` (the
+    /// default) leaves samples alone. `Renderer::for_scene` takes it from the scene's settings
+    /// when unset here.
+    pub clamp: Option<f32>,
+    /// Bound lavapipe's host-memory growth over long megakernel renders by rebuilding the
+    /// pipeline now and then (Mesa 22.3 keeps memory for every path the compiled megakernel
+    /// traces until the pipeline is destroyed; the wavefront kernels do not grow: tests/memory.rs).
+    /// Applies on CPU adapters with the megakernel only: after `CPU_PIPELINE_LIFETIME` or
+    /// `REBUILD_AMORTISATION` times the last build's first batch (its JIT compile), whichever is
+    /// longer (`RT_PIPELINE_LIFETIME_S` in the environment sets the lifetime exactly). Off by
+    /// default, for renderers that share a device with others (the tests): a CI run of the suite
+    /// with it on stalled inside lavapipe. `rt-cli render` and `converge` turn it on.
+    pub rebuild_on_cpu: bool,
+    pub experiments: Experiments,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            kernel: Kernel::default(),
+            target_dispatch: Duration::from_millis(40),
+            max_samples_per_dispatch: None,
+            count_rays: false,
+            aovs: false,
+            clamp: None,
+            rebuild_on_cpu: false,
+            experiments: Experiments::default(),
+        }
+    }
+}
+
+/// Switches for measurements and tests, not for users: each changes how the kernel runs, never
+/// what it computes (tests/extremes.rs checks the images are identical).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Experiments {
+    /// Compile every optional feature in, as if the scene used them all (benchmarks compare this
+    /// generic kernel with the specialised one).
+    pub generic_kernel: bool,
+    /// The megakernel's work-group width and height, at most `MAX_WORKGROUP_INVOCATIONS`
+    /// invocations (the BVH traversal stacks live in work-group memory). The wavefront kernels
+    /// always run 64 x 1.
+    pub workgroup: [u32; 2],
+    /// Rebuild the tracing pipeline(s) once the kernels have run this long (not counting the first
+    /// batch after a build), whatever the adapter and kernel. A rebuild changes no sample.
+    pub pipeline_lifetime: Option<Duration>,
+}
+
+impl Default for Experiments {
+    fn default() -> Self {
+        Experiments {
+            generic_kernel: false,
+            workgroup: DEFAULT_WORKGROUP,
+            pipeline_lifetime: None,
+        }
+    }
+}
+
+impl RenderOptions {
+    /// These options with what the scene's settings decide filled in where they are unset here
+    /// (the firefly clamp), as every render of a scene uses them.
+    pub fn with_scene_settings(self, settings: &rt_core::RenderSettings) -> Self {
+        RenderOptions {
+            clamp: self.clamp.or(settings.clamp),
+            ..self
+        }
+    }
+
+    /// An error for a combination that cannot be honoured (rather than silently ignoring a part).
+    pub fn validate(&self) -> Result<()> {
+        let [wx, wy] = self.experiments.workgroup;
+        if wx == 0 || wy == 0 || wx * wy > MAX_WORKGROUP_INVOCATIONS {
+            return Err(GpuError::Options(format!(
+                "work group {wx}x{wy}: it must have 1 to {MAX_WORKGROUP_INVOCATIONS} invocations \
+                 (their BVH traversal stacks share the work group's 16 KiB of memory)"
+            )));
+        }
+        if self.kernel == Kernel::Wavefront && self.experiments.workgroup != DEFAULT_WORKGROUP {
+            return Err(GpuError::Options(format!(
+                "work group {wx}x{wy}: work-group shapes are the megakernel's (the wavefront \
+                 kernels run 64x1); choose the megakernel"
+            )));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,96 @@
+//! Images larger than one accumulation buffer, rendered in bands of rows one after another.
+
+use rt_core::GpuScene;
+use rt_core::gpu_types::Frame;
+
+use crate::context::GpuContext;
+use crate::error::Result;
+use crate::image::{Aovs, Image};
+use crate::options::RenderOptions;
+use crate::renderer::Renderer;
+
+/// Rows per tile so that a tile's accumulation buffer (16 bytes per pixel) fits in `max_bytes`.
+pub fn tile_rows(width: u32, height: u32, max_bytes: u64) -> u32 {
+    let row_bytes = u64::from(width.max(1)) * 16;
+    ((max_bytes / row_bytes).max(1) as u32).min(height.max(1))
+}
+
+/// A tiled render's result: the image and, with `RenderOptions::aovs`, the denoiser's guides.
+#[derive(Clone, Debug)]
+pub struct TiledRender {
+    pub image: Image,
+    pub aovs: Option<Aovs>,
+}
+
+/// Renders `spp` samples per pixel of an image too large for one accumulation buffer, tile by
+/// tile (bands of whole rows), and stitches the tiles (and their AOVs). Each pixel's samples are
+/// the same as in an untiled render (random numbers are keyed by the pixel's number in the whole
+/// image), so the result is bit-identical. `max_tile_bytes` defaults to the adapter's largest
+/// storage binding; `progress(fraction)` returning false stops after the current batch (the
+/// unrendered rest is black).
+pub fn render_tiled(
+    ctx: &GpuContext,
+    gpu_scene: &GpuScene,
+    frame: Frame,
+    options: RenderOptions,
+    spp: u32,
+    max_tile_bytes: Option<u64>,
+    mut progress: impl FnMut(f64) -> bool,
+) -> Result<TiledRender> {
+    let limits = ctx.device.limits();
+    let max_bytes = max_tile_bytes.unwrap_or(
+        limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size),
+    );
+    let rows_per_tile = tile_rows(frame.width, frame.height, max_bytes);
+    let pixel_count = frame.width as usize * frame.height as usize;
+    let mut pixels = vec![[0.0f32; 4]; pixel_count];
+    let mut aovs = options.aovs.then(|| Aovs {
+        albedo: vec![[0.0; 3]; pixel_count],
+        normal: vec![[0.0; 3]; pixel_count],
+        emission: vec![[0.0; 3]; pixel_count],
+    });
+    let mut done_samples = spp;
+    let mut begin = 0;
+    let mut keep_going = true;
+    while begin < frame.height && keep_going {
+        let end = (begin + rows_per_tile).min(frame.height);
+        let tile_frame = Frame {
+            tile_row_begin: begin,
+            tile_row_end: end,
+            ..frame
+        };
+        let mut renderer = Renderer::new(ctx, gpu_scene, tile_frame, options)?;
+        while renderer.samples_done() < spp {
+            renderer.render_batch(spp - renderer.samples_done())?;
+            let fraction = (f64::from(begin)
+                + f64::from(end - begin) * f64::from(renderer.samples_done()) / f64::from(spp))
+                / f64::from(frame.height);
+            if !progress(fraction) {
+                keep_going = false;
+                break;
+            }
+        }
+        done_samples = done_samples.min(renderer.samples_done());
+        let tile = renderer.read_image()?;
+        let start = begin as usize * frame.width as usize;
+        let range = start..start + tile.pixels.len();
+        pixels[range.clone()].copy_from_slice(&tile.pixels);
+        if let (Some(all), Some(tile)) = (aovs.as_mut(), renderer.read_aovs()?) {
+            all.albedo[range.clone()].copy_from_slice(&tile.albedo);
+            all.normal[range.clone()].copy_from_slice(&tile.normal);
+            all.emission[range].copy_from_slice(&tile.emission);
+        }
+        begin = end;
+    }
+    Ok(TiledRender {
+        image: Image {
+            width: frame.width,
+            height: frame.height,
+            samples_per_pixel: done_samples,
+            pixels,
+        },
+        aovs,
+    })
+}
