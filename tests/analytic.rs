@@ -363,9 +363,9 @@ fn the_sobol_sampler_has_less_error_on_smooth_lighting() {
     };
     s.settings.samples_per_pixel = 64;
     s.settings.seed = 7;
-    s.settings.sampler = rt_core::reference::rng::SamplerKind::Independent;
+    s.settings.sampler = rt_core::math::rng::SamplerKind::Independent;
     let independent = render(ctx, &s);
-    s.settings.sampler = rt_core::reference::rng::SamplerKind::Sobol;
+    s.settings.sampler = rt_core::math::rng::SamplerKind::Sobol;
     let sobol = render(ctx, &s);
     let (e_ind, e_sob) = (error(&independent), error(&sobol));
     assert!(

@@ -60,7 +60,7 @@ fn rel_mse_falls_as_one_over_spp() {
     scene.settings.width = 48;
     scene.settings.height = 48;
     // The −1 slope is the law of independent samples (Sobol points fall a little faster).
-    scene.settings.sampler = rt_core::reference::rng::SamplerKind::Independent;
+    scene.settings.sampler = rt_core::math::rng::SamplerKind::Independent;
     let gpu_scene = GpuScene::build(&scene).unwrap();
     let mut render_at = |spp: u32, seed: u32| {
         scene.settings.samples_per_pixel = spp;

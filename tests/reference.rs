@@ -122,7 +122,7 @@ fn gpu_matches_cpu_reference_with_point_spot_and_directional_lights() {
 #[test]
 fn gpu_matches_cpu_reference_with_the_sobol_sampler() {
     let mut scene = cornell_with_metal_and_glass(16);
-    scene.settings.sampler = rt_core::reference::rng::SamplerKind::Sobol;
+    scene.settings.sampler = rt_core::math::rng::SamplerKind::Sobol;
     assert_images_agree(&scene, 2048, 2048);
 }
 
@@ -158,7 +158,7 @@ fn gpu_matches_cpu_reference_on_textures_normals_and_thin_lens() {
 
 fn random_unit(state: &mut u32) -> Vec3 {
     let mut next = || {
-        *state = rt_core::reference::rng::pcg_hash(*state);
+        *state = rt_core::math::rng::pcg_hash(*state);
         *state as f32 / u32::MAX as f32
     };
     let z = 1.0 - 2.0 * next();
@@ -474,7 +474,7 @@ fn nee_with_mis_nee_only_and_bsdf_sampling_converge_to_the_same_image() {
 fn the_kernels_and_the_cpu_reference_agree_per_pixel_in_lockstep() {
     let Some(ctx) = gpu() else { return };
     let mut independent = cornell_with_metal_and_glass(20);
-    independent.settings.sampler = rt_core::reference::rng::SamplerKind::Independent;
+    independent.settings.sampler = rt_core::math::rng::SamplerKind::Independent;
     let mut lit = cornell_with_metal_and_glass(20);
     let mut bulb = rt_core::Light::new(rt_core::LightKind::Point, "bulb");
     bulb.position = [150.0, 400.0, 250.0];

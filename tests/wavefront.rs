@@ -8,7 +8,7 @@ use common::{
 };
 use glam::Vec3;
 use rt_core::bvh::{BvhLayout, BvhQuality};
-use rt_core::reference::rng::SamplerKind;
+use rt_core::math::rng::SamplerKind;
 use rt_core::shapes::{cuboid, quad};
 use rt_core::{GpuScene, Material, Scene};
 use rt_gpu::{Aovs, Image, Kernel, RenderOptions, Renderer};

@@ -1,4 +1,4 @@
-// Ray-triangle, ray-box and the self-intersection offset; mirrors crates/core/src/reference/intersect.rs.
+// Ray-triangle, ray-box and the self-intersection offset; mirrors crates/core/src/math/intersect.rs.
 
 // A ray prepared for the watertight test of Woop, Benthin and Wald (JCGT 2013).
 struct PreparedRay {

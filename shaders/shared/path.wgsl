@@ -2,7 +2,7 @@
 // a path's vertices in one invocation) and the wavefront kernels (wavefront.wgsl, which run each
 // stage for a queue of paths). Needs shared/scene_bindings.wgsl and a BVH traversal.
 //
-// Estimator: see crates/core/src/reference/mod.rs, which implements the same one on the CPU.
+// Estimator: see crates/core/src/reference/ (path.rs, the twin of this file), which implements the same one on the CPU.
 //   L = sum_{k < max_depth} beta_k Le(x_k),  beta_{k+1} = beta_k f cos / pdf = beta_k * albedo
 // with Le the front-face emission (or the ambient radiance on a miss); with next-event estimation,
 // diffuse vertices also sample an emitter point, and both strategies are weighted by the power

@@ -1,4 +1,4 @@
-// Random numbers; mirrors crates/core/src/reference/rng.rs. Two samplers, chosen per pipeline:
+// Random numbers; mirrors crates/core/src/math/rng.rs. Two samplers, chosen per pipeline:
 // - independent: a PCG stream per (pixel, sample, seed);
 // - SOBOL: Owen-scrambled Sobol points (Burley 2020, "Practical hash-based Owen scrambling"),
 //   consecutive dimensions taken in pairs from the (0,2)-sequence of Sobol's first two

@@ -1,4 +1,4 @@
-// Sampling and shading formulas; mirrors crates/core/src/reference/sampling.rs.
+// Sampling and shading formulas; mirrors crates/core/src/math/sampling.rs.
 
 const PI: f32 = 3.14159265358979;
 const TAU: f32 = 6.28318530717959;

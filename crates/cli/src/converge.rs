@@ -121,7 +121,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
                 .settings
                 .clamp
                 .map_or(String::new(), |c| format!("clamp {c}, "))
-                + if scene.settings.sampler == rt_core::reference::rng::SamplerKind::Sobol {
+                + if scene.settings.sampler == rt_core::math::rng::SamplerKind::Sobol {
                     "Sobol, "
                 } else {
                     "independent, "

@@ -4,7 +4,7 @@
 use clap::Args;
 use rt_core::RenderSettings;
 use rt_core::bvh::{BvhLayout, BvhQuality};
-use rt_core::reference::rng::SamplerKind;
+use rt_core::math::rng::SamplerKind;
 use rt_gpu::{AdapterChoice, Kernel, RenderOptions};
 
 /// Image size and estimator (render, converge).

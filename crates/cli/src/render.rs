@@ -167,15 +167,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let render_time = started.elapsed();
     let image = renderer.read_image()?;
     let noise = estimated_rel_mse(&image.pixels, image.samples_per_pixel).sqrt();
-    rt_core::output::save_render(
-        &args.output,
-        image.width,
-        image.height,
-        &image.pixels,
-        image.samples_per_pixel,
-        args.exposure,
-    )
-    .with_context(|| format!("saving {}", args.output.display()))?;
+    save(&args, &image)?;
 
     let secs = render_time.as_secs_f64().max(1e-9);
     let paths = pixels as f64 * f64::from(image.samples_per_pixel);
@@ -231,8 +223,8 @@ fn estimator_summary(settings: &rt_core::RenderSettings, gpu_scene: &GpuScene) -
         settings.max_depth,
         if gpu_scene.features.nee { "on" } else { "off" },
         match settings.sampler {
-            rt_core::reference::rng::SamplerKind::Sobol => "Sobol",
-            rt_core::reference::rng::SamplerKind::Independent => "independent",
+            rt_core::math::rng::SamplerKind::Sobol => "Sobol",
+            rt_core::math::rng::SamplerKind::Independent => "independent",
         }
     )
 }
@@ -288,15 +280,7 @@ fn render_in_tiles(
     )?;
     bar.finish_and_clear();
     let render_time = started.elapsed();
-    rt_core::output::save_render(
-        &args.output,
-        image.width,
-        image.height,
-        &image.pixels,
-        image.samples_per_pixel,
-        args.exposure,
-    )
-    .with_context(|| format!("saving {}", args.output.display()))?;
+    save(args, &image)?;
     print_scene_summary(ctx, args.engine.kernel(), gpu_scene);
     eprintln!(
         "image:          {}x{}, {} spp, {}, in {tiles} tiles of {rows} rows (the accumulation \
@@ -324,23 +308,29 @@ fn save_after_failure(
     let Some(image) = last_image.filter(|i| i.samples_per_pixel > 0) else {
         return error.context("the render failed before any samples were read back");
     };
-    match rt_core::output::save_render(
+    match save(args, &image) {
+        Ok(()) => error.context(format!(
+            "the render failed; the {} spp read back before the failure were saved to {}",
+            image.samples_per_pixel,
+            args.output.display()
+        )),
+        Err(save_error) => error.context(format!(
+            "the render failed, and saving the samples read back before it failed too: {save_error:#}"
+        )),
+    }
+}
+
+/// Saves `image` as the output (atomically, in the format its name says).
+fn save(args: &RenderArgs, image: &rt_gpu::Image) -> Result<()> {
+    rt_core::output::save_render(
         &args.output,
         image.width,
         image.height,
         &image.pixels,
         image.samples_per_pixel,
         args.exposure,
-    ) {
-        Ok(()) => error.context(format!(
-            "the render failed; the {} spp read back before the failure were saved to {}",
-            image.samples_per_pixel,
-            args.output.display()
-        )),
-        Err(save) => error.context(format!(
-            "the render failed, and saving the samples read back before it failed too: {save}"
-        )),
-    }
+    )
+    .with_context(|| format!("saving {}", args.output.display()))
 }
 
 /// `out.png` -> `out.denoised.png`.

@@ -231,7 +231,7 @@ mod tests {
         let (w, h) = (64usize, 32usize);
         let mut state = 1u32;
         let mut noise = || {
-            state = crate::reference::rng::pcg_hash(state);
+            state = crate::math::rng::pcg_hash(state);
             (state >> 8) as f32 / 16_777_216.0 - 0.5
         };
         let mut color = Vec::new();

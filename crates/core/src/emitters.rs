@@ -9,7 +9,7 @@
 use glam::Vec3;
 
 use crate::gpu_types::{Emitter, Material, Triangle};
-use crate::reference::sampling::luminance;
+use crate::math::sampling::luminance;
 
 /// The alias table and the total power Σ A·L (0 when nothing emits).
 pub fn build_emitters(triangles: &[Triangle], materials: &[Material]) -> (Vec<Emitter>, f32) {
@@ -88,7 +88,7 @@ mod tests {
     #[test]
     fn emitters_are_picked_in_proportion_to_their_power() {
         use crate::gpu_types::material_kind;
-        use crate::reference::rng::Rng;
+        use crate::math::rng::Rng;
         let material = |emission: [f32; 3]| Material {
             albedo: [0.5; 3],
             kind: material_kind::EMISSIVE,

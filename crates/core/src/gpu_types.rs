@@ -140,7 +140,7 @@ pub struct Frame {
     /// unless it is rendered in tiles to fit the adapter's buffer limits).
     pub tile_row_begin: u32, // 120
     pub tile_row_end: u32,    // 124
-    /// 0: independent PCG sampler; 1: Owen-scrambled Sobol (`reference::rng`).
+    /// 0: independent PCG sampler; 1: Owen-scrambled Sobol (`math::rng`).
     pub sampler: u32, // 128
     /// How emitters found by BSDF sampling and by next-event estimation are combined: 0 the power
     /// heuristic (MIS); 1 next-event estimation only (emitters reached by a diffuse bounce count

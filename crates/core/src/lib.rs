@@ -13,6 +13,7 @@ pub mod gpu_types;
 pub mod io;
 pub mod light;
 pub mod material;
+pub mod math;
 pub mod metrics;
 pub mod output;
 pub mod reference;

@@ -25,7 +25,7 @@ impl RgbImage {
         let rgb = img.to_rgb32f();
         let decode = |c: f32| {
             if linear_8bit {
-                crate::reference::sampling::srgb_to_linear(c)
+                crate::math::sampling::srgb_to_linear(c)
             } else {
                 c
             }

@@ -103,9 +103,9 @@ pub struct RenderSettings {
     #[serde(default)]
     pub clamp: Option<f32>,
     /// Where the random numbers come from: Owen-scrambled Sobol points (the default: less noise
-    /// for the same samples; `reference::rng`) or independent PCG streams.
+    /// for the same samples; `math::rng`) or independent PCG streams.
     #[serde(default)]
-    pub sampler: crate::reference::rng::SamplerKind,
+    pub sampler: crate::math::rng::SamplerKind,
     /// Diagnostic: with next-event estimation on, take area lights from next-event estimation alone
     /// (an emitter reached by a BSDF sample after a diffuse bounce counts zero) instead of combining
     /// both strategies by MIS. Unbiased but noisier; it exists so tests can check that the three

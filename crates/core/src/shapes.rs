@@ -49,7 +49,7 @@ pub fn uv_sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
 
 /// An axis-aligned rectangle centred at `center`, facing `normal` (±X, ±Y or ±Z), `size` per side.
 pub fn quad(center: Vec3, normal: Vec3, size: f32) -> Mesh {
-    let (t, b) = crate::reference::sampling::onb(normal.normalize());
+    let (t, b) = crate::math::sampling::onb(normal.normalize());
     let h = size * 0.5;
     let positions = vec![
         center - t * h - b * h,

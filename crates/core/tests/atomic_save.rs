@@ -60,7 +60,7 @@ fn killing_a_save_never_leaves_a_broken_file() {
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
-        state = rt_core::reference::rng::pcg_hash(state);
+        state = rt_core::math::rng::pcg_hash(state);
         // Past the child's start-up, at a random point among its next few saves.
         std::thread::sleep(Duration::from_millis(
             20 + u64::from(state) % (12 * save_ms),

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use rt_core::reference::rng::pcg_hash;
+use rt_core::math::rng::pcg_hash;
 use rt_core::{Error, GpuScene, Texture};
 
 const OBJ_SEEDS: &[&str] = &[

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use rt_core::bvh::{BvhLayout, BvhQuality, MAX_WIDE_BVH_DEPTH};
 use rt_core::io::obj::load_obj;
-use rt_core::reference::rng::Rng;
+use rt_core::math::rng::Rng;
 use rt_core::scene::{Mesh, Object};
 use rt_core::{GpuScene, Material, Scene};
 

@@ -28,6 +28,19 @@ pub fn storage_buffer<T: bytemuck::Pod>(
     })
 }
 
+/// An uninitialised storage buffer the kernels write and the CPU reads back or clears (the
+/// accumulation, AOVs, counters and the wavefront's queues). Call inside `GpuContext::scoped`.
+pub fn output_buffer(ctx: &GpuContext, label: &str, size: u64) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// Copies `size` bytes of `buffer` back to the CPU and waits for them.
 pub fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
     ctx.alive()?;

@@ -9,7 +9,7 @@ use rt_core::{GpuScene, Scene};
 use wgpu::util::DeviceExt;
 
 use crate::bindings::{self, Binding};
-use crate::buffers::{read_buffer, storage_buffer};
+use crate::buffers::{output_buffer, read_buffer, storage_buffer};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 use crate::image::{Aovs, Image};
@@ -213,16 +213,7 @@ impl<'a> Renderer<'a> {
                     contents: bytemuck::bytes_of(&frame),
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 });
-            let output = |label: &str, size: u64| {
-                ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size,
-                    usage: wgpu::BufferUsages::STORAGE
-                        | wgpu::BufferUsages::COPY_SRC
-                        | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                })
-            };
+            let output = |label: &str, size: u64| output_buffer(ctx, label, size);
             (
                 frame_buffer,
                 output("accumulation", accum_size),

@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use rt_core::gpu_types::Frame;
 
 use crate::bindings::{self, Binding};
+use crate::buffers::output_buffer;
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 use crate::options::Kernel;
@@ -66,6 +67,15 @@ const OWN: [Binding; 5] = [
 /// Index of the queue lengths (`WaveQueues`) among the own buffers.
 const QUEUE_LENGTHS: usize = 3;
 
+/// The wavefront kernels of `key`'s feature set.
+fn wave_pipelines(ctx: &GpuContext, key: PipelineKey) -> Result<Arc<KernelPipelines>> {
+    let key = PipelineKey {
+        kernel: Kernel::Wavefront,
+        ..key
+    };
+    kernel_pipelines(ctx, key)
+}
+
 /// A renderer's wavefront state: its kernels, queues and the bind group over the scene's buffers.
 pub(crate) struct Wavefront {
     pipelines: Arc<KernelPipelines>,
@@ -88,13 +98,7 @@ impl Wavefront {
         bound: &[(Binding, wgpu::Buffer)],
         capacity: u32,
     ) -> Result<Self> {
-        let pipelines = kernel_pipelines(
-            ctx,
-            PipelineKey {
-                kernel: Kernel::Wavefront,
-                ..key
-            },
-        )?;
+        let pipelines = wave_pipelines(ctx, key)?;
         let capacity = capacity.max(1);
         let sizes = [
             ("wavefront paths", u64::from(capacity) * WAVE_PATH_BYTES),
@@ -117,16 +121,7 @@ impl Wavefront {
             ctx.check_buffer(name, size)?;
         }
         let (own, dispatch_size) = ctx.scoped(|| {
-            let own = sizes.map(|(label, size)| {
-                ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size,
-                    usage: wgpu::BufferUsages::STORAGE
-                        | wgpu::BufferUsages::COPY_SRC
-                        | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                })
-            });
+            let own = sizes.map(|(label, size)| output_buffer(ctx, label, size));
             let dispatch_size = ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("wavefront dispatch size"),
                 size: 12,
@@ -154,13 +149,7 @@ impl Wavefront {
         bound: &[(Binding, wgpu::Buffer)],
     ) -> Result<()> {
         forget(ctx, &self.pipelines);
-        let pipelines = kernel_pipelines(
-            ctx,
-            PipelineKey {
-                kernel: Kernel::Wavefront,
-                ..key
-            },
-        )?;
+        let pipelines = wave_pipelines(ctx, key)?;
         self.bind_group = bind(ctx, &pipelines, bound, &self.own)?;
         self.pipelines = pipelines;
         Ok(())

@@ -2,7 +2,7 @@
 
 use rt_core::io::project::{LIGHTING_EXTENSION, PROJECT_EXTENSION};
 
-use crate::app::{LightShape, RtApp};
+use crate::app::RtApp;
 
 fn scene_dialog() -> rfd::FileDialog {
     rfd::FileDialog::new()
@@ -183,20 +183,7 @@ fn edit_menu(app: &mut RtApp, ui: &mut egui::Ui) {
         app.redo();
     }
     ui.separator();
-    if ui
-        .button("Add box light")
-        .on_hover_text("An emissive box at the centre of the scene")
-        .clicked()
-    {
-        app.add_light(LightShape::Box);
-    }
-    if ui
-        .button("Add quad light (L)")
-        .on_hover_text("An emissive square facing down, at the centre of the scene")
-        .clicked()
-    {
-        app.add_light(LightShape::Quad);
-    }
+    super::panels::add_area_light_buttons(app, ui, "Add quad light (L)");
     if ui
         .add_enabled(
             app.selection.is_some(),

@@ -96,22 +96,7 @@ pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
     if let Some(i) = clicked_light {
         app.select_light(Some(i));
     }
-    ui.horizontal(|ui| {
-        if ui
-            .button("Add box light")
-            .on_hover_text("An emissive box at the centre of the scene")
-            .clicked()
-        {
-            app.add_light(LightShape::Box);
-        }
-        if ui
-            .button("Add quad light")
-            .on_hover_text("An emissive square facing down, at the centre of the scene")
-            .clicked()
-        {
-            app.add_light(LightShape::Quad);
-        }
-    });
+    ui.horizontal(|ui| add_area_light_buttons(app, ui, "Add quad light"));
     ui.horizontal(|ui| {
         if ui
             .button("Add point light")
@@ -135,6 +120,25 @@ pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
             app.add_delta_light(rt_core::LightKind::Directional);
         }
     });
+}
+
+/// "Add box light" and the quad-light button, labelled `quad_label` (the Lights panel and the Edit
+/// menu, which names the shortcut).
+pub fn add_area_light_buttons(app: &mut RtApp, ui: &mut Ui, quad_label: &str) {
+    if ui
+        .button("Add box light")
+        .on_hover_text("An emissive box at the centre of the scene")
+        .clicked()
+    {
+        app.add_light(LightShape::Box);
+    }
+    if ui
+        .button(quad_label)
+        .on_hover_text("An emissive square facing down, at the centre of the scene")
+        .clicked()
+    {
+        app.add_light(LightShape::Quad);
+    }
 }
 
 /// Edits the selected point, spot or directional light.
@@ -622,7 +626,7 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
     ui.checkbox(&mut settings.russian_roulette, "Russian roulette")
         .on_hover_text("End dim paths early at random (unbiased, faster)");
     ui.horizontal(|ui| {
-        use rt_core::reference::rng::SamplerKind;
+        use rt_core::math::rng::SamplerKind;
         ui.label("Sampler")
             .on_hover_text("Where the random numbers come from");
         ui.selectable_value(

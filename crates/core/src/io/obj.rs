@@ -395,7 +395,7 @@ fn mesh_from_tobj(m: &tobj::Mesh) -> Mesh {
 /// A saturated colour, different for each object index and reproducible for a seed
 /// (golden-ratio hue steps from a seed-dependent start).
 pub fn distinct_color(seed: u32, index: u32) -> Rgb {
-    let start = crate::reference::rng::pcg_hash(seed) as f32 / u32::MAX as f32;
+    let start = crate::math::rng::pcg_hash(seed) as f32 / u32::MAX as f32;
     let hue = (start + index as f32 * 0.618_034).fract();
     hsv_to_rgb(hue, 0.55, 0.8)
 }

@@ -11,10 +11,10 @@
 
 use glam::{BVec3, Vec3};
 
-use super::intersect::PreparedRay;
-use super::{miss, test_triangle};
+use super::bvh::{miss, test_triangle};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Hit, WideBvhNode};
+use crate::math::intersect::PreparedRay;
 
 /// Bits of `WideBvhNode::exponents_imask` and of a group's mask that hold the inner-slot mask.
 const IMASK: u32 = 0xff;
