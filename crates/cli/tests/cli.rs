@@ -27,12 +27,30 @@ fn render_cornell(
     out: &std::path::Path,
     extra: &[&str],
 ) -> (i32, String) {
+    render_cornell_with_env(width, height, spp, out, extra, &[])
+}
+
+/// `render_cornell` with environment variables set for rt-cli.
+fn render_cornell_with_env(
+    width: u32,
+    height: u32,
+    spp: u32,
+    out: &std::path::Path,
+    extra: &[&str],
+    env: &[(&str, &str)],
+) -> (i32, String) {
     let (w, h, n) = (width.to_string(), height.to_string(), spp.to_string());
-    let mut args = vec!["render", "--width", &w, "--height", &h, "--spp", &n, "-o"];
-    args.push(out.to_str().expect("a UTF-8 path"));
-    args.extend_from_slice(extra);
-    let (code, _, stderr) = rt_cli(&args);
-    (code, stderr)
+    let result = Command::new(env!("CARGO_BIN_EXE_rt-cli"))
+        .args(["render", "--width", &w, "--height", &h, "--spp", &n, "-o"])
+        .arg(out)
+        .args(extra)
+        .envs(env.iter().copied())
+        .output()
+        .expect("run rt-cli");
+    (
+        result.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&result.stderr).into(),
+    )
 }
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
@@ -263,19 +281,7 @@ fn images_larger_than_a_buffer_render_in_tiles() {
     }
     let dir = temp_dir("tiles");
     let out = dir.join("big.png");
-    let (code, _, stderr) = rt_cli(&[
-        "render",
-        "--width",
-        "4096",
-        "--height",
-        "2100",
-        "--spp",
-        "1",
-        "--max-depth",
-        "1",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let (code, stderr) = render_cornell(4096, 2100, 1, &out, &["--max-depth", "1"]);
     assert_eq!(code, 0, "{stderr}");
     let limit_exceeded = stderr.contains("tiles of");
     let (w, h) = image::image_dimensions(&out).unwrap();
@@ -477,18 +483,7 @@ fn denoise_writes_a_second_image_and_keeps_the_raw_one() {
     }
     let dir = temp_dir("denoise");
     let out = dir.join("img.exr");
-    let (code, _, stderr) = rt_cli(&[
-        "render",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--spp",
-        "4",
-        "--denoise",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let (code, stderr) = render_cornell(32, 32, 4, &out, &["--denoise"]);
     assert_eq!(code, 0, "{stderr}");
     let raw = image::open(&out).unwrap().to_rgb32f();
     let denoised = image::open(dir.join("img.denoised.exr"))
@@ -536,24 +531,15 @@ fn tiled_renders_honour_every_flag() {
         &["--denoise", "--kernel", "megakernel", "--nee-only"],
     ];
     for flags in flag_sets {
-        let render = |name: &str, max_bytes: Option<&str>| {
+        let render = |name: &str, env: &[(&str, &str)]| {
             let out = dir.join(format!("{name}.exr"));
-            let mut command = Command::new(env!("CARGO_BIN_EXE_rt-cli"));
-            command
-                .args(["render", "--width", "24", "--height", "20", "--spp", "3"])
-                .arg("-o")
-                .arg(&out)
-                .args(flags);
-            if let Some(bytes) = max_bytes {
-                command.env("RT_MAX_ACCUMULATION_BYTES", bytes);
-            }
-            let result = command.output().unwrap();
-            let stderr = String::from_utf8_lossy(&result.stderr).into_owned();
-            assert!(result.status.success(), "{flags:?}: {stderr}");
+            let (code, stderr) = render_cornell_with_env(24, 20, 3, &out, flags, env);
+            assert_eq!(code, 0, "{flags:?}: {stderr}");
             (out, stderr)
         };
-        let (whole, whole_log) = render("whole", None);
-        let (tiled, tiled_log) = render("tiled", Some(&(24 * 16 * 7).to_string()));
+        let (whole, whole_log) = render("whole", &[]);
+        let seven_rows = (24 * 16 * 7).to_string();
+        let (tiled, tiled_log) = render("tiled", &[("RT_MAX_ACCUMULATION_BYTES", &seven_rows)]);
         assert!(!whole_log.contains("tiles of"), "{whole_log}");
         assert!(tiled_log.contains("3 tiles of 7 rows"), "{tiled_log}");
         assert!(
