@@ -558,7 +558,7 @@ fn grazing_axis_aligned_and_vertex_rays_hit_where_they_should() {
         }
     }
     let rays: Vec<_> = cases.iter().map(|(r, _)| *r).collect();
-    let hits = rt_gpu::trace_rays::trace_rays(ctx, &gpu_scene, &rays).unwrap();
+    let hits = rt_gpu::trace_rays::trace_rays(ctx, &gpu_scene, &rays, rt_gpu::Trace::Bvh).unwrap();
     for ((r, expected), gpu_hit) in cases.iter().zip(&hits) {
         let cpu =
             rt_core::reference::trace(&gpu_scene, r.origin.into(), r.direction.into(), r.t_max);

@@ -201,7 +201,7 @@ fn check_traversal_against_brute_force(ctx: &GpuContext, scene: &Scene, gpu_scen
             }
         })
         .collect();
-    let hits = rt_gpu::trace_rays::trace_rays(ctx, gpu_scene, &rays).unwrap();
+    let hits = rt_gpu::trace_rays::trace_rays(ctx, gpu_scene, &rays, rt_gpu::Trace::Bvh).unwrap();
     let mut hit_count = 0;
     for (ray, gpu_hit) in rays.iter().zip(&hits) {
         let cpu = trace_brute_force(

@@ -202,18 +202,21 @@ fn wavefront_struct_layouts_match_wgsl() {
 }
 
 /// The bind-group table (`rt_gpu::bindings`, from which every tracing layout and bind group is
-/// built) lists exactly the bindings each kernel's WGSL declares: number, name, uniform or storage,
-/// and read-only or read-write.
+/// built) lists exactly the bindings each kernel's WGSL declares, over rt's BVHs and over ray
+/// queries: number, name, uniform, storage or acceleration structure, and read-only or read-write.
 #[test]
 fn the_binding_table_matches_every_tracing_kernel() {
     use naga::{AddressSpace, StorageAccess};
+    use rt_gpu::Kernel::{Megakernel, Wavefront};
     use rt_gpu::bindings::{self, Access};
-    use rt_gpu::shaders::{TRACE, TRACE_WIDE, WAVEFRONT, WAVEFRONT_WIDE};
-    for (module, kernel) in [
-        (&TRACE, rt_gpu::Kernel::Megakernel),
-        (&TRACE_WIDE, rt_gpu::Kernel::Megakernel),
-        (&WAVEFRONT, rt_gpu::Kernel::Wavefront),
-        (&WAVEFRONT_WIDE, rt_gpu::Kernel::Wavefront),
+    use rt_gpu::shaders::{TRACE, TRACE_HW, TRACE_WIDE, WAVEFRONT, WAVEFRONT_HW, WAVEFRONT_WIDE};
+    for (module, kernel, ray_query) in [
+        (&TRACE, Megakernel, false),
+        (&TRACE_WIDE, Megakernel, false),
+        (&TRACE_HW, Megakernel, true),
+        (&WAVEFRONT, Wavefront, false),
+        (&WAVEFRONT_WIDE, Wavefront, false),
+        (&WAVEFRONT_HW, Wavefront, true),
     ] {
         let parsed = parse(module.name, &module.source());
         let mut in_wgsl: Vec<(u32, String, Access)> = parsed
@@ -228,6 +231,7 @@ fn the_binding_table_matches_every_tracing_kernel() {
                         Access::ReadWrite
                     }
                     AddressSpace::Storage { .. } => Access::Read,
+                    AddressSpace::Handle => Access::AccelerationStructure,
                     other => panic!("{}: {:?} in {other:?}", module.name, var.name),
                 };
                 Some((
@@ -238,7 +242,7 @@ fn the_binding_table_matches_every_tracing_kernel() {
             })
             .collect();
         in_wgsl.sort_by_key(|(number, _, _)| *number);
-        let table: Vec<(u32, String, Access)> = bindings::of(kernel)
+        let table: Vec<(u32, String, Access)> = bindings::of(kernel, ray_query)
             .map(|b| (b.number, b.name.to_string(), b.access))
             .collect();
         assert_eq!(

@@ -148,6 +148,8 @@ struct Record {
     bvh: String,
     /// "wavefront" or "megakernel".
     kernel: String,
+    /// "bvh" or "hw" (ray queries).
+    trace: String,
     dispatch_ms: u64,
     width: u32,
     height: u32,
@@ -266,6 +268,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             bvh_depth: gpu_scene.bvh_depth,
             bvh: format!("{:?}", gpu_scene.layout),
             kernel: renderer.kernel().name().into(),
+            trace: renderer.trace().name().into(),
             dispatch_ms: args.dispatch_ms,
             width: args.size,
             height: args.size,

@@ -5,7 +5,7 @@ use clap::Args;
 use rt_core::RenderSettings;
 use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::math::rng::SamplerKind;
-use rt_gpu::{AdapterChoice, Kernel, RenderOptions};
+use rt_gpu::{AdapterChoice, Kernel, RenderOptions, Trace};
 
 /// Image size and estimator (render, converge).
 #[derive(Args, Debug, Clone, Default)]
@@ -60,6 +60,10 @@ pub struct EngineArgs {
     /// (docs/performance.md compares them).
     #[arg(long, value_enum)]
     pub kernel: Option<KernelArg>,
+    /// What finds the nearest hits: hw (the driver's ray queries: ray-tracing hardware where the
+    /// GPU has it), bvh (rt's own traversal) or auto (hw on GPUs that offer ray queries, else bvh).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub trace: TraceArg,
     /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     pub adapter: AdapterChoice,
@@ -75,6 +79,7 @@ impl EngineArgs {
     pub fn render_options(&self, denoise: bool) -> RenderOptions {
         RenderOptions {
             kernel: self.kernel(),
+            trace: self.trace.into(),
             aovs: denoise,
             // Bounds lavapipe's memory growth over long megakernel renders (docs/performance.md).
             rebuild_on_cpu: true,
@@ -124,6 +129,25 @@ impl From<KernelArg> for Kernel {
         match k {
             KernelArg::Wavefront => Kernel::Wavefront,
             KernelArg::Megakernel => Kernel::Megakernel,
+        }
+    }
+}
+
+/// `--trace` values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum TraceArg {
+    #[default]
+    Auto,
+    Bvh,
+    Hw,
+}
+
+impl From<TraceArg> for Trace {
+    fn from(t: TraceArg) -> Self {
+        match t {
+            TraceArg::Auto => Trace::Auto,
+            TraceArg::Bvh => Trace::Bvh,
+            TraceArg::Hw => Trace::Hardware,
         }
     }
 }
@@ -241,6 +265,7 @@ mod tests {
         assert!(options.aovs && options.rebuild_on_cpu);
         let options = parse(&[]).engine.render_options(false);
         assert_eq!(options.kernel, Kernel::Wavefront);
+        assert_eq!(options.trace, Trace::Auto);
         assert!(!options.aovs);
     }
 }

@@ -171,7 +171,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
 
     let secs = render_time.as_secs_f64().max(1e-9);
     let paths = pixels as f64 * f64::from(image.samples_per_pixel);
-    print_scene_summary(&ctx, renderer.kernel(), &gpu_scene);
+    print_scene_summary(&ctx, renderer.kernel(), renderer.trace(), &gpu_scene);
     eprintln!(
         "image:          {}x{}, {} spp, {}",
         image.width,
@@ -205,15 +205,31 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     Ok(())
 }
 
-/// The adapter, kernel, triangles and BVH build, as both render paths print them.
-fn print_scene_summary(ctx: &GpuContext, kernel: rt_gpu::Kernel, gpu_scene: &GpuScene) {
+/// The adapter, kernel, tracing, triangles and BVH build, as both render paths print them.
+fn print_scene_summary(
+    ctx: &GpuContext,
+    kernel: rt_gpu::Kernel,
+    trace: rt_gpu::Trace,
+    gpu_scene: &GpuScene,
+) {
     eprintln!("adapter:        {}", ctx.adapter_label());
-    eprintln!("kernel:         {}", kernel.name());
+    eprintln!(
+        "kernel:         {}, tracing {}",
+        kernel.name(),
+        trace_name(trace)
+    );
     eprintln!("triangles:      {}", gpu_scene.triangles.len());
     eprintln!(
         "BVH build:      {:.2?} (depth {})",
         gpu_scene.bvh_build_time, gpu_scene.bvh_depth
     );
+}
+
+fn trace_name(trace: rt_gpu::Trace) -> &'static str {
+    match trace {
+        rt_gpu::Trace::Hardware => "with ray queries",
+        rt_gpu::Trace::Bvh | rt_gpu::Trace::Auto => "rt's BVH",
+    }
 }
 
 /// "max depth D, next-event estimation on|off, S sampler".
@@ -281,7 +297,8 @@ fn render_in_tiles(
     bar.finish_and_clear();
     let render_time = started.elapsed();
     save(args, &image)?;
-    print_scene_summary(ctx, args.engine.kernel(), gpu_scene);
+    let trace = ctx.resolve_trace(args.engine.trace.into(), gpu_scene);
+    print_scene_summary(ctx, args.engine.kernel(), trace, gpu_scene);
     eprintln!(
         "image:          {}x{}, {} spp, {}, in {tiles} tiles of {rows} rows (the accumulation \
          buffer would exceed the adapter's {max_buffer} bytes)",

@@ -560,3 +560,25 @@ fn tiled_renders_honour_every_flag() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--trace hw` where the adapter has no ray queries (here: turned off with `RT_NO_RAY_QUERY`) is
+/// a one-line error that says what to use instead; `--trace bvh` renders.
+#[test]
+fn tracing_with_ray_queries_without_them_is_a_clear_error() {
+    if !has_gpu() {
+        return;
+    }
+    let dir = temp_dir("trace-hw");
+    let out = dir.join("img.png");
+    let off = [("RT_NO_RAY_QUERY", "1")];
+    let (code, stderr) = render_cornell_with_env(8, 8, 1, &out, &["--trace", "hw"], &off);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("no ray queries") && stderr.contains("--trace bvh"),
+        "{stderr}"
+    );
+    let (code, stderr) = render_cornell_with_env(8, 8, 1, &out, &["--trace", "bvh"], &off);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("tracing rt's BVH"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

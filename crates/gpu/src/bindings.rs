@@ -11,6 +11,19 @@ pub enum Access {
     Uniform,
     Read,
     ReadWrite,
+    /// A top-level acceleration structure for ray queries.
+    AccelerationStructure,
+}
+
+/// Which tracing kernels declare a binding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DeclaredBy {
+    /// Every one.
+    All,
+    /// The wavefront kernels (their queues).
+    Wavefront,
+    /// The kernels over ray queries (`Trace::Hardware`: the acceleration structure).
+    RayQuery,
 }
 
 /// One entry of group 0.
@@ -20,8 +33,18 @@ pub struct Binding {
     /// The WGSL variable.
     pub name: &'static str,
     pub access: Access,
-    /// Only the wavefront kernels declare it (their queues); else every tracing kernel does.
-    pub wavefront_only: bool,
+    pub declared_by: DeclaredBy,
+}
+
+impl Binding {
+    /// Whether `kernel` (over ray queries when `ray_query`) declares this binding.
+    pub fn in_kernel(&self, kernel: Kernel, ray_query: bool) -> bool {
+        match self.declared_by {
+            DeclaredBy::All => true,
+            DeclaredBy::Wavefront => kernel == Kernel::Wavefront,
+            DeclaredBy::RayQuery => ray_query,
+        }
+    }
 }
 
 const fn shared(number: u32, name: &'static str, access: Access) -> Binding {
@@ -29,7 +52,7 @@ const fn shared(number: u32, name: &'static str, access: Access) -> Binding {
         number,
         name,
         access,
-        wavefront_only: false,
+        declared_by: DeclaredBy::All,
     }
 }
 
@@ -38,7 +61,7 @@ const fn wavefront(number: u32, name: &'static str) -> Binding {
         number,
         name,
         access: Access::ReadWrite,
-        wavefront_only: true,
+        declared_by: DeclaredBy::Wavefront,
     }
 }
 
@@ -61,9 +84,16 @@ pub const RAY_QUEUES: Binding = wavefront(13, "ray_queues");
 pub const SHADOW_RAYS: Binding = wavefront(14, "shadow_rays");
 pub const QUEUES: Binding = wavefront(15, "queues");
 pub const PATH_AOVS: Binding = wavefront(16, "path_aovs");
+// The scene's acceleration structure (shaders/shared/ray_query.wgsl).
+pub const SCENE_TLAS: Binding = Binding {
+    number: 17,
+    name: "scene_tlas",
+    access: Access::AccelerationStructure,
+    declared_by: DeclaredBy::RayQuery,
+};
 
 /// Every binding of the tracing kernels.
-pub const ALL: [Binding; 16] = [
+pub const ALL: [Binding; 17] = [
     FRAME,
     TRIANGLES,
     SHADING,
@@ -80,28 +110,33 @@ pub const ALL: [Binding; 16] = [
     SHADOW_RAYS,
     QUEUES,
     PATH_AOVS,
+    SCENE_TLAS,
 ];
 
-/// The bindings `kernel` declares, in binding order.
-pub fn of(kernel: Kernel) -> impl Iterator<Item = Binding> {
+/// The bindings `kernel` (over ray queries when `ray_query`) declares, in binding order.
+pub fn of(kernel: Kernel, ray_query: bool) -> impl Iterator<Item = Binding> {
     ALL.into_iter()
-        .filter(move |b| kernel == Kernel::Wavefront || !b.wavefront_only)
+        .filter(move |b| b.in_kernel(kernel, ray_query))
 }
 
 /// The bind-group layout of `kernel`'s bindings.
-pub(crate) fn layout(ctx: &GpuContext, kernel: Kernel) -> wgpu::BindGroupLayout {
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = of(kernel)
+pub(crate) fn layout(ctx: &GpuContext, kernel: Kernel, ray_query: bool) -> wgpu::BindGroupLayout {
+    let buffer = |ty| wgpu::BindingType::Buffer {
+        ty,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    };
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = of(kernel, ray_query)
         .map(|b| wgpu::BindGroupLayoutEntry {
             binding: b.number,
             visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: match b.access {
-                    Access::Uniform => wgpu::BufferBindingType::Uniform,
-                    Access::Read => wgpu::BufferBindingType::Storage { read_only: true },
-                    Access::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
+            ty: match b.access {
+                Access::Uniform => buffer(wgpu::BufferBindingType::Uniform),
+                Access::Read => buffer(wgpu::BufferBindingType::Storage { read_only: true }),
+                Access::ReadWrite => buffer(wgpu::BufferBindingType::Storage { read_only: false }),
+                Access::AccelerationStructure => wgpu::BindingType::AccelerationStructure {
+                    vertex_return: false,
                 },
-                has_dynamic_offset: false,
-                min_binding_size: None,
             },
             count: None,
         })
@@ -113,21 +148,27 @@ pub(crate) fn layout(ctx: &GpuContext, kernel: Kernel) -> wgpu::BindGroupLayout 
         })
 }
 
-/// A bind group over `layout` (made by `layout` for `kernel`) from (binding, buffer) pairs; pairs
-/// the kernel does not declare are left out, so one list serves both kernels.
+/// A bind group over `layout` (made by `layout` for `kernel`) from (binding, buffer) pairs and the
+/// acceleration structure when the kernel traces with ray queries (`tlas`); pairs the kernel does
+/// not declare are left out, so one list serves both kernels.
 pub(crate) fn bind_group(
     ctx: &GpuContext,
     kernel: Kernel,
     layout: &wgpu::BindGroupLayout,
     buffers: &[(Binding, &wgpu::Buffer)],
+    tlas: Option<&wgpu::Tlas>,
 ) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry> = buffers
         .iter()
-        .filter(|(b, _)| kernel == Kernel::Wavefront || !b.wavefront_only)
+        .filter(|(b, _)| b.in_kernel(kernel, tlas.is_some()))
         .map(|(b, buffer)| wgpu::BindGroupEntry {
             binding: b.number,
             resource: buffer.as_entire_binding(),
         })
+        .chain(tlas.map(|tlas| wgpu::BindGroupEntry {
+            binding: SCENE_TLAS.number,
+            resource: wgpu::BindingResource::AccelerationStructure(tlas),
+        }))
         .collect();
     ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(kernel.name()),

@@ -64,18 +64,37 @@ pub fn adapter_label(info: &wgpu::AdapterInfo) -> String {
     format!("{} ({:?}{driver})", info.name, info.backend)
 }
 
+/// wgpu's token for its experimental features, of which rt uses only `EXPERIMENTAL_RAY_QUERY`.
+#[allow(unsafe_code)] // the one unsafe call in rt; see SAFETY below
+fn experimental_features_enabled() -> wgpu::ExperimentalFeatures {
+    // SAFETY: the token is unsafe because experimental features may have bugs or API changes
+    // without notice. rt uses ray queries through the safe wgpu API only, for traversal that its
+    // own BVH code also does, and the tests check the images agree (tests/ray_query.rs); the
+    // feature is requested only where the adapter reports it.
+    unsafe { wgpu::ExperimentalFeatures::enabled() }
+}
+
 impl GpuContext {
     pub fn new(choice: &AdapterChoice) -> Result<Self> {
         pollster::block_on(Self::new_async(choice))
     }
 
     async fn new_async(choice: &AdapterChoice) -> Result<Self> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        // GL only as a fallback: probing EGL is slow and noisy where Vulkan works.
-        let mut adapters = instance.enumerate_adapters(wgpu::Backends::PRIMARY).await;
-        if adapters.is_empty() {
-            adapters = instance.enumerate_adapters(wgpu::Backends::GL).await;
+        // GL only as a fallback, in an instance of its own: creating its EGL display is slow and
+        // logs errors on machines where Vulkan works (Mesa 25's EGL without a DRI driver).
+        let described = || wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        let allowed = described().backends;
+        let primary = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: allowed & wgpu::Backends::PRIMARY,
+            ..described()
+        });
+        let mut adapters = primary.enumerate_adapters(wgpu::Backends::PRIMARY).await;
+        if adapters.is_empty() && allowed.contains(wgpu::Backends::GL) {
+            let gl = wgpu::Instance::new(wgpu::InstanceDescriptor {
+                backends: wgpu::Backends::GL,
+                ..described()
+            });
+            adapters = gl.enumerate_adapters(wgpu::Backends::GL).await;
         }
         let names: Vec<String> = adapters
             .iter()
@@ -124,10 +143,29 @@ impl GpuContext {
             )));
         };
         let info = adapter.get_info();
+        // Ray queries where the adapter has them (`Trace::Hardware`); RT_NO_RAY_QUERY=1 leaves
+        // them off, should a driver misbehave with them enabled.
+        let ray_query = adapter
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+            && std::env::var_os("RT_NO_RAY_QUERY").is_none_or(|v| v.is_empty() || v == "0");
+        let (required_features, experimental_features) = if ray_query {
+            (
+                wgpu::Features::EXPERIMENTAL_RAY_QUERY,
+                experimental_features_enabled(),
+            )
+        } else {
+            (
+                wgpu::Features::empty(),
+                wgpu::ExperimentalFeatures::disabled(),
+            )
+        };
         let (device, queue): (wgpu::Device, wgpu::Queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("rt"),
+                required_features,
                 required_limits: adapter.limits(),
+                experimental_features,
                 ..Default::default()
             })
             .await
@@ -157,6 +195,32 @@ impl GpuContext {
             lost,
             out_of_memory_in: AtomicU32::new(0),
         })
+    }
+
+    /// Whether the device can trace with the driver's ray queries (`Trace::Hardware`).
+    pub fn has_ray_queries(&self) -> bool {
+        self.device
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+    }
+
+    /// `Trace::Auto` resolved for `scene` on this device (the others as they are): ray queries on
+    /// GPUs that offer them, else rt's BVH. Lavapipe's ray queries are software too, and rt's
+    /// traversal measured faster there (docs/performance.md); an empty scene has nothing to build
+    /// them over.
+    pub fn resolve_trace(&self, trace: crate::Trace, scene: &rt_core::GpuScene) -> crate::Trace {
+        use crate::Trace;
+        match trace {
+            Trace::Auto
+                if self.has_ray_queries()
+                    && self.info.device_type != wgpu::DeviceType::Cpu
+                    && !scene.triangles.is_empty() =>
+            {
+                Trace::Hardware
+            }
+            Trace::Auto => Trace::Bvh,
+            chosen => chosen,
+        }
     }
 
     /// "name (backend, driver)" for summaries: see `adapter_label`.

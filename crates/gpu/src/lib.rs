@@ -6,9 +6,11 @@
 //! - `pipelines`: both kernels' pipelines, specialised per feature set, in one cache.
 //! - `renderer`: progressive batches of short dispatches; `sizing` chooses their size.
 //! - `wavefront`: the wavefront kernels' queues and waves.
+//! - `accel`: the driver's acceleration structure, for tracing with ray queries.
 //! - `tiling`: images larger than one buffer, in bands of rows.
 //! - `image`: what is read back, and the one denoise helper.
 
+mod accel;
 pub mod bindings;
 mod buffers;
 pub mod context;
@@ -26,6 +28,6 @@ pub mod wavefront;
 pub use context::{AdapterChoice, GpuContext};
 pub use error::{GpuError, Result};
 pub use image::{Aovs, Image};
-pub use options::{Experiments, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions};
+pub use options::{Experiments, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace};
 pub use renderer::{BatchStats, Renderer};
 pub use tiling::{TiledRender, render_tiled, tile_rows};

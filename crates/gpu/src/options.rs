@@ -42,10 +42,36 @@ impl Kernel {
     }
 }
 
+/// What finds the rays' nearest hits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Trace {
+    /// `Hardware` on GPUs that offer ray queries, `Bvh` elsewhere: on lavapipe, whose ray queries
+    /// are software too, rt's own traversal measured faster (docs/performance.md).
+    #[default]
+    Auto,
+    /// rt's traversal of the obvhs BVH (`shaders/shared/cwbvh.wgsl` or `bvh.wgsl`).
+    Bvh,
+    /// The driver's ray queries over an acceleration structure it builds
+    /// (`shaders/shared/ray_query.wgsl`): ray-tracing hardware where the GPU has it. An error
+    /// where the adapter has no ray queries.
+    Hardware,
+}
+
+impl Trace {
+    pub fn name(self) -> &'static str {
+        match self {
+            Trace::Auto => "auto",
+            Trace::Bvh => "bvh",
+            Trace::Hardware => "hw",
+        }
+    }
+}
+
 /// How to render. `Default` is what `rt` and `rt-cli` use, apart from the switches they set.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderOptions {
     pub kernel: Kernel,
+    pub trace: Trace,
     /// Each dispatch (of the wavefront kernels: each submission of a wave) should take about this,
     /// well under the ~100 ms at which operating systems start to suspect a hung GPU.
     pub target_dispatch: Duration,
@@ -77,6 +103,7 @@ impl Default for RenderOptions {
     fn default() -> Self {
         RenderOptions {
             kernel: Kernel::default(),
+            trace: Trace::default(),
             target_dispatch: Duration::from_millis(40),
             max_samples_per_dispatch: None,
             count_rays: false,

@@ -21,6 +21,8 @@ pub struct PipelineKey {
     pub features: SceneFeatures,
     /// The BVH the kernel traverses (a different module, not a constant: the node types differ).
     pub layout: BvhLayout,
+    /// Trace with the driver's ray queries instead of traversing `layout` (`Trace::Hardware`).
+    pub ray_query: bool,
     pub count_rays: bool,
     /// Bits of the firefly clamp (`f32::to_bits`); 0 is off.
     pub clamp_bits: u32,
@@ -36,11 +38,20 @@ impl PipelineKey {
     /// The key as the cache sees it: fields the kernel ignores are normalised, so they cannot make
     /// two entries of one pipeline.
     fn normalised(self) -> Self {
-        match self.kernel {
-            Kernel::Megakernel => self,
+        let key = PipelineKey {
+            // Ray queries need no BVH layout of rt's.
+            layout: if self.ray_query {
+                BvhLayout::Cwbvh
+            } else {
+                self.layout
+            },
+            ..self
+        };
+        match key.kernel {
+            Kernel::Megakernel => key,
             Kernel::Wavefront => PipelineKey {
                 workgroup: [WAVE_GROUP, 1],
-                ..self
+                ..key
             },
         }
     }
@@ -108,8 +119,14 @@ pub(crate) fn kernel_pipelines(ctx: &GpuContext, key: PipelineKey) -> Result<Arc
     }
     let started = std::time::Instant::now();
     let (module_source, stages) = match key.kernel {
-        Kernel::Megakernel => (shaders::trace_module(key.layout), MEGAKERNEL_STAGES),
-        Kernel::Wavefront => (shaders::wavefront_module(key.layout), WAVEFRONT_STAGES),
+        Kernel::Megakernel => (
+            shaders::trace_module(key.layout, key.ray_query),
+            MEGAKERNEL_STAGES,
+        ),
+        Kernel::Wavefront => (
+            shaders::wavefront_module(key.layout, key.ray_query),
+            WAVEFRONT_STAGES,
+        ),
     };
     let constants = key.constants();
     let pipelines = ctx.scoped(|| {
@@ -119,7 +136,7 @@ pub(crate) fn kernel_pipelines(ctx: &GpuContext, key: PipelineKey) -> Result<Arc
                 label: Some(key.kernel.name()),
                 source: wgpu::ShaderSource::Wgsl(module_source.source().into()),
             });
-        let layout = bindings::layout(ctx, key.kernel);
+        let layout = bindings::layout(ctx, key.kernel, key.ray_query);
         let pipeline_layout = ctx
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -173,15 +190,22 @@ pub(crate) fn forget(ctx: &GpuContext, pipelines: &Arc<KernelPipelines>) {
         .retain(|_, p| !Arc::ptr_eq(p, pipelines));
 }
 
-/// The ray-query pipeline used by tests to check BVH traversal.
-pub fn trace_rays_pipeline(ctx: &GpuContext, layout: BvhLayout) -> Result<wgpu::ComputePipeline> {
+/// The nearest-hit pipeline used by tests to check traversal (rt's of `layout`, or the driver's
+/// ray queries with `ray_query`).
+pub fn trace_rays_pipeline(
+    ctx: &GpuContext,
+    layout: BvhLayout,
+    ray_query: bool,
+) -> Result<wgpu::ComputePipeline> {
     ctx.scoped(|| {
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("trace_rays"),
                 source: wgpu::ShaderSource::Wgsl(
-                    shaders::trace_rays_module(layout).source().into(),
+                    shaders::trace_rays_module(layout, ray_query)
+                        .source()
+                        .into(),
                 ),
             });
         ctx.device

@@ -8,12 +8,13 @@ use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
 use wgpu::util::DeviceExt;
 
+use crate::accel::{self, SceneAccel};
 use crate::bindings::{self, Binding};
 use crate::buffers::{output_buffer, read_buffer, storage_buffer};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 use crate::image::{Aovs, Image};
-use crate::options::{CPU_PIPELINE_LIFETIME, Kernel, REBUILD_AMORTISATION, RenderOptions};
+use crate::options::{CPU_PIPELINE_LIFETIME, Kernel, REBUILD_AMORTISATION, RenderOptions, Trace};
 use crate::pipelines::{KernelPipelines, PipelineKey, forget, kernel_pipelines};
 use crate::sizing;
 use crate::wavefront::{MAX_WAVE_PATHS, Wavefront};
@@ -54,6 +55,8 @@ pub struct Renderer<'a> {
     pipeline_rebuilds: u32,
     /// The scene's buffers and the outputs, to bind them to a rebuilt pipeline.
     bound: Vec<(Binding, wgpu::Buffer)>,
+    /// The driver's acceleration structure, when tracing with ray queries.
+    accel: Option<SceneAccel>,
     frame_buffer: wgpu::Buffer,
     accum: wgpu::Buffer,
     aovs: wgpu::Buffer,
@@ -133,10 +136,17 @@ impl<'a> Renderer<'a> {
             features.thin_lens = true;
             features.delta_lights = true;
         }
+        let ray_query = ctx.resolve_trace(options.trace, scene) == Trace::Hardware;
+        let accel = if ray_query {
+            Some(accel::build(ctx, scene)?)
+        } else {
+            None
+        };
         let pipeline_key = PipelineKey {
             kernel: options.kernel,
             features,
             layout: scene.layout,
+            ray_query,
             count_rays: options.count_rays,
             clamp_bits: options
                 .clamp
@@ -236,7 +246,8 @@ impl<'a> Renderer<'a> {
             .map_or(loop_cap, |m| m.max(1));
         let engine = match megakernel {
             Some(pipelines) => Engine::Megakernel {
-                bind_group: ctx.scoped(|| megakernel_bind_group(ctx, &pipelines, &bound))?,
+                bind_group: ctx
+                    .scoped(|| megakernel_bind_group(ctx, &pipelines, &bound, tlas(&accel)))?,
                 pipelines,
             },
             None => {
@@ -246,7 +257,13 @@ impl<'a> Renderer<'a> {
                     .saturating_mul(u64::from(loop_cap))
                     .min(u64::from(MAX_WAVE_PATHS))
                     .max(u64::from(frame.width)) as u32;
-                Engine::Wavefront(Wavefront::new(ctx, pipeline_key, &bound, capacity)?)
+                Engine::Wavefront(Wavefront::new(
+                    ctx,
+                    pipeline_key,
+                    &bound,
+                    tlas(&accel),
+                    capacity,
+                )?)
             }
         };
         // RT_PIPELINE_LIFETIME_S (seconds) overrides the CPU default.
@@ -273,6 +290,7 @@ impl<'a> Renderer<'a> {
             ctx,
             engine,
             pipeline_key,
+            accel,
             pipeline_ran: Duration::ZERO,
             pipeline_first_batch: None,
             pipeline_lifetime,
@@ -303,6 +321,15 @@ impl<'a> Renderer<'a> {
     /// What traces the paths.
     pub fn kernel(&self) -> Kernel {
         self.options.kernel
+    }
+
+    /// What finds the nearest hits: `Trace::Bvh` or `Trace::Hardware` (`Auto` resolved).
+    pub fn trace(&self) -> Trace {
+        if self.accel.is_some() {
+            Trace::Hardware
+        } else {
+            Trace::Bvh
+        }
     }
 
     pub fn samples_done(&self) -> u32 {
@@ -339,7 +366,7 @@ impl<'a> Renderer<'a> {
     /// handles to the old one, so the driver can free what it holds for it) and rebinds the buffers.
     fn rebuild_pipeline(&mut self) -> Result<()> {
         if let Engine::Wavefront(wave) = &mut self.engine {
-            wave.rebuild(self.ctx, self.pipeline_key, &self.bound)?;
+            wave.rebuild(self.ctx, self.pipeline_key, &self.bound, tlas(&self.accel))?;
         } else {
             self.rebuild_megakernel()?;
         }
@@ -358,9 +385,9 @@ impl<'a> Renderer<'a> {
             forget(self.ctx, pipelines);
         }
         let pipelines = kernel_pipelines(self.ctx, self.pipeline_key)?;
-        let bind_group = self
-            .ctx
-            .scoped(|| megakernel_bind_group(self.ctx, &pipelines, &self.bound))?;
+        let bind_group = self.ctx.scoped(|| {
+            megakernel_bind_group(self.ctx, &pipelines, &self.bound, tlas(&self.accel))
+        })?;
         self.engine = Engine::Megakernel {
             pipelines,
             bind_group,
@@ -563,7 +590,12 @@ fn megakernel_bind_group(
     ctx: &GpuContext,
     pipelines: &KernelPipelines,
     bound: &[(Binding, wgpu::Buffer)],
+    tlas: Option<&wgpu::Tlas>,
 ) -> wgpu::BindGroup {
     let buffers: Vec<(Binding, &wgpu::Buffer)> = bound.iter().map(|(b, buf)| (*b, buf)).collect();
-    bindings::bind_group(ctx, Kernel::Megakernel, &pipelines.layout, &buffers)
+    bindings::bind_group(ctx, Kernel::Megakernel, &pipelines.layout, &buffers, tlas)
+}
+
+fn tlas(accel: &Option<SceneAccel>) -> Option<&wgpu::Tlas> {
+    accel.as_ref().map(|a| &a.tlas)
 }

@@ -17,6 +17,7 @@ pub const FILES: &[(&str, &str)] = &[
     shader_file!("shared/intersect.wgsl"),
     shader_file!("shared/bvh.wgsl"),
     shader_file!("shared/cwbvh.wgsl"),
+    shader_file!("shared/ray_query.wgsl"),
     shader_file!("shared/scene_bindings.wgsl"),
     shader_file!("shared/path.wgsl"),
     shader_file!("trace.wgsl"),
@@ -91,6 +92,36 @@ pub const WAVEFRONT_WIDE: ShaderModule = ShaderModule {
     ],
 };
 
+/// `TRACE` over the driver's ray queries (`Trace::Hardware`).
+pub const TRACE_HW: ShaderModule = ShaderModule {
+    name: "trace_hw",
+    files: &[
+        "shared/ray_query.wgsl",
+        "shared/types.wgsl",
+        "shared/rng.wgsl",
+        "shared/sampling.wgsl",
+        "shared/intersect.wgsl",
+        "shared/scene_bindings.wgsl",
+        "shared/path.wgsl",
+        "trace.wgsl",
+    ],
+};
+
+/// `WAVEFRONT` over the driver's ray queries (`Trace::Hardware`).
+pub const WAVEFRONT_HW: ShaderModule = ShaderModule {
+    name: "wavefront_hw",
+    files: &[
+        "shared/ray_query.wgsl",
+        "shared/types.wgsl",
+        "shared/rng.wgsl",
+        "shared/sampling.wgsl",
+        "shared/intersect.wgsl",
+        "shared/scene_bindings.wgsl",
+        "shared/path.wgsl",
+        "wavefront.wgsl",
+    ],
+};
+
 pub const TRACE_RAYS: ShaderModule = ShaderModule {
     name: "trace_rays",
     files: &[
@@ -111,29 +142,43 @@ pub const TRACE_RAYS_WIDE: ShaderModule = ShaderModule {
     ],
 };
 
-/// The tracing kernel for a BVH layout.
-pub fn trace_module(layout: BvhLayout) -> &'static ShaderModule {
-    match layout {
-        BvhLayout::Bvh2 => &TRACE,
-        BvhLayout::Cwbvh => &TRACE_WIDE,
+/// The megakernel for a BVH layout, or over ray queries (`hardware`).
+pub fn trace_module(layout: BvhLayout, hardware: bool) -> &'static ShaderModule {
+    match (hardware, layout) {
+        (true, _) => &TRACE_HW,
+        (false, BvhLayout::Bvh2) => &TRACE,
+        (false, BvhLayout::Cwbvh) => &TRACE_WIDE,
     }
 }
 
-/// The wavefront kernels for a BVH layout.
-pub fn wavefront_module(layout: BvhLayout) -> &'static ShaderModule {
-    match layout {
-        BvhLayout::Bvh2 => &WAVEFRONT,
-        BvhLayout::Cwbvh => &WAVEFRONT_WIDE,
+/// The wavefront kernels for a BVH layout, or over ray queries (`hardware`).
+pub fn wavefront_module(layout: BvhLayout, hardware: bool) -> &'static ShaderModule {
+    match (hardware, layout) {
+        (true, _) => &WAVEFRONT_HW,
+        (false, BvhLayout::Bvh2) => &WAVEFRONT,
+        (false, BvhLayout::Cwbvh) => &WAVEFRONT_WIDE,
     }
 }
 
-/// The ray-query test kernel for a BVH layout.
-pub fn trace_rays_module(layout: BvhLayout) -> &'static ShaderModule {
-    match layout {
-        BvhLayout::Bvh2 => &TRACE_RAYS,
-        BvhLayout::Cwbvh => &TRACE_RAYS_WIDE,
+/// The nearest-hit test kernel for a BVH layout, or over ray queries (`hardware`).
+pub fn trace_rays_module(layout: BvhLayout, hardware: bool) -> &'static ShaderModule {
+    match (hardware, layout) {
+        (true, _) => &TRACE_RAYS_HW,
+        (false, BvhLayout::Bvh2) => &TRACE_RAYS,
+        (false, BvhLayout::Cwbvh) => &TRACE_RAYS_WIDE,
     }
 }
+
+/// `TRACE_RAYS` over the driver's ray queries.
+pub const TRACE_RAYS_HW: ShaderModule = ShaderModule {
+    name: "trace_rays_hw",
+    files: &[
+        "shared/ray_query.wgsl",
+        "shared/types.wgsl",
+        "shared/intersect.wgsl",
+        "trace_rays.wgsl",
+    ],
+};
 
 /// The editor's raster preview (used by `rt-app`; validated here with the others).
 pub const PREVIEW: ShaderModule = ShaderModule {
@@ -149,10 +194,13 @@ pub const PREVIEW_BLIT: ShaderModule = ShaderModule {
 pub const MODULES: &[ShaderModule] = &[
     TRACE,
     TRACE_WIDE,
+    TRACE_HW,
     WAVEFRONT,
     WAVEFRONT_WIDE,
+    WAVEFRONT_HW,
     TRACE_RAYS,
     TRACE_RAYS_WIDE,
+    TRACE_RAYS_HW,
     PREVIEW,
     PREVIEW_BLIT,
 ];

@@ -6,14 +6,25 @@ use rt_core::gpu_types::{Hit, Ray};
 use crate::buffers::{read_buffer, storage_buffer};
 use crate::context::GpuContext;
 use crate::error::Result;
+use crate::options::Trace;
 use crate::pipelines::trace_rays_pipeline;
 
-/// Traces `rays` against `scene` on the GPU and returns one `Hit` per ray.
-pub fn trace_rays(ctx: &GpuContext, scene: &GpuScene, rays: &[Ray]) -> Result<Vec<Hit>> {
+/// Traces `rays` against `scene` on the GPU and returns one `Hit` per ray: through rt's BVH, or
+/// with `Trace::Hardware` the driver's ray queries (`Auto` is rt's BVH here).
+pub fn trace_rays(
+    ctx: &GpuContext,
+    scene: &GpuScene,
+    rays: &[Ray],
+    trace: Trace,
+) -> Result<Vec<Hit>> {
     if rays.is_empty() {
         return Ok(Vec::new());
     }
-    let pipeline = trace_rays_pipeline(ctx, scene.layout)?;
+    let accel = match trace {
+        Trace::Hardware => Some(crate::accel::build(ctx, scene)?),
+        Trace::Auto | Trace::Bvh => None,
+    };
+    let pipeline = trace_rays_pipeline(ctx, scene.layout, accel.is_some())?;
     let rays_buffer = storage_buffer(ctx, "rays", rays, wgpu::BufferUsages::empty())?;
     let triangles = storage_buffer(
         ctx,
@@ -54,7 +65,16 @@ pub fn trace_rays(ctx: &GpuContext, scene: &GpuScene, rays: &[Ray]) -> Result<Ve
                     binding: 3,
                     resource: hits.as_entire_binding(),
                 },
-            ],
+            ]
+            .into_iter()
+            // The pipeline's layout is derived from what its shader uses: over ray queries, not
+            // the triangles (1) or the BVH nodes (2).
+            .filter(|entry| accel.is_none() || !matches!(entry.binding, 1 | 2))
+            .chain(accel.as_ref().map(|a| wgpu::BindGroupEntry {
+                binding: crate::bindings::SCENE_TLAS.number,
+                resource: wgpu::BindingResource::AccelerationStructure(&a.tlas),
+            }))
+            .collect::<Vec<_>>(),
         });
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         {

@@ -96,6 +96,7 @@ impl Wavefront {
         ctx: &GpuContext,
         key: PipelineKey,
         bound: &[(Binding, wgpu::Buffer)],
+        tlas: Option<&wgpu::Tlas>,
         capacity: u32,
     ) -> Result<Self> {
         let pipelines = wave_pipelines(ctx, key)?;
@@ -130,7 +131,7 @@ impl Wavefront {
             });
             (own, dispatch_size)
         })?;
-        let bind_group = bind(ctx, &pipelines, bound, &own)?;
+        let bind_group = bind(ctx, &pipelines, bound, tlas, &own)?;
         Ok(Wavefront {
             pipelines,
             bind_group,
@@ -147,10 +148,11 @@ impl Wavefront {
         ctx: &GpuContext,
         key: PipelineKey,
         bound: &[(Binding, wgpu::Buffer)],
+        tlas: Option<&wgpu::Tlas>,
     ) -> Result<()> {
         forget(ctx, &self.pipelines);
         let pipelines = wave_pipelines(ctx, key)?;
-        self.bind_group = bind(ctx, &pipelines, bound, &self.own)?;
+        self.bind_group = bind(ctx, &pipelines, bound, tlas, &self.own)?;
         self.pipelines = pipelines;
         Ok(())
     }
@@ -327,6 +329,7 @@ fn bind(
     ctx: &GpuContext,
     pipelines: &KernelPipelines,
     bound: &[(Binding, wgpu::Buffer)],
+    tlas: Option<&wgpu::Tlas>,
     own: &[wgpu::Buffer; 5],
 ) -> Result<wgpu::BindGroup> {
     let buffers: Vec<(Binding, &wgpu::Buffer)> = bound
@@ -334,5 +337,5 @@ fn bind(
         .map(|(binding, buffer)| (*binding, buffer))
         .chain(OWN.into_iter().zip(own))
         .collect();
-    ctx.scoped(|| bindings::bind_group(ctx, Kernel::Wavefront, &pipelines.layout, &buffers))
+    ctx.scoped(|| bindings::bind_group(ctx, Kernel::Wavefront, &pipelines.layout, &buffers, tlas))
 }

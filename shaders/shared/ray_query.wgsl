@@ -1,0 +1,33 @@
+enable wgpu_ray_query;
+
+// Traversal by the driver's ray queries (Vulkan VK_KHR_ray_query, DX12 DXR 1.1, Metal; lavapipe
+// >= 24.1 in software) over one bottom-level structure of every scene triangle, in the order of
+// `triangles`, so a hit's primitive index is the triangle index the estimator expects. Stands in
+// for shared/bvh.wgsl or shared/cwbvh.wgsl (the same `intersect_scene`); the `nodes` binding stays
+// declared (shared/scene_bindings.wgsl) but is not read, and there is no traversal stack.
+// This file is first in its modules: WGSL wants the `enable` before any declaration.
+
+alias BvhNodeRecord = BvhNode;
+
+const BVH_STACK_SIZE: u32 = 64u;
+// Set by the entry points for the software traversals' stacks; unused here.
+var<private> stack_base: u32;
+
+@group(0) @binding(17) var scene_tlas: acceleration_structure;
+
+fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
+    var flags = RAY_FLAG_FORCE_OPAQUE;
+    if (any_hit) {
+        flags |= RAY_FLAG_TERMINATE_ON_FIRST_HIT;
+    }
+    var query: ray_query;
+    // t_min 0: the estimator offsets ray origins off the surface (shared/intersect.wgsl), as the
+    // software traversals need; the BVH code accepts any t > 0 likewise.
+    rayQueryInitialize(&query, scene_tlas, RayDesc(flags, 0xffu, 0.0, t_max, origin, direction));
+    rayQueryProceed(&query);
+    let found = rayQueryGetCommittedIntersection(&query);
+    if (found.kind == RAY_QUERY_INTERSECTION_NONE) {
+        return Hit(t_max, MISS, 0.0, 0.0);
+    }
+    return Hit(found.t, found.primitive_index, found.barycentrics.x, found.barycentrics.y);
+}
