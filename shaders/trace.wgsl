@@ -41,6 +41,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     // accumulation buffer holds only this tile's rows.
     let pixel = y * frame.width + x;
     let slot = (y - frame.tile_row_begin) * frame.width + x;
+    if (pixel_stopped(slot)) {
+        return;
+    }
     var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
     var aov_means: AovMeans;
     if (WRITE_AOVS) {

@@ -1,7 +1,8 @@
 // The wavefront variant of trace.wgsl (the default; docs/performance.md): the same estimator
 // (shared/path.wgsl), but each stage of a path is its own kernel over a queue of paths, so every
 // invocation of a dispatch runs the same code:
-//   generate: one path per (pixel, sample) of the wave, its camera ray queued;
+//   generate: one path per (pixel, sample) of the wave, its camera ray queued (with adaptive
+//     sampling only for the pixels still sampling);
 //   then up to max_depth times (the host stops once the queue is empty):
 //     extend:  the nearest hit of each queued ray;
 //     shade:   each queued path's vertex (shade_vertex): light seen there added, a shadow ray queued
@@ -70,10 +71,18 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let in_band = i % band;
     let x = in_band % frame.width;
     let y = frame.row_begin + in_band / frame.width;
+    if (pixel_stopped((y - frame.tile_row_begin) * frame.width + x)) {
+        return;
+    }
     var rng = rng_init(y * frame.width + x, frame.sample_base + i / band, frame.seed);
     let path = start_path(x, y, &rng);
     paths[i] = WavePath(path, rng, Hit(0.0, MISS, 0.0, 0.0));
-    ray_queues[i] = i;
+    if (ADAPTIVE) {
+        // Only the pixels still sampling queue a path (the queue starts empty: `Wavefront::run`).
+        ray_queues[atomicAdd(&queues.rays, 1u)] = i;
+    } else {
+        ray_queues[i] = i;
+    }
     if (WRITE_AOVS) {
         // Stay zero if the path never reaches a vertex (max depth 0).
         path_aovs[3u * i] = vec4(0.0);
@@ -162,6 +171,9 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let slot = (frame.row_begin - frame.tile_row_begin) * frame.width + gid.x;
+    if (pixel_stopped(slot)) {
+        return;
+    }
     var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
     var aov_means: AovMeans;
     if (WRITE_AOVS) {

@@ -64,7 +64,7 @@ fn albedo_and_normal_outputs_guide_a_denoiser_that_cuts_the_error() {
         );
     }
 
-    let variance = rt_core::output::pixel_variance(&image.pixels, image.samples_per_pixel);
+    let variance = rt_core::output::pixel_variance(&image.pixels, image.counts());
     let color = image.rgb();
     let denoised = denoise(
         &DenoiseInput {

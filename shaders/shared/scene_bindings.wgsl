@@ -10,6 +10,16 @@
 @group(0) @binding(8) var<storage, read> emitters: array<Emitter>;
 @group(0) @binding(9) var<storage, read> delta_lights: array<DeltaLight>;
 
+// Adaptive sampling: per pixel of the tile, 0 while it takes samples, else the sample count it
+// stopped at (the renderer sets it between batches from each pixel's noise estimate). Without
+// ADAPTIVE the buffer is a placeholder that is never read.
+override ADAPTIVE: bool = false;
+@group(0) @binding(18) var<storage, read> pixel_done: array<u32>;
+
+fn pixel_stopped(slot: u32) -> bool {
+    return ADAPTIVE && pixel_done[slot] != 0u;
+}
+
 // The triangle test BVH traversal (shared/bvh.wgsl, shared/cwbvh.wgsl) calls on leaf triangles.
 fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
     let tri = triangles[i];

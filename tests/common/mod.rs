@@ -62,6 +62,7 @@ pub fn settings(width: u32, height: u32, spp: u32, max_depth: u32) -> RenderSett
         clamp: None,
         sampler: Default::default(),
         nee_only: false,
+        adaptive_threshold: None,
     }
 }
 

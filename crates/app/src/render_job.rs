@@ -282,12 +282,14 @@ fn run(
     let total = scene.settings.samples_per_pixel;
     let mut last_preview = Instant::now();
     let mut noise = None;
-    while renderer.samples_done() < total && !cancel.load(Ordering::Relaxed) {
+    // Adaptive sampling may stop every pixel before `total`.
+    let unfinished = |r: &Renderer| r.samples_done() < total && r.active_pixels() > 0;
+    while unfinished(&renderer) && !cancel.load(Ordering::Relaxed) {
         renderer.render_batch(total - renderer.samples_done())?;
         let due = job
             .preview_every
             .is_some_and(|every| last_preview.elapsed() >= every);
-        if due && renderer.samples_done() < total {
+        if due && unfinished(&renderer) {
             let image = renderer.read_image()?;
             noise = noise_of(&image);
             if tx.send(JobEvent::Preview(image)).is_err() {
@@ -314,7 +316,7 @@ fn run(
         noise: noise_of(&image),
     };
     let _ = tx.send(JobEvent::Progress(progress));
-    let cancelled = renderer.samples_done() < total;
+    let cancelled = unfinished(&renderer);
     let aovs = renderer.read_aovs()?;
     let _ = tx.send(JobEvent::Finished {
         image,
@@ -325,6 +327,6 @@ fn run(
 }
 
 fn noise_of(image: &Image) -> Option<f64> {
-    let rel_mse = rt_core::metrics::estimated_rel_mse(&image.pixels, image.samples_per_pixel);
-    rel_mse.is_finite().then(|| rel_mse.sqrt())
+    let noise = image.estimated_noise();
+    noise.is_finite().then_some(noise)
 }

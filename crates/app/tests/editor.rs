@@ -404,3 +404,38 @@ fn add_edit_and_delete_point_spot_and_sun_lights() {
     });
     assert_eq!(harness.state().renders[0].job.state, JobState::Finished);
 }
+
+/// The Render panel's "Adaptive sampling" turns it on (threshold 0.02), and a render with a
+/// threshold every pixel meets at once ends after the minimum samples, finished, not cancelled,
+/// with per-pixel counts.
+#[test]
+fn adaptive_sampling_from_the_render_panel() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("Adaptive sampling").click();
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.settings.adaptive_threshold,
+        Some(0.02)
+    );
+    harness.state_mut().doc.edit("loose", "loose", |s| {
+        s.settings.width = 32;
+        s.settings.height = 32;
+        s.settings.samples_per_pixel = 1_000_000;
+        s.settings.adaptive_threshold = Some(1e6);
+    });
+    harness.get_by_label("Render image").click();
+    step_until(&mut harness, "the adaptive render to finish", |app| {
+        !app.renders.is_empty() && !app.is_rendering()
+    });
+    let job = &harness.state().renders[0].job;
+    assert_eq!(job.state, JobState::Finished);
+    let image = job.image.as_ref().unwrap();
+    let min = rt_core::scene::ADAPTIVE_MIN_SAMPLES;
+    assert!(image.samples_per_pixel >= min && image.samples_per_pixel < 1_000_000);
+    let counts = image.sample_counts.as_ref().expect("per-pixel counts");
+    assert!(counts.iter().all(|&c| c == image.samples_per_pixel));
+}

@@ -35,6 +35,10 @@ pub struct EstimatorArgs {
     /// samples) or independent (PCG streams).
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerArg>,
+    /// Adaptive sampling: after 16 samples a pixel stops once its estimated noise (the square root
+    /// of its relMSE term, as --noise-target measures the image) and its neighbours' is at most X.
+    #[arg(long, value_name = "X")]
+    pub adaptive: Option<f32>,
 }
 
 impl EstimatorArgs {
@@ -50,6 +54,7 @@ impl EstimatorArgs {
         if let Some(sampler) = self.sampler {
             settings.sampler = sampler.into();
         }
+        settings.adaptive_threshold = self.adaptive.or(settings.adaptive_threshold);
     }
 }
 
@@ -226,9 +231,12 @@ mod tests {
             "2.5",
             "--sampler",
             "independent",
+            "--adaptive",
+            "0.05",
         ]);
         let mut settings = RenderSettings::default();
         flags.estimator.apply(&mut settings);
+        assert_eq!(settings.adaptive_threshold, Some(0.05));
         assert_eq!(
             (settings.width, settings.height, settings.max_depth),
             (7, 5, 3)
@@ -249,6 +257,7 @@ mod tests {
             max_depth: 11,
             clamp: Some(4.0),
             sampler: SamplerKind::Independent,
+            adaptive_threshold: Some(0.1),
             ..RenderSettings::default()
         };
         let mut settings = scene.clone();

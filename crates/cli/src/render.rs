@@ -7,7 +7,6 @@ use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use rt_core::GpuScene;
-use rt_core::metrics::estimated_rel_mse;
 use rt_gpu::{GpuContext, Renderer};
 
 use crate::options::{EngineArgs, EstimatorArgs};
@@ -37,6 +36,10 @@ pub struct RenderArgs {
     /// edge-avoiding À-Trous denoiser guided by albedo and normals; the output itself stays raw.
     #[arg(long)]
     denoise: bool,
+    /// Give every pixel every sample even with --noise-target (which otherwise turns adaptive
+    /// sampling on, with the target as each pixel's threshold).
+    #[arg(long, conflicts_with = "adaptive")]
+    no_adaptive: bool,
     #[command(flatten)]
     estimator: EstimatorArgs,
     #[command(flatten)]
@@ -59,6 +62,11 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     }
     if let Some(x) = args.noise_target.filter(|x| !(x.is_finite() && *x > 0.0)) {
         anyhow::bail!("--noise-target must be a positive number, got {x}");
+    }
+    if args.no_adaptive {
+        settings.adaptive_threshold = None;
+    } else if settings.adaptive_threshold.is_none() {
+        settings.adaptive_threshold = args.noise_target.map(|x| x as f32);
     }
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
@@ -112,7 +120,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         .ok()
         .and_then(|v| v.parse().ok());
     let mut batches = 0u32;
-    while renderer.samples_done() < spp {
+    while renderer.samples_done() < spp && renderer.active_pixels() > 0 {
         let done = renderer.samples_done();
         // With a noise target, grow batches geometrically so the stop overshoots by at most 1/8.
         let batch = if args.noise_target.is_some() {
@@ -137,7 +145,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
                     || last_estimate.is_none_or(|t| t.elapsed().as_secs_f64() >= 1.0);
                 if due {
                     let image = renderer.read_image()?;
-                    noise = estimated_rel_mse(&image.pixels, image.samples_per_pixel).sqrt();
+                    noise = image.estimated_noise();
                     last_estimate = Some(Instant::now());
                     last_image = Some(image);
                 }
@@ -163,14 +171,17 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
             break;
         }
     }
+    if renderer.active_pixels() == 0 {
+        stopped_by = "adaptive sampling: every pixel converged";
+    }
     bar.finish_and_clear();
     let render_time = started.elapsed();
     let image = renderer.read_image()?;
-    let noise = estimated_rel_mse(&image.pixels, image.samples_per_pixel).sqrt();
+    let noise = image.estimated_noise();
     save(&args, &image)?;
 
     let secs = render_time.as_secs_f64().max(1e-9);
-    let paths = pixels as f64 * f64::from(image.samples_per_pixel);
+    let paths = pixels as f64 * image.mean_samples();
     print_scene_summary(&ctx, renderer.kernel(), renderer.trace(), &gpu_scene);
     eprintln!(
         "image:          {}x{}, {} spp, {}",
@@ -179,6 +190,19 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         image.samples_per_pixel,
         estimator_summary(&scene.settings, &gpu_scene)
     );
+    if let (Some(threshold), Some(counts)) =
+        (scene.settings.adaptive_threshold, &image.sample_counts)
+    {
+        let stopped = counts
+            .iter()
+            .filter(|&&c| c < image.samples_per_pixel)
+            .count();
+        eprintln!(
+            "adaptive:       threshold {threshold}, mean {:.1} spp, {:.1}% of pixels stopped before the last batch",
+            image.mean_samples(),
+            100.0 * stopped as f64 / counts.len().max(1) as f64
+        );
+    }
     eprintln!("render time:    {render_time:.2?} (stopped by {stopped_by})");
     eprintln!("noise:          {noise:.5} (estimated sqrt(relMSE) against the converged image)");
     eprintln!(
@@ -344,7 +368,7 @@ fn save(args: &RenderArgs, image: &rt_gpu::Image) -> Result<()> {
         image.width,
         image.height,
         &image.pixels,
-        image.samples_per_pixel,
+        image.counts(),
         args.exposure,
     )
     .with_context(|| format!("saving {}", args.output.display()))

@@ -3,6 +3,8 @@
 //! relMSE = mean over pixels and channels of (img − ref)² / (ref² + 0.01), the definition used for
 //! the shared Cornell box statistics (shared/README.md); RMSE = sqrt(mean (img − ref)²).
 
+use crate::output::SampleCounts;
+
 /// A linear RGB float image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RgbImage {
@@ -117,21 +119,28 @@ pub fn compare(image: &RgbImage, reference: &RgbImage) -> Result<ImageError, Str
 /// own samples: mean over pixels of (s²/n) / (m² + 0.01), with m the mean luminance and s² the
 /// sample variance of luminance (from the mean of squares `mean_sq_lum`) over `n` samples. Its
 /// square root is the "noise" that `--noise-target` compares. Needs n ≥ 2.
-pub fn estimated_rel_mse(pixels: &[[f32; 4]], samples: u32) -> f64 {
-    if samples < 2 || pixels.is_empty() {
+pub fn estimated_rel_mse(pixels: &[[f32; 4]], counts: SampleCounts) -> f64 {
+    if pixels.is_empty() {
+        return f64::INFINITY;
+    }
+    let total: f64 = (0..pixels.len())
+        .map(|i| pixel_rel_mse(pixels[i], counts.at(i)))
+        .sum();
+    total / pixels.len() as f64
+}
+
+/// One pixel's term of `estimated_rel_mse`: (s²/n) / (m² + 0.01) for its luminance mean m and
+/// sample variance s² over its n samples (infinite below two samples). Adaptive sampling stops a
+/// pixel once the square root of this is below its threshold.
+pub fn pixel_rel_mse(p: [f32; 4], samples: u32) -> f64 {
+    if samples < 2 {
         return f64::INFINITY;
     }
     let n = f64::from(samples);
     let weights = [0.2126, 0.7152, 0.0722];
-    let total: f64 = pixels
-        .iter()
-        .map(|p| {
-            let m: f64 = (0..3).map(|c| weights[c] * f64::from(p[c])).sum();
-            let variance = (f64::from(p[3]) - m * m).max(0.0) * n / (n - 1.0);
-            variance / n / (m * m + 0.01)
-        })
-        .sum();
-    total / pixels.len() as f64
+    let m: f64 = (0..3).map(|c| weights[c] * f64::from(p[c])).sum();
+    let variance = (f64::from(p[3]) - m * m).max(0.0) * n / (n - 1.0);
+    variance / n / (m * m + 0.01)
 }
 
 #[cfg(test)]
@@ -143,10 +152,11 @@ mod tests {
         // Samples 0 and 2 (grey): mean 1, mean square 2, sample variance 2 over n = 2.
         let pixels = [[1.0, 1.0, 1.0, 2.0]];
         let expected = 2.0 / 2.0 / 1.01;
-        assert!((estimated_rel_mse(&pixels, 2) - expected).abs() < 1e-6);
-        assert!(estimated_rel_mse(&pixels, 1).is_infinite());
+        assert!((estimated_rel_mse(&pixels, SampleCounts::Uniform(2)) - expected).abs() < 1e-6);
+        assert!(estimated_rel_mse(&pixels, SampleCounts::Uniform(1)).is_infinite());
+        assert!((estimated_rel_mse(&pixels, SampleCounts::PerPixel(&[2])) - expected).abs() < 1e-6);
         assert_eq!(
-            estimated_rel_mse(&[[0.5, 0.5, 0.5, 0.25]], 10),
+            estimated_rel_mse(&[[0.5, 0.5, 0.5, 0.25]], SampleCounts::Uniform(10)),
             0.0,
             "constant samples: no noise"
         );

@@ -110,16 +110,18 @@ pub fn encode_image(
 }
 
 /// The variance of each pixel's estimate of luminance, s²/n, from the renderer's per-pixel means
-/// of luminance (`rgb`) and of squared luminance (`[3]`) after `samples` samples (s² with Bessel's
-/// correction). Zero below two samples.
-pub fn pixel_variance(pixels: &[[f32; 4]], samples: u32) -> Vec<f32> {
-    if samples < 2 {
-        return vec![0.0; pixels.len()];
-    }
-    let n = f64::from(samples);
+/// of luminance (`rgb`) and of squared luminance (`[3]`) after each pixel's samples (`counts`; s²
+/// with Bessel's correction). Zero below two samples.
+pub fn pixel_variance(pixels: &[[f32; 4]], counts: SampleCounts) -> Vec<f32> {
     pixels
         .iter()
-        .map(|p| {
+        .enumerate()
+        .map(|(i, p)| {
+            let n = counts.at(i);
+            if n < 2 {
+                return 0.0;
+            }
+            let n = f64::from(n);
             let m = 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
             let s2 = (f64::from(p[3]) - m * m).max(0.0) * n / (n - 1.0);
             (s2 / n) as f32
@@ -127,13 +129,32 @@ pub fn pixel_variance(pixels: &[[f32; 4]], samples: u32) -> Vec<f32> {
         .collect()
 }
 
+/// How many samples each pixel of an accumulated image holds: all the same, or (adaptive
+/// sampling) each its own.
+#[derive(Clone, Copy, Debug)]
+pub enum SampleCounts<'a> {
+    Uniform(u32),
+    PerPixel(&'a [u32]),
+}
+
+impl SampleCounts<'_> {
+    /// Pixel `i`'s count.
+    pub fn at(&self, i: usize) -> u32 {
+        match self {
+            SampleCounts::Uniform(n) => *n,
+            SampleCounts::PerPixel(counts) => counts.get(i).copied().unwrap_or(0),
+        }
+    }
+}
+
 /// A linear EXR with the colour (R, G, B) and a `variance.Y` channel: the per-pixel variance of
-/// the luminance estimate (see [`pixel_variance`]), for denoisers and adaptive sampling.
+/// the luminance estimate (see [`pixel_variance`]), for denoisers and adaptive sampling; with
+/// per-pixel counts (adaptive sampling) also a `samples.Y` channel holding each pixel's count.
 pub fn encode_exr_with_variance(
     width: u32,
     height: u32,
     pixels: &[[f32; 4]],
-    samples: u32,
+    counts: SampleCounts,
 ) -> Result<Vec<u8>> {
     use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, SmallVec, WritableImage};
     let size = width as usize * height as usize;
@@ -141,15 +162,23 @@ pub fn encode_exr_with_variance(
         return Err(Error::Scene("image size does not match its pixels".into()));
     }
     let channel = |c: usize| pixels.iter().map(|p| p[c]).collect::<Vec<f32>>();
-    let channels = AnyChannels::sort(SmallVec::from_vec(vec![
+    let mut channels = vec![
         AnyChannel::new("R", FlatSamples::F32(channel(0))),
         AnyChannel::new("G", FlatSamples::F32(channel(1))),
         AnyChannel::new("B", FlatSamples::F32(channel(2))),
         AnyChannel::new(
             "variance.Y",
-            FlatSamples::F32(pixel_variance(pixels, samples)),
+            FlatSamples::F32(pixel_variance(pixels, counts)),
         ),
-    ]));
+    ];
+    if let SampleCounts::PerPixel(per_pixel) = counts {
+        // Exact in u32 (f32 would round counts above 2^24).
+        channels.push(AnyChannel::new(
+            "samples.Y",
+            FlatSamples::U32(per_pixel.to_vec()),
+        ));
+    }
+    let channels = AnyChannels::sort(SmallVec::from_vec(channels));
     let image = Image::from_channels((width as usize, height as usize), channels);
     let mut out = std::io::Cursor::new(Vec::new());
     image
@@ -166,12 +195,12 @@ pub fn save_render(
     width: u32,
     height: u32,
     pixels: &[[f32; 4]],
-    samples: u32,
+    counts: SampleCounts,
     exposure_stops: f32,
 ) -> Result<()> {
     let format = ImageFormat::from_path(path)?;
     let bytes = if format == ImageFormat::Exr {
-        encode_exr_with_variance(width, height, pixels, samples)?
+        encode_exr_with_variance(width, height, pixels, counts)?
     } else {
         let rgb: Vec<[f32; 3]> = pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
         encode_image(format, width, height, &rgb, exposure_stops)?
@@ -267,7 +296,7 @@ mod tests {
         // Two pixels after 4 samples: luminance mean 0.5 with mean square 0.5 (s² = 1/3 after
         // Bessel), and a constant pixel (variance 0).
         let pixels = [[0.5, 0.5, 0.5, 0.5], [0.2, 0.2, 0.2, 0.04]];
-        let bytes = encode_exr_with_variance(2, 1, &pixels, 4).unwrap();
+        let bytes = encode_exr_with_variance(2, 1, &pixels, SampleCounts::Uniform(4)).unwrap();
         let dir = std::env::temp_dir().join(format!("rt-exr-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("v.exr");
@@ -286,6 +315,43 @@ mod tests {
             "{values:?}"
         );
         assert!(values[1].abs() < 1e-6);
+        assert!(
+            !channels.iter().any(|c| c.name.to_string() == "samples.Y"),
+            "no count channel without per-pixel counts"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// With adaptive sampling's per-pixel counts, the variance uses each pixel's own count and a
+    /// `samples.Y` channel holds the counts exactly.
+    #[test]
+    fn exr_renders_carry_per_pixel_sample_counts() {
+        let pixels = [[0.5, 0.5, 0.5, 0.5], [0.5, 0.5, 0.5, 0.5]];
+        let counts = [4u32, 16_777_217];
+        let bytes = encode_exr_with_variance(2, 1, &pixels, SampleCounts::PerPixel(&counts));
+        let dir = std::env::temp_dir().join(format!("rt-exr-counts-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("c.exr");
+        std::fs::write(&path, bytes.unwrap()).unwrap();
+        let image = exr::prelude::read_all_flat_layers_from_file(&path).unwrap();
+        let channels = &image.layer_data[0].channel_data.list;
+        let channel = |name: &str| {
+            channels
+                .iter()
+                .find(|c| c.name.to_string() == name)
+                .unwrap_or_else(|| panic!("no {name} channel"))
+        };
+        match &channel("samples.Y").sample_data {
+            exr::prelude::FlatSamples::U32(values) => assert_eq!(values, &counts),
+            other => panic!("samples.Y is not u32: {other:?}"),
+        }
+        let variance: Vec<f32> = channel("variance.Y").sample_data.values_as_f32().collect();
+        let expected = |n: f64| (0.25 * n / (n - 1.0) / n) as f32;
+        assert!((variance[0] - expected(4.0)).abs() < 1e-7, "{variance:?}");
+        assert!(
+            (variance[1] - expected(16_777_217.0)).abs() < 1e-12,
+            "{variance:?}"
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -112,7 +112,17 @@ pub struct RenderSettings {
     /// estimators agree. Off by default.
     #[serde(default)]
     pub nee_only: bool,
+    /// Adaptive sampling: once a pixel has `ADAPTIVE_MIN_SAMPLES` samples, it stops taking more as
+    /// soon as its estimated noise (the square root of its term of the image's estimated relMSE,
+    /// `metrics::pixel_rel_mse`) is at most this, and so do its neighbours. `None`, the default,
+    /// gives every pixel every sample.
+    #[serde(default)]
+    pub adaptive_threshold: Option<f32>,
 }
+
+/// Samples every pixel takes before adaptive sampling may stop it: fewer make a pixel that has not
+/// yet met a rare bright path look converged.
+pub const ADAPTIVE_MIN_SAMPLES: u32 = 16;
 
 fn default_true() -> bool {
     true
@@ -131,6 +141,7 @@ impl Default for RenderSettings {
             clamp: None,
             sampler: Default::default(),
             nee_only: false,
+            adaptive_threshold: None,
         }
     }
 }
@@ -160,6 +171,13 @@ impl RenderSettings {
         {
             return Err(format!(
                 "the firefly clamp must be a positive number, got {c}"
+            ));
+        }
+        if let Some(t) = self.adaptive_threshold
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(format!(
+                "the adaptive sampling threshold must be a positive number, got {t}"
             ));
         }
         Ok(())

@@ -74,6 +74,8 @@ pub const NODES: Binding = shared(4, "nodes", Access::Read);
 pub const TEXELS: Binding = shared(5, "texels", Access::Read);
 pub const EMITTERS: Binding = shared(8, "emitters", Access::Read);
 pub const DELTA_LIGHTS: Binding = shared(9, "delta_lights", Access::Read);
+/// Adaptive sampling's per-pixel stop marks (written by the CPU between batches).
+pub const PIXEL_DONE: Binding = shared(18, "pixel_done", Access::Read);
 // The outputs, declared by each kernel's own file.
 pub const ACCUM: Binding = shared(6, "accum", Access::ReadWrite);
 pub const COUNTERS: Binding = shared(7, "counters", Access::ReadWrite);
@@ -93,7 +95,7 @@ pub const SCENE_TLAS: Binding = Binding {
 };
 
 /// Every binding of the tracing kernels.
-pub const ALL: [Binding; 17] = [
+pub const ALL: [Binding; 18] = [
     FRAME,
     TRIANGLES,
     SHADING,
@@ -111,6 +113,7 @@ pub const ALL: [Binding; 17] = [
     QUEUES,
     PATH_AOVS,
     SCENE_TLAS,
+    PIXEL_DONE,
 ];
 
 /// The bindings `kernel` (over ray queries when `ray_query`) declares, in binding order.

@@ -1,16 +1,45 @@
 //! What a render reads back: the image (per-pixel means) and the denoiser's guides, and the one
 //! place they are denoised (the CLI, `converge` and the editor all call `Image::denoised`).
 
+use rt_core::output::SampleCounts;
+
 /// A rendered image: per pixel, the mean radiance (rgb) and mean squared luminance (a).
 #[derive(Clone, Debug)]
 pub struct Image {
     pub width: u32,
     pub height: u32,
+    /// Samples of every pixel still sampling (all of them, without adaptive sampling).
     pub samples_per_pixel: u32,
+    /// With adaptive sampling, each pixel's own count (at most `samples_per_pixel`).
+    pub sample_counts: Option<Vec<u32>>,
     pub pixels: Vec<[f32; 4]>,
 }
 
 impl Image {
+    /// How many samples each pixel holds.
+    pub fn counts(&self) -> SampleCounts<'_> {
+        match &self.sample_counts {
+            Some(counts) => SampleCounts::PerPixel(counts),
+            None => SampleCounts::Uniform(self.samples_per_pixel),
+        }
+    }
+
+    /// The square root of the relMSE this image is expected to have against its converged
+    /// version (`rt_core::metrics::estimated_rel_mse`).
+    pub fn estimated_noise(&self) -> f64 {
+        rt_core::metrics::estimated_rel_mse(&self.pixels, self.counts()).sqrt()
+    }
+
+    /// The mean sample count over the pixels.
+    pub fn mean_samples(&self) -> f64 {
+        match &self.sample_counts {
+            Some(counts) => {
+                counts.iter().map(|&c| f64::from(c)).sum::<f64>() / counts.len().max(1) as f64
+            }
+            None => f64::from(self.samples_per_pixel),
+        }
+    }
+
     pub fn rgb(&self) -> Vec<[f32; 3]> {
         self.pixels.iter().map(|p| [p[0], p[1], p[2]]).collect()
     }
@@ -43,7 +72,7 @@ impl Image {
     /// the per-pixel luminance variance; biased, for previews: the raw image stays the measurement.
     pub fn denoised(&self, aovs: &Aovs) -> Result<Vec<[f32; 3]>, String> {
         let color = self.rgb();
-        let variance = rt_core::output::pixel_variance(&self.pixels, self.samples_per_pixel);
+        let variance = rt_core::output::pixel_variance(&self.pixels, self.counts());
         rt_core::denoise::denoise(
             &rt_core::denoise::DenoiseInput {
                 width: self.width,

@@ -28,6 +28,6 @@ pub mod wavefront;
 pub use context::{AdapterChoice, GpuContext};
 pub use error::{GpuError, Result};
 pub use image::{Aovs, Image};
-pub use options::{Experiments, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace};
+pub use options::{Adaptive, Experiments, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace};
 pub use renderer::{BatchStats, Renderer};
 pub use tiling::{TiledRender, render_tiled, tile_rows};

@@ -82,6 +82,10 @@ pub struct RenderOptions {
     /// Also accumulate each pixel's first-hit albedo and normal and the light seen directly (for
     /// the denoiser; read them with `Renderer::read_aovs`).
     pub aovs: bool,
+    /// Adaptive sampling: pixels stop taking samples once their noise estimate is low enough.
+    /// `with_scene_settings` (and so `Renderer::for_scene`) takes it from the scene's settings
+    /// when unset here.
+    pub adaptive: Option<Adaptive>,
     /// Firefly clamp: scale each contribution of bounced light down so its largest channel is at
     /// most this (directly seen emitters stay exact). Biased (it removes energy); `None` (the
     /// default) leaves samples alone. `Renderer::for_scene` takes it from the scene's settings
@@ -108,11 +112,23 @@ impl Default for RenderOptions {
             max_samples_per_dispatch: None,
             count_rays: false,
             aovs: false,
+            adaptive: None,
             clamp: None,
             rebuild_on_cpu: false,
             experiments: Experiments::default(),
         }
     }
+}
+
+/// Adaptive sampling (as Cycles' noise threshold): after `min_samples`, a pixel stops taking
+/// samples once the square root of its estimated relMSE term (`rt_core::metrics::pixel_rel_mse`) is
+/// at most `threshold` and its eight neighbours' are too (so a pixel dark by chance among noisy
+/// ones goes on). Each pixel's mean stays the running mean of its own samples, and its count is
+/// kept (`Image::sample_counts`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Adaptive {
+    pub threshold: f32,
+    pub min_samples: u32,
 }
 
 /// Switches for measurements and tests, not for users: each changes how the kernel runs, never
@@ -147,6 +163,12 @@ impl RenderOptions {
     pub fn with_scene_settings(self, settings: &rt_core::RenderSettings) -> Self {
         RenderOptions {
             clamp: self.clamp.or(settings.clamp),
+            adaptive: self
+                .adaptive
+                .or(settings.adaptive_threshold.map(|threshold| Adaptive {
+                    threshold,
+                    min_samples: rt_core::scene::ADAPTIVE_MIN_SAMPLES,
+                })),
             ..self
         }
     }
@@ -158,6 +180,14 @@ impl RenderOptions {
             return Err(GpuError::Options(format!(
                 "work group {wx}x{wy}: it must have 1 to {MAX_WORKGROUP_INVOCATIONS} invocations \
                  (their BVH traversal stacks share the work group's 16 KiB of memory)"
+            )));
+        }
+        if let Some(a) = self.adaptive
+            && !(a.threshold.is_finite() && a.threshold > 0.0 && a.min_samples >= 2)
+        {
+            return Err(GpuError::Options(format!(
+                "adaptive sampling needs a positive threshold and at least 2 samples before it \
+                 stops a pixel, got {a:?}"
             )));
         }
         if self.kernel == Kernel::Wavefront && self.experiments.workgroup != DEFAULT_WORKGROUP {

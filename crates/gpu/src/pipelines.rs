@@ -32,6 +32,8 @@ pub struct PipelineKey {
     pub sobol: bool,
     /// Accumulate first-hit albedo and normal for the denoiser.
     pub aovs: bool,
+    /// Skip pixels that adaptive sampling has stopped.
+    pub adaptive: bool,
 }
 
 impl PipelineKey {
@@ -70,6 +72,7 @@ impl PipelineKey {
             ("CLAMP_MAX", f64::from(f32::from_bits(self.clamp_bits))),
             ("SOBOL", flag(self.sobol)),
             ("WRITE_AOVS", flag(self.aovs)),
+            ("ADAPTIVE", flag(self.adaptive)),
         ];
         if self.kernel == Kernel::Megakernel {
             constants.push(("WG_X", f64::from(self.workgroup[0])));

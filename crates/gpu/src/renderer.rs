@@ -61,6 +61,12 @@ pub struct Renderer<'a> {
     accum: wgpu::Buffer,
     aovs: wgpu::Buffer,
     counters: wgpu::Buffer,
+    /// Adaptive sampling: per pixel of the tile, 0 while it takes samples, else the count it
+    /// stopped at (mirrored in `pixel_done` on the GPU); empty without adaptive sampling.
+    stopped: Vec<u32>,
+    pixel_done: wgpu::Buffer,
+    /// Pixels still taking samples.
+    active: usize,
     frame: Frame,
     options: RenderOptions,
     samples_done: u32,
@@ -155,6 +161,7 @@ impl<'a> Renderer<'a> {
             workgroup: options.experiments.workgroup,
             sobol: frame.sampler == 1,
             aovs: options.aovs,
+            adaptive: options.adaptive.is_some(),
         };
         let megakernel = match options.kernel {
             Kernel::Megakernel => Some(kernel_pipelines(ctx, pipeline_key)?),
@@ -215,7 +222,17 @@ impl<'a> Renderer<'a> {
                 )?,
             ),
         ];
-        let (frame_buffer, accum, aovs, counters) = ctx.scoped(|| {
+        // Adaptive sampling's stop marks, or a placeholder the kernel never reads.
+        let stops_size = if options.adaptive.is_some() {
+            pixels * 4
+        } else {
+            16
+        };
+        ctx.check_buffer(
+            "adaptive sampling stops (width x height x 4 bytes)",
+            stops_size,
+        )?;
+        let (frame_buffer, accum, aovs, counters, pixel_done) = ctx.scoped(|| {
             let frame_buffer = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -229,6 +246,7 @@ impl<'a> Renderer<'a> {
                 output("accumulation", accum_size),
                 output("albedo and normal", aov_size),
                 output("counters", 8),
+                output("adaptive sampling stops", stops_size),
             )
         })?;
         let bound: Vec<(Binding, wgpu::Buffer)> = [
@@ -236,6 +254,7 @@ impl<'a> Renderer<'a> {
             (bindings::ACCUM, accum.clone()),
             (bindings::COUNTERS, counters.clone()),
             (bindings::AOVS, aovs.clone()),
+            (bindings::PIXEL_DONE, pixel_done.clone()),
         ]
         .into_iter()
         .chain(scene_buffers)
@@ -301,6 +320,13 @@ impl<'a> Renderer<'a> {
             accum,
             aovs,
             counters,
+            stopped: if options.adaptive.is_some() {
+                vec![0; pixels as usize]
+            } else {
+                Vec::new()
+            },
+            pixel_done,
+            active: pixels as usize,
             frame,
             options,
             samples_done: 0,
@@ -433,6 +459,7 @@ impl<'a> Renderer<'a> {
         }
         self.samples_done += samples;
         self.read_counters()?;
+        self.stop_converged_pixels()?;
         if first_after_build && self.samples_done > samples {
             // A rebuild's first batch: not a measure of the kernel's speed or dispatch length.
         } else if first_after_build {
@@ -451,6 +478,58 @@ impl<'a> Renderer<'a> {
             Some(_) => self.pipeline_ran += started.elapsed(),
         }
         Ok(stats)
+    }
+
+    /// Adaptive sampling, after a batch: stops each pixel whose noise estimate is at most the
+    /// threshold once it and its eight neighbours (those inside the tile) are there.
+    fn stop_converged_pixels(&mut self) -> Result<()> {
+        let Some(adaptive) = self.options.adaptive else {
+            return Ok(());
+        };
+        if self.samples_done < adaptive.min_samples || self.active == 0 {
+            return Ok(());
+        }
+        let pixels = self.read_accumulation()?;
+        let limit = f64::from(adaptive.threshold).powi(2);
+        let converged: Vec<bool> = pixels
+            .iter()
+            .zip(&self.stopped)
+            .map(|(p, &stopped)| {
+                stopped != 0 || rt_core::metrics::pixel_rel_mse(*p, self.samples_done) <= limit
+            })
+            .collect();
+        let width = self.frame.width as usize;
+        let rows = (self.frame.tile_row_end - self.frame.tile_row_begin) as usize;
+        let mut changed = false;
+        for y in 0..rows {
+            for x in 0..width {
+                let i = y * width + x;
+                let settled = (y.saturating_sub(1)..(y + 2).min(rows)).all(|ny| {
+                    (x.saturating_sub(1)..(x + 2).min(width)).all(|nx| converged[ny * width + nx])
+                });
+                if self.stopped[i] == 0 && settled {
+                    self.stopped[i] = self.samples_done;
+                    self.active -= 1;
+                    changed = true;
+                }
+            }
+        }
+        if changed {
+            self.ctx.scoped(|| {
+                self.ctx.queue.write_buffer(
+                    &self.pixel_done,
+                    0,
+                    bytemuck::cast_slice(&self.stopped),
+                );
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Pixels (of this renderer's tile) still taking samples: all of them without adaptive
+    /// sampling; once none is, further batches add nothing.
+    pub fn active_pixels(&self) -> usize {
+        self.active
     }
 
     /// Chooses rows and samples per dispatch so one dispatch takes about the target time.
@@ -526,10 +605,11 @@ impl<'a> Renderer<'a> {
         Ok(())
     }
 
-    /// Renders until every pixel has `spp` samples, calling `progress(samples_done)` after each batch;
+    /// Renders until every pixel has `spp` samples (or adaptive sampling has stopped every pixel),
+    /// calling `progress(samples_done)` after each batch;
     /// `progress` returning false stops early (the image so far stays readable).
     pub fn render(&mut self, spp: u32, mut progress: impl FnMut(u32) -> bool) -> Result<()> {
-        while self.samples_done < spp {
+        while self.samples_done < spp && self.active > 0 {
             self.render_batch(spp - self.samples_done)?;
             if !progress(self.samples_done) {
                 break;
@@ -567,21 +647,40 @@ impl<'a> Renderer<'a> {
     /// batch failed part-way, its finished rows hold one batch more than `samples_per_pixel` says
     /// until the next batch completes it (keep the last image read before the failure to save).
     pub fn read_image(&self) -> Result<Image> {
-        let rows = self.frame.tile_row_end - self.frame.tile_row_begin;
-        let size = u64::from(self.frame.width) * u64::from(rows) * 16;
-        let bytes = read_buffer(self.ctx, &self.accum, size)?;
-        let pixels: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
+        let pixels = self.read_accumulation()?;
         let pixels = if self.samples_done == 0 {
             vec![[0.0; 4]; pixels.len()]
         } else {
             pixels
         };
+        let sample_counts = self.options.adaptive.map(|_| {
+            self.stopped
+                .iter()
+                .map(|&stopped| {
+                    if stopped == 0 {
+                        self.samples_done
+                    } else {
+                        stopped
+                    }
+                })
+                .collect()
+        });
         Ok(Image {
             width: self.frame.width,
-            height: rows,
+            height: self.frame.tile_row_end - self.frame.tile_row_begin,
             samples_per_pixel: self.samples_done,
+            sample_counts,
             pixels,
         })
+    }
+
+    /// The accumulation buffer as it is: per pixel of the tile, mean radiance and mean squared
+    /// luminance.
+    fn read_accumulation(&self) -> Result<Vec<[f32; 4]>> {
+        let rows = self.frame.tile_row_end - self.frame.tile_row_begin;
+        let size = u64::from(self.frame.width) * u64::from(rows) * 16;
+        let bytes = read_buffer(self.ctx, &self.accum, size)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 }
 

@@ -46,6 +46,7 @@ pub fn render_tiled(
     let rows_per_tile = tile_rows(frame.width, frame.height, max_bytes);
     let pixel_count = frame.width as usize * frame.height as usize;
     let mut pixels = vec![[0.0f32; 4]; pixel_count];
+    let mut counts = options.adaptive.map(|_| vec![0u32; pixel_count]);
     let mut aovs = options.aovs.then(|| Aovs {
         albedo: vec![[0.0; 3]; pixel_count],
         normal: vec![[0.0; 3]; pixel_count],
@@ -62,7 +63,7 @@ pub fn render_tiled(
             ..frame
         };
         let mut renderer = Renderer::new(ctx, gpu_scene, tile_frame, options)?;
-        while renderer.samples_done() < spp {
+        while renderer.samples_done() < spp && renderer.active_pixels() > 0 {
             renderer.render_batch(spp - renderer.samples_done())?;
             let fraction = (f64::from(begin)
                 + f64::from(end - begin) * f64::from(renderer.samples_done()) / f64::from(spp))
@@ -77,6 +78,9 @@ pub fn render_tiled(
         let start = begin as usize * frame.width as usize;
         let range = start..start + tile.pixels.len();
         pixels[range.clone()].copy_from_slice(&tile.pixels);
+        if let (Some(all), Some(tile)) = (counts.as_mut(), &tile.sample_counts) {
+            all[range.clone()].copy_from_slice(tile);
+        }
         if let (Some(all), Some(tile)) = (aovs.as_mut(), renderer.read_aovs()?) {
             all.albedo[range.clone()].copy_from_slice(&tile.albedo);
             all.normal[range.clone()].copy_from_slice(&tile.normal);
@@ -89,6 +93,7 @@ pub fn render_tiled(
             width: frame.width,
             height: frame.height,
             samples_per_pixel: done_samples,
+            sample_counts: counts,
             pixels,
         },
         aovs,

@@ -87,6 +87,8 @@ pub(crate) struct Wavefront {
     dispatch_size: wgpu::Buffer,
     /// Paths one wave may hold.
     pub capacity: u32,
+    /// Adaptive sampling: `generate` queues only the paths of pixels still sampling.
+    adaptive: bool,
 }
 
 impl Wavefront {
@@ -138,6 +140,7 @@ impl Wavefront {
             own,
             dispatch_size,
             capacity,
+            adaptive: key.adaptive,
         })
     }
 
@@ -182,8 +185,10 @@ impl Wavefront {
             )));
         }
         let queues = WaveQueues {
+            // The dispatch size stays an upper bound: invocations past the queue's length return.
             groups: [paths.div_ceil(WAVE_GROUP), 1, 1],
-            rays: paths,
+            // With adaptive sampling `generate` pushes the paths of the pixels still sampling.
+            rays: if self.adaptive { 0 } else { paths },
             ..Default::default()
         };
         let p = &self.pipelines;

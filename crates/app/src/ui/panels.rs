@@ -597,6 +597,34 @@ pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {
     }
 }
 
+/// A setting that is off (`None`) or a number: a checkbox, and the value beside it when on.
+struct OptionalSetting {
+    label: &'static str,
+    tip: &'static str,
+    value_tip: &'static str,
+    /// The value when the checkbox turns it on.
+    default: f32,
+    speed: f64,
+    range: std::ops::RangeInclusive<f32>,
+}
+
+fn optional_setting(ui: &mut Ui, value: &mut Option<f32>, setting: OptionalSetting) {
+    ui.horizontal(|ui| {
+        let mut on = value.is_some();
+        if ui
+            .checkbox(&mut on, setting.label)
+            .on_hover_text(setting.tip)
+            .changed()
+        {
+            *value = on.then_some(setting.default);
+        }
+        if let Some(v) = value {
+            ui.add(DragValue::new(v).speed(setting.speed).range(setting.range))
+                .on_hover_text(setting.value_tip);
+        }
+    });
+}
+
 pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
     ui.heading("Render");
     let mut settings = app.doc.scene.settings.clone();
@@ -640,23 +668,33 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
                 "Owen-scrambled Sobol points: evenly spread samples, less noise on smooth lighting",
             );
     });
-    ui.horizontal(|ui| {
-        let mut on = settings.clamp.is_some();
-        if ui
-            .checkbox(&mut on, "Firefly clamp")
-            .on_hover_text(
-                "Limit each sample's brightness: removes bright speckles at the cost of some \
-                 energy (biased; off by default)",
-            )
-            .changed()
-        {
-            settings.clamp = on.then_some(10.0);
-        }
-        if let Some(c) = &mut settings.clamp {
-            ui.add(DragValue::new(c).speed(0.1).range(0.01..=1e6))
-                .on_hover_text("The most any bounce of light may contribute per colour channel");
-        }
-    });
+    optional_setting(
+        ui,
+        &mut settings.clamp,
+        OptionalSetting {
+            label: "Firefly clamp",
+            tip: "Limit each sample's brightness: removes bright speckles at the cost of some \
+                  energy (biased; off by default)",
+            value_tip: "The most any bounce of light may contribute per colour channel",
+            default: 10.0,
+            speed: 0.1,
+            range: 0.01..=1e6,
+        },
+    );
+    optional_setting(
+        ui,
+        &mut settings.adaptive_threshold,
+        OptionalSetting {
+            label: "Adaptive sampling",
+            tip: "Stop sampling pixels whose noise is already low (after 16 samples), so the \
+                  samples go where the noise is",
+            value_tip: "The noise at which a pixel stops: the square root of its relative \
+                        mean squared error, e.g. 0.02",
+            default: 0.02,
+            speed: 0.001,
+            range: 0.001..=1.0,
+        },
+    );
     if settings != app.doc.scene.settings {
         app.doc.edit("change render settings", "settings", |s| {
             s.settings = settings

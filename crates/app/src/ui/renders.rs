@@ -204,7 +204,7 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
         image.width,
         image.height,
         &image.pixels,
-        image.samples_per_pixel,
+        image.counts(),
         view.exposure,
     )
 }
