@@ -2,7 +2,7 @@
 // (shared/path.wgsl), but each stage of a path is its own kernel over a queue of paths, so every
 // invocation of a dispatch runs the same code:
 //   generate: one path per (pixel, sample) of the wave, its camera ray queued (with adaptive
-//     sampling only for the pixels still sampling);
+//     sampling a wave's pixels are a run of the list of those still sampling: `wave_slot`);
 //   then up to max_depth times (the host stops once the queue is empty):
 //     extend:  the nearest hit of each queued ray;
 //     shade:   each queued path's vertex (shade_vertex): light seen there added, a shadow ray queued
@@ -44,17 +44,32 @@ struct WaveQueues {
     _pad: u32,
 }
 
-// Path i of the wave is sample i / band_pixels of pixel i % band_pixels of the band.
+// Path i of the wave is sample i / band_pixels of the wave's pixel i % band_pixels (`wave_slot`).
 @group(0) @binding(12) var<storage, read_write> paths: array<WavePath>;
 // Two queues of path indices, `arrayLength / 2` each: the current one and the next.
 @group(0) @binding(13) var<storage, read_write> ray_queues: array<u32>;
 @group(0) @binding(14) var<storage, read_write> shadow_rays: array<ShadowRay>;
 @group(0) @binding(15) var<storage, read_write> queues: WaveQueues;
+// Adaptive sampling: the tile slots of the pixels still sampling, ascending (rebuilt by the
+// renderer whenever pixels stop); a placeholder otherwise.
+@group(0) @binding(19) var<storage, read> active_slots: array<u32>;
 
 const WAVE_GROUP: u32 = 64u;
 
 fn band_pixels() -> u32 {
+    if (ADAPTIVE) {
+        return frame.active_count;
+    }
     return (frame.row_end - frame.row_begin) * frame.width;
+}
+
+// The accumulation slot (pixel of the tile) of the wave's pixel `k`: the band's k-th pixel, or with
+// adaptive sampling the k-th of its list of pixels still sampling.
+fn wave_slot(k: u32) -> u32 {
+    if (ADAPTIVE) {
+        return active_slots[frame.active_begin + k];
+    }
+    return (frame.row_begin - frame.tile_row_begin) * frame.width + k;
 }
 
 fn current_queue() -> u32 {
@@ -68,21 +83,13 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (i >= band * frame.samples_this_dispatch) {
         return;
     }
-    let in_band = i % band;
-    let x = in_band % frame.width;
-    let y = frame.row_begin + in_band / frame.width;
-    if (pixel_stopped((y - frame.tile_row_begin) * frame.width + x)) {
-        return;
-    }
+    let slot = wave_slot(i % band);
+    let x = slot % frame.width;
+    let y = frame.tile_row_begin + slot / frame.width;
     var rng = rng_init(y * frame.width + x, frame.sample_base + i / band, frame.seed);
     let path = start_path(x, y, &rng);
     paths[i] = WavePath(path, rng, Hit(0.0, MISS, 0.0, 0.0));
-    if (ADAPTIVE) {
-        // Only the pixels still sampling queue a path (the queue starts empty: `Wavefront::run`).
-        ray_queues[atomicAdd(&queues.rays, 1u)] = i;
-    } else {
-        ray_queues[i] = i;
-    }
+    ray_queues[i] = i;
     if (WRITE_AOVS) {
         // Stay zero if the path never reaches a vertex (max depth 0).
         path_aovs[3u * i] = vec4(0.0);
@@ -170,10 +177,7 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= band) {
         return;
     }
-    let slot = (frame.row_begin - frame.tile_row_begin) * frame.width + gid.x;
-    if (pixel_stopped(slot)) {
-        return;
-    }
+    let slot = wave_slot(gid.x);
     var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
     var aov_means: AovMeans;
     if (WRITE_AOVS) {

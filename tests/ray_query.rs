@@ -20,7 +20,7 @@ fn ray_query_gpu() -> Option<&'static GpuContext> {
     if ctx.has_ray_queries() {
         return Some(ctx);
     }
-    let mesa = mesa_version(&ctx.info.driver_info);
+    let mesa = ctx.mesa_version();
     assert!(
         mesa.is_none_or(|v| v < (24, 1)),
         "{} (Mesa {mesa:?}) should offer ray queries",
@@ -30,15 +30,9 @@ fn ray_query_gpu() -> Option<&'static GpuContext> {
     None
 }
 
-/// (major, minor) of "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)".
-fn mesa_version(driver_info: &str) -> Option<(u32, u32)> {
-    let version = driver_info.split("Mesa ").nth(1)?;
-    let mut parts = version.split(['.', '-', ' ']);
-    Some((parts.next()?.parse().ok()?, parts.next()?.parse().ok()?))
-}
-
 #[test]
 fn mesa_versions_are_read_from_the_driver_info() {
+    use rt_gpu::context::mesa_version;
     assert_eq!(
         mesa_version("Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"),
         Some((25, 0))

@@ -94,7 +94,11 @@ struct Frame {
     sampler: u32,                // 128: 0 independent, 1 Sobol (the kernel uses the SOBOL constant)
     light_strategy: u32,         // 132: 0 MIS (power heuristic), 1 next-event estimation only
     offset_scale: f32,           // 136: see offset_ray_origin
-    _pad_c: u32,                 // 140
+    active_begin: u32,           // 140: adaptive wavefront waves: their pixels' place in active_slots
+    active_count: u32,           // 144
+    _pad_c: u32,                 // 148
+    _pad_d: u32,                 // 152
+    _pad_e: u32,                 // 156
 }
 
 struct Emitter {

@@ -71,6 +71,10 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         sampler: u32::from(settings.sampler == crate::math::rng::SamplerKind::Sobol),
         light_strategy: u32::from(settings.nee_only),
         offset_scale: gpu_scene.extent.clamp(1e-30, 1.0),
+        active_begin: 0,
+        active_count: 0,
         _pad_c: 0,
+        _pad_d: 0,
+        _pad_e: 0,
     })
 }

@@ -149,7 +149,14 @@ pub struct Frame {
     /// Size of the zone around the origin where ray origins move by a fixed distance instead of by
     /// ULPs of their coordinates: the scene's largest extent, at most 1 (`offset_ray_origin`).
     pub offset_scale: f32, // 136
-    pub _pad_c: u32,          // 140
+    /// Adaptive sampling with the wavefront kernels: a wave covers the pixels still sampling at
+    /// `active_begin..active_begin + active_count` of the renderer's list of them, rather than
+    /// whole rows (so a wave holds only paths that count).
+    pub active_begin: u32, // 140
+    pub active_count: u32,    // 144
+    pub _pad_c: u32,          // 148
+    pub _pad_d: u32,          // 152
+    pub _pad_e: u32,          // 156
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power
@@ -313,7 +320,11 @@ pub fn layouts() -> Vec<StructLayout> {
                 sampler,
                 light_strategy,
                 offset_scale,
-                _pad_c
+                active_begin,
+                active_count,
+                _pad_c,
+                _pad_d,
+                _pad_e
             ]
         ),
         layout!("Emitter", Emitter, [triangle, alias_index, threshold, _pad]),

@@ -94,8 +94,16 @@ pub const SCENE_TLAS: Binding = Binding {
     declared_by: DeclaredBy::RayQuery,
 };
 
+/// Adaptive sampling: the pixels still sampling, which the wavefront's waves walk.
+pub const ACTIVE_SLOTS: Binding = Binding {
+    number: 19,
+    name: "active_slots",
+    access: Access::Read,
+    declared_by: DeclaredBy::Wavefront,
+};
+
 /// Every binding of the tracing kernels.
-pub const ALL: [Binding; 18] = [
+pub const ALL: [Binding; 19] = [
     FRAME,
     TRIANGLES,
     SHADING,
@@ -114,6 +122,7 @@ pub const ALL: [Binding; 18] = [
     PATH_AOVS,
     SCENE_TLAS,
     PIXEL_DONE,
+    ACTIVE_SLOTS,
 ];
 
 /// The bindings `kernel` (over ray queries when `ray_query`) declares, in binding order.

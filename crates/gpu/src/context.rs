@@ -64,6 +64,13 @@ pub fn adapter_label(info: &wgpu::AdapterInfo) -> String {
     format!("{} ({:?}{driver})", info.name, info.backend)
 }
 
+/// (major, minor) of a driver info such as "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)".
+pub fn mesa_version(driver_info: &str) -> Option<(u32, u32)> {
+    let version = driver_info.split("Mesa ").nth(1)?;
+    let mut parts = version.split(['.', '-', ' ']);
+    Some((parts.next()?.parse().ok()?, parts.next()?.parse().ok()?))
+}
+
 /// wgpu's token for its experimental features, of which rt uses only `EXPERIMENTAL_RAY_QUERY`.
 #[allow(unsafe_code)] // the one unsafe call in rt; see SAFETY below
 fn experimental_features_enabled() -> wgpu::ExperimentalFeatures {
@@ -195,6 +202,12 @@ impl GpuContext {
             lost,
             out_of_memory_in: AtomicU32::new(0),
         })
+    }
+
+    /// The Mesa release of a Mesa driver (lavapipe's speed, limits and memory behaviour depend on
+    /// it: docs/performance.md), as (major, minor); `None` for other drivers.
+    pub fn mesa_version(&self) -> Option<(u32, u32)> {
+        mesa_version(&self.info.driver_info)
     }
 
     /// Whether the device can trace with the driver's ray queries (`Trace::Hardware`).

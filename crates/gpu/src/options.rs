@@ -94,7 +94,8 @@ pub struct RenderOptions {
     /// Bound lavapipe's host-memory growth over long megakernel renders by rebuilding the
     /// pipeline now and then (Mesa 22.3 keeps memory for every path the compiled megakernel
     /// traces until the pipeline is destroyed; the wavefront kernels do not grow: tests/memory.rs).
-    /// Applies on CPU adapters with the megakernel only: after `CPU_PIPELINE_LIFETIME` or
+    /// Mesa 25.0 does not grow (docs/performance-log.md), so this applies on CPU adapters other
+    /// than Mesa 25 or newer, with the megakernel only: after `CPU_PIPELINE_LIFETIME` or
     /// `REBUILD_AMORTISATION` times the last build's first batch (its JIT compile), whichever is
     /// longer (`RT_PIPELINE_LIFETIME_S` in the environment sets the lifetime exactly). Off by
     /// default, for renderers that share a device with others (the tests): a CI run of the suite

@@ -30,6 +30,16 @@ pub struct BatchStats {
     pub wave_depths: u32,
 }
 
+/// What one dispatch (or wave) covers.
+#[derive(Clone, Copy, Debug)]
+enum DispatchRange {
+    /// Image rows `begin..begin + count` (inside the tile).
+    Rows { begin: u32, count: u32 },
+    /// Entries `begin..begin + count` of the list of pixels still sampling (adaptive sampling on
+    /// the wavefront kernels).
+    Active { begin: u32, count: u32 },
+}
+
 /// What traces the paths.
 enum Engine {
     /// trace.wgsl: one invocation per pixel runs whole paths.
@@ -67,6 +77,10 @@ pub struct Renderer<'a> {
     pixel_done: wgpu::Buffer,
     /// Pixels still taking samples.
     active: usize,
+    /// Adaptive sampling: the tile slots of the pixels still sampling, ascending (mirrored in
+    /// `active_slots`, which the wavefront kernels read); empty otherwise.
+    active_list: Vec<u32>,
+    active_slots: wgpu::Buffer,
     frame: Frame,
     options: RenderOptions,
     samples_done: u32,
@@ -232,7 +246,12 @@ impl<'a> Renderer<'a> {
             "adaptive sampling stops (width x height x 4 bytes)",
             stops_size,
         )?;
-        let (frame_buffer, accum, aovs, counters, pixel_done) = ctx.scoped(|| {
+        let active_list: Vec<u32> = if options.adaptive.is_some() {
+            (0..pixels as u32).collect()
+        } else {
+            Vec::new()
+        };
+        let (frame_buffer, accum, aovs, counters, pixel_done, active_slots) = ctx.scoped(|| {
             let frame_buffer = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -247,6 +266,16 @@ impl<'a> Renderer<'a> {
                 output("albedo and normal", aov_size),
                 output("counters", 8),
                 output("adaptive sampling stops", stops_size),
+                ctx.device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("pixels still sampling"),
+                        contents: if active_list.is_empty() {
+                            &[0; 16]
+                        } else {
+                            bytemuck::cast_slice(&active_list)
+                        },
+                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    }),
             )
         })?;
         let bound: Vec<(Binding, wgpu::Buffer)> = [
@@ -255,6 +284,7 @@ impl<'a> Renderer<'a> {
             (bindings::COUNTERS, counters.clone()),
             (bindings::AOVS, aovs.clone()),
             (bindings::PIXEL_DONE, pixel_done.clone()),
+            (bindings::ACTIVE_SLOTS, active_slots.clone()),
         ]
         .into_iter()
         .chain(scene_buffers)
@@ -292,9 +322,11 @@ impl<'a> Renderer<'a> {
             .filter(|s| s.is_finite() && *s >= 0.0)
             .map(Duration::from_secs_f64);
         // Only the megakernel's pipelines grow (tests/memory.rs).
+        // Mesa 25.0's megakernel stays flat (performance-log.md); other CPU drivers may not.
         let auto = options.rebuild_on_cpu
             && options.kernel == Kernel::Megakernel
-            && ctx.info.device_type == wgpu::DeviceType::Cpu;
+            && ctx.info.device_type == wgpu::DeviceType::Cpu
+            && ctx.mesa_version().is_none_or(|v| v < (25, 0));
         let explicit = options
             .experiments
             .pipeline_lifetime
@@ -327,6 +359,8 @@ impl<'a> Renderer<'a> {
             },
             pixel_done,
             active: pixels as usize,
+            active_list,
+            active_slots,
             frame,
             options,
             samples_done: 0,
@@ -433,29 +467,56 @@ impl<'a> Renderer<'a> {
         let started = Instant::now();
         // On lavapipe the first batch after a pipeline is built holds its JIT compile (seconds).
         let first_after_build = self.pipeline_first_batch.is_none();
-        let (mut row, samples) = self.unfinished.take().unwrap_or((
-            self.frame.tile_row_begin,
-            max_samples.min(self.samples_per_dispatch).max(1),
-        ));
+        // A batch walks the tile's rows, or with adaptive sampling on the wavefront kernels the
+        // list of pixels still sampling (in pixels): waves then hold only paths that count.
+        let compact = self.compacts();
+        let width = self.frame.width.max(1);
+        let (start, end, per_dispatch) = if compact {
+            (
+                0,
+                self.active_list.len() as u32,
+                self.rows_per_dispatch * width,
+            )
+        } else {
+            (
+                self.frame.tile_row_begin,
+                self.frame.tile_row_end,
+                self.rows_per_dispatch,
+            )
+        };
+        let (mut at, samples) = self
+            .unfinished
+            .take()
+            .unwrap_or((start, max_samples.min(self.samples_per_dispatch).max(1)));
         let mut stats = BatchStats {
             samples,
             ..Default::default()
         };
         let mut slowest_rate = 0.0f64; // seconds per (sample x row)
-        while row < self.frame.tile_row_end {
-            let rows = self.rows_per_dispatch.min(self.frame.tile_row_end - row);
-            let (elapsed, depths) = match self.dispatch(row, rows, samples) {
+        while at < end {
+            let count = per_dispatch.min(end - at);
+            let range = if compact {
+                DispatchRange::Active { begin: at, count }
+            } else {
+                DispatchRange::Rows { begin: at, count }
+            };
+            let (elapsed, depths) = match self.dispatch(range, samples) {
                 Ok(done) => done,
                 Err(e) => {
-                    self.unfinished = Some((row, samples));
+                    self.unfinished = Some((at, samples));
                     return Err(e);
                 }
             };
             stats.dispatches += 1;
             stats.wave_depths += depths;
             stats.longest_dispatch = stats.longest_dispatch.max(elapsed);
-            slowest_rate = slowest_rate.max(elapsed.as_secs_f64() / f64::from(samples * rows));
-            row += rows;
+            let rows = if compact {
+                f64::from(count) / f64::from(width)
+            } else {
+                f64::from(count)
+            };
+            slowest_rate = slowest_rate.max(elapsed.as_secs_f64() / (f64::from(samples) * rows));
+            at += count;
         }
         self.samples_done += samples;
         self.read_counters()?;
@@ -515,15 +576,29 @@ impl<'a> Renderer<'a> {
             }
         }
         if changed {
+            self.active_list
+                .retain(|&slot| self.stopped[slot as usize] == 0);
             self.ctx.scoped(|| {
                 self.ctx.queue.write_buffer(
                     &self.pixel_done,
                     0,
                     bytemuck::cast_slice(&self.stopped),
                 );
+                if !self.active_list.is_empty() {
+                    self.ctx.queue.write_buffer(
+                        &self.active_slots,
+                        0,
+                        bytemuck::cast_slice(&self.active_list),
+                    );
+                }
             })?;
         }
         Ok(())
+    }
+
+    /// Whether batches walk the list of pixels still sampling instead of the tile's rows.
+    fn compacts(&self) -> bool {
+        self.options.adaptive.is_some() && matches!(self.engine, Engine::Wavefront(_))
     }
 
     /// Pixels (of this renderer's tile) still taking samples: all of them without adaptive
@@ -538,11 +613,19 @@ impl<'a> Renderer<'a> {
             Engine::Wavefront(wave) => Some(wave.capacity),
             Engine::Megakernel { .. } => None,
         };
+        // In rows, or in rows' worth of the pixels still sampling.
+        let rows = if self.compacts() {
+            (self.active_list.len() as u32)
+                .div_ceil(self.frame.width.max(1))
+                .max(1)
+        } else {
+            self.frame.tile_row_end - self.frame.tile_row_begin
+        };
         if let Some(shape) = sizing::dispatch_shape(
             seconds_per_sample_row,
             self.options.target_dispatch,
             self.frame.width,
-            self.frame.tile_row_end - self.frame.tile_row_begin,
+            rows,
             self.loop_cap,
             wave_capacity,
         ) {
@@ -552,14 +635,30 @@ impl<'a> Renderer<'a> {
 
     /// Runs one dispatch (megakernel) or wave (wavefront); returns its longest submission's time
     /// and, for a wave, the path depths it ran.
-    fn dispatch(&mut self, row_begin: u32, rows: u32, samples: u32) -> Result<(Duration, u32)> {
+    fn dispatch(&mut self, range: DispatchRange, samples: u32) -> Result<(Duration, u32)> {
         self.ctx.alive()?;
         let frame = Frame {
             sample_base: self.samples_done,
             samples_this_dispatch: samples,
-            row_begin,
-            row_end: row_begin + rows,
             ..self.frame
+        };
+        let (frame, rows) = match range {
+            DispatchRange::Rows { begin, count } => (
+                Frame {
+                    row_begin: begin,
+                    row_end: begin + count,
+                    ..frame
+                },
+                count,
+            ),
+            DispatchRange::Active { begin, count } => (
+                Frame {
+                    active_begin: begin,
+                    active_count: count,
+                    ..frame
+                },
+                0,
+            ),
         };
         let (pipeline, bind_group) = match &self.engine {
             Engine::Megakernel {

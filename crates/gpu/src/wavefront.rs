@@ -87,7 +87,8 @@ pub(crate) struct Wavefront {
     dispatch_size: wgpu::Buffer,
     /// Paths one wave may hold.
     pub capacity: u32,
-    /// Adaptive sampling: `generate` queues only the paths of pixels still sampling.
+    /// Adaptive sampling: a wave covers `frame.active_count` pixels of the list of those still
+    /// sampling, not rows.
     adaptive: bool,
 }
 
@@ -176,7 +177,11 @@ impl Wavefront {
         frame: &Frame,
     ) -> Result<WaveRun> {
         ctx.alive()?;
-        let band = (frame.row_end - frame.row_begin) * frame.width;
+        let band = if self.adaptive {
+            frame.active_count
+        } else {
+            (frame.row_end - frame.row_begin) * frame.width
+        };
         let paths = band * frame.samples_this_dispatch;
         if paths > self.capacity {
             return Err(GpuError::Wgpu(format!(
@@ -187,8 +192,7 @@ impl Wavefront {
         let queues = WaveQueues {
             // The dispatch size stays an upper bound: invocations past the queue's length return.
             groups: [paths.div_ceil(WAVE_GROUP), 1, 1],
-            // With adaptive sampling `generate` pushes the paths of the pixels still sampling.
-            rays: if self.adaptive { 0 } else { paths },
+            rays: paths,
             ..Default::default()
         };
         let p = &self.pipelines;
