@@ -771,10 +771,20 @@ fn a_batch_failing_part_way_is_finished_by_the_next() {
     s.settings.height = 20;
     s.settings.samples_per_pixel = 3;
     let gpu_scene = GpuScene::build(&s).unwrap();
-    for kernel in [Kernel::Wavefront, Kernel::Megakernel] {
+    // With adaptive sampling too: its waves walk the list of pixels still sampling, 64 at a time.
+    let adaptive = rt_gpu::Adaptive {
+        threshold: 0.3,
+        min_samples: 2,
+    };
+    for (kernel, adaptive) in [
+        (Kernel::Wavefront, None),
+        (Kernel::Megakernel, None),
+        (Kernel::Wavefront, Some(adaptive)),
+    ] {
         // A 1 µs target shrinks batches after the first to one sample in bands of one row.
         let options = RenderOptions {
             kernel,
+            adaptive,
             target_dispatch: Duration::from_micros(1),
             ..Default::default()
         };
@@ -813,9 +823,9 @@ fn a_batch_failing_part_way_is_finished_by_the_next() {
             let resumed = renderer.read_image().unwrap();
             assert_eq!(resumed.samples_per_pixel, 3);
             assert!(
-                resumed.pixels == clean.pixels,
-                "{kernel:?}, failing at GPU operation {operations}: the resumed render differs \
-                 from one that never failed"
+                resumed.pixels == clean.pixels && resumed.sample_counts == clean.sample_counts,
+                "{kernel:?}, adaptive {adaptive:?}, failing at GPU operation {operations}: the \
+                 resumed render differs from one that never failed"
             );
         }
         assert!(

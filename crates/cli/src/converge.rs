@@ -163,7 +163,8 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     let mut step = 1u32;
     loop {
         let step_start = Instant::now();
-        while renderer.samples_done() < step {
+        // Adaptive sampling may stop every pixel before `step`.
+        while renderer.samples_done() < step && renderer.active_pixels() > 0 {
             renderer.render_batch(step - renderer.samples_done())?;
         }
         // render_batch waits for its dispatches, so this is GPU time as the user sees it.

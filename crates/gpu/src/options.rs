@@ -177,7 +177,12 @@ impl RenderOptions {
     /// An error for a combination that cannot be honoured (rather than silently ignoring a part).
     pub fn validate(&self) -> Result<()> {
         let [wx, wy] = self.experiments.workgroup;
-        if wx == 0 || wy == 0 || wx * wy > MAX_WORKGROUP_INVOCATIONS {
+        if wx == 0
+            || wy == 0
+            || wx
+                .checked_mul(wy)
+                .is_none_or(|n| n > MAX_WORKGROUP_INVOCATIONS)
+        {
             return Err(GpuError::Options(format!(
                 "work group {wx}x{wy}: it must have 1 to {MAX_WORKGROUP_INVOCATIONS} invocations \
                  (their BVH traversal stacks share the work group's 16 KiB of memory)"

@@ -455,10 +455,15 @@ impl<'a> Renderer<'a> {
         Ok(())
     }
 
-    /// Adds up to `max_samples` samples to every pixel; returns what was done. After an error
+    /// Adds up to `max_samples` samples to every pixel still sampling (none once adaptive
+    /// sampling has stopped them all); returns what was done. After an error
     /// part-way through a batch (some bands of rows already hold its samples), the next call
     /// finishes that batch, with its sample count, instead of starting a new one.
     pub fn render_batch(&mut self, max_samples: u32) -> Result<BatchStats> {
+        if self.active == 0 {
+            // Adaptive sampling has stopped every pixel: nothing is left to sample.
+            return Ok(BatchStats::default());
+        }
         if let (Some(life), Some(first)) = (self.pipeline_lifetime, self.pipeline_first_batch)
             && self.pipeline_ran >= life.max(first * self.rebuild_amortisation)
         {
@@ -561,38 +566,44 @@ impl<'a> Renderer<'a> {
             .collect();
         let width = self.frame.width as usize;
         let rows = (self.frame.tile_row_end - self.frame.tile_row_begin) as usize;
-        let mut changed = false;
+        let mut stopped = self.stopped.clone();
         for y in 0..rows {
             for x in 0..width {
                 let i = y * width + x;
                 let settled = (y.saturating_sub(1)..(y + 2).min(rows)).all(|ny| {
                     (x.saturating_sub(1)..(x + 2).min(width)).all(|nx| converged[ny * width + nx])
                 });
-                if self.stopped[i] == 0 && settled {
-                    self.stopped[i] = self.samples_done;
-                    self.active -= 1;
-                    changed = true;
+                if stopped[i] == 0 && settled {
+                    stopped[i] = self.samples_done;
                 }
             }
         }
-        if changed {
-            self.active_list
-                .retain(|&slot| self.stopped[slot as usize] == 0);
-            self.ctx.scoped(|| {
-                self.ctx.queue.write_buffer(
-                    &self.pixel_done,
-                    0,
-                    bytemuck::cast_slice(&self.stopped),
-                );
-                if !self.active_list.is_empty() {
-                    self.ctx.queue.write_buffer(
-                        &self.active_slots,
-                        0,
-                        bytemuck::cast_slice(&self.active_list),
-                    );
-                }
-            })?;
+        if stopped == self.stopped {
+            return Ok(());
         }
+        let active_list: Vec<u32> = self
+            .active_list
+            .iter()
+            .copied()
+            .filter(|&slot| stopped[slot as usize] == 0)
+            .collect();
+        // Upload first: after a failed upload the kernels' marks and list are the old ones, and so
+        // must this renderer's be.
+        self.ctx.scoped(|| {
+            self.ctx
+                .queue
+                .write_buffer(&self.pixel_done, 0, bytemuck::cast_slice(&stopped));
+            if !active_list.is_empty() {
+                self.ctx.queue.write_buffer(
+                    &self.active_slots,
+                    0,
+                    bytemuck::cast_slice(&active_list),
+                );
+            }
+        })?;
+        self.active = active_list.len();
+        self.active_list = active_list;
+        self.stopped = stopped;
         Ok(())
     }
 

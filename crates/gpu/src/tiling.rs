@@ -25,7 +25,8 @@ pub struct TiledRender {
 /// Renders `spp` samples per pixel of an image too large for one accumulation buffer, tile by
 /// tile (bands of whole rows), and stitches the tiles (and their AOVs). Each pixel's samples are
 /// the same as in an untiled render (random numbers are keyed by the pixel's number in the whole
-/// image), so the result is bit-identical. `max_tile_bytes` defaults to the adapter's largest
+/// image), so the result is bit-identical, except with adaptive sampling: a pixel on a tile's
+/// first or last row judges only its neighbours inside the tile, so it may stop sooner. `max_tile_bytes` defaults to the adapter's largest
 /// storage binding; `progress(fraction)` returning false stops after the current batch (the
 /// unrendered rest is black).
 pub fn render_tiled(
@@ -73,7 +74,17 @@ pub fn render_tiled(
                 break;
             }
         }
-        done_samples = done_samples.min(renderer.samples_done());
+        // Adaptive tiles end when their pixels have all stopped, each at its own count: the image's
+        // samples per pixel is then the most any took (its pixels' counts are at most that).
+        done_samples = if options.adaptive.is_some() {
+            if begin == 0 {
+                renderer.samples_done()
+            } else {
+                done_samples.max(renderer.samples_done())
+            }
+        } else {
+            done_samples.min(renderer.samples_done())
+        };
         let tile = renderer.read_image()?;
         let start = begin as usize * frame.width as usize;
         let range = start..start + tile.pixels.len();
