@@ -7,10 +7,12 @@
 //! - `renderer`: progressive batches of short dispatches; `sizing` chooses their size.
 //! - `wavefront`: the wavefront kernels' queues and waves.
 //! - `accel`: the driver's acceleration structure, for tracing with ray queries.
+//! - `adaptive`: adaptive sampling's stop marks and the pixels still sampling.
 //! - `tiling`: images larger than one buffer, in bands of rows.
 //! - `image`: what is read back, and the one denoise helper.
 
 mod accel;
+mod adaptive;
 pub mod bindings;
 mod buffers;
 pub mod context;

@@ -9,6 +9,7 @@ use rt_core::{GpuScene, Scene};
 use wgpu::util::DeviceExt;
 
 use crate::accel::{self, SceneAccel};
+use crate::adaptive::AdaptiveState;
 use crate::bindings::{self, Binding};
 use crate::buffers::{output_buffer, read_buffer, storage_buffer};
 use crate::context::GpuContext;
@@ -71,16 +72,8 @@ pub struct Renderer<'a> {
     accum: wgpu::Buffer,
     aovs: wgpu::Buffer,
     counters: wgpu::Buffer,
-    /// Adaptive sampling: per pixel of the tile, 0 while it takes samples, else the count it
-    /// stopped at (mirrored in `pixel_done` on the GPU); empty without adaptive sampling.
-    stopped: Vec<u32>,
-    pixel_done: wgpu::Buffer,
-    /// Pixels still taking samples.
-    active: usize,
-    /// Adaptive sampling: the tile slots of the pixels still sampling, ascending (mirrored in
-    /// `active_slots`, which the wavefront kernels read); empty otherwise.
-    active_list: Vec<u32>,
-    active_slots: wgpu::Buffer,
+    /// Adaptive sampling's stop marks and pixels still sampling.
+    adaptive: AdaptiveState,
     frame: Frame,
     options: RenderOptions,
     samples_done: u32,
@@ -236,22 +229,12 @@ impl<'a> Renderer<'a> {
                 )?,
             ),
         ];
-        // Adaptive sampling's stop marks, or a placeholder the kernel never reads.
-        let stops_size = if options.adaptive.is_some() {
-            pixels * 4
-        } else {
-            16
-        };
         ctx.check_buffer(
             "adaptive sampling stops (width x height x 4 bytes)",
-            stops_size,
+            AdaptiveState::buffer_bytes(options.adaptive, pixels),
         )?;
-        let active_list: Vec<u32> = if options.adaptive.is_some() {
-            (0..pixels as u32).collect()
-        } else {
-            Vec::new()
-        };
-        let (frame_buffer, accum, aovs, counters, pixel_done, active_slots) = ctx.scoped(|| {
+        let rows_in_tile = frame.tile_row_end - frame.tile_row_begin;
+        let (frame_buffer, accum, aovs, counters, adaptive) = ctx.scoped(|| {
             let frame_buffer = ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -265,17 +248,7 @@ impl<'a> Renderer<'a> {
                 output("accumulation", accum_size),
                 output("albedo and normal", aov_size),
                 output("counters", 8),
-                output("adaptive sampling stops", stops_size),
-                ctx.device
-                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("pixels still sampling"),
-                        contents: if active_list.is_empty() {
-                            &[0; 16]
-                        } else {
-                            bytemuck::cast_slice(&active_list)
-                        },
-                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                    }),
+                AdaptiveState::new(ctx, options.adaptive, frame.width, rows_in_tile),
             )
         })?;
         let bound: Vec<(Binding, wgpu::Buffer)> = [
@@ -283,10 +256,9 @@ impl<'a> Renderer<'a> {
             (bindings::ACCUM, accum.clone()),
             (bindings::COUNTERS, counters.clone()),
             (bindings::AOVS, aovs.clone()),
-            (bindings::PIXEL_DONE, pixel_done.clone()),
-            (bindings::ACTIVE_SLOTS, active_slots.clone()),
         ]
         .into_iter()
+        .chain(adaptive.bound())
         .chain(scene_buffers)
         .collect();
         let loop_cap = sizing::loop_cap(scene, &frame);
@@ -352,15 +324,7 @@ impl<'a> Renderer<'a> {
             accum,
             aovs,
             counters,
-            stopped: if options.adaptive.is_some() {
-                vec![0; pixels as usize]
-            } else {
-                Vec::new()
-            },
-            pixel_done,
-            active: pixels as usize,
-            active_list,
-            active_slots,
+            adaptive,
             frame,
             options,
             samples_done: 0,
@@ -460,7 +424,7 @@ impl<'a> Renderer<'a> {
     /// part-way through a batch (some bands of rows already hold its samples), the next call
     /// finishes that batch, with its sample count, instead of starting a new one.
     pub fn render_batch(&mut self, max_samples: u32) -> Result<BatchStats> {
-        if self.active == 0 {
+        if self.active_pixels() == 0 {
             // Adaptive sampling has stopped every pixel: nothing is left to sample.
             return Ok(BatchStats::default());
         }
@@ -479,7 +443,7 @@ impl<'a> Renderer<'a> {
         let (start, end, per_dispatch) = if compact {
             (
                 0,
-                self.active_list.len() as u32,
+                self.active_pixels() as u32,
                 self.rows_per_dispatch * width,
             )
         } else {
@@ -525,7 +489,11 @@ impl<'a> Renderer<'a> {
         }
         self.samples_done += samples;
         self.read_counters()?;
-        self.stop_converged_pixels()?;
+        let (ctx, accum) = (self.ctx, &self.accum);
+        let (width, rows) = (self.frame.width, tile_rows(&self.frame));
+        self.adaptive.update(ctx, self.samples_done, || {
+            read_accumulation(ctx, accum, width, rows)
+        })?;
         if first_after_build && self.samples_done > samples {
             // A rebuild's first batch: not a measure of the kernel's speed or dispatch length.
         } else if first_after_build {
@@ -546,76 +514,15 @@ impl<'a> Renderer<'a> {
         Ok(stats)
     }
 
-    /// Adaptive sampling, after a batch: stops each pixel whose noise estimate is at most the
-    /// threshold once it and its eight neighbours (those inside the tile) are there.
-    fn stop_converged_pixels(&mut self) -> Result<()> {
-        let Some(adaptive) = self.options.adaptive else {
-            return Ok(());
-        };
-        if self.samples_done < adaptive.min_samples || self.active == 0 {
-            return Ok(());
-        }
-        let pixels = self.read_accumulation()?;
-        let limit = f64::from(adaptive.threshold).powi(2);
-        let converged: Vec<bool> = pixels
-            .iter()
-            .zip(&self.stopped)
-            .map(|(p, &stopped)| {
-                stopped != 0 || rt_core::metrics::pixel_rel_mse(*p, self.samples_done) <= limit
-            })
-            .collect();
-        let width = self.frame.width as usize;
-        let rows = (self.frame.tile_row_end - self.frame.tile_row_begin) as usize;
-        let mut stopped = self.stopped.clone();
-        for y in 0..rows {
-            for x in 0..width {
-                let i = y * width + x;
-                let settled = (y.saturating_sub(1)..(y + 2).min(rows)).all(|ny| {
-                    (x.saturating_sub(1)..(x + 2).min(width)).all(|nx| converged[ny * width + nx])
-                });
-                if stopped[i] == 0 && settled {
-                    stopped[i] = self.samples_done;
-                }
-            }
-        }
-        if stopped == self.stopped {
-            return Ok(());
-        }
-        let active_list: Vec<u32> = self
-            .active_list
-            .iter()
-            .copied()
-            .filter(|&slot| stopped[slot as usize] == 0)
-            .collect();
-        // Upload first: after a failed upload the kernels' marks and list are the old ones, and so
-        // must this renderer's be.
-        self.ctx.scoped(|| {
-            self.ctx
-                .queue
-                .write_buffer(&self.pixel_done, 0, bytemuck::cast_slice(&stopped));
-            if !active_list.is_empty() {
-                self.ctx.queue.write_buffer(
-                    &self.active_slots,
-                    0,
-                    bytemuck::cast_slice(&active_list),
-                );
-            }
-        })?;
-        self.active = active_list.len();
-        self.active_list = active_list;
-        self.stopped = stopped;
-        Ok(())
-    }
-
     /// Whether batches walk the list of pixels still sampling instead of the tile's rows.
     fn compacts(&self) -> bool {
-        self.options.adaptive.is_some() && matches!(self.engine, Engine::Wavefront(_))
+        self.adaptive.enabled() && matches!(self.engine, Engine::Wavefront(_))
     }
 
     /// Pixels (of this renderer's tile) still taking samples: all of them without adaptive
     /// sampling; once none is, further batches add nothing.
     pub fn active_pixels(&self) -> usize {
-        self.active
+        self.adaptive.active().len()
     }
 
     /// Chooses rows and samples per dispatch so one dispatch takes about the target time.
@@ -626,7 +533,7 @@ impl<'a> Renderer<'a> {
         };
         // In rows, or in rows' worth of the pixels still sampling.
         let rows = if self.compacts() {
-            (self.active_list.len() as u32)
+            (self.active_pixels() as u32)
                 .div_ceil(self.frame.width.max(1))
                 .max(1)
         } else {
@@ -719,7 +626,7 @@ impl<'a> Renderer<'a> {
     /// calling `progress(samples_done)` after each batch;
     /// `progress` returning false stops early (the image so far stays readable).
     pub fn render(&mut self, spp: u32, mut progress: impl FnMut(u32) -> bool) -> Result<()> {
-        while self.samples_done < spp && self.active > 0 {
+        while self.samples_done < spp && self.active_pixels() > 0 {
             self.render_batch(spp - self.samples_done)?;
             if !progress(self.samples_done) {
                 break;
@@ -763,18 +670,7 @@ impl<'a> Renderer<'a> {
         } else {
             pixels
         };
-        let sample_counts = self.options.adaptive.map(|_| {
-            self.stopped
-                .iter()
-                .map(|&stopped| {
-                    if stopped == 0 {
-                        self.samples_done
-                    } else {
-                        stopped
-                    }
-                })
-                .collect()
-        });
+        let sample_counts = self.adaptive.counts(self.samples_done);
         Ok(Image {
             width: self.frame.width,
             height: self.frame.tile_row_end - self.frame.tile_row_begin,
@@ -784,14 +680,30 @@ impl<'a> Renderer<'a> {
         })
     }
 
-    /// The accumulation buffer as it is: per pixel of the tile, mean radiance and mean squared
-    /// luminance.
     fn read_accumulation(&self) -> Result<Vec<[f32; 4]>> {
-        let rows = self.frame.tile_row_end - self.frame.tile_row_begin;
-        let size = u64::from(self.frame.width) * u64::from(rows) * 16;
-        let bytes = read_buffer(self.ctx, &self.accum, size)?;
-        Ok(bytemuck::pod_collect_to_vec(&bytes))
+        read_accumulation(
+            self.ctx,
+            &self.accum,
+            self.frame.width,
+            tile_rows(&self.frame),
+        )
     }
+}
+
+fn tile_rows(frame: &Frame) -> u32 {
+    frame.tile_row_end - frame.tile_row_begin
+}
+
+/// The accumulation buffer as it is: per pixel of the tile, mean radiance and mean squared
+/// luminance.
+fn read_accumulation(
+    ctx: &GpuContext,
+    accum: &wgpu::Buffer,
+    width: u32,
+    rows: u32,
+) -> Result<Vec<[f32; 4]>> {
+    let bytes = read_buffer(ctx, accum, u64::from(width) * u64::from(rows) * 16)?;
+    Ok(bytemuck::pod_collect_to_vec(&bytes))
 }
 
 /// The megakernel's bind group over `bound`.
