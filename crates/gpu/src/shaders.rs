@@ -33,94 +33,44 @@ pub struct ShaderModule {
     pub files: &'static [&'static str],
 }
 
-pub const TRACE: ShaderModule = ShaderModule {
-    name: "trace",
-    files: &[
-        "shared/types.wgsl",
-        "shared/rng.wgsl",
-        "shared/sampling.wgsl",
-        "shared/intersect.wgsl",
-        "shared/bvh.wgsl",
-        "shared/scene_bindings.wgsl",
-        "shared/path.wgsl",
-        "trace.wgsl",
-    ],
-};
+/// A tracing module: its nearest-hit traversal (first: the ray-query file's `enable` must precede
+/// every declaration; WGSL's module-scope order does not matter otherwise), the shared estimator,
+/// and its entry file.
+macro_rules! tracing_module {
+    ($name:literal, $traversal:literal, $entry:literal) => {
+        ShaderModule {
+            name: $name,
+            files: &[
+                $traversal,
+                "shared/types.wgsl",
+                "shared/rng.wgsl",
+                "shared/sampling.wgsl",
+                "shared/intersect.wgsl",
+                "shared/scene_bindings.wgsl",
+                "shared/path.wgsl",
+                $entry,
+            ],
+        }
+    };
+}
 
+/// The megakernel over the BVH2.
+pub const TRACE: ShaderModule = tracing_module!("trace", "shared/bvh.wgsl", "trace.wgsl");
 /// `TRACE` over the compressed wide BVH.
-pub const TRACE_WIDE: ShaderModule = ShaderModule {
-    name: "trace_wide",
-    files: &[
-        "shared/types.wgsl",
-        "shared/rng.wgsl",
-        "shared/sampling.wgsl",
-        "shared/intersect.wgsl",
-        "shared/cwbvh.wgsl",
-        "shared/scene_bindings.wgsl",
-        "shared/path.wgsl",
-        "trace.wgsl",
-    ],
-};
-
-/// The wavefront kernels (the default: `RenderOptions::wavefront`), over the BVH2.
-pub const WAVEFRONT: ShaderModule = ShaderModule {
-    name: "wavefront",
-    files: &[
-        "shared/types.wgsl",
-        "shared/rng.wgsl",
-        "shared/sampling.wgsl",
-        "shared/intersect.wgsl",
-        "shared/bvh.wgsl",
-        "shared/scene_bindings.wgsl",
-        "shared/path.wgsl",
-        "wavefront.wgsl",
-    ],
-};
-
-/// `WAVEFRONT` over the compressed wide BVH.
-pub const WAVEFRONT_WIDE: ShaderModule = ShaderModule {
-    name: "wavefront_wide",
-    files: &[
-        "shared/types.wgsl",
-        "shared/rng.wgsl",
-        "shared/sampling.wgsl",
-        "shared/intersect.wgsl",
-        "shared/cwbvh.wgsl",
-        "shared/scene_bindings.wgsl",
-        "shared/path.wgsl",
-        "wavefront.wgsl",
-    ],
-};
-
+pub const TRACE_WIDE: ShaderModule =
+    tracing_module!("trace_wide", "shared/cwbvh.wgsl", "trace.wgsl");
 /// `TRACE` over the driver's ray queries (`Trace::Hardware`).
-pub const TRACE_HW: ShaderModule = ShaderModule {
-    name: "trace_hw",
-    files: &[
-        "shared/ray_query.wgsl",
-        "shared/types.wgsl",
-        "shared/rng.wgsl",
-        "shared/sampling.wgsl",
-        "shared/intersect.wgsl",
-        "shared/scene_bindings.wgsl",
-        "shared/path.wgsl",
-        "trace.wgsl",
-    ],
-};
-
+pub const TRACE_HW: ShaderModule =
+    tracing_module!("trace_hw", "shared/ray_query.wgsl", "trace.wgsl");
+/// The wavefront kernels (the default: `Kernel::Wavefront`), over the BVH2.
+pub const WAVEFRONT: ShaderModule =
+    tracing_module!("wavefront", "shared/bvh.wgsl", "wavefront.wgsl");
+/// `WAVEFRONT` over the compressed wide BVH.
+pub const WAVEFRONT_WIDE: ShaderModule =
+    tracing_module!("wavefront_wide", "shared/cwbvh.wgsl", "wavefront.wgsl");
 /// `WAVEFRONT` over the driver's ray queries (`Trace::Hardware`).
-pub const WAVEFRONT_HW: ShaderModule = ShaderModule {
-    name: "wavefront_hw",
-    files: &[
-        "shared/ray_query.wgsl",
-        "shared/types.wgsl",
-        "shared/rng.wgsl",
-        "shared/sampling.wgsl",
-        "shared/intersect.wgsl",
-        "shared/scene_bindings.wgsl",
-        "shared/path.wgsl",
-        "wavefront.wgsl",
-    ],
-};
+pub const WAVEFRONT_HW: ShaderModule =
+    tracing_module!("wavefront_hw", "shared/ray_query.wgsl", "wavefront.wgsl");
 
 pub const TRACE_RAYS: ShaderModule = ShaderModule {
     name: "trace_rays",
