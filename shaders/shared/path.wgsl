@@ -18,6 +18,8 @@ override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
 override HAS_NEE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
+override HAS_PBR: bool = true;
+override HAS_ENVIRONMENT: bool = true;
 // Also record the first hit's albedo, normal and directly seen light (for the denoiser).
 override WRITE_AOVS: bool = false;
 // Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
@@ -102,18 +104,38 @@ fn is_finite3(v: vec3<f32>) -> bool {
     return all(e != vec3(0x7f800000u));
 }
 
-// Next-event estimation at diffuse point p: the ray to one emitter point and, should it arrive,
-// Le cos/pi * w_light / p_light (albedo and beta applied by the caller). Always draws four random
-// numbers.
-fn sample_emitter(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, Sampler>) -> ShadowRay {
-    var none: ShadowRay;
+// One light sample from p (reference/path.rs `sample_light`): the environment with probability
+// frame.env_pick, else an emitter point. `distance` <= 0: none. Always draws four random numbers.
+struct LightSample {
+    origin: vec3<f32>,
+    distance: f32,
+    direction: vec3<f32>,
+    p_light: f32,
+    radiance_over_pdf: vec3<f32>,
+}
+
+fn sample_light(p: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> LightSample {
+    var none: LightSample;
     none.distance = -1.0;
     let u_pick = rng_next(rng);
     let u_alias = rng_next(rng);
     let u_a = rng_next(rng);
     let u_b = rng_next(rng);
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    if (HAS_ENVIRONMENT && u_pick < frame.env_pick) {
+        let e = sample_env(u_pick / frame.env_pick, u_alias, u_a, u_b);
+        let p_light = frame.env_pick * e.pdf;
+        if (!(p_light > 0.0 && dot(e.direction, ng) > 0.0)) {
+            return none;
+        }
+        return LightSample(origin, 3.0e38, e.direction, p_light, e.radiance / p_light);
+    }
+    if (!HAS_NEE) {
+        return none;
+    }
+    let u_emitter = (u_pick - frame.env_pick) / (1.0 - frame.env_pick);
     let n = frame.emitter_count;
-    let slot = emitters[min(u32(u_pick * f32(n)), n - 1u)];
+    let slot = emitters[min(u32(u_emitter * f32(n)), n - 1u)];
     let chosen = select(emitters[slot.alias_index].triangle, slot.triangle, u_alias < slot.threshold);
     let tri = triangles[chosen];
     let b = sample_triangle(u_a, u_b);
@@ -122,25 +144,38 @@ fn sample_emitter(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function,
     if (dot(y - p, nl) >= 0.0) {
         return none;
     }
-    let origin = offset_ray_origin(p, ng, frame.offset_scale);
     let to = offset_ray_origin(y, nl, frame.offset_scale) - origin;
     let distance = length(to);
     let dir = to / distance;
-    let cos_x = dot(dir, ns);
     let cos_l = -dot(dir, nl);
-    if (!(cos_x > 0.0 && dot(dir, ng) > 0.0 && cos_l > 0.0)) {
+    if (!(dot(dir, ng) > 0.0 && cos_l > 0.0)) {
         return none;
     }
     let le = materials[tri.material].emission;
-    let p_light = luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
-    let p_bsdf = cos_x * (1.0 / PI);
-    let w_light = select(power_heuristic(p_light, p_bsdf), 1.0, frame.light_strategy == 1u);
-    return ShadowRay(origin, distance, dir, 0u, le * (p_bsdf * w_light / p_light));
+    let p_light = (1.0 - frame.env_pick) * luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
+    return LightSample(origin, distance, dir, p_light, le / p_light);
 }
 
-// `sample_emitter` with its ray traced here: the contribution, or zero if occluded.
-fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
-    let shadow = sample_emitter(p, ng, ns, rng);
+// Next-event estimation at p for `surface`: the shadow ray and, should it arrive,
+// f cos Le * w_light / p_light (beta applied by the caller). Always draws four random numbers.
+fn sample_direct(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<function, Sampler>) -> ShadowRay {
+    var none: ShadowRay;
+    none.distance = -1.0;
+    let light = sample_light(p, ng, rng);
+    if (!(light.distance > 0.0)) {
+        return none;
+    }
+    let e = surface_eval(surface, light.direction);
+    if (all(e.xyz == vec3(0.0))) {
+        return none;
+    }
+    let w_light = select(power_heuristic(light.p_light, e.w), 1.0, frame.light_strategy == 1u);
+    return ShadowRay(light.origin, light.distance, light.direction, 0u, e.xyz * light.radiance_over_pdf * w_light);
+}
+
+// `sample_direct` with its ray traced here: the contribution, or zero if occluded.
+fn direct_light(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
+    let shadow = sample_direct(p, ng, surface, rng);
     if (!(shadow.distance > 0.0)) {
         return vec3(0.0);
     }
@@ -151,10 +186,10 @@ fn direct_light(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rng: ptr<function, S
     return shadow.contribution;
 }
 
-// Point, spot and directional lights at diffuse point p: sum over lights of E cos/pi, E the
-// irradiance from the light (I/d^2, falloff for spots; E for the sun), if unoccluded (albedo and
-// beta applied by the caller). Deterministic: draws no random numbers.
-fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rays: ptr<function, u32>) -> vec3<f32> {
+// Point, spot and directional lights at p: sum over lights of E f cos, E the irradiance from the
+// light (I/d^2, falloff for spots; E for the sun), if unoccluded (beta applied by the caller).
+// Deterministic: draws no random numbers.
+fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<function, u32>) -> vec3<f32> {
     var sum = vec3(0.0);
     let origin = offset_ray_origin(p, ng, frame.offset_scale);
     for (var i = 0u; i < arrayLength(&delta_lights); i++) {
@@ -176,17 +211,51 @@ fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, rays: ptr<functio
                 irradiance *= t * t * (3.0 - 2.0 * t);
             }
         }
-        let cos_x = dot(dir, ns);
-        if (!(cos_x > 0.0 && dot(dir, ng) > 0.0) || all(irradiance == vec3(0.0))) {
+        if (!(dot(dir, ng) > 0.0) || all(irradiance == vec3(0.0))) {
+            continue;
+        }
+        let f_cos = surface_eval(surface, dir).xyz;
+        if (all(f_cos == vec3(0.0))) {
             continue;
         }
         *rays += 1u;
         if (intersect_scene(origin, dir, distance, true).triangle != MISS) {
             continue;
         }
-        sum += irradiance * (cos_x / PI);
+        sum += irradiance * f_cos;
     }
     return sum;
+}
+
+// The light a ray leaving the scene finds, MIS-weighted against the environment's next-event
+// estimation when the last vertex sampled its BSDF with density prev_bsdf_pdf.
+fn escaped(direction: vec3<f32>, prev_bsdf_pdf: f32) -> vec3<f32> {
+    if (!HAS_ENVIRONMENT || frame.env_width == 0u) {
+        return frame.ambient;
+    }
+    let e = env_lookup(direction);
+    var weight = 1.0;
+    if (frame.env_pick > 0.0 && prev_bsdf_pdf > 0.0) {
+        weight = select(power_heuristic(prev_bsdf_pdf, frame.env_pick * e.w), 0.0, frame.light_strategy == 1u);
+    }
+    return e.xyz * weight;
+}
+
+// The PBR surface at a hit seen from wo: shading frame ns unless wo lies below it, then ng.
+fn pbr_surface(material: Material, base: vec3<f32>, wo: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
+    let n = select(ng, ns, dot(wo, ns) > 0.0);
+    let basis = onb(n);
+    let wo_local = vec3(dot(wo, basis.t), dot(wo, basis.b), dot(wo, n));
+    let eta = select(1.0 / material.param, material.param, front);
+    let energy = energy_lookup(wo_local.z, material.roughness);
+    var s: Surface;
+    s.kind = SURFACE_PBR;
+    s.t = basis.t;
+    s.b = basis.b;
+    s.n = n;
+    s.wo = wo_local;
+    s.bsdf = pbr_bsdf(base, material.metallic, material.roughness, eta, material.transmission, wo_local.z, energy);
+    return s;
 }
 
 fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<vec3<f32>, 2> {
@@ -208,6 +277,10 @@ fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<v
 fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     let cam = camera_ray_origin_dir(x, y, rng);
     return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), vec3(0.0));
+}
+
+fn albedo_factor(m: Material) -> vec3<f32> {
+    return select(vec3(1.0), m.albedo, m.kind == MAT_PBR);
 }
 
 fn texel(m: Material, x: i32, y: i32) -> vec3<f32> {
@@ -246,7 +319,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     let depth = (*path).depth;
     let direction = (*path).direction;
     if (hit.triangle == MISS) {
-        let sky = (*path).beta * frame.ambient;
+        let sky = (*path).beta * escaped(direction, (*path).prev_bsdf_pdf);
         (*path).radiance += select(clamp_bounced(sky), sky, depth == 0u);
         if (WRITE_AOVS && depth == 0u) {
             aov_emission = sky;
@@ -257,6 +330,10 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     let material = materials[tri.material];
     let ng_raw = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
     let front = dot(direction, ng_raw) < 0.0;
+    if (HAS_PBR && !front && material.kind == MAT_PBR && any(material.absorption != vec3(0.0))) {
+        // The segment ran inside the object: Beer-Lambert absorption over its length.
+        (*path).beta *= exp(-material.absorption * hit.t);
+    }
     if (WRITE_AOVS && depth == 0u) {
         let n = normalize(ng_raw);
         aov_normal = select(-n, n, front);
@@ -268,7 +345,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
             if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
                 let s0 = shading[hit.triangle];
                 let c0 = 1.0 - hit.b1 - hit.b2;
-                a = sample_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2);
+                a = sample_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2) * albedo_factor(material);
             }
             aov_albedo = a;
         }
@@ -277,7 +354,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         var weight = 1.0;
         if (HAS_NEE && (*path).prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
             let cos_l = -dot(direction, normalize(ng_raw));
-            let p_light = luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
+            let p_light = (1.0 - frame.env_pick) * luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
             weight = select(power_heuristic((*path).prev_bsdf_pdf, p_light), 0.0, frame.light_strategy == 1u);
         }
         let emitted = (*path).beta * material.emission * weight;
@@ -304,7 +381,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     }
     var albedo = material.albedo;
     if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
-        albedo = sample_texture(material, sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2);
+        albedo = sample_texture(material, sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2) * albedo_factor(material);
     }
     var next: vec3<f32>;
     (*path).prev_bsdf_pdf = 0.0;
@@ -322,24 +399,47 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
             next = refract_dir(direction, ns, eta);
         }
     } else {
-        if (HAS_NEE) {
+        var surface: Surface;
+        surface.kind = SURFACE_LAMBERT;
+        surface.albedo = albedo;
+        surface.n = ns;
+        if (HAS_PBR && material.kind == MAT_PBR) {
+            surface = pbr_surface(material, albedo, -direction, ng, ns, front);
+        }
+        if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
             if (defer_shadow) {
-                *shadow = sample_emitter(p, ng, ns, rng);
-                (*shadow).contribution = clamp_bounced((*path).beta * albedo * (*shadow).contribution);
+                *shadow = sample_direct(p, ng, surface, rng);
+                (*shadow).contribution = clamp_bounced((*path).beta * (*shadow).contribution);
             } else {
-                (*path).radiance += clamp_bounced((*path).beta * albedo * direct_light(p, ng, ns, rng, rays));
+                (*path).radiance += clamp_bounced((*path).beta * direct_light(p, ng, surface, rng, rays));
             }
         }
         if (HAS_DELTA_LIGHTS) {
-            (*path).radiance += clamp_bounced((*path).beta * albedo * delta_lights_at(p, ng, ns, rays));
+            (*path).radiance += clamp_bounced((*path).beta * delta_lights_at(p, ng, surface, rays));
         }
-        (*path).beta *= albedo;
-        next = sample_cosine_hemisphere(ns, rng);
-        (*path).prev_bsdf_pdf = max(dot(next, ns), 0.0) * (1.0 / PI);
+        if (HAS_PBR && surface.kind == SURFACE_PBR) {
+            let u_lobe = rng_next(rng);
+            let u1 = rng_next(rng);
+            let u2 = rng_next(rng);
+            let sample = pbr_sample(surface.bsdf, surface.wo, u_lobe, u1, u2);
+            if (!sample.valid) {
+                return false;
+            }
+            (*path).beta *= sample.weight;
+            next = normalize(surface.t * sample.wi.x + surface.b * sample.wi.y + surface.n * sample.wi.z);
+            if (dot(next, ng) > 0.0) {
+                (*path).prev_bsdf_pdf = sample.pdf;
+            }
+        } else {
+            (*path).beta *= albedo;
+            next = sample_cosine_hemisphere(ns, rng);
+            (*path).prev_bsdf_pdf = max(dot(next, ns), 0.0) * (1.0 / PI);
+        }
     }
     let side = dot(next, ng);
     let transmitted = side < 0.0;
-    if (side == 0.0 || (transmitted && material.kind != MAT_DIELECTRIC)) {
+    let transmits = material.kind == MAT_DIELECTRIC || (HAS_PBR && material.kind == MAT_PBR && material.transmission > 0.0);
+    if (side == 0.0 || (transmitted && !transmits)) {
         return false;
     }
     // Russian roulette: continue with probability q = min(1, max(beta)), re-weighted by 1/q.

@@ -9,6 +9,10 @@
 @group(0) @binding(5) var<storage, read> texels: array<u32>;
 @group(0) @binding(8) var<storage, read> emitters: array<Emitter>;
 @group(0) @binding(9) var<storage, read> delta_lights: array<DeltaLight>;
+// The environment map's texels (one placeholder without one: frame.env_width == 0).
+@group(0) @binding(20) var<storage, read> environment: array<EnvTexel>;
+// The white GGX conductor's albedo E(mu, roughness), ENERGY_SIDE x ENERGY_SIDE.
+@group(0) @binding(21) var<storage, read> ggx_energy: array<f32>;
 
 // Adaptive sampling: per pixel of the tile, 0 while it takes samples, else the sample count it
 // stopped at (the renderer sets it between batches from each pixel's noise estimate). Without

@@ -4,6 +4,7 @@ const MAT_LAMBERTIAN: u32 = 0u;
 const MAT_METAL: u32 = 1u;
 const MAT_DIELECTRIC: u32 = 2u;
 const MAT_EMISSIVE: u32 = 3u;
+const MAT_PBR: u32 = 4u;
 const NO_TEXTURE: u32 = 0xffffffffu;
 const MISS: u32 = 0xffffffffu;
 
@@ -34,10 +35,25 @@ struct Material {
     kind: u32,               // 12
     emission: vec3<f32>,     // 16
     param: f32,              // 28
-    texture_offset: u32,     // 32
-    texture_width: u32,      // 36
-    texture_height: u32,     // 40
-    _pad: u32,               // 44
+    absorption: vec3<f32>,   // 32
+    metallic: f32,           // 44
+    texture_offset: u32,     // 48
+    texture_width: u32,      // 52
+    texture_height: u32,     // 56
+    roughness: f32,          // 60
+    transmission: f32,       // 64
+    _pad_a: u32,             // 68
+    _pad_b: u32,             // 72
+    _pad_c: u32,             // 76
+}
+
+// An environment texel with its alias-table entry (core::gpu_types::EnvTexel).
+struct EnvTexel {
+    radiance: vec3<f32>,     // 0
+    pdf: f32,                // 12
+    alias_index: u32,        // 16
+    threshold: f32,          // 20
+    _pad: vec2<u32>,         // 24
 }
 
 // Both children of an inner node; a child with count > 0 is a leaf of triangles index..index+count.
@@ -96,9 +112,13 @@ struct Frame {
     offset_scale: f32,           // 136: see offset_ray_origin
     active_begin: u32,           // 140: adaptive wavefront waves: their pixels' place in active_slots
     active_count: u32,           // 144
-    _pad_c: u32,                 // 148
-    _pad_d: u32,                 // 152
-    _pad_e: u32,                 // 156
+    env_width: u32,              // 148: 0 without an environment map
+    env_height: u32,             // 152
+    env_rotation: f32,           // 156: turns about +y
+    env_pick: f32,               // 160: probability that next-event estimation samples the environment
+    _pad_c: u32,                 // 164
+    _pad_d: u32,                 // 168
+    _pad_e: u32,                 // 172
 }
 
 struct Emitter {

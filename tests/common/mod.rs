@@ -38,6 +38,7 @@ pub fn scene(
         ambient,
         settings,
         lights: Vec::new(),
+        environment: None,
     }
 }
 

@@ -1,6 +1,11 @@
 //! Named materials for people who do not know albedos and indices of refraction by heart.
 
 use rt_core::Material;
+use rt_core::material::Pbr;
+
+fn pbr(p: Pbr) -> Material {
+    Material::Pbr(Box::new(p))
+}
 
 pub struct Preset {
     pub name: &'static str,
@@ -65,6 +70,65 @@ pub const PRESETS: &[Preset] = &[
         material: || Material::Dielectric {
             ior: 2.417,
             tint: [1.0; 3],
+        },
+    },
+    Preset {
+        name: "Rough gold",
+        tip: "Physically based metal, base (1.0, 0.766, 0.336), roughness 0.4",
+        material: || {
+            pbr(Pbr {
+                base_color: [1.0, 0.766, 0.336],
+                metallic: 1.0,
+                roughness: 0.4,
+                ..Default::default()
+            })
+        },
+    },
+    Preset {
+        name: "Brushed aluminium",
+        tip: "Physically based metal, base (0.913, 0.922, 0.924), roughness 0.3 (isotropic)",
+        material: || {
+            pbr(Pbr {
+                base_color: [0.913, 0.922, 0.924],
+                metallic: 1.0,
+                roughness: 0.3,
+                ..Default::default()
+            })
+        },
+    },
+    Preset {
+        name: "Frosted glass",
+        tip: "Physically based rough glass, IOR 1.5, roughness 0.3",
+        material: || {
+            pbr(Pbr {
+                base_color: [1.0; 3],
+                roughness: 0.3,
+                transmission: 1.0,
+                ..Default::default()
+            })
+        },
+    },
+    Preset {
+        name: "Plastic",
+        tip: "Physically based dielectric, white, IOR 1.5, roughness 0.2",
+        material: || {
+            pbr(Pbr {
+                base_color: [0.8; 3],
+                roughness: 0.2,
+                ..Default::default()
+            })
+        },
+    },
+    Preset {
+        name: "Rubber",
+        tip: "Physically based dielectric, near black, IOR 1.52, roughness 0.8",
+        material: || {
+            pbr(Pbr {
+                base_color: [0.02; 3],
+                roughness: 0.8,
+                ior: 1.52,
+                ..Default::default()
+            })
         },
     },
 ];

@@ -93,11 +93,7 @@ mod tests {
             albedo: [0.5; 3],
             kind: material_kind::EMISSIVE,
             emission,
-            param: 0.0,
-            texture_offset: 0,
-            texture_width: 0,
-            texture_height: 0,
-            _pad: 0,
+            ..Default::default()
         };
         let materials = [
             material([0.0; 3]),

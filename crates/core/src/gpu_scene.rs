@@ -22,6 +22,10 @@ pub struct SceneFeatures {
     pub nee: bool,
     /// Point, spot or directional lights (always sampled directly).
     pub delta_lights: bool,
+    /// The PBR material.
+    pub pbr: bool,
+    /// An environment map (sampled directly, and by MIS with the BSDF).
+    pub environment: bool,
 }
 
 /// Everything the GPU needs for a scene, as plain arrays.
@@ -43,6 +47,14 @@ pub struct GpuScene {
     pub emitter_power: f32,
     /// Point, spot and directional lights.
     pub delta_lights: Vec<gpu_types::DeltaLight>,
+    /// The environment map's texels and sampling records (empty without one).
+    pub env_texels: Vec<gpu_types::EnvTexel>,
+    pub env_width: u32,
+    pub env_height: u32,
+    /// Turns about +y.
+    pub env_rotation: f32,
+    /// The white GGX conductor's albedo table (`math::microfacet::energy_table`).
+    pub ggx_energy: Vec<f32>,
     pub features: SceneFeatures,
     /// The largest side of the triangles' bounding box (0 without triangles).
     pub extent: f32,
@@ -105,10 +117,12 @@ impl GpuScene {
             let label = || format!("object '{}'", object.name);
             object.material.validate(&label()).map_err(Error::Scene)?;
             let mut material = gpu_material(&object.material);
-            if let Material::Lambertian {
-                texture: Some(t), ..
-            } = object.material
-            {
+            let texture = match &object.material {
+                Material::Lambertian { texture, .. } => *texture,
+                Material::Pbr(p) => p.texture,
+                _ => None,
+            };
+            if let Some(t) = texture {
                 let texture = scene.textures.get(t).ok_or_else(|| {
                     Error::Scene(format!("{}: texture index {t} does not exist", label()))
                 })?;
@@ -124,6 +138,7 @@ impl GpuScene {
             }
             out.features.metal |= material.kind == material_kind::METAL;
             out.features.dielectric |= material.kind == material_kind::DIELECTRIC;
+            out.features.pbr |= material.kind == material_kind::PBR;
             out.materials.push(material);
 
             let m = object.transform.matrix();
@@ -240,6 +255,17 @@ impl GpuScene {
             .map(|l| l.gpu())
             .collect();
         out.features.delta_lights = !out.delta_lights.is_empty();
+        if let Some(env) = &scene.environment {
+            env.validate().map_err(Error::Scene)?;
+            if let Some(texels) = crate::environment::build_env_texels(&env.map, env.strength) {
+                out.env_texels = texels;
+                out.env_width = env.map.width;
+                out.env_height = env.map.height;
+                out.env_rotation = env.rotation_deg / 360.0;
+                out.features.environment = true;
+            }
+        }
+        out.ggx_energy = crate::math::microfacet::energy_table().to_vec();
         Ok(out)
     }
 
@@ -366,6 +392,25 @@ impl GpuScene {
                 }
             }
         }
+        if self.env_texels.len() != (self.env_width as usize) * (self.env_height as usize) {
+            return Err(format!(
+                "environment: {} texels for {}x{}",
+                self.env_texels.len(),
+                self.env_width,
+                self.env_height
+            ));
+        }
+        if let Some(i) = self
+            .env_texels
+            .iter()
+            .position(|t| t.alias_index as usize >= self.env_texels.len())
+        {
+            return Err(format!(
+                "environment texel {i}: alias {} of {}",
+                self.env_texels[i].alias_index,
+                self.env_texels.len()
+            ));
+        }
         for (i, e) in self.emitters.iter().enumerate() {
             if e.triangle as usize >= triangles || e.alias_index as usize >= self.emitters.len() {
                 return Err(format!(
@@ -388,7 +433,7 @@ impl GpuScene {
     }
 
     /// Bytes each buffer needs, by buffer name, for limit checks and reports.
-    pub fn buffer_sizes(&self) -> [(&'static str, u64); 6] {
+    pub fn buffer_sizes(&self) -> [(&'static str, u64); 7] {
         let bytes = |len: usize, size: usize| (len * size) as u64;
         [
             (
@@ -409,6 +454,10 @@ impl GpuScene {
             (
                 "emitters",
                 bytes(self.emitters.len(), size_of::<gpu_types::Emitter>()),
+            ),
+            (
+                "environment",
+                bytes(self.env_texels.len(), size_of::<gpu_types::EnvTexel>()),
             ),
         ]
     }
@@ -440,6 +489,17 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
         Material::Emissive { color, intensity } => gpu_types::Material {
             kind: material_kind::EMISSIVE,
             emission: color.map(|c| c * intensity),
+            ..base
+        },
+        Material::Pbr(ref p) => gpu_types::Material {
+            albedo: p.base_color,
+            kind: material_kind::PBR,
+            emission: p.emission.map(|c| c * p.emission_strength),
+            param: p.ior,
+            absorption: p.absorption(),
+            metallic: p.metallic,
+            roughness: p.roughness,
+            transmission: p.transmission,
             ..base
         },
     }

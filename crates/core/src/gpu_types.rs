@@ -11,6 +11,8 @@ pub mod material_kind {
     pub const METAL: u32 = 1;
     pub const DIELECTRIC: u32 = 2;
     pub const EMISSIVE: u32 = 3;
+    /// glTF metallic-roughness (`math::bsdf`).
+    pub const PBR: u32 = 4;
 }
 
 /// `Material.texture_offset` when the material has no texture.
@@ -55,13 +57,48 @@ pub struct Material {
     pub kind: u32, // 12
     /// Radiance emitted from the front face (any kind may emit; `EMISSIVE` also absorbs).
     pub emission: [f32; 3], // 16
-    /// Metal: fuzz in [0, 1]. Dielectric: index of refraction.
+    /// Metal: fuzz in [0, 1]. Dielectric and PBR: index of refraction.
     pub param: f32, // 28
+    /// PBR: Beer–Lambert absorption coefficient σ per unit length inside a transmissive object.
+    pub absorption: [f32; 3], // 32
+    /// PBR: metallic in [0, 1].
+    pub metallic: f32, // 44
     /// First texel in the texel buffer, or `NO_TEXTURE`.
-    pub texture_offset: u32, // 32
-    pub texture_width: u32, // 36
-    pub texture_height: u32, // 40
-    pub _pad: u32, // 44
+    pub texture_offset: u32, // 48
+    pub texture_width: u32, // 52
+    pub texture_height: u32, // 56
+    /// PBR: roughness in [0, 1] (α = roughness²).
+    pub roughness: f32, // 60
+    /// PBR: specular transmission in [0, 1].
+    pub transmission: f32, // 64
+    pub _pad_a: u32, // 68
+    pub _pad_b: u32, // 72
+    pub _pad_c: u32, // 76
+}
+
+impl Material {
+    /// What a texture lookup is multiplied by: PBR's base colour factor (a Lambertian texture
+    /// replaces the albedo instead).
+    pub fn albedo_factor(&self) -> [f32; 3] {
+        if self.kind == material_kind::PBR {
+            self.albedo
+        } else {
+            [1.0; 3]
+        }
+    }
+}
+
+/// One texel of the environment map with its importance-sampling record (`crate::environment`).
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct EnvTexel {
+    /// Radiance × strength.
+    pub radiance: [f32; 3], // 0
+    /// P_i · W H / (2π²): the solid-angle pdf is this over sin θ.
+    pub pdf: f32, // 12
+    pub alias_index: u32, // 16
+    pub threshold: f32,   // 20
+    pub _pad: [u32; 2],   // 24
 }
 
 /// An inner node of the BVH2 holding the boxes of both its children, so one load per traversal step
@@ -154,9 +191,16 @@ pub struct Frame {
     /// whole rows (so a wave holds only paths that count).
     pub active_begin: u32, // 140
     pub active_count: u32,    // 144
-    pub _pad_c: u32,          // 148
-    pub _pad_d: u32,          // 152
-    pub _pad_e: u32,          // 156
+    /// The environment map's size (0 without one: rays that leave see `ambient`).
+    pub env_width: u32, // 148
+    pub env_height: u32,      // 152
+    /// Its rotation about +y, in turns.
+    pub env_rotation: f32, // 156
+    /// Probability that next-event estimation samples the environment rather than an emitter.
+    pub env_pick: f32, // 160
+    pub _pad_c: u32,          // 164
+    pub _pad_d: u32,          // 168
+    pub _pad_e: u32,          // 172
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power
@@ -254,11 +298,22 @@ pub fn layouts() -> Vec<StructLayout> {
                 kind,
                 emission,
                 param,
+                absorption,
+                metallic,
                 texture_offset,
                 texture_width,
                 texture_height,
-                _pad
+                roughness,
+                transmission,
+                _pad_a,
+                _pad_b,
+                _pad_c
             ]
+        ),
+        layout!(
+            "EnvTexel",
+            EnvTexel,
+            [radiance, pdf, alias_index, threshold, _pad]
         ),
         layout!(
             "BvhNode",
@@ -322,6 +377,10 @@ pub fn layouts() -> Vec<StructLayout> {
                 offset_scale,
                 active_begin,
                 active_count,
+                env_width,
+                env_height,
+                env_rotation,
+                env_pick,
                 _pad_c,
                 _pad_d,
                 _pad_e

@@ -6,6 +6,7 @@ pub mod bvh;
 pub mod camera;
 pub mod denoise;
 pub mod emitters;
+pub mod environment;
 pub mod error;
 pub mod frame;
 pub mod gpu_scene;
@@ -21,6 +22,7 @@ pub mod scene;
 pub mod shapes;
 
 pub use camera::Camera;
+pub use environment::{Environment, EnvironmentMap};
 pub use error::{Error, Result};
 pub use gpu_scene::{GpuScene, SceneFeatures};
 pub use light::{Light, LightKind};

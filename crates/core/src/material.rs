@@ -23,6 +23,59 @@ pub enum Material {
     /// Area emitter radiating `color × intensity` from its front face only (counter-clockwise winding);
     /// it reflects nothing.
     Emissive { color: Rgb, intensity: f32 },
+    /// The glTF 2.0 metallic-roughness model (`math::bsdf` has its equation): a GGX conductor
+    /// (`metallic`) over a dielectric with index `ior` whose base is diffuse or, with
+    /// `transmission`, a rough refracting interface into a medium absorbing per unit length
+    /// σ = −ln(attenuation_color) / attenuation_distance (Beer–Lambert; none without a distance).
+    /// `texture` multiplies `base_color`; `emission × emission_strength` is added on top from the
+    /// front face. Roughness, metallic and transmission must lie in [0, 1].
+    Pbr(Box<Pbr>),
+}
+
+/// The parameters of `Material::Pbr` (boxed to keep `Material` small).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Pbr {
+    pub base_color: Rgb,
+    pub texture: Option<usize>,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub ior: f32,
+    pub transmission: f32,
+    pub attenuation_color: Rgb,
+    /// `None`: no absorption.
+    pub attenuation_distance: Option<f32>,
+    pub emission: Rgb,
+    pub emission_strength: f32,
+}
+
+impl Default for Pbr {
+    fn default() -> Self {
+        Pbr {
+            base_color: [0.8; 3],
+            texture: None,
+            metallic: 0.0,
+            roughness: 0.5,
+            ior: 1.5,
+            transmission: 0.0,
+            attenuation_color: [1.0; 3],
+            attenuation_distance: None,
+            emission: [0.0; 3],
+            emission_strength: 1.0,
+        }
+    }
+}
+
+impl Pbr {
+    /// σ = −ln(c)/d per channel (0 without absorption).
+    pub fn absorption(&self) -> Rgb {
+        match self.attenuation_distance {
+            Some(d) if d > 0.0 => self
+                .attenuation_color
+                .map(|c| -(c.clamp(1e-6, 1.0)).ln() / d),
+            _ => [0.0; 3],
+        }
+    }
 }
 
 impl Material {
@@ -43,6 +96,9 @@ impl Material {
             Material::Metal { .. } => "metal",
             Material::Dielectric { .. } => "dielectric",
             Material::Emissive { .. } => "emissive",
+            Material::Pbr(p) if p.transmission > 0.0 => "pbr (transmissive)",
+            Material::Pbr(p) if p.metallic > 0.0 => "pbr (metallic)",
+            Material::Pbr(_) => "pbr",
         }
     }
 
@@ -56,6 +112,7 @@ impl Material {
             Material::Emissive { color, intensity } => {
                 finite(color) && intensity.is_finite() && *intensity >= 0.0
             }
+            Material::Pbr(p) => return p.validate(what),
         };
         if ok {
             Ok(())
@@ -64,5 +121,50 @@ impl Material {
                 "{what}: material parameters out of range: {self:?}"
             ))
         }
+    }
+}
+
+impl Pbr {
+    /// Names the first parameter out of range.
+    pub fn validate(&self, what: &str) -> Result<(), String> {
+        let unit = |name: &str, v: f32| {
+            if (0.0..=1.0).contains(&v) {
+                Ok(())
+            } else {
+                Err(format!("{what}: pbr {name} must lie in [0, 1], got {v}"))
+            }
+        };
+        let colour = |name: &str, c: &Rgb| {
+            if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{what}: pbr {name} must be finite and >= 0, got {c:?}"
+                ))
+            }
+        };
+        unit("metallic", self.metallic)?;
+        unit("roughness", self.roughness)?;
+        unit("transmission", self.transmission)?;
+        colour("base_color", &self.base_color)?;
+        colour("attenuation_color", &self.attenuation_color)?;
+        colour("emission", &self.emission)?;
+        if !(self.ior.is_finite() && self.ior >= 1.0) {
+            return Err(format!("{what}: pbr ior must be >= 1, got {}", self.ior));
+        }
+        if !(self.emission_strength.is_finite() && self.emission_strength >= 0.0) {
+            return Err(format!(
+                "{what}: pbr emission_strength must be finite and >= 0, got {}",
+                self.emission_strength
+            ));
+        }
+        if let Some(d) = self.attenuation_distance
+            && !(d.is_finite() && d > 0.0)
+        {
+            return Err(format!(
+                "{what}: pbr attenuation_distance must be positive, got {d}"
+            ));
+        }
+        Ok(())
     }
 }

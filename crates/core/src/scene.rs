@@ -196,6 +196,9 @@ pub struct Scene {
     /// Point, spot and directional lights (emissive objects are lights too).
     #[serde(default)]
     pub lights: Vec<crate::light::Light>,
+    /// An environment map; it replaces `ambient` for rays that leave the scene.
+    #[serde(default)]
+    pub environment: Option<crate::environment::Environment>,
 }
 
 impl Scene {

@@ -74,6 +74,8 @@ pub const NODES: Binding = shared(4, "nodes", Access::Read);
 pub const TEXELS: Binding = shared(5, "texels", Access::Read);
 pub const EMITTERS: Binding = shared(8, "emitters", Access::Read);
 pub const DELTA_LIGHTS: Binding = shared(9, "delta_lights", Access::Read);
+pub const ENVIRONMENT: Binding = shared(20, "environment", Access::Read);
+pub const GGX_ENERGY: Binding = shared(21, "ggx_energy", Access::Read);
 /// Adaptive sampling's per-pixel stop marks (written by the CPU between batches).
 pub const PIXEL_DONE: Binding = shared(18, "pixel_done", Access::Read);
 // The outputs, declared by each kernel's own file.
@@ -103,7 +105,7 @@ pub const ACTIVE_SLOTS: Binding = Binding {
 };
 
 /// Every binding of the tracing kernels.
-pub const ALL: [Binding; 19] = [
+pub const ALL: [Binding; 21] = [
     FRAME,
     TRIANGLES,
     SHADING,
@@ -123,6 +125,8 @@ pub const ALL: [Binding; 19] = [
     SCENE_TLAS,
     PIXEL_DONE,
     ACTIVE_SLOTS,
+    ENVIRONMENT,
+    GGX_ENERGY,
 ];
 
 /// The bindings `kernel` (over ray queries when `ray_query`) declares, in binding order.

@@ -69,6 +69,8 @@ impl PipelineKey {
             ("COUNT_RAYS", flag(self.count_rays)),
             ("HAS_NEE", flag(self.features.nee)),
             ("HAS_DELTA_LIGHTS", flag(self.features.delta_lights)),
+            ("HAS_PBR", flag(self.features.pbr)),
+            ("HAS_ENVIRONMENT", flag(self.features.environment)),
             ("CLAMP_MAX", f64::from(f32::from_bits(self.clamp_bits))),
             ("SOBOL", flag(self.sobol)),
             ("WRITE_AOVS", flag(self.aovs)),

@@ -148,6 +148,8 @@ impl<'a> Renderer<'a> {
             features.dielectric = true;
             features.thin_lens = true;
             features.delta_lights = true;
+            features.pbr = true;
+            features.environment = true;
         }
         let ray_query = ctx.resolve_trace(options.trace, scene) == Trace::Hardware;
         let accel = if ray_query {
@@ -225,6 +227,24 @@ impl<'a> Renderer<'a> {
                     ctx,
                     "delta lights",
                     &scene.delta_lights,
+                    wgpu::BufferUsages::empty(),
+                )?,
+            ),
+            (
+                bindings::ENVIRONMENT,
+                storage_buffer(
+                    ctx,
+                    "environment",
+                    &scene.env_texels,
+                    wgpu::BufferUsages::empty(),
+                )?,
+            ),
+            (
+                bindings::GGX_ENERGY,
+                storage_buffer(
+                    ctx,
+                    "ggx energy",
+                    &scene.ggx_energy,
                     wgpu::BufferUsages::empty(),
                 )?,
             ),

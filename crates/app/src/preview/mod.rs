@@ -183,6 +183,18 @@ pub fn build_frame(
                 kind::EMITTER,
                 None,
             ),
+            Material::Pbr(p) => (
+                p.base_color,
+                (Vec3::from(p.emission) * p.emission_strength).to_array(),
+                if p.transmission > 0.5 {
+                    kind::GLASS
+                } else if p.metallic > 0.5 {
+                    kind::METAL
+                } else {
+                    kind::DIFFUSE
+                },
+                p.texture.and_then(|t| scene.textures.get(t)),
+            ),
         };
         objects.push(PreviewObject {
             model: model.to_cols_array_2d(),

@@ -245,6 +245,7 @@ enum Kind {
     Metal,
     Glass,
     Emissive,
+    Pbr,
 }
 
 fn kind_of(m: &Material) -> Kind {
@@ -254,6 +255,7 @@ fn kind_of(m: &Material) -> Kind {
         Material::Metal { .. } => Kind::Metal,
         Material::Dielectric { .. } => Kind::Glass,
         Material::Emissive { .. } => Kind::Emissive,
+        Material::Pbr(_) => Kind::Pbr,
     }
 }
 
@@ -263,6 +265,7 @@ fn color_of(m: &Material) -> [f32; 3] {
         Material::Lambertian { albedo, .. } | Material::Metal { albedo, .. } => *albedo,
         Material::Dielectric { tint, .. } => *tint,
         Material::Emissive { color, .. } => *color,
+        Material::Pbr(p) => p.base_color,
     }
 }
 
@@ -287,6 +290,10 @@ fn with_kind(m: &Material, kind: Kind, textures: usize) -> Material {
             color,
             intensity: 10.0,
         },
+        Kind::Pbr => Material::Pbr(Box::new(rt_core::material::Pbr {
+            base_color: color,
+            ..Default::default()
+        })),
     }
 }
 
@@ -331,6 +338,11 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
                 Kind::Emissive,
                 "Emissive",
                 "A light source (emits from its front faces)",
+            ),
+            (
+                Kind::Pbr,
+                "Physically based",
+                "glTF metallic-roughness: metal or dielectric, rough or polished, opaque or clear",
             ),
         ] {
             if ui
@@ -501,7 +513,81 @@ fn material_fields(ui: &mut Ui, material: &mut Material, textures: usize, choose
                     .on_hover_text("Emitted radiance = colour × intensity (W/(sr m²) per unit)");
             });
         }
+        Material::Pbr(p) => pbr_fields(ui, p, textures, choose),
     }
+}
+
+/// Every parameter of the physically based material (glTF metallic-roughness).
+fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choose: &mut bool) {
+    ui.horizontal(|ui| {
+        ui.label("Base colour");
+        ui.color_edit_button_rgb(&mut p.base_color)
+            .on_hover_text("Diffuse colour of a dielectric, reflectance of a metal");
+    });
+    ui.horizontal(|ui| {
+        let mut textured = p.texture.is_some();
+        ui.checkbox(&mut textured, "Image")
+            .on_hover_text("Multiply the base colour by one of the scene's images");
+        if !textured {
+            p.texture = None;
+        } else if p.texture.is_none() && textures > 0 {
+            p.texture = Some(0);
+        }
+        if let Some(t) = p.texture.as_mut() {
+            egui::ComboBox::from_id_salt("pbr texture")
+                .selected_text(format!("texture {t}"))
+                .show_ui(ui, |ui| {
+                    for i in 0..textures {
+                        ui.selectable_value(t, i, format!("texture {i}"));
+                    }
+                });
+        }
+        if ui
+            .button("Choose image…")
+            .on_hover_text("Load a PNG, JPEG, PPM or EXR image as the base colour")
+            .clicked()
+        {
+            *choose = true;
+        }
+    });
+    ui.add(egui::Slider::new(&mut p.metallic, 0.0..=1.0).text("metallic"))
+        .on_hover_text("0: plastic, wood, stone; 1: metal");
+    ui.add(egui::Slider::new(&mut p.roughness, 0.0..=1.0).text("roughness"))
+        .on_hover_text("0 is a mirror; 1 is matte");
+    ui.add(egui::Slider::new(&mut p.ior, 1.0..=3.0).text("IOR"))
+        .on_hover_text("Index of refraction: water 1.333, glass 1.5, diamond 2.417");
+    ui.add(egui::Slider::new(&mut p.transmission, 0.0..=1.0).text("transmission"))
+        .on_hover_text("How much light passes through (glass 1)");
+    if p.transmission > 0.0 {
+        ui.horizontal(|ui| {
+            ui.label("Absorption colour");
+            ui.color_edit_button_rgb(&mut p.attenuation_color)
+                .on_hover_text(
+                    "The colour white light takes after travelling the distance below inside",
+                );
+        });
+        ui.horizontal(|ui| {
+            let mut on = p.attenuation_distance.is_some();
+            ui.checkbox(&mut on, "at distance")
+                .on_hover_text("Without a distance the medium absorbs nothing");
+            let mut d = p.attenuation_distance.unwrap_or(1.0);
+            if on {
+                ui.add(DragValue::new(&mut d).speed(0.01).range(1e-4..=1e6));
+            }
+            p.attenuation_distance = on.then_some(d);
+        });
+    }
+    ui.horizontal(|ui| {
+        ui.label("Emission");
+        ui.color_edit_button_rgb(&mut p.emission)
+            .on_hover_text("Light the surface gives off, on top of what it reflects");
+        ui.add(
+            DragValue::new(&mut p.emission_strength)
+                .speed(0.1)
+                .range(0.0..=1e9),
+        )
+        .on_hover_text("Emission strength");
+    });
 }
 
 pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {

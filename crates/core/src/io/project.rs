@@ -8,6 +8,8 @@
 //! - `meshes/N.bin`: one mesh each, in the little-endian layout of [`encode_mesh`]; objects that
 //!   share a mesh in memory share the entry.
 //! - `textures/N.png`: the RGBA8 texels, lossless.
+//! - `environment.bin`: the environment map's linear RGB texels as little-endian f32, row-major
+//!   from the top (version 3).
 //!
 //! A lighting file (`.rtlight`) is the same container with `"format": "rt-lighting"`, holding only
 //! the ambient light, the emissive objects and the point, spot and directional lights, to reuse a
@@ -32,8 +34,8 @@ use crate::output::write_atomically;
 use crate::scene::{Mesh, Object, RenderSettings, Scene, Texture, Transform};
 
 /// The format version this build writes; it reads this and every earlier one. Version 2 added
-/// point, spot and directional lights (`lights`).
-pub const FORMAT_VERSION: u32 = 2;
+/// point, spot and directional lights (`lights`); version 3 the PBR material and environment maps.
+pub const FORMAT_VERSION: u32 = 3;
 pub const PROJECT_FORMAT: &str = "rt-project";
 pub const LIGHTING_FORMAT: &str = "rt-lighting";
 /// File extensions the editor offers.
@@ -78,7 +80,22 @@ struct Manifest {
     textures: Vec<TextureEntry>,
     #[serde(default)]
     lights: Vec<crate::light::Light>,
+    #[serde(default)]
+    environment: Option<EnvironmentEntry>,
 }
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EnvironmentEntry {
+    source: String,
+    rotation_deg: f32,
+    strength: f32,
+    file: String,
+    width: u32,
+    height: u32,
+}
+
+const ENVIRONMENT_ENTRY: &str = "environment.bin";
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -253,6 +270,28 @@ pub fn encode_archive(scene: &Scene, format: &str, path: &Path) -> Result<Vec<u8
             height: texture.height,
         });
     }
+    let environment = match &scene.environment {
+        Some(env) => {
+            let bytes: Vec<u8> = env
+                .map
+                .texels
+                .iter()
+                .flat_map(|t| t.iter().flat_map(|c| c.to_le_bytes()))
+                .collect();
+            zip.start_file(ENVIRONMENT_ENTRY, deflate)
+                .map_err(zip_err)?;
+            zip.write_all(&bytes).map_err(io_err)?;
+            Some(EnvironmentEntry {
+                source: env.source.clone(),
+                rotation_deg: env.rotation_deg,
+                strength: env.strength,
+                file: ENVIRONMENT_ENTRY.into(),
+                width: env.map.width,
+                height: env.map.height,
+            })
+        }
+        None => None,
+    };
     let is_project = format == PROJECT_FORMAT;
     let manifest = Manifest {
         format: format.into(),
@@ -263,6 +302,7 @@ pub fn encode_archive(scene: &Scene, format: &str, path: &Path) -> Result<Vec<u8
         objects,
         textures,
         lights: scene.lights.clone(),
+        environment,
     };
     let json = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| err(format!("encoding {MANIFEST}: {e}")))?;
@@ -345,6 +385,37 @@ pub fn decode_archive(
             rgba8: rgba.into_raw().into(),
         });
     }
+    let environment = match manifest.environment {
+        Some(entry) => {
+            let data = archive.read(&entry.file)?;
+            let expected = entry.width as u64 * entry.height as u64 * 12;
+            if entry.width == 0 || entry.height == 0 || data.len() as u64 != expected {
+                return Err(archive.error(format!(
+                    "{MANIFEST}: environment says {}x{} ({expected} bytes), but {} has {} bytes",
+                    entry.width,
+                    entry.height,
+                    entry.file,
+                    data.len()
+                )));
+            }
+            let texels = data
+                .chunks_exact(12)
+                .map(|c| {
+                    let f = |i: usize| f32::from_le_bytes([c[i], c[i + 1], c[i + 2], c[i + 3]]);
+                    [f(0), f(4), f(8)]
+                })
+                .collect();
+            let (map, _) =
+                crate::environment::EnvironmentMap::from_texels(entry.width, entry.height, texels);
+            Some(crate::environment::Environment {
+                source: entry.source,
+                rotation_deg: entry.rotation_deg,
+                strength: entry.strength,
+                map: Arc::new(map),
+            })
+        }
+        None => None,
+    };
     let scene = Scene {
         objects,
         textures,
@@ -352,6 +423,7 @@ pub fn decode_archive(
         ambient: manifest.ambient,
         settings: manifest.settings.unwrap_or_default(),
         lights: manifest.lights,
+        environment,
     };
     check_scene(&scene).map_err(|m| archive.error(format!("{MANIFEST}: {m}")))?;
     Ok(scene)
@@ -373,9 +445,12 @@ fn check_object(object: &Object, i: usize) -> Result<(), String> {
 /// What serde cannot check: references between parts and numbers a JSON parser turns into ±inf.
 fn check_scene(scene: &Scene) -> Result<(), String> {
     for (i, object) in scene.objects.iter().enumerate() {
-        if let Material::Lambertian {
-            texture: Some(t), ..
-        } = object.material
+        let texture = match &object.material {
+            Material::Lambertian { texture, .. } => *texture,
+            Material::Pbr(p) => p.texture,
+            _ => None,
+        };
+        if let Some(t) = texture
             && t >= scene.textures.len()
         {
             return Err(format!(
@@ -387,6 +462,9 @@ fn check_scene(scene: &Scene) -> Result<(), String> {
     }
     for light in &scene.lights {
         light.validate()?;
+    }
+    if let Some(env) = &scene.environment {
+        env.validate()?;
     }
     let c = &scene.camera;
     if !(finite(&c.from) && finite(&c.to) && finite(&c.up) && c.vfov_deg.is_finite()) {

@@ -1,9 +1,14 @@
 //! The math the CPU side shares with the kernels, each file the twin of a WGSL file: `rng.rs` of
 //! `shaders/shared/rng.wgsl` (PCG and Owen-scrambled Sobol samplers), `sampling.rs` of
 //! `sampling.wgsl` (directions, Fresnel, colour), `intersect.rs` of `intersect.wgsl` (watertight
-//! triangle and slab tests, ray offsets). The CPU reference (`crate::reference`), emitters, the
+//! triangle and slab tests, ray offsets), `microfacet.rs` of `microfacet.wgsl` (GGX) and `bsdf.rs` of
+//! `bsdf.wgsl` (the PBR material). The CPU reference (`crate::reference`), emitters, the
 //! denoiser and the loaders use them.
 
+pub mod bsdf;
 pub mod intersect;
+pub mod microfacet;
 pub mod rng;
 pub mod sampling;
+#[cfg(test)]
+pub(crate) mod stats;

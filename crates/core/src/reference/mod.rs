@@ -30,7 +30,8 @@ mod path;
 
 pub use bvh::{occluded, trace, trace_brute_force};
 pub use path::{
-    camera_ray, delta_lights_at, direct_light, power_heuristic, radiance, sample_texture,
+    LightSample, Surface, camera_ray, delta_lights_at, direct_light, power_heuristic, radiance,
+    sample_light, sample_texture,
 };
 
 use crate::gpu_scene::GpuScene;

@@ -7,6 +7,7 @@ use glam::{Vec2, Vec3};
 use super::bvh::{MISS, occluded, trace};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Frame, NO_TEXTURE, material_kind};
+use crate::math::bsdf::Pbr;
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::{self, Rng};
 use crate::math::sampling::*;
@@ -17,20 +18,85 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
 }
 
-/// Next-event estimation at diffuse point `p`: L_e cosθ/π · w_light / p_light for one sampled
-/// emitter point (the albedo and β are applied by the caller). Always draws four random numbers.
-pub fn direct_light(
+/// How a surface point scatters, for next-event estimation and the delta lights.
+#[derive(Clone, Copy, Debug)]
+pub enum Surface {
+    /// f = albedo/π about `ns`.
+    Lambert { albedo: Vec3, ns: Vec3 },
+    /// The PBR BSDF in the frame (t, b, ns), with ωo there.
+    Pbr {
+        bsdf: Pbr,
+        frame: [Vec3; 3],
+        wo: Vec3,
+    },
+}
+
+impl Surface {
+    /// f · |cosθ| towards world direction `wi` and the BSDF-sampling pdf of `wi`.
+    pub fn eval(&self, wi: Vec3) -> (Vec3, f32) {
+        match self {
+            Surface::Lambert { albedo, ns } => {
+                let c = wi.dot(*ns);
+                if c > 0.0 {
+                    let p = c * std::f32::consts::FRAC_1_PI;
+                    (*albedo * p, p)
+                } else {
+                    (Vec3::ZERO, 0.0)
+                }
+            }
+            Surface::Pbr { bsdf, frame, wo } => {
+                let local = Vec3::new(wi.dot(frame[0]), wi.dot(frame[1]), wi.dot(frame[2]));
+                bsdf.eval(*wo, local)
+            }
+        }
+    }
+}
+
+/// A light sample for next-event estimation: the direction and distance to trace and L_e / p_light.
+pub struct LightSample {
+    pub origin: Vec3,
+    pub direction: Vec3,
+    pub distance: f32,
+    pub radiance_over_pdf: Vec3,
+    pub p_light: f32,
+}
+
+/// One light sample from point `p`: the environment with probability `frame.env_pick`, else an
+/// emitter point (an emitter by power, then a uniform point on it). `None` when the sample cannot
+/// reach `p`'s side of the surface. Always draws four random numbers.
+pub fn sample_light(
     scene: &GpuScene,
     frame: &Frame,
     p: Vec3,
     ng: Vec3,
-    ns: Vec3,
     rng: &mut Rng,
-) -> Vec3 {
+) -> Option<LightSample> {
     let u_pick = rng.next_f32();
     let u_alias = rng.next_f32();
     let u_a = rng.next_f32();
     let u_b = rng.next_f32();
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    if u_pick < frame.env_pick {
+        let (dir, le, pdf) = crate::environment::sample_env(
+            &scene.env_texels,
+            frame.env_width,
+            frame.env_height,
+            frame.env_rotation,
+            [u_pick / frame.env_pick, u_alias, u_a, u_b],
+        );
+        let p_light = frame.env_pick * pdf;
+        if !(p_light > 0.0 && dir.dot(ng) > 0.0) {
+            return None;
+        }
+        return Some(LightSample {
+            origin,
+            direction: dir,
+            distance: 3.0e38,
+            radiance_over_pdf: le / p_light,
+            p_light,
+        });
+    }
+    let u_pick = (u_pick - frame.env_pick) / (1.0 - frame.env_pick);
     let n = frame.emitter_count as usize;
     let chosen = crate::emitters::pick_emitter(&scene.emitters[..n], u_pick, u_alias);
     let tri = &scene.triangles[chosen as usize];
@@ -39,31 +105,62 @@ pub fn direct_light(
     let y = v0 * b0 + v1 * b1 + v2 * b2;
     let nl = (v1 - v0).cross(v2 - v0).normalize();
     if (y - p).dot(nl) >= 0.0 {
-        return Vec3::ZERO; // p is behind the emitter's front face
+        return None; // p is behind the emitter's front face
     }
-    let origin = offset_ray_origin(p, ng, frame.offset_scale);
     let to = offset_ray_origin(y, nl, frame.offset_scale) - origin;
     let distance = to.length();
     let dir = to / distance;
-    let (cos_x, cos_l) = (dir.dot(ns), -dir.dot(nl));
-    if !(cos_x > 0.0 && dir.dot(ng) > 0.0 && cos_l > 0.0) || occluded(scene, origin, dir, distance)
-    {
-        return Vec3::ZERO;
+    let cos_l = -dir.dot(nl);
+    if !(dir.dot(ng) > 0.0 && cos_l > 0.0) {
+        return None;
     }
     let le = Vec3::from(scene.materials[tri.material as usize].emission);
-    let p_light = luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
-    let p_bsdf = cos_x * std::f32::consts::FRAC_1_PI;
+    let p_light =
+        (1.0 - frame.env_pick) * luminance(le) * frame.emitter_power_inv * distance * distance
+            / cos_l;
+    Some(LightSample {
+        origin,
+        direction: dir,
+        distance,
+        radiance_over_pdf: le / p_light,
+        p_light,
+    })
+}
+
+/// Next-event estimation at `p`: f cosθ L_e · w_light / p_light for one light sample, or zero if
+/// it is occluded (β is applied by the caller). Always draws four random numbers.
+pub fn direct_light(
+    scene: &GpuScene,
+    frame: &Frame,
+    p: Vec3,
+    ng: Vec3,
+    surface: &Surface,
+    rng: &mut Rng,
+) -> Vec3 {
+    let Some(light) = sample_light(scene, frame, p, ng, rng) else {
+        return Vec3::ZERO;
+    };
+    let (f_cos, p_bsdf) = surface.eval(light.direction);
+    if f_cos == Vec3::ZERO || occluded(scene, light.origin, light.direction, light.distance) {
+        return Vec3::ZERO;
+    }
     let w_light = if frame.light_strategy == 1 {
         1.0
     } else {
-        power_heuristic(p_light, p_bsdf)
+        power_heuristic(light.p_light, p_bsdf)
     };
-    le * (p_bsdf * w_light / p_light)
+    f_cos * light.radiance_over_pdf * w_light
 }
 
-/// Point, spot and directional lights at diffuse point `p`: Σ E cosθ/π over the unoccluded lights
-/// (albedo and β applied by the caller), E = I/d² (times the spot falloff) or the sun's E.
-pub fn delta_lights_at(scene: &GpuScene, frame: &Frame, p: Vec3, ng: Vec3, ns: Vec3) -> Vec3 {
+/// Point, spot and directional lights at `p`: Σ E f cosθ over the unoccluded lights (β applied by
+/// the caller), E = I/d² (times the spot falloff) or the sun's E.
+pub fn delta_lights_at(
+    scene: &GpuScene,
+    frame: &Frame,
+    p: Vec3,
+    ng: Vec3,
+    surface: &Surface,
+) -> Vec3 {
     use crate::gpu_types::light_kind;
     let origin = offset_ray_origin(p, ng, frame.offset_scale);
     let mut sum = Vec3::ZERO;
@@ -92,14 +189,14 @@ pub fn delta_lights_at(scene: &GpuScene, frame: &Frame, p: Vec3, ng: Vec3, ns: V
             }
             (dir, distance, e)
         };
-        let cos_x = dir.dot(ns);
-        if !(cos_x > 0.0 && dir.dot(ng) > 0.0) || irradiance == Vec3::ZERO {
+        if !(dir.dot(ng) > 0.0) || irradiance == Vec3::ZERO {
             continue;
         }
-        if occluded(scene, origin, dir, distance) {
+        let (f_cos, _) = surface.eval(dir);
+        if f_cos == Vec3::ZERO || occluded(scene, origin, dir, distance) {
             continue;
         }
-        sum += irradiance * (cos_x / std::f32::consts::PI);
+        sum += irradiance * f_cos;
     }
     sum
 }
@@ -152,6 +249,30 @@ pub fn sample_texture(scene: &GpuScene, offset: u32, w: u32, h: u32, uv: Vec2) -
     top.lerp(bottom, fy)
 }
 
+/// The radiance a ray leaving the scene along `direction` finds, MIS-weighted against the
+/// environment's next-event estimation when the last vertex sampled its BSDF with `prev_bsdf_pdf`.
+fn escaped(scene: &GpuScene, frame: &Frame, direction: Vec3, prev_bsdf_pdf: f32) -> Vec3 {
+    if frame.env_width == 0 {
+        return Vec3::from(frame.ambient);
+    }
+    let (le, pdf) = crate::environment::env_lookup(
+        &scene.env_texels,
+        frame.env_width,
+        frame.env_height,
+        frame.env_rotation,
+        direction,
+    );
+    let mut weight = 1.0;
+    if frame.env_pick > 0.0 && prev_bsdf_pdf > 0.0 {
+        weight = if frame.light_strategy == 1 {
+            0.0
+        } else {
+            power_heuristic(prev_bsdf_pdf, frame.env_pick * pdf)
+        };
+    }
+    le * weight
+}
+
 /// One path's radiance estimate for pixel (x, y), sample `sample`.
 pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
     let kind = if frame.sampler == 1 {
@@ -163,12 +284,13 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
     let (mut origin, mut direction) = camera_ray(frame, x, y, &mut rng);
     let mut beta = Vec3::ONE;
     let mut radiance = Vec3::ZERO;
+    let lights_sampled = frame.emitter_count > 0 || frame.env_pick > 0.0;
     // Density of the BSDF sample that led here, 0 after the camera or a specular bounce.
     let mut prev_bsdf_pdf = 0.0f32;
     for depth in 0..frame.max_depth {
         let hit = trace(scene, origin, direction, f32::MAX);
         if hit.triangle == MISS {
-            radiance += beta * Vec3::from(frame.ambient);
+            radiance += beta * escaped(scene, frame, direction, prev_bsdf_pdf);
             break;
         }
         let tri = &scene.triangles[hit.triangle as usize];
@@ -176,12 +298,24 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
         let ng_raw = (v1 - v0).cross(v2 - v0);
         let front = direction.dot(ng_raw) < 0.0;
+        if !front && material.kind == material_kind::PBR {
+            // The segment ran inside the object: Beer–Lambert absorption over its length.
+            let sigma = Vec3::from(material.absorption);
+            if sigma != Vec3::ZERO {
+                beta *= (-sigma * hit.t).exp();
+            }
+        }
         if front {
             let le = Vec3::from(material.emission);
             let mut weight = 1.0;
             if frame.emitter_count > 0 && prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
                 let cos_l = -direction.dot(ng_raw.normalize());
-                let p_light = luminance(le) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
+                let p_light = (1.0 - frame.env_pick)
+                    * luminance(le)
+                    * frame.emitter_power_inv
+                    * hit.t
+                    * hit.t
+                    / cos_l;
                 weight = if frame.light_strategy == 1 {
                     0.0
                 } else {
@@ -220,7 +354,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                 material.texture_width,
                 material.texture_height,
                 uv,
-            )
+            ) * Vec3::from(material.albedo_factor())
         } else {
             Vec3::from(material.albedo)
         };
@@ -243,14 +377,36 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                 d
             }
             _ => {
-                if frame.emitter_count > 0 {
-                    radiance += beta * albedo * direct_light(scene, frame, p, ng, ns, &mut rng);
+                let surface = if material.kind == material_kind::PBR {
+                    pbr_surface(scene, material, albedo, -direction, ng, ns, front)
+                } else {
+                    Surface::Lambert { albedo, ns }
+                };
+                if lights_sampled {
+                    radiance += beta * direct_light(scene, frame, p, ng, &surface, &mut rng);
                 }
-                radiance += beta * albedo * delta_lights_at(scene, frame, p, ng, ns);
-                beta *= albedo;
-                let d = sample_cosine_hemisphere(ns, &mut rng);
-                prev_bsdf_pdf = d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI;
-                d
+                radiance += beta * delta_lights_at(scene, frame, p, ng, &surface);
+                match surface {
+                    Surface::Lambert { .. } => {
+                        beta *= albedo;
+                        let d = sample_cosine_hemisphere(ns, &mut rng);
+                        prev_bsdf_pdf = d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI;
+                        d
+                    }
+                    Surface::Pbr { bsdf, frame: f, wo } => {
+                        let (u_lobe, u1, u2) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
+                        let Some(sample) = bsdf.sample(wo, u_lobe, u1, u2) else {
+                            break;
+                        };
+                        beta *= sample.weight;
+                        let d = (f[0] * sample.wi.x + f[1] * sample.wi.y + f[2] * sample.wi.z)
+                            .normalize();
+                        if d.dot(ng) > 0.0 {
+                            prev_bsdf_pdf = sample.pdf;
+                        }
+                        d
+                    }
+                }
             }
         };
         let side = next.dot(ng);
@@ -259,7 +415,9 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         }
         // Transmission continues below the surface, reflection above it.
         let transmitted = side < 0.0;
-        if transmitted && material.kind != material_kind::DIELECTRIC {
+        let transmits = material.kind == material_kind::DIELECTRIC
+            || (material.kind == material_kind::PBR && material.transmission > 0.0);
+        if transmitted && !transmits {
             break;
         }
         if frame.roulette_from_depth > 0 && depth >= frame.roulette_from_depth {
@@ -273,4 +431,40 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         direction = next;
     }
     radiance
+}
+
+/// The PBR surface at a hit seen from `wo` (world, pointing away): its shading frame is `ns`
+/// unless `wo` lies below it (an interpolated normal at a silhouette), then the true normal.
+fn pbr_surface(
+    scene: &GpuScene,
+    material: &crate::gpu_types::Material,
+    base: Vec3,
+    wo: Vec3,
+    ng: Vec3,
+    ns: Vec3,
+    front: bool,
+) -> Surface {
+    let n = if wo.dot(ns) > 0.0 { ns } else { ng };
+    let (t, b) = onb(n);
+    let wo_local = Vec3::new(wo.dot(t), wo.dot(b), wo.dot(n));
+    let eta = if front {
+        material.param
+    } else {
+        1.0 / material.param
+    };
+    let energy =
+        crate::math::microfacet::energy_lookup(&scene.ggx_energy, wo_local.z, material.roughness);
+    Surface::Pbr {
+        bsdf: Pbr::new(
+            base,
+            material.metallic,
+            material.roughness,
+            eta,
+            material.transmission,
+            wo_local.z,
+            energy,
+        ),
+        frame: [t, b, n],
+        wo: wo_local,
+    }
 }

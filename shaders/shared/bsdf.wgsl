@@ -1,0 +1,147 @@
+// The PBR material's BSDF and the surfaces next-event estimation evaluates; mirrors
+// crates/core/src/math/bsdf.rs (equations there) and `Surface` in reference/path.rs.
+
+struct PbrBsdf {
+    base: vec3<f32>,
+    metallic: f32,
+    ms: vec3<f32>,
+    alpha: f32,
+    eta: f32,
+    transmission: f32,
+    q_reflect: f32,
+    q_glass: f32,
+}
+
+fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmission: f32, cos_o: f32, energy: f32) -> PbrBsdf {
+    let fs = fresnel_dielectric(cos_o, eta);
+    let m = metallic;
+    let t = transmission;
+    return PbrBsdf(base, m, vec3(1.0) + base * (1.0 / max(energy, 1e-3) - 1.0), alpha_of_roughness(roughness),
+                   eta, t, m + (1.0 - m) * (1.0 - t) * fs, (1.0 - m) * t);
+}
+
+// f |cos θi| in xyz and the sampling pdf in w.
+fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    let m = b.metallic;
+    let t = b.transmission;
+    let a = b.alpha;
+    if (wo.z <= 0.0) {
+        return vec4(0.0);
+    }
+    let q_diffuse = max(1.0 - b.q_reflect - b.q_glass, 0.0);
+    if (wi.z > 0.0) {
+        let hs = wo + wi;
+        let len2 = dot(hs, hs);
+        if (len2 <= 0.0) {
+            return vec4(0.0);
+        }
+        let h = hs * inverseSqrt(len2);
+        let woh = dot(wo, h);
+        if (woh <= 0.0) {
+            return vec4(0.0);
+        }
+        let d = ggx_d(h, a);
+        let spec_cos = d * ggx_g2(wo, wi, a) / (4.0 * wo.z);
+        let pdf_reflect = ggx_g1(wo, a) * d / (4.0 * wo.z);
+        let f_metal = fresnel_schlick(b.base, woh) * b.ms;
+        let f_d = fresnel_dielectric(woh, b.eta);
+        let diffuse = b.base * (wi.z * (1.0 / PI));
+        let f = f_metal * (m * spec_cos) + (vec3(f_d * spec_cos) + diffuse * ((1.0 - t) * (1.0 - f_d))) * (1.0 - m);
+        let pdf = b.q_reflect * pdf_reflect + b.q_glass * pdf_reflect * f_d + q_diffuse * wi.z * (1.0 / PI);
+        return vec4(f, pdf);
+    }
+    if (wi.z == 0.0 || b.q_glass <= 0.0) {
+        return vec4(0.0);
+    }
+    let hs = wo + wi * b.eta;
+    let len2 = dot(hs, hs);
+    if (len2 <= 0.0) {
+        return vec4(0.0);
+    }
+    var h = hs * inverseSqrt(len2);
+    if (h.z < 0.0) {
+        h = -h;
+    }
+    let woh = dot(wo, h);
+    let wih = dot(wi, h);
+    if (!(woh > 0.0 && wih < 0.0)) {
+        return vec4(0.0);
+    }
+    let f_d = fresnel_dielectric(woh, b.eta);
+    let sqrt_denom = wih + woh / b.eta;
+    let denom = sqrt_denom * sqrt_denom;
+    let d = ggx_d(h, a);
+    let ft_cos = d * ggx_g2(wo, wi, a) * (1.0 - f_d) * abs(wih * woh) / (wo.z * denom * b.eta * b.eta);
+    let pdf = b.q_glass * vndf_pdf(wo, h, a) * (1.0 - f_d) * abs(wih) / denom;
+    return vec4(b.base * ((1.0 - m) * t * ft_cos), pdf);
+}
+
+struct BsdfSample {
+    wi: vec3<f32>,
+    pdf: f32,
+    weight: vec3<f32>,
+    // false: no sample (the path ends).
+    valid: bool,
+}
+
+fn pbr_sample(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32) -> BsdfSample {
+    var none: BsdfSample;
+    none.valid = false;
+    var wi: vec3<f32>;
+    if (u_lobe < b.q_reflect + b.q_glass) {
+        let m = sample_vndf(wo, b.alpha, u1, u2);
+        var reflects = u_lobe < b.q_reflect;
+        if (!reflects) {
+            reflects = (u_lobe - b.q_reflect) < fresnel_dielectric(dot(wo, m), b.eta) * b.q_glass;
+        }
+        if (reflects) {
+            wi = 2.0 * dot(wo, m) * m - wo;
+            if (wi.z <= 0.0) {
+                return none;
+            }
+        } else {
+            wi = refract_dir(-wo, m, b.eta);
+            if (wi.z >= 0.0) {
+                return none;
+            }
+        }
+    } else {
+        let r = sqrt(u1);
+        let phi = TAU * u2;
+        wi = vec3(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
+    }
+    let e = pbr_eval(b, wo, wi);
+    let weight = e.xyz / e.w;
+    if (!(e.w > 0.0) || !is_finite3(weight)) {
+        return none;
+    }
+    return BsdfSample(wi, e.w, weight, true);
+}
+
+const SURFACE_LAMBERT: u32 = 0u;
+const SURFACE_PBR: u32 = 1u;
+
+// What next-event estimation and the delta lights evaluate at a vertex.
+struct Surface {
+    kind: u32,
+    albedo: vec3<f32>,
+    // The shading frame (t, b, n) and wo in it (PBR).
+    t: vec3<f32>,
+    b: vec3<f32>,
+    n: vec3<f32>,
+    wo: vec3<f32>,
+    bsdf: PbrBsdf,
+}
+
+// f |cos θ| towards world direction wi (xyz) and the BSDF-sampling pdf of wi (w).
+fn surface_eval(s: Surface, wi: vec3<f32>) -> vec4<f32> {
+    if (HAS_PBR && s.kind == SURFACE_PBR) {
+        return pbr_eval(s.bsdf, s.wo, vec3(dot(wi, s.t), dot(wi, s.b), dot(wi, s.n)));
+    }
+    let c = dot(wi, s.n);
+    if (c > 0.0) {
+        let p = c * (1.0 / PI);
+        return vec4(s.albedo * p, p);
+    }
+    return vec4(0.0);
+}

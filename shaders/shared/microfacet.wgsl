@@ -1,0 +1,87 @@
+// The GGX microfacet distribution; mirrors crates/core/src/math/microfacet.rs (equations there).
+// Directions in the shading frame (normal +z).
+
+const MIN_ALPHA: f32 = 1.0e-3;
+const ENERGY_SIDE: u32 = 32u;
+
+fn alpha_of_roughness(roughness: f32) -> f32 {
+    let r = clamp(roughness, 0.0, 1.0);
+    return max(r * r, MIN_ALPHA);
+}
+
+fn ggx_d(m: vec3<f32>, alpha: f32) -> f32 {
+    if (m.z <= 0.0) {
+        return 0.0;
+    }
+    let a2 = alpha * alpha;
+    let d = m.z * m.z * (a2 - 1.0) + 1.0;
+    return a2 / (PI * d * d);
+}
+
+fn ggx_lambda(w: vec3<f32>, alpha: f32) -> f32 {
+    let c2 = w.z * w.z;
+    if (c2 <= 0.0) {
+        return 3.0e38;
+    }
+    let t2 = alpha * alpha * max(1.0 - c2, 0.0) / c2;
+    return 0.5 * (sqrt(1.0 + t2) - 1.0);
+}
+
+fn ggx_g1(w: vec3<f32>, alpha: f32) -> f32 {
+    return 1.0 / (1.0 + ggx_lambda(w, alpha));
+}
+
+fn ggx_g2(wo: vec3<f32>, wi: vec3<f32>, alpha: f32) -> f32 {
+    return 1.0 / (1.0 + ggx_lambda(wo, alpha) + ggx_lambda(wi, alpha));
+}
+
+// Heitz 2018.
+fn sample_vndf(wo: vec3<f32>, alpha: f32, u1: f32, u2: f32) -> vec3<f32> {
+    let vh = normalize(vec3(alpha * wo.x, alpha * wo.y, wo.z));
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    var t1 = vec3(1.0, 0.0, 0.0);
+    if (lensq > 0.0) {
+        t1 = vec3(-vh.y, vh.x, 0.0) / sqrt(lensq);
+    }
+    let t2 = cross(vh, t1);
+    let r = sqrt(u1);
+    let phi = TAU * u2;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let nh = t1 * p1 + t2 * p2 + vh * sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
+    return normalize(vec3(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0)));
+}
+
+fn vndf_pdf(wo: vec3<f32>, m: vec3<f32>, alpha: f32) -> f32 {
+    let c = dot(wo, m);
+    if (c <= 0.0 || wo.z <= 0.0) {
+        return 0.0;
+    }
+    return ggx_g1(wo, alpha) * c * ggx_d(m, alpha) / wo.z;
+}
+
+fn fresnel_schlick(f0: vec3<f32>, cos_in: f32) -> vec3<f32> {
+    let x = 1.0 - clamp(cos_in, 0.0, 1.0);
+    let x2 = x * x;
+    return f0 + (vec3(1.0) - f0) * (x2 * x2 * x);
+}
+
+// Bilinear lookup of the white conductor's albedo table (binding ggx_energy).
+fn energy_lookup(mu: f32, roughness: f32) -> f32 {
+    let n = f32(ENERGY_SIDE);
+    let x = clamp(mu * n - 0.5, 0.0, n - 1.0);
+    let y = clamp(roughness * (n - 1.0), 0.0, n - 1.0);
+    let x0 = min(floor(x), n - 2.0);
+    let y0 = min(floor(y), n - 2.0);
+    let fx = x - x0;
+    let fy = y - y0;
+    let i = u32(y0) * ENERGY_SIDE + u32(x0);
+    let a = ggx_energy[i];
+    let b = ggx_energy[i + 1u];
+    let c = ggx_energy[i + ENERGY_SIDE];
+    let d = ggx_energy[i + ENERGY_SIDE + 1u];
+    let lo = a + (b - a) * fx;
+    let hi = c + (d - c) * fx;
+    return lo + (hi - lo) * fy;
+}
