@@ -383,3 +383,69 @@ fn the_sobol_sampler_has_less_error_on_smooth_lighting() {
         mean(&reference)
     );
 }
+
+/// Renders a white PBR sphere under a uniform white environment (importance-sampled, with MIS)
+/// and returns, per pixel, (mean, standard error) of the red channel.
+fn pbr_furnace(ctx: &rt_gpu::GpuContext, p: rt_core::material::Pbr, spp: u32) -> Vec<(f64, f64)> {
+    let mut sphere = uv_sphere(1.0, 24, 48);
+    sphere.normals = None;
+    let mut scene = scene(
+        vec![object("sphere", sphere, pbr(p))],
+        camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 24.0),
+        [0.0; 3],
+        settings(16, 16, spp, 64),
+    );
+    scene.environment = Some(rt_core::Environment::new(
+        "white",
+        rt_core::EnvironmentMap::uniform([1.0; 3]),
+    ));
+    let image = render(ctx, &scene);
+    image
+        .pixels
+        .iter()
+        .map(|px| {
+            let mean = f64::from(px[0]);
+            // The fourth channel is the running mean of squared luminance (= red², all white).
+            let var =
+                (f64::from(px[3]) - mean * mean).max(0.0) * f64::from(spp) / f64::from(spp - 1);
+            (mean, (var / f64::from(spp)).sqrt())
+        })
+        .collect()
+}
+
+/// White furnace on the GPU: a white rough metal sphere keeps ≥ 0.9 of the light at roughness
+/// {0, 0.1, 0.5, 1} and never more than 1; rough glass (with its internal bounces) never more
+/// than 1, and smooth glass all of it. Per pixel within z·σ (Šidák over all pixels and cases).
+#[test]
+fn pbr_spheres_under_a_white_environment_conserve_energy() {
+    use rt_core::material::Pbr;
+    let Some(ctx) = gpu() else { return };
+    let spp = 256;
+    let z = z_threshold(1.0 - (1.0 - 1e-3f64).powf(1.0 / (256.0 * 8.0)));
+    for roughness in [0.0, 0.1, 0.5, 1.0] {
+        let metal = Pbr {
+            base_color: [1.0; 3],
+            metallic: 1.0,
+            roughness,
+            ..Default::default()
+        };
+        let glass = Pbr {
+            base_color: [1.0; 3],
+            roughness,
+            transmission: 1.0,
+            ..Default::default()
+        };
+        for (what, p, floor) in [
+            ("metal", metal, 0.9),
+            ("glass", glass, if roughness <= 0.1 { 0.97 } else { 0.0 }),
+        ] {
+            for (i, (mean, se)) in pbr_furnace(ctx, p, spp).into_iter().enumerate() {
+                assert!(
+                    mean <= 1.0 + z * se + 1e-3 && mean >= floor - z * se - 1e-3,
+                    "{what}, roughness {roughness}: pixel {i} is {mean:.4} ± {se:.4} \
+                     (should lie in [{floor}, 1])"
+                );
+            }
+        }
+    }
+}

@@ -143,6 +143,12 @@ fn gpu_matches_cpu_reference_on_cornell_with_metal_and_glass() {
 }
 
 /// Smooth normals, a texture, a mirror sphere, a rotated and mirrored object and a thin lens.
+/// Every PBR feature and the environment map: statistically the same image on the GPU and the CPU.
+#[test]
+fn gpu_matches_cpu_reference_with_pbr_materials_and_an_environment() {
+    assert_images_agree(&pbr_scene_with_environment(24, 18), 256, 256);
+}
+
 #[test]
 fn gpu_matches_cpu_reference_on_textures_normals_and_thin_lens() {
     let scene = textured_scene_with_normals_metal_glass_and_lens();
@@ -483,6 +489,11 @@ fn the_kernels_and_the_cpu_reference_agree_per_pixel_in_lockstep() {
     let mut textured = textured_scene_with_normals_metal_glass_and_lens();
     textured.settings.width = 20;
     textured.settings.height = 20;
+    let mut pbr_env = pbr_scene_with_environment(20, 20);
+    let mut sun = rt_core::Light::new(rt_core::LightKind::Directional, "sun");
+    sun.direction = [0.3, -1.0, -0.2];
+    sun.intensity = 2.0;
+    pbr_env.lights.push(sun);
     for (name, mut scene) in [
         (
             "Cornell box with metal and glass, Sobol",
@@ -491,6 +502,7 @@ fn the_kernels_and_the_cpu_reference_agree_per_pixel_in_lockstep() {
         ("the same, independent samples", independent),
         ("with a point light", lit),
         ("textures, normals, thin lens", textured),
+        ("PBR materials, environment, area and sun light", pbr_env),
     ] {
         let gpu_scene = GpuScene::build(&scene).unwrap();
         for spp in [1, 4] {

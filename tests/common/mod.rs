@@ -206,3 +206,101 @@ pub fn textured_scene_with_normals_metal_glass_and_lens() -> Scene {
     });
     scene
 }
+
+pub fn pbr(p: rt_core::material::Pbr) -> Material {
+    Material::Pbr(Box::new(p))
+}
+
+/// A small procedural environment: a sky gradient, a warm "sun" texel and a dark ground.
+pub fn test_environment() -> rt_core::Environment {
+    let (w, h) = (16u32, 8u32);
+    let mut texels = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let t = y as f32 / (h - 1) as f32;
+            texels.push(if (x, y) == (5, 2) {
+                [60.0, 50.0, 35.0]
+            } else if y >= h / 2 {
+                [0.15, 0.12, 0.1]
+            } else {
+                [0.4 + 0.5 * t, 0.55 + 0.4 * t, 0.95]
+            });
+        }
+    }
+    let mut env = rt_core::Environment::new(
+        "test sky",
+        rt_core::EnvironmentMap::from_texels(w, h, texels).0,
+    );
+    env.rotation_deg = 30.0;
+    env.strength = 1.5;
+    env
+}
+
+/// Every PBR feature: a textured plastic floor, rough gold, rough absorbing glass, smooth glass, a
+/// rough metal with an interpolated normal, an emissive PBR plate, an area light and an
+/// environment map (so next-event estimation picks between emitters and the environment).
+pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
+    use rt_core::material::Pbr;
+    use rt_core::shapes::{quad, uv_sphere};
+    let mut scene = textured_scene_with_normals_metal_glass_and_lens();
+    scene.camera.aperture_radius = 0.0;
+    scene.settings.width = width;
+    scene.settings.height = height;
+    scene.settings.max_depth = 6;
+    scene.objects[0].material = pbr(Pbr {
+        base_color: [0.9; 3],
+        texture: Some(0),
+        roughness: 0.35,
+        ..Default::default()
+    });
+    scene.objects[1].material = pbr(Pbr {
+        base_color: [1.0, 0.766, 0.336],
+        metallic: 1.0,
+        roughness: 0.5,
+        ..Default::default()
+    });
+    scene.objects[2].material = pbr(Pbr {
+        base_color: [1.0; 3],
+        roughness: 0.25,
+        transmission: 1.0,
+        attenuation_color: [0.6, 0.8, 0.9],
+        attenuation_distance: Some(0.5),
+        ..Default::default()
+    });
+    let mut smooth_glass = object(
+        "smooth glass",
+        uv_sphere(0.25, 8, 16),
+        pbr(Pbr {
+            base_color: [1.0; 3],
+            roughness: 0.0,
+            transmission: 1.0,
+            ior: 1.5,
+            ..Default::default()
+        }),
+    );
+    smooth_glass.transform.translation = [-0.9, 0.25, 0.4];
+    scene.objects.push(smooth_glass);
+    let mut plate = object(
+        "glowing plate",
+        quad(Vec3::new(-0.6, 0.8, -1.0), Vec3::new(0.3, 0.0, 1.0), 0.5),
+        pbr(Pbr {
+            base_color: [0.2, 0.3, 0.8],
+            roughness: 0.6,
+            emission: [1.0, 0.5, 0.2],
+            emission_strength: 3.0,
+            ..Default::default()
+        }),
+    );
+    plate.transform.translation = [0.0; 3];
+    scene.objects.push(plate);
+    scene.objects.push(object(
+        "lamp",
+        quad(Vec3::new(0.5, 2.2, 0.5), Vec3::NEG_Y, 0.6),
+        Material::Emissive {
+            color: [1.0, 0.95, 0.9],
+            intensity: 8.0,
+        },
+    ));
+    scene.environment = Some(test_environment());
+    scene
+}
