@@ -183,6 +183,7 @@ impl RtApp {
             "obj" => {
                 let mut scene = rt_core::io::obj::load_obj(path, 0)?;
                 scene.frame_for_viewing();
+                light_with_the_default_environment(&mut scene);
                 scene.settings.max_depth = recommended_max_depth(&scene);
                 self.replace_document(Document::new(scene, Origin::Obj(path.into())));
             }
@@ -202,13 +203,35 @@ impl RtApp {
         self.live.key = None;
     }
 
-    /// Starts over with an empty scene.
+    /// Starts over with an empty scene, lit by the default environment.
     pub fn new_scene(&mut self) {
-        let scene = Scene {
+        let mut scene = Scene {
             ambient: [0.6; 3],
             ..Scene::default()
         };
+        light_with_the_default_environment(&mut scene);
         self.replace_document(Document::new(scene, Origin::New));
+    }
+
+    /// Lights the scene with an environment map from `path` (keeping rotation and strength).
+    pub fn set_environment_from_file(&mut self, path: &Path) -> bool {
+        let map = match rt_core::environment::load_environment(path) {
+            Ok(m) => m,
+            Err(e) => {
+                self.show_error(format!("Could not load the environment:\n{e}"));
+                return false;
+            }
+        };
+        let mut env = rt_core::Environment::new(path.display().to_string(), map);
+        if let Some(old) = &self.doc.scene.environment {
+            env.rotation_deg = old.rotation_deg;
+            env.strength = old.strength;
+        }
+        self.doc.edit("set environment", "set environment", |s| {
+            s.environment = Some(env)
+        });
+        self.doc.seal();
+        true
     }
 
     /// Saves the project to `path` (atomically) and makes it the document's file.
@@ -261,14 +284,19 @@ impl RtApp {
             let index = scene.textures.len();
             scene.textures.push(texture);
             if let Some(o) = scene.objects.get_mut(object) {
-                let albedo = match o.material {
-                    Material::Lambertian { albedo, .. } => albedo,
-                    _ => [1.0; 3],
-                };
-                o.material = Material::Lambertian {
-                    albedo,
-                    texture: Some(index),
-                };
+                match &mut o.material {
+                    Material::Pbr(p) => p.texture = Some(index),
+                    other => {
+                        let albedo = match other {
+                            Material::Lambertian { albedo, .. } => *albedo,
+                            _ => [1.0; 3],
+                        };
+                        *other = Material::Lambertian {
+                            albedo,
+                            texture: Some(index),
+                        };
+                    }
+                }
             }
         });
         self.doc.seal();
@@ -571,5 +599,17 @@ impl RtApp {
             .adapter_label()
             .or_else(|| self.display_adapter.clone())
             .unwrap_or_else(|| "no adapter yet".into())
+    }
+}
+
+/// A scene that brings no light of its own (no emitters, lights or environment) gets the studio
+/// environment rt ships, as a user opening a bare model expects to see it lit.
+pub fn light_with_the_default_environment(scene: &mut Scene) {
+    if scene.has_emitters() || !scene.lights.is_empty() || scene.environment.is_some() {
+        return;
+    }
+    match rt_core::assets::default_environment() {
+        Ok(env) => scene.environment = Some(env),
+        Err(e) => log::warn!("the built-in environment did not load: {e}"),
     }
 }

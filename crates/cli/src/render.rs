@@ -32,6 +32,10 @@ pub struct RenderArgs {
     /// Exposure in stops for 8-bit outputs (EXR is always linear).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
+    /// View transform for 8-bit outputs: `standard` clamps each channel at 1; `neutral` is the
+    /// Khronos PBR Neutral tone mapper (highlights roll off instead of clipping). EXR stays linear.
+    #[arg(long, value_enum, default_value = "standard")]
+    view: ViewArg,
     /// Also write a denoised copy beside the output (NAME.denoised.EXT), filtered with the
     /// edge-avoiding À-Trous denoiser guided by albedo and normals; the output itself stays raw.
     #[arg(long)]
@@ -44,6 +48,27 @@ pub struct RenderArgs {
     estimator: EstimatorArgs,
     #[command(flatten)]
     engine: EngineArgs,
+}
+
+/// `--view` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum ViewArg {
+    Standard,
+    #[value(alias = "khronos-pbr-neutral")]
+    Neutral,
+}
+
+impl RenderArgs {
+    fn view(&self) -> rt_core::output::View {
+        use rt_core::output::ViewTransform;
+        rt_core::output::View {
+            transform: match self.view {
+                ViewArg::Standard => ViewTransform::Standard,
+                ViewArg::Neutral => ViewTransform::KhronosPbrNeutral,
+            },
+            exposure_stops: self.exposure,
+        }
+    }
 }
 
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
@@ -369,7 +394,7 @@ fn save(args: &RenderArgs, image: &rt_gpu::Image) -> Result<()> {
         image.height,
         &image.pixels,
         image.counts(),
-        args.exposure,
+        args.view(),
     )
     .with_context(|| format!("saving {}", args.output.display()))
 }
@@ -397,7 +422,7 @@ fn save_denoised(
     let path = denoised_path(&args.output);
     let aovs = aovs.context("the renderer did not keep albedo and normals")?;
     let denoised = image.denoised(aovs).map_err(anyhow::Error::msg)?;
-    rt_core::output::save_image(&path, image.width, image.height, &denoised, args.exposure)
+    rt_core::output::save_image(&path, image.width, image.height, &denoised, args.view())
         .with_context(|| format!("saving {}", path.display()))?;
     eprintln!(
         "denoised:       {} ({:.2?}; biased: a preview of the converged image, not a measurement)",

@@ -44,6 +44,16 @@ pub struct SceneArgs {
     /// Seed for the random numbers (and for the colours of objects without a material).
     #[arg(long)]
     pub seed: Option<u32>,
+    /// Equirectangular environment map (.hdr, .exr, or any image) lighting the scene in place of
+    /// the ambient colour; `default` is the studio environment rt ships, `none` removes one.
+    #[arg(long, value_name = "FILE|default|none")]
+    pub environment: Option<String>,
+    /// Rotation of the environment about the up axis, in degrees.
+    #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
+    pub env_rotation: Option<f32>,
+    /// Radiance scale of the environment.
+    #[arg(long, value_name = "X")]
+    pub env_strength: Option<f32>,
 }
 
 impl SceneArgs {
@@ -68,6 +78,22 @@ impl SceneArgs {
         camera.vfov_deg = self.vfov.unwrap_or(camera.vfov_deg);
         scene.ambient = self.ambient.unwrap_or(scene.ambient);
         scene.settings.seed = self.seed.unwrap_or(scene.settings.seed);
+        match self.environment.as_deref() {
+            None => {}
+            Some("none") => scene.environment = None,
+            Some("default") => scene.environment = Some(rt_core::assets::default_environment()?),
+            Some(path) => {
+                let map = rt_core::environment::load_environment(std::path::Path::new(path))?;
+                scene.environment = Some(rt_core::Environment::new(path, map));
+            }
+        }
+        if let Some(env) = scene.environment.as_mut() {
+            env.rotation_deg = self.env_rotation.unwrap_or(env.rotation_deg);
+            env.strength = self.env_strength.unwrap_or(env.strength);
+            env.validate().map_err(anyhow::Error::msg)?;
+        } else if self.env_rotation.is_some() || self.env_strength.is_some() {
+            anyhow::bail!("--env-rotation and --env-strength need an environment (--environment)");
+        }
         Ok(scene)
     }
 }

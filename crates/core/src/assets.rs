@@ -10,6 +10,20 @@ use crate::scene::Scene;
 const CORNELL_OBJ: &str = include_str!("../../../assets/cornell/cornell.obj");
 const CORNELL_MTL: &str = include_str!("../../../assets/cornell/cornell.mtl");
 const CORNELL_CAMERA: &str = include_str!("../../../assets/cornell/cornell.json");
+const STUDIO_EXR: &[u8] = include_bytes!("../../../assets/environments/studio.exr");
+
+/// The environment rt lights scenes with when they bring no light of their own: Poly Haven's
+/// "studio small 01" at 1024×512 (CC0; `assets/environments/LICENSE-studio.txt`).
+pub fn default_environment() -> Result<crate::environment::Environment> {
+    let map = crate::environment::decode_environment(
+        STUDIO_EXR,
+        Path::new("<embedded>/environments/studio.exr"),
+    )?;
+    Ok(crate::environment::Environment::new(
+        "studio (built in)",
+        map,
+    ))
+}
 
 /// The Cornell box (32 triangles, units ≈ mm) with its camera, 512×512 and max depth 8.
 pub fn cornell_box() -> Result<Scene> {
@@ -38,4 +52,14 @@ pub fn cornell_box() -> Result<Scene> {
     CameraFile::parse(CORNELL_CAMERA, Path::new("<embedded>/cornell.json"))?.apply(&mut scene);
     scene.settings.max_depth = 8;
     Ok(scene)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_default_environment_decodes_and_emits() {
+        let env = super::default_environment().unwrap();
+        assert_eq!((env.map.width, env.map.height), (1024, 512));
+        assert!(crate::environment::build_env_texels(&env.map, 1.0).is_some());
+    }
 }

@@ -152,22 +152,34 @@ impl EnvironmentMap {
 /// Reads an equirectangular environment from a Radiance .hdr, OpenEXR or any image `image` decodes
 /// (8-bit images are taken as sRGB). Negative, NaN and infinite texels become 0 (with a warning).
 pub fn load_environment(path: &Path) -> Result<EnvironmentMap> {
+    if path.is_dir() {
+        return Err(Error::File {
+            path: path.to_path_buf(),
+            message: "is a directory, not an image".into(),
+        });
+    }
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    decode_environment(&bytes, path)
+}
+
+/// `load_environment` from the file's bytes; `path` names it in messages.
+pub fn decode_environment(bytes: &[u8], path: &Path) -> Result<EnvironmentMap> {
     let file_error = |message: String| Error::File {
         path: path.to_path_buf(),
         message,
     };
-    let io = |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|source| Error::Io {
+                path: path.to_path_buf(),
+                source,
+            })
     };
-    if path.is_dir() {
-        return Err(file_error("is a directory, not an image".into()));
-    }
-    let reader = image::ImageReader::open(path)
-        .map_err(io)?
-        .with_guessed_format()
-        .map_err(io)?;
-    let (width, height) = reader
+    let (width, height) = reader()?
         .into_dimensions()
         .map_err(|e| file_error(format!("unreadable environment image: {e}")))?;
     if width > MAX_ENV_FILE_SIDE || height > MAX_ENV_FILE_SIDE {
@@ -175,10 +187,9 @@ pub fn load_environment(path: &Path) -> Result<EnvironmentMap> {
             "environment is {width}x{height}; the limit is {MAX_ENV_FILE_SIDE} per side"
         )));
     }
-    let image = image::ImageReader::open(path)
-        .map_err(io)?
-        .with_guessed_format()
-        .map_err(io)?
+    let mut decoder = reader()?;
+    decoder.no_limits();
+    let image = decoder
         .decode()
         .map_err(|e| file_error(format!("unreadable environment image: {e}")))?;
     let rgb = image.to_rgb32f();

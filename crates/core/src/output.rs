@@ -1,5 +1,6 @@
-//! Writing rendered images. EXR holds linear radiance as float; PNG, JPEG and PPM hold
-//! `sRGB(clamp(radiance · 2^exposure, 0, 1))` in 8 bits (a plain clamp tone map). Every save goes to a
+//! Writing rendered images. EXR holds linear radiance as float (never tone-mapped); PNG, JPEG and
+//! PPM hold `sRGB(view(radiance · 2^exposure))` in 8 bits, `view` a plain clamp to [0, 1]
+//! (`ViewTransform::Standard`) or the Khronos PBR Neutral tone mapper. Every save goes to a
 //! temporary file in the same folder first and is renamed over the target, so a crash or a full
 //! disk never leaves a half-written image where a good one was.
 
@@ -55,14 +56,82 @@ pub fn tone_map_u8(c: f32, exposure_stops: f32) -> u8 {
     (linear_to_srgb(v) * 255.0 + 0.5) as u8
 }
 
+/// How linear radiance becomes display values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ViewTransform {
+    /// Clamp each channel to [0, 1]: exact below 1, highlights clip (the default, as before).
+    #[default]
+    Standard,
+    /// The Khronos PBR Neutral tone mapper (Khronos Group, 2024,
+    /// github.com/KhronosGroup/ToneMapping): colours below 0.76 keep their hue and value (up to a
+    /// small black offset), highlights roll off smoothly towards white instead of clipping.
+    KhronosPbrNeutral,
+}
+
+/// A view transform with an exposure in stops (applied first).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct View {
+    pub transform: ViewTransform,
+    pub exposure_stops: f32,
+}
+
+impl From<f32> for View {
+    /// The plain clamp at this exposure.
+    fn from(exposure_stops: f32) -> Self {
+        View {
+            transform: ViewTransform::Standard,
+            exposure_stops,
+        }
+    }
+}
+
+/// Khronos PBR Neutral, from the reference GLSL of its specification.
+pub fn khronos_pbr_neutral(rgb: [f32; 3]) -> [f32; 3] {
+    const START_COMPRESSION: f32 = 0.8 - 0.04;
+    const DESATURATION: f32 = 0.15;
+    let x = rgb[0].min(rgb[1]).min(rgb[2]);
+    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+    let c = rgb.map(|v| v - offset);
+    let peak = c[0].max(c[1]).max(c[2]);
+    if peak < START_COMPRESSION {
+        return c;
+    }
+    let d = 1.0 - START_COMPRESSION;
+    let new_peak = 1.0 - d * d / (peak + d - START_COMPRESSION);
+    let c = c.map(|v| v * new_peak / peak);
+    let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+    c.map(|v| v + (new_peak - v) * g)
+}
+
+impl View {
+    /// 8-bit sRGB of one linear RGB pixel (NaN and negative values show black).
+    pub fn to_srgb8(&self, rgb: [f32; 3]) -> [u8; 3] {
+        let scale = self.exposure_stops.exp2();
+        let c = rgb.map(|v| {
+            if v.is_finite() {
+                (v * scale).max(0.0)
+            } else {
+                0.0
+            }
+        });
+        let c = match self.transform {
+            ViewTransform::Standard => c,
+            ViewTransform::KhronosPbrNeutral => khronos_pbr_neutral(c),
+        };
+        c.map(|v| (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8)
+    }
+}
+
 /// Encodes `rgb` (row-major, top row first) to bytes in `format`.
 pub fn encode_image(
     format: ImageFormat,
     width: u32,
     height: u32,
     rgb: &[[f32; 3]],
-    exposure_stops: f32,
+    view: impl Into<View>,
 ) -> Result<Vec<u8>> {
+    let view = view.into();
     let mut out = std::io::Cursor::new(Vec::new());
     let encode_err = |e: image::ImageError| Error::Scene(format!("encoding the image failed: {e}"));
     match format {
@@ -75,11 +144,7 @@ pub fn encode_image(
                 .map_err(encode_err)?;
         }
         _ => {
-            let data: Vec<u8> = rgb
-                .iter()
-                .flatten()
-                .map(|&c| tone_map_u8(c, exposure_stops))
-                .collect();
+            let data: Vec<u8> = rgb.iter().flat_map(|&c| view.to_srgb8(c)).collect();
             let buffer = image::RgbImage::from_raw(width, height, data)
                 .ok_or_else(|| Error::Scene("image size does not match its pixels".into()))?;
             let f = match format {
@@ -196,14 +261,14 @@ pub fn save_render(
     height: u32,
     pixels: &[[f32; 4]],
     counts: SampleCounts,
-    exposure_stops: f32,
+    view: impl Into<View>,
 ) -> Result<()> {
     let format = ImageFormat::from_path(path)?;
     let bytes = if format == ImageFormat::Exr {
         encode_exr_with_variance(width, height, pixels, counts)?
     } else {
         let rgb: Vec<[f32; 3]> = pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
-        encode_image(format, width, height, &rgb, exposure_stops)?
+        encode_image(format, width, height, &rgb, view)?
     };
     write_atomically(path, &bytes)
 }
@@ -214,10 +279,10 @@ pub fn save_image(
     width: u32,
     height: u32,
     rgb: &[[f32; 3]],
-    exposure_stops: f32,
+    view: impl Into<View>,
 ) -> Result<()> {
     let format = ImageFormat::from_path(path)?;
-    let bytes = encode_image(format, width, height, rgb, exposure_stops)?;
+    let bytes = encode_image(format, width, height, rgb, view)?;
     write_atomically(path, &bytes)
 }
 
@@ -353,6 +418,31 @@ mod tests {
             "{variance:?}"
         );
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// PBR Neutral keeps dark and mid colours (minus its small black offset), keeps hue, rolls
+    /// highlights off below 1 without clipping, and is monotonic.
+    #[test]
+    fn khronos_pbr_neutral_keeps_midtones_and_compresses_highlights() {
+        let mid = khronos_pbr_neutral([0.5, 0.3, 0.2]);
+        for (a, b) in mid.iter().zip([0.46, 0.26, 0.16]) {
+            assert!((a - b).abs() < 1e-6, "{mid:?}");
+        }
+        let mut last = 0.0;
+        for i in 1..200 {
+            let v = khronos_pbr_neutral([i as f32 * 0.1; 3])[0];
+            assert!(v >= last && v < 1.0, "{} -> {v}", i as f32 * 0.1);
+            last = v;
+        }
+        assert!(last > 0.98, "bright white approaches 1: {last}");
+        let bright = View {
+            transform: ViewTransform::KhronosPbrNeutral,
+            exposure_stops: 0.0,
+        }
+        .to_srgb8([4.0, 2.0, 1.0]);
+        let clamped = View::from(0.0).to_srgb8([4.0, 2.0, 1.0]);
+        assert_eq!(clamped, [255, 255, 255]);
+        assert!(bright[0] > bright[1] && bright[1] > bright[2], "{bright:?}");
     }
 
     #[test]

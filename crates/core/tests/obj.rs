@@ -136,20 +136,36 @@ fn mtl_mapping_rules() {
         Material::lambertian([0.5; 3]),
         "Ke 0 is not an emitter"
     );
+    let pbr = |p: rt_core::material::Pbr| Material::Pbr(Box::new(p));
     assert_eq!(
         material_of("Kd 0.2 0.2 0.2\nKs 0.9 0.8 0.7\nillum 3\nPr 0.25"),
-        Material::Metal {
-            albedo: [0.9, 0.8, 0.7],
-            fuzz: 0.25
-        }
+        pbr(rt_core::material::Pbr {
+            base_color: [0.9, 0.8, 0.7],
+            metallic: 1.0,
+            roughness: 0.25,
+            ..Default::default()
+        }),
+        "PBR keys with illum 3: a rough metal"
     );
     assert_eq!(
         material_of("Kd 0.6 0.5 0.4\nPm 1\nPr 0.5"),
-        Material::Metal {
-            albedo: [0.6, 0.5, 0.4],
-            fuzz: 0.5
-        },
-        "Ks absent: albedo from Kd"
+        pbr(rt_core::material::Pbr {
+            base_color: [0.6, 0.5, 0.4],
+            metallic: 1.0,
+            roughness: 0.5,
+            ..Default::default()
+        }),
+        "Ks absent: base colour from Kd"
+    );
+    assert_eq!(
+        material_of("Kd 0.1 0.2 0.3\nPr 0.7\nNi 1.4"),
+        pbr(rt_core::material::Pbr {
+            base_color: [0.1, 0.2, 0.3],
+            roughness: 0.7,
+            ior: 1.4,
+            ..Default::default()
+        }),
+        "Pr alone: a rough dielectric (plastic)"
     );
     let Material::Metal { fuzz, .. } = material_of("Ks 1 1 1\nillum 3\nNs 198") else {
         panic!("metal expected")

@@ -37,6 +37,86 @@ pub fn objects_panel(app: &mut RtApp, ui: &mut Ui) {
     }
 }
 
+/// The environment map: which file, its rotation and strength (it replaces the ambient colour).
+fn environment_rows(app: &mut RtApp, ui: &mut Ui) {
+    let mut choose = false;
+    let mut builtin = false;
+    let mut remove = false;
+    ui.horizontal(|ui| {
+        ui.label("Environment").on_hover_text(
+            "An HDR image around the scene that lights it (replaces the ambient colour)",
+        );
+        let name = app
+            .doc
+            .scene
+            .environment
+            .as_ref()
+            .map_or("none".to_string(), |e| e.source.clone());
+        ui.weak(name);
+    });
+    ui.horizontal(|ui| {
+        choose = ui
+            .button("Choose…")
+            .on_hover_text("Load an equirectangular .hdr or .exr environment")
+            .clicked();
+        builtin = ui
+            .button("Studio")
+            .on_hover_text("The built-in studio environment (Poly Haven, CC0)")
+            .clicked();
+        remove = app.doc.scene.environment.is_some()
+            && ui
+                .button("None")
+                .on_hover_text("Remove the environment (back to the ambient colour)")
+                .clicked();
+    });
+    if let Some(env) = &app.doc.scene.environment {
+        let (mut rotation, mut strength) = (env.rotation_deg, env.strength);
+        let a = ui
+            .add(egui::Slider::new(&mut rotation, -180.0..=180.0).text("rotation (°)"))
+            .on_hover_text("Turns the environment about the up axis");
+        let b = ui
+            .add(
+                egui::Slider::new(&mut strength, 0.0..=10.0)
+                    .logarithmic(true)
+                    .text("strength"),
+            )
+            .on_hover_text("Scales the environment's light");
+        if a.changed() || b.changed() {
+            app.doc.edit("change environment", "environment", |s| {
+                if let Some(e) = s.environment.as_mut() {
+                    e.rotation_deg = rotation;
+                    e.strength = strength;
+                }
+            });
+        }
+    }
+    if remove {
+        app.doc
+            .edit("remove environment", "remove environment", |s| {
+                s.environment = None
+            });
+        app.doc.seal();
+    }
+    if builtin {
+        match rt_core::assets::default_environment() {
+            Ok(env) => {
+                app.doc.edit("set environment", "set environment", |s| {
+                    s.environment = Some(env)
+                });
+                app.doc.seal();
+            }
+            Err(e) => app.show_error(format!("The built-in environment did not load:\n{e}")),
+        }
+    }
+    if choose
+        && let Some(path) = rfd::FileDialog::new()
+            .add_filter("HDR images", &["hdr", "exr", "png", "jpg", "jpeg"])
+            .pick_file()
+    {
+        app.set_environment_from_file(&path);
+    }
+}
+
 pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
     ui.heading("Lights");
     let mut ambient = app.doc.scene.ambient;
@@ -69,6 +149,7 @@ pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
         app.doc
             .edit("change ambient", "ambient", |s| s.ambient = ambient);
     }
+    environment_rows(app, ui);
     let mut clicked = None;
     for (i, object) in app.doc.scene.objects.iter().enumerate() {
         if is_light(object) {

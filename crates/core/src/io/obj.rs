@@ -3,8 +3,11 @@
 //! MTL mapping (first rule that applies):
 //! 1. `Ke` with a non-zero component → `Emissive { color: Ke, intensity: 1 }`.
 //! 2. `illum` 4, 6 or 7, or `d` < 1, or `Tf` → `Dielectric { ior: Ni (1.5 if absent), tint: Tf (white) }`.
-//! 3. `illum 3` or `Pm` > 0 → `Metal { albedo: Ks if non-zero else Kd, fuzz: Pr, else √(2/(Ns+2)) }`.
-//! 4. otherwise → `Lambertian { albedo: Kd (0.8 grey if absent), texture: map_Kd }`.
+//! 3. `Pr` or `Pm` (the PBR extension of MTL) → `Pbr { base_color: Kd (or Ks if non-zero, for a
+//!    metal), texture: map_Kd, metallic: Pm (1 with `illum 3`, else 0), roughness: Pr, else
+//!    √α with α = √(2/(Ns+2)) (Walter's Blinn–Phong match), else 0.5, ior: Ni (1.5) }`.
+//! 4. `illum 3` → `Metal { albedo: Ks if non-zero else Kd, fuzz: √(2/(Ns+2)) (0 without Ns) }`.
+//! 5. otherwise → `Lambertian { albedo: Kd (0.8 grey if absent), texture: map_Kd }`.
 //!
 //! Objects with no material get a distinct colour derived from the seed. Faces are triangulated as
 //! fans; `o`/`g` start new objects and `usemtl` splits an object by material.
@@ -353,18 +356,32 @@ pub fn material_from_mtl(m: &tobj::Material, texture: Option<usize>) -> Material
         };
     }
     let kd = m.diffuse.unwrap_or([0.8; 3]);
-    let pm = param(m, "Pm").map(|v| v[0]).unwrap_or(0.0);
-    if illum == 3 || pm > 0.0 {
-        let albedo = m.specular.filter(is_nonzero).unwrap_or(kd);
-        let fuzz = match param(m, "Pr") {
-            Some(pr) => pr[0],
-            None => m
-                .shininess
-                .map_or(0.0, |ns| (2.0 / (ns.max(0.0) + 2.0)).sqrt()),
+    let blinn_alpha = m.shininess.map(|ns| (2.0 / (ns.max(0.0) + 2.0)).sqrt());
+    let (pm, pr) = (param(m, "Pm").map(|v| v[0]), param(m, "Pr").map(|v| v[0]));
+    if pm.is_some() || pr.is_some() {
+        let metallic = pm
+            .unwrap_or(if illum == 3 { 1.0 } else { 0.0 })
+            .clamp(0.0, 1.0);
+        let base_color = if metallic > 0.0 {
+            m.specular.filter(is_nonzero).unwrap_or(kd)
+        } else {
+            kd
         };
+        let roughness = pr.or(blinn_alpha.map(f32::sqrt)).unwrap_or(0.5);
+        return Material::Pbr(Box::new(crate::material::Pbr {
+            base_color,
+            texture,
+            metallic,
+            roughness: roughness.clamp(0.0, 1.0),
+            ior: m.optical_density.filter(|n| *n >= 1.0).unwrap_or(1.5),
+            ..Default::default()
+        }));
+    }
+    if illum == 3 {
+        let albedo = m.specular.filter(is_nonzero).unwrap_or(kd);
         return Material::Metal {
             albedo,
-            fuzz: fuzz.clamp(0.0, 1.0),
+            fuzz: blinn_alpha.unwrap_or(0.0).clamp(0.0, 1.0),
         };
     }
     Material::Lambertian {

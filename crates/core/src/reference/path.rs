@@ -189,7 +189,7 @@ pub fn delta_lights_at(
             }
             (dir, distance, e)
         };
-        if !(dir.dot(ng) > 0.0) || irradiance == Vec3::ZERO {
+        if dir.dot(ng) <= 0.0 || dir.dot(ng).is_nan() || irradiance == Vec3::ZERO {
             continue;
         }
         let (f_cos, _) = surface.eval(dir);
