@@ -167,6 +167,17 @@ fn mtl_mapping_rules() {
         }),
         "Pr alone: a rough dielectric (plastic)"
     );
+    assert_eq!(
+        material_of("illum 7\nNi 1.45\nPr 0.3"),
+        pbr(rt_core::material::Pbr {
+            base_color: [1.0; 3],
+            roughness: 0.3,
+            ior: 1.45,
+            transmission: 1.0,
+            ..Default::default()
+        }),
+        "glass with Pr: rough glass"
+    );
     let Material::Metal { fuzz, .. } = material_of("Ks 1 1 1\nillum 3\nNs 198") else {
         panic!("metal expected")
     };

@@ -66,6 +66,39 @@ fn rich_scene() -> Scene {
     sun.color = [1.0, 0.9, 0.8];
     sun.intensity = 2.5;
     scene.lights = vec![spot, sun];
+    let short_block = scene
+        .objects
+        .iter_mut()
+        .find(|o| o.name == "short_block")
+        .unwrap();
+    short_block.material = Material::Pbr(Box::new(rt_core::material::Pbr {
+        base_color: [1.0, 0.766, 0.336],
+        texture: Some(0),
+        metallic: 1.0,
+        roughness: 0.35,
+        ior: 1.45,
+        transmission: 0.25,
+        attenuation_color: [0.5, 0.6, 0.7],
+        attenuation_distance: Some(3.0),
+        emission: [0.1, 0.2, 0.3],
+        emission_strength: 2.0,
+    }));
+    let (map, _) = rt_core::EnvironmentMap::from_texels(
+        3,
+        2,
+        vec![
+            [0.1, 0.2, 0.3],
+            [4.0, 5.0, 6.0],
+            [0.0; 3],
+            [1e-7, 7.5, 1e4],
+            [1.0; 3],
+            [0.5; 3],
+        ],
+    );
+    let mut env = rt_core::Environment::new("sky.hdr", map);
+    env.rotation_deg = -75.5;
+    env.strength = 1.25;
+    scene.environment = Some(env);
     scene
 }
 
@@ -166,6 +199,28 @@ fn a_project_round_trips_every_field_through_a_file() {
         Arc::ptr_eq(&loaded.objects[n - 1].mesh, &loaded.objects[n - 2].mesh),
         "a mesh shared by two objects is stored once and shared again"
     );
+}
+
+/// An environment entry whose size disagrees with its texels is named.
+#[test]
+fn a_truncated_environment_entry_is_named() {
+    let bytes = encode_archive(&rich_scene(), PROJECT_FORMAT, path()).unwrap();
+    let entries: Vec<(String, Vec<u8>)> = entries_of(&bytes)
+        .into_iter()
+        .map(|(name, data)| {
+            if name == "environment.bin" {
+                (name, data[..data.len() - 4].to_vec())
+            } else {
+                (name, data)
+            }
+        })
+        .collect();
+    let refs: Vec<(&str, &[u8])> = entries
+        .iter()
+        .map(|(n, d)| (n.as_str(), d.as_slice()))
+        .collect();
+    let e = error_of(&zip_of(&refs, true));
+    assert!(e.contains("environment") && e.contains("3x2"), "{e}");
 }
 
 #[test]

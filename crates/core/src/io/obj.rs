@@ -2,7 +2,9 @@
 //!
 //! MTL mapping (first rule that applies):
 //! 1. `Ke` with a non-zero component → `Emissive { color: Ke, intensity: 1 }`.
-//! 2. `illum` 4, 6 or 7, or `d` < 1, or `Tf` → `Dielectric { ior: Ni (1.5 if absent), tint: Tf (white) }`.
+//! 2. `illum` 4, 6 or 7, or `d` < 1, or `Tf` → `Dielectric { ior: Ni (1.5 if absent), tint: Tf (white) }`,
+//!    or with `Pr` > 0 rough glass: `Pbr { base_color: Tf (white), roughness: Pr, ior: Ni (1.5),
+//!    transmission: 1 }`.
 //! 3. `Pr` or `Pm` (the PBR extension of MTL) → `Pbr { base_color: Kd (or Ks if non-zero, for a
 //!    metal), texture: map_Kd, metallic: Pm (1 with `illum 3`, else 0), roughness: Pr, else
 //!    √α with α = √(2/(Ns+2)) (Walter's Blinn–Phong match), else 0.5, ior: Ni (1.5) }`.
@@ -350,6 +352,15 @@ pub fn material_from_mtl(m: &tobj::Material, texture: Option<usize>) -> Material
     let illum = m.illumination_model.unwrap_or(2);
     let tf = rgb_param(m, "Tf");
     if matches!(illum, 4 | 6 | 7) || m.dissolve.is_some_and(|d| d < 1.0) || tf.is_some() {
+        if let Some(pr) = param(m, "Pr").map(|v| v[0]).filter(|r| *r > 0.0) {
+            return Material::Pbr(Box::new(crate::material::Pbr {
+                base_color: tf.unwrap_or([1.0; 3]),
+                roughness: pr.clamp(0.0, 1.0),
+                ior: m.optical_density.filter(|n| *n >= 1.0).unwrap_or(1.5),
+                transmission: 1.0,
+                ..Default::default()
+            }));
+        }
         return Material::Dielectric {
             ior: m.optical_density.unwrap_or(1.5),
             tint: tf.unwrap_or([1.0; 3]),
