@@ -109,6 +109,10 @@ fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
     } else {
         var irradiance = view.ambient.rgb;
         var highlight = vec3<f32>(0.0);
+        // emission.w: a PBR material's roughness (its Blinn-Phong equivalent exponent 2/alpha^2 - 2
+        // sizes the highlight), or < 0 for the other materials (exponent 64).
+        let r = o.emission.w;
+        let shininess = select(64.0, clamp(2.0 / max(r * r * r * r, 1e-4) - 2.0, 2.0, 2048.0), r >= 0.0);
         for (var i = 0u; i < min(view.light_count, MAX_PREVIEW_LIGHTS); i++) {
             let light = view.lights[i];
             let d = light.position.xyz - in.world;
@@ -116,13 +120,16 @@ fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
             let l = d * inverseSqrt(d2);
             irradiance += light.intensity.rgb * max(dot(n, l), 0.0) / d2;
             let h = normalize(l + to_eye);
-            highlight += light.intensity.rgb / d2 * pow(max(dot(n, h), 0.0), 64.0);
+            highlight += light.intensity.rgb / d2 * pow(max(dot(n, h), 0.0), shininess) * (shininess + 2.0) / 66.0;
         }
         // A weak headlight keeps unlit sides readable.
         let fill = 0.08 / max(view.eye.w, 1e-6) * max(dot(n, to_eye), 0.0);
         radiance = albedo * (irradiance + vec3<f32>(fill));
         if o.flags.w == 1u {
             radiance = radiance * 0.6 + albedo * highlight;
+        } else if o.flags.w == 0u && r >= 0.0 {
+            // A PBR dielectric: its specular layer reflects about 4% of the light, untinted.
+            radiance += 0.04 * highlight;
         } else if o.flags.w == 2u {
             let fresnel = pow(1.0 - max(dot(n, to_eye), 0.0), 5.0);
             radiance = radiance * 0.35 + highlight + vec3<f32>(fresnel) / max(view.eye.w, 1e-6);

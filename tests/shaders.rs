@@ -276,6 +276,8 @@ fn shared_constants_match_wgsl() {
         ("MAT_METAL", material_kind::METAL),
         ("MAT_DIELECTRIC", material_kind::DIELECTRIC),
         ("MAT_EMISSIVE", material_kind::EMISSIVE),
+        ("MAT_PBR", material_kind::PBR),
+        ("ENERGY_SIDE", rt_core::math::microfacet::ENERGY_SIDE as u32),
         ("NO_TEXTURE", NO_TEXTURE),
         ("LIGHT_POINT", light_kind::POINT),
         ("LIGHT_SPOT", light_kind::SPOT),
@@ -283,4 +285,13 @@ fn shared_constants_match_wgsl() {
     ] {
         assert_eq!(value(wgsl), rust, "{wgsl}");
     }
+    let (_, min_alpha) = parsed
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some("MIN_ALPHA"))
+        .expect("no WGSL constant MIN_ALPHA");
+    assert!(matches!(
+        parsed.global_expressions[min_alpha.init],
+        naga::Expression::Literal(naga::Literal::F32(v)) if v == rt_core::math::microfacet::MIN_ALPHA
+    ));
 }

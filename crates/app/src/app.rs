@@ -29,10 +29,11 @@ pub struct RenderView {
     pub job: RenderJob,
     pub open: bool,
     pub exposure: f32,
+    pub transform: rt_core::output::ViewTransform,
     pub zoom: f32,
     pub texture: Option<egui::TextureHandle>,
-    /// (image revision, exposure, denoised) the texture was made from.
-    pub texture_key: Option<(u64, f32, bool)>,
+    /// (image revision, exposure, view transform, denoised) the texture was made from.
+    pub texture_key: Option<(u64, f32, rt_core::output::ViewTransform, bool)>,
     /// Show (and save) the denoised image instead of the raw one.
     pub show_denoised: bool,
     /// The denoised image, computed on first use.
@@ -492,6 +493,7 @@ impl RtApp {
             job,
             open: true,
             exposure: 0.0,
+            transform: Default::default(),
             zoom: 1.0,
             texture: None,
             texture_key: None,
@@ -599,6 +601,16 @@ impl RtApp {
             .adapter_label()
             .or_else(|| self.display_adapter.clone())
             .unwrap_or_else(|| "no adapter yet".into())
+    }
+}
+
+impl RenderView {
+    /// The exposure and view transform the viewer shows and saves with.
+    pub fn view(&self) -> rt_core::output::View {
+        rt_core::output::View {
+            transform: self.transform,
+            exposure_stops: self.exposure,
+        }
     }
 }
 

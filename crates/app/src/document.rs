@@ -132,7 +132,11 @@ impl Document {
         if same_scene(&self.scene, &before) {
             return;
         }
-        if !same_objects(&self.scene, &before) || self.scene.lights != before.lights {
+        // The environment's texels and sampling table live in the GPU scene as the lights do.
+        if !same_objects(&self.scene, &before)
+            || self.scene.lights != before.lights
+            || !same_environment(&self.scene, &before)
+        {
             self.geometry_revision += 1;
         }
         let merges = !self.sealed && self.undo.last().is_some_and(|s| s.key == key);
@@ -215,6 +219,21 @@ fn same_scene(a: &Scene, b: &Scene) -> bool {
         && a.ambient == b.ambient
         && a.settings == b.settings
         && a.lights == b.lights
+        && same_environment(a, b)
+}
+
+/// Same file, rotation and strength, and the same texels in memory (not compared texel by texel).
+fn same_environment(a: &Scene, b: &Scene) -> bool {
+    match (&a.environment, &b.environment) {
+        (None, None) => true,
+        (Some(x), Some(y)) => {
+            x.source == y.source
+                && x.rotation_deg == y.rotation_deg
+                && x.strength == y.strength
+                && std::sync::Arc::ptr_eq(&x.map, &y.map)
+        }
+        _ => false,
+    }
 }
 
 fn same_objects(a: &Scene, b: &Scene) -> bool {

@@ -439,3 +439,54 @@ fn adaptive_sampling_from_the_render_panel() {
     let counts = image.sample_counts.as_ref().expect("per-pixel counts");
     assert!(counts.iter().all(|&c| c == image.samples_per_pixel));
 }
+
+#[test]
+fn a_physically_based_material_and_the_studio_environment_from_the_panels() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("tall_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "tall_block");
+    harness.get_by_label("Physically based").click();
+    harness.run_ok();
+    let Material::Pbr(p) = &harness.state().doc.scene.objects[index].material else {
+        panic!("a PBR material expected")
+    };
+    assert_eq!(p.roughness, 0.5, "the default roughness");
+    assert!(harness.state().doc.scene.environment.is_none());
+    harness.get_by_label("Studio").click();
+    harness.run_ok();
+    let env = harness
+        .state()
+        .doc
+        .scene
+        .environment
+        .as_ref()
+        .expect("environment set");
+    assert_eq!((env.map.width, env.map.height), (1024, 512));
+    harness.get_by_label("None").click();
+    harness.run_ok();
+    assert!(harness.state().doc.scene.environment.is_none());
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert!(
+        harness.state().doc.scene.environment.is_some(),
+        "removing the environment undoes"
+    );
+}
+
+#[test]
+fn a_bare_model_is_lit_by_the_default_environment() {
+    let mut scene = rt_core::Scene::default();
+    rt_app::app::light_with_the_default_environment(&mut scene);
+    assert!(scene.environment.is_some());
+    let mut lit = rt_core::assets::cornell_box().unwrap();
+    rt_app::app::light_with_the_default_environment(&mut lit);
+    assert!(
+        lit.environment.is_none(),
+        "a scene with emitters keeps its own light"
+    );
+}

@@ -41,6 +41,13 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
         c.from, c.to, c.up, c.vfov_deg
     );
     println!("ambient: {:?}", scene.ambient);
+    match &scene.environment {
+        Some(e) => println!(
+            "environment: {} ({}x{}, rotation {}°, strength {})",
+            e.source, e.map.width, e.map.height, e.rotation_deg, e.strength
+        ),
+        None => println!("environment: none"),
+    }
     if verbose {
         // The adapter is opened only on request: it takes a second on lavapipe.
         match rt_gpu::GpuContext::new(&args.adapter) {

@@ -52,7 +52,7 @@ pub struct SceneArgs {
     #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
     pub env_rotation: Option<f32>,
     /// Radiance scale of the environment.
-    #[arg(long, value_name = "X")]
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub env_strength: Option<f32>,
 }
 

@@ -582,3 +582,124 @@ fn tracing_with_ray_queries_without_them_is_a_clear_error() {
     assert!(stderr.contains("tracing rt's BVH"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--environment` (the built-in studio or a file), its rotation and strength, and `--view`: an
+/// environment brightens an open scene, strength 0 removes its light, the neutral view transform
+/// changes 8-bit outputs only; bad environment input is a one-line error with exit code 2.
+#[test]
+fn environments_and_view_transforms_from_the_command_line() {
+    let dir = temp_dir("environment");
+    let bunny = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/bunny/bunny-lowres-npm.obj"
+    );
+    let missing = dir.join("missing.hdr");
+    let corrupt = dir.join("corrupt.exr");
+    std::fs::write(&corrupt, b"definitely not an EXR").unwrap();
+    for (args, says) in [
+        (
+            vec!["--environment", missing.to_str().unwrap()],
+            "missing.hdr",
+        ),
+        (
+            vec!["--environment", corrupt.to_str().unwrap()],
+            "corrupt.exr",
+        ),
+        (vec!["--env-strength", "2"], "need an environment"),
+        (
+            vec!["--environment", "default", "--env-strength", "-1"],
+            "strength",
+        ),
+        (
+            vec!["--environment", "default", "--env-rotation", "nan"],
+            "rotation",
+        ),
+    ] {
+        let mut all = vec!["render", bunny, "--spp", "1", "-o"];
+        let out = dir.join("bad.png");
+        all.push(out.to_str().unwrap());
+        all.extend(args.iter().copied());
+        let (code, _, stderr) = rt_cli(&all);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+        assert_eq!(
+            stderr.trim().lines().count(),
+            1,
+            "{args:?}: one line: {stderr}"
+        );
+        assert!(!out.exists());
+    }
+    if !has_gpu() {
+        return;
+    }
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render", bunny, "--width", "32", "--height", "32", "--spp", "8",
+        ];
+        args.push("-o");
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        image::open(&out).unwrap().to_rgb32f()
+    };
+    let mean = |img: &image::Rgb32FImage| {
+        img.pixels()
+            .map(|p| f64::from(p.0[0] + p.0[1] + p.0[2]))
+            .sum::<f64>()
+            / img.len() as f64
+    };
+    let ambient = render("ambient.exr", &["--ambient", "0,0,0"]);
+    let studio = render(
+        "studio.exr",
+        &["--ambient", "0,0,0", "--environment", "default"],
+    );
+    let dark = render(
+        "dark.exr",
+        &[
+            "--ambient",
+            "0,0,0",
+            "--environment",
+            "default",
+            "--env-strength",
+            "0",
+        ],
+    );
+    let turned = render(
+        "turned.exr",
+        &["--environment", "default", "--env-rotation", "90"],
+    );
+    assert_eq!(
+        mean(&ambient),
+        0.0,
+        "no light without ambient or environment"
+    );
+    assert!(mean(&studio) > 0.01, "the studio lights the bunny");
+    assert_eq!(mean(&dark), 0.0, "strength 0 turns it off");
+    assert_ne!(studio.as_raw(), turned.as_raw(), "rotation turns the light");
+    let standard = render(
+        "standard.png",
+        &["--environment", "default", "--exposure", "4"],
+    );
+    let neutral = render(
+        "neutral.png",
+        &[
+            "--environment",
+            "default",
+            "--exposure",
+            "4",
+            "--view",
+            "neutral",
+        ],
+    );
+    assert_ne!(
+        standard.as_raw(),
+        neutral.as_raw(),
+        "the view transform changes PNGs"
+    );
+    let exr_a = render("a.exr", &["--environment", "default", "--view", "neutral"]);
+    let exr_b = render("b.exr", &["--environment", "default"]);
+    assert_eq!(exr_a.as_raw(), exr_b.as_raw(), "EXR stays linear");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -96,14 +96,18 @@ impl EnvironmentMap {
     }
 
     /// Replaces texels that are negative, NaN or infinite by 0 and box-filters the image down to at
-    /// most `MAX_ENV_WIDTH` × `MAX_ENV_HEIGHT`; returns the map and how many texels were replaced.
+    /// most `MAX_ENV_WIDTH` × `MAX_ENV_HEIGHT`; returns the map and how many values were replaced
+    /// (not counting negatives above −1e-4, which lossy codecs leave around black).
     pub fn from_texels(width: u32, height: u32, mut texels: Vec<[f32; 3]>) -> (Self, usize) {
         let mut replaced = 0;
         for t in &mut texels {
             for c in t.iter_mut() {
                 if !(c.is_finite() && *c >= 0.0) {
+                    // Lossy EXR codecs leave values like −5e-7 around black: rounding, not damage.
+                    if !(c.is_finite() && *c > -1e-4) {
+                        replaced += 1;
+                    }
                     *c = 0.0;
-                    replaced += 1;
                 }
             }
         }

@@ -168,6 +168,10 @@ pub fn build_frame(
     for (i, object) in scene.objects.iter().enumerate() {
         let model = object.transform.matrix();
         let normal_matrix = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
+        let roughness = match &object.material {
+            Material::Pbr(p) => p.roughness,
+            _ => -1.0,
+        };
         let (color, emission, material_kind, texture) = match &object.material {
             Material::Lambertian { albedo, texture } => (
                 *albedo,
@@ -200,7 +204,7 @@ pub fn build_frame(
             model: model.to_cols_array_2d(),
             normal_matrix: normal_matrix.to_cols_array_2d(),
             color: Vec3::from(color).extend(1.0).to_array(),
-            emission: Vec3::from(emission).extend(0.0).to_array(),
+            emission: Vec3::from(emission).extend(roughness).to_array(),
             flags: [
                 u32::from(selection == Some(i)),
                 u32::from(texture.is_some()),

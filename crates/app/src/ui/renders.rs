@@ -1,27 +1,28 @@
 //! One window per render: progress and Cancel while it runs, then the image with zoom, pan, an
 //! exposure slider and Save as PNG / JPEG / PPM / EXR.
 
+use rt_core::output::{View, ViewTransform};
 use rt_gpu::Image;
 
 use crate::app::{RenderView, RtApp};
 use crate::render_job::JobState;
 
-/// The image as 8-bit sRGB for display, `exposure_stops` brighter (clamped, like the PNG output).
-pub fn tone_mapped(image: &Image, exposure_stops: f32) -> egui::ColorImage {
-    tone_mapped_rgb(&image.rgb(), image.width, image.height, exposure_stops)
+/// The image as 8-bit sRGB for display through `view` (exposure and view transform, as the
+/// PNG output).
+pub fn tone_mapped(image: &Image, view: impl Into<View>) -> egui::ColorImage {
+    tone_mapped_rgb(&image.rgb(), image.width, image.height, view)
 }
 
 pub fn tone_mapped_rgb(
     rgb: &[[f32; 3]],
     width: u32,
     height: u32,
-    exposure: f32,
+    view: impl Into<View>,
 ) -> egui::ColorImage {
+    let view = view.into();
     let mut bytes = Vec::with_capacity(rgb.len() * 4);
     for p in rgb {
-        for c in p {
-            bytes.push(rt_core::output::tone_map_u8(*c, exposure));
-        }
+        bytes.extend(view.to_srgb8(*p));
         bytes.push(255);
     }
     egui::ColorImage::from_rgba_unmultiplied([width as usize, height as usize], &bytes)
@@ -114,6 +115,23 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
     ui.horizontal(|ui| {
         ui.add(egui::Slider::new(&mut view.exposure, -8.0..=8.0).text("exposure (stops)"))
             .on_hover_text("Brighten or darken the display and the PNG/JPEG/PPM you save");
+        egui::ComboBox::from_id_salt(("view transform", view.id))
+            .selected_text(match view.transform {
+                ViewTransform::Standard => "Standard",
+                ViewTransform::KhronosPbrNeutral => "Khronos PBR Neutral",
+            })
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut view.transform, ViewTransform::Standard, "Standard")
+                    .on_hover_text("Clamp at 1: exact colours, clipped highlights");
+                ui.selectable_value(
+                    &mut view.transform,
+                    ViewTransform::KhronosPbrNeutral,
+                    "Khronos PBR Neutral",
+                )
+                .on_hover_text("Highlights roll off to white; colours below 0.76 are kept");
+            })
+            .response
+            .on_hover_text("How radiance becomes display colours (EXR saves stay linear)");
         ui.add(
             egui::Slider::new(&mut view.zoom, 0.1..=8.0)
                 .logarithmic(true)
@@ -153,11 +171,16 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
     }
     if let Some(image) = &view.job.image {
         let show_denoised = view.show_denoised && view.denoised.is_some();
-        let key = (view.job.image_revision, view.exposure, show_denoised);
+        let key = (
+            view.job.image_revision,
+            view.exposure,
+            view.transform,
+            show_denoised,
+        );
         if view.texture_key != Some(key) {
             let color = match (&view.denoised, show_denoised) {
-                (Some(d), true) => tone_mapped_rgb(d, image.width, image.height, view.exposure),
-                _ => tone_mapped(image, view.exposure),
+                (Some(d), true) => tone_mapped_rgb(d, image.width, image.height, view.view()),
+                _ => tone_mapped(image, view.view()),
             };
             match &mut view.texture {
                 Some(t) => t.set(color, egui::TextureOptions::NEAREST),
@@ -191,13 +214,7 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
     if view.show_denoised
         && let Some(denoised) = &view.denoised
     {
-        return rt_core::output::save_image(
-            path,
-            image.width,
-            image.height,
-            denoised,
-            view.exposure,
-        );
+        return rt_core::output::save_image(path, image.width, image.height, denoised, view.view());
     }
     rt_core::output::save_render(
         path,
@@ -205,6 +222,6 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
         image.height,
         &image.pixels,
         image.counts(),
-        view.exposure,
+        view.view(),
     )
 }
