@@ -42,9 +42,13 @@ struct Material {
     texture_height: u32,     // 56
     roughness: f32,          // 60
     transmission: f32,       // 64
-    _pad_a: u32,             // 68
-    _pad_b: u32,             // 72
-    _pad_c: u32,             // 76
+    normal_scale: f32,       // 68
+    mr_texture_offset: u32,  // 72: metallic (B) and roughness (G), linear; NO_TEXTURE if none
+    mr_texture_width: u32,   // 76
+    mr_texture_height: u32,  // 80
+    normal_texture_offset: u32,  // 84: tangent-space normals, linear; NO_TEXTURE if none
+    normal_texture_width: u32,   // 88
+    normal_texture_height: u32,  // 92
 }
 
 // An environment texel with its alias-table entry (core::gpu_types::EnvTexel).

@@ -71,9 +71,16 @@ pub struct Material {
     pub roughness: f32, // 60
     /// PBR: specular transmission in [0, 1].
     pub transmission: f32, // 64
-    pub _pad_a: u32, // 68
-    pub _pad_b: u32, // 72
-    pub _pad_c: u32, // 76
+    /// PBR: the normal map's xy scale.
+    pub normal_scale: f32, // 68
+    /// PBR: the metallic-roughness image (B metal, G rough; linear), or `NO_TEXTURE`.
+    pub mr_texture_offset: u32, // 72
+    pub mr_texture_width: u32, // 76
+    pub mr_texture_height: u32, // 80
+    /// PBR: the tangent-space normal map (linear), or `NO_TEXTURE`.
+    pub normal_texture_offset: u32, // 84
+    pub normal_texture_width: u32, // 88
+    pub normal_texture_height: u32, // 92
 }
 
 impl Material {
@@ -305,9 +312,13 @@ pub fn layouts() -> Vec<StructLayout> {
                 texture_height,
                 roughness,
                 transmission,
-                _pad_a,
-                _pad_b,
-                _pad_c
+                normal_scale,
+                mr_texture_offset,
+                mr_texture_width,
+                mr_texture_height,
+                normal_texture_offset,
+                normal_texture_width,
+                normal_texture_height
             ]
         ),
         layout!(

@@ -38,6 +38,12 @@ pub enum Material {
 pub struct Pbr {
     pub base_color: Rgb,
     pub texture: Option<usize>,
+    /// glTF's metallic-roughness image (linear): blue scales `metallic`, green `roughness`.
+    pub metallic_roughness_texture: Option<usize>,
+    /// A tangent-space normal map (linear, +Y up, glTF's convention); needs normals and UVs.
+    pub normal_texture: Option<usize>,
+    /// Scales the normal map's x and y.
+    pub normal_scale: f32,
     pub metallic: f32,
     pub roughness: f32,
     pub ior: f32,
@@ -54,6 +60,9 @@ impl Default for Pbr {
         Pbr {
             base_color: [0.8; 3],
             texture: None,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
             metallic: 0.0,
             roughness: 0.5,
             ior: 1.5,
@@ -67,6 +76,15 @@ impl Default for Pbr {
 }
 
 impl Pbr {
+    /// Every texture slot with its name, for index checks.
+    pub fn textures(&self) -> [(&'static str, Option<usize>); 3] {
+        [
+            ("texture", self.texture),
+            ("metallic_roughness_texture", self.metallic_roughness_texture),
+            ("normal_texture", self.normal_texture),
+        ]
+    }
+
     /// σ = −ln(c)/d per channel (0 without absorption).
     pub fn absorption(&self) -> Rgb {
         match self.attenuation_distance {
@@ -151,6 +169,12 @@ impl Pbr {
         colour("emission", &self.emission)?;
         if !(self.ior.is_finite() && self.ior >= 1.0) {
             return Err(format!("{what}: pbr ior must be >= 1, got {}", self.ior));
+        }
+        if !self.normal_scale.is_finite() {
+            return Err(format!(
+                "{what}: pbr normal_scale must be finite, got {}",
+                self.normal_scale
+            ));
         }
         if !(self.emission_strength.is_finite() && self.emission_strength >= 0.0) {
             return Err(format!(
