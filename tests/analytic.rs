@@ -449,3 +449,61 @@ fn pbr_spheres_under_a_white_environment_conserve_energy() {
         }
     }
 }
+
+/// A normal map tilts the shading normal exactly as its texels say, about MikkTSpace's tangent:
+/// a plane whose u runs along +x, mapped to the normal n = (sin θ, 0, cos θ) in tangent space (one
+/// 8-bit texel), under a sun tilted φ towards +x, has radiance ρ/π · E · (n·l) with n·l computed
+/// from the decoded texel — cos(θ − φ) up to 8-bit rounding. A PBR dielectric of IOR 1 has no
+/// specular layer (F = 0), so it is exactly Lambertian. Without the map, cos φ.
+#[test]
+fn a_normal_map_tilts_the_lambert_cosine_exactly() {
+    use rt_core::material::Pbr;
+    let Some(ctx) = gpu() else { return };
+    let (theta, phi) = (20f32.to_radians(), 35f32.to_radians());
+    let byte = |v: f32| ((v * 0.5 + 0.5) * 255.0).round() as u8;
+    let texel = [byte(theta.sin()), 128, byte(theta.cos()), 255];
+    let mut plane = quad(Vec3::ZERO, Vec3::Y, 100.0);
+    plane.normals = Some(vec![Vec3::Y; 4]);
+    plane.uvs = Some(
+        plane
+            .positions
+            .iter()
+            .map(|p| glam::Vec2::new(p.x / 100.0 + 0.5, -p.z / 100.0 + 0.5))
+            .collect(),
+    );
+    let material = |normal_texture| {
+        pbr(Pbr {
+            base_color: [0.5; 3],
+            ior: 1.0,
+            roughness: 1.0,
+            normal_texture,
+            ..Default::default()
+        })
+    };
+    let mut sun = rt_core::Light::new(rt_core::LightKind::Directional, "sun");
+    sun.direction = [-phi.sin(), -phi.cos(), 0.0];
+    sun.intensity = 2.0;
+    let mut s = scene(
+        vec![object("plane", plane, material(Some(0)))],
+        camera(Vec3::new(0.0, 5.0, 0.001), Vec3::ZERO, 20.0),
+        [0.0; 3],
+        settings(8, 8, 2, 2),
+    );
+    s.textures.push(rt_core::Texture {
+        name: "tilt".into(),
+        width: 1,
+        height: 1,
+        rgba8: texel.to_vec().into(),
+    });
+    s.lights.push(sun);
+    let m = Vec3::new(texel[0] as f32, texel[1] as f32, texel[2] as f32) / 255.0 * 2.0 - Vec3::ONE;
+    // Tangent +x, bitangent −z (where v grows), normal +y.
+    let n = Vec3::new(m.x, m.z, -m.y).normalize();
+    let l = Vec3::new(phi.sin(), phi.cos(), 0.0);
+    let expected = 0.5 / std::f32::consts::PI * 2.0 * n.dot(l);
+    assert!((n.dot(l) - (theta - phi).cos()).abs() < 0.01);
+    assert_all_pixels(&render(ctx, &s), [expected; 3], 1e-5, "normal-mapped plane");
+    s.objects[0].material = material(None);
+    let flat = 0.5 / std::f32::consts::PI * 2.0 * phi.cos();
+    assert_all_pixels(&render(ctx, &s), [flat; 3], 1e-5, "the same plane unmapped");
+}

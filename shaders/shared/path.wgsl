@@ -20,6 +20,7 @@ override HAS_NEE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
 override HAS_PBR: bool = true;
 override HAS_ENVIRONMENT: bool = true;
+override HAS_NORMAL_MAPS: bool = true;
 // Also record the first hit's albedo, normal and directly seen light (for the denoiser).
 override WRITE_AOVS: bool = false;
 // Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
@@ -242,19 +243,19 @@ fn escaped(direction: vec3<f32>, prev_bsdf_pdf: f32) -> vec3<f32> {
 }
 
 // The PBR surface at a hit seen from wo: shading frame ns unless wo lies below it, then ng.
-fn pbr_surface(material: Material, base: vec3<f32>, wo: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
+fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f32, wo: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
     let n = select(ng, ns, dot(wo, ns) > 0.0);
     let basis = onb(n);
     let wo_local = vec3(dot(wo, basis.t), dot(wo, basis.b), dot(wo, n));
     let eta = select(1.0 / material.param, material.param, front);
-    let energy = energy_lookup(wo_local.z, material.roughness);
+    let energy = energy_lookup(wo_local.z, roughness);
     var s: Surface;
     s.kind = SURFACE_PBR;
     s.t = basis.t;
     s.b = basis.b;
     s.n = n;
     s.wo = wo_local;
-    s.bsdf = pbr_bsdf(base, material.metallic, material.roughness, eta, material.transmission, wo_local.z, energy);
+    s.bsdf = pbr_bsdf(base, metallic, roughness, eta, material.transmission, wo_local.z, energy);
     return s;
 }
 
@@ -290,6 +291,43 @@ fn texel(m: Material, x: i32, y: i32) -> vec3<f32> {
     let yi = u32(((y % h) + h) % h);
     let p = unpack4x8unorm(texels[m.texture_offset + yi * m.texture_width + xi]);
     return srgb_to_linear(p.rgb);
+}
+
+fn texel_linear(offset: u32, w: u32, h: u32, x: i32, y: i32) -> vec3<f32> {
+    let xi = u32(((x % i32(w)) + i32(w)) % i32(w));
+    let yi = u32(((y % i32(h)) + i32(h)) % i32(h));
+    return unpack4x8unorm(texels[offset + yi * w + xi]).rgb;
+}
+
+// `sample_texture` for data images (metallic-roughness, normals): bytes read linearly.
+fn sample_texture_linear(offset: u32, w: u32, h: u32, uv: vec2<f32>) -> vec3<f32> {
+    let x = uv.x * f32(w) - 0.5;
+    let y = (1.0 - uv.y) * f32(h) - 0.5;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let xi = i32(x0);
+    let yi = i32(y0);
+    let top = mix(texel_linear(offset, w, h, xi, yi), texel_linear(offset, w, h, xi + 1, yi), fx);
+    let bottom = mix(texel_linear(offset, w, h, xi, yi + 1), texel_linear(offset, w, h, xi + 1, yi + 1), fx);
+    return mix(top, bottom, fy);
+}
+
+// The shading normal a tangent-space normal map gives (reference/path.rs `normal_mapped`).
+fn normal_mapped(n: vec3<f32>, t0: vec4<f32>, t1: vec4<f32>, t2: vec4<f32>, b: vec3<f32>, t: vec3<f32>, scale: f32) -> vec3<f32> {
+    let blended = t0.xyz * b.x + t1.xyz * b.y + t2.xyz * b.z;
+    let ortho = blended - n * dot(n, blended);
+    let len2 = dot(ortho, ortho);
+    if (!(len2 > 0.0)) {
+        return n;
+    }
+    let tangent = ortho * inverseSqrt(len2);
+    let bitangent = cross(n, tangent) * t0.w;
+    let m = t * 2.0 - vec3(1.0);
+    let mapped = tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
+    let l = length(mapped);
+    return select(n, mapped / l, l > 0.0);
 }
 
 // Bilinear, repeating; uv.y = 0 is the image's bottom row (OBJ convention).
@@ -375,13 +413,30 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         sh = shading[hit.triangle];
     }
     var ns = ng;
+    var n_interpolated = ng;
     if (tri.has_normals != 0u) {
-        let n = normalize(sh.n0 * b0 + sh.n1 * hit.b1 + sh.n2 * hit.b2);
-        ns = select(n, -n, dot(n, ng) < 0.0);
+        n_interpolated = normalize(sh.n0 * b0 + sh.n1 * hit.b1 + sh.n2 * hit.b2);
+        ns = select(n_interpolated, -n_interpolated, dot(n_interpolated, ng) < 0.0);
     }
+    let uv = sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2;
     var albedo = material.albedo;
     if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
-        albedo = sample_texture(material, sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2) * albedo_factor(material);
+        albedo = sample_texture(material, uv) * albedo_factor(material);
+    }
+    var metallic = material.metallic;
+    var roughness = material.roughness;
+    if (HAS_PBR && HAS_TEXTURES && material.kind == MAT_PBR && tri.has_uvs != 0u) {
+        if (material.mr_texture_offset != NO_TEXTURE) {
+            let t = sample_texture_linear(material.mr_texture_offset, material.mr_texture_width, material.mr_texture_height, uv);
+            roughness *= t.y;
+            metallic *= t.z;
+        }
+        if (HAS_NORMAL_MAPS && material.normal_texture_offset != NO_TEXTURE && tri.has_normals != 0u) {
+            let t = sample_texture_linear(material.normal_texture_offset, material.normal_texture_width, material.normal_texture_height, uv);
+            let i = 3u * hit.triangle;
+            let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], vec3(b0, hit.b1, hit.b2), t, material.normal_scale);
+            ns = select(mapped, -mapped, dot(mapped, ng) < 0.0);
+        }
     }
     var next: vec3<f32>;
     (*path).prev_bsdf_pdf = 0.0;
@@ -404,7 +459,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         surface.albedo = albedo;
         surface.n = ns;
         if (HAS_PBR && material.kind == MAT_PBR) {
-            surface = pbr_surface(material, albedo, -direction, ng, ns, front);
+            surface = pbr_surface(material, albedo, metallic, roughness, -direction, ng, ns, front);
         }
         if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
             if (defer_shadow) {

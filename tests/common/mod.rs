@@ -247,10 +247,43 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
     scene.settings.width = width;
     scene.settings.height = height;
     scene.settings.max_depth = 6;
+    // A bumpy normal map and a metallic-roughness image varying over the floor.
+    let bumps: Vec<u8> = (0..16u32)
+        .flat_map(|i| {
+            let (x, y) = (i % 4, i / 4);
+            let tilt = |v: u32| (128 + (v as i32 - 1) * 60) as u8;
+            [tilt(x), tilt(y), 220, 255]
+        })
+        .collect();
+    let mr: Vec<u8> = (0..16u32)
+        .flat_map(|i| {
+            [
+                0,
+                (40 + 13 * i) as u8,
+                if i % 3 == 0 { 255 } else { 0 },
+                255,
+            ]
+        })
+        .collect();
+    for (name, rgba) in [("bumps", bumps), ("metal-rough", mr)] {
+        scene.textures.push(rt_core::Texture {
+            name: name.into(),
+            width: 4,
+            height: 4,
+            rgba8: rgba.into(),
+        });
+    }
+    let mut floor = (*scene.objects[0].mesh).clone();
+    floor.normals = Some(vec![Vec3::Y; floor.positions.len()]);
+    scene.objects[0].mesh = std::sync::Arc::new(floor);
     scene.objects[0].material = pbr(Pbr {
         base_color: [0.9; 3],
         texture: Some(0),
-        roughness: 0.35,
+        normal_texture: Some(1),
+        normal_scale: 0.8,
+        metallic_roughness_texture: Some(2),
+        roughness: 0.6,
+        metallic: 0.8,
         ..Default::default()
     });
     scene.objects[1].material = pbr(Pbr {

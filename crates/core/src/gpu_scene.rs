@@ -24,6 +24,8 @@ pub struct SceneFeatures {
     pub delta_lights: bool,
     /// The PBR material.
     pub pbr: bool,
+    /// PBR normal maps (the kernel reads `GpuScene::tangents`).
+    pub normal_maps: bool,
     /// An environment map (sampled directly, and by MIS with the BSDF).
     pub environment: bool,
 }
@@ -55,6 +57,9 @@ pub struct GpuScene {
     pub env_rotation: f32,
     /// The white GGX conductor's albedo table (`math::microfacet::energy_table`).
     pub ggx_energy: Vec<f32>,
+    /// Per triangle (BVH order) three corner tangents (xyz, w the bitangent's sign), MikkTSpace,
+    /// in world space; empty unless some normal-mapped object needs them.
+    pub tangents: Vec<[f32; 4]>,
     pub features: SceneFeatures,
     /// The largest side of the triangles' bounding box (0 without triangles).
     pub extent: f32,
@@ -136,6 +141,44 @@ impl GpuScene {
                     material.albedo = [1.0; 3];
                 }
             }
+            let mut tangents = None;
+            if let Material::Pbr(p) = &object.material {
+                let slot = |t: Option<usize>, name: &str| -> Result<Option<usize>> {
+                    match t {
+                        Some(t) if t >= scene.textures.len() => Err(Error::Scene(format!(
+                            "{}: {name} {t} does not exist",
+                            label()
+                        ))),
+                        Some(_) if mesh.uvs.is_none() => {
+                            log::warn!("{} has a {name} but no UVs: ignoring it", label());
+                            Ok(None)
+                        }
+                        other => Ok(other),
+                    }
+                };
+                if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
+                    material.mr_texture_offset = texture_offsets[t];
+                    material.mr_texture_width = scene.textures[t].width;
+                    material.mr_texture_height = scene.textures[t].height;
+                    out.features.textures = true;
+                }
+                if let Some(t) = slot(p.normal_texture, "normal texture")? {
+                    match crate::tangents::mikktspace_tangents(mesh) {
+                        Some(t_corners) => {
+                            material.normal_texture_offset = texture_offsets[t];
+                            material.normal_texture_width = scene.textures[t].width;
+                            material.normal_texture_height = scene.textures[t].height;
+                            tangents = Some(t_corners);
+                            out.features.normal_maps = true;
+                            out.features.textures = true;
+                        }
+                        None => log::warn!(
+                            "{}: no tangents (it needs normals and UVs): ignoring its normal map",
+                            label()
+                        ),
+                    }
+                }
+            }
             out.features.metal |= material.kind == material_kind::METAL;
             out.features.dielectric |= material.kind == material_kind::DIELECTRIC;
             out.features.pbr |= material.kind == material_kind::PBR;
@@ -177,8 +220,17 @@ impl GpuScene {
                     .as_ref()
                     .map(|ns| idx.map(|i| (nm * ns[i as usize]).normalize_or_zero()));
                 let uv = mesh.uvs.as_ref().map(|uvs| idx.map(|i| uvs[i as usize]));
+                let corners = if flip { [0, 2, 1] } else { [0, 1, 2] };
+                let sign = if flip { -1.0 } else { 1.0 };
+                let t = tangents.as_ref().map(|t: &Vec<[f32; 4]>| {
+                    corners.map(|c| {
+                        let [x, y, z, w] = t[face * 3 + c];
+                        let d = m.transform_vector3(Vec3::new(x, y, z)).normalize_or_zero();
+                        [d.x, d.y, d.z, w * sign]
+                    })
+                });
                 world.push(p);
-                tri_data.push((object_index as u32, n, uv));
+                tri_data.push((object_index as u32, n, uv, t));
             }
         }
 
@@ -210,7 +262,10 @@ impl GpuScene {
         out.shading.reserve(world.len());
         for &i in &triangle_order {
             let p = world[i as usize];
-            let (material, normals, uvs) = &tri_data[i as usize];
+            let (material, normals, uvs, t) = &tri_data[i as usize];
+            if out.features.normal_maps {
+                out.tangents.extend(t.unwrap_or([[0.0; 4]; 3]));
+            }
             let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
             out.triangles.push(Triangle {
                 v0: p[0].to_array(),
@@ -378,18 +433,42 @@ impl GpuScene {
             }
         }
         for (i, m) in self.materials.iter().enumerate() {
-            if m.texture_offset != NO_TEXTURE {
-                let end = u64::from(m.texture_offset)
-                    + u64::from(m.texture_width) * u64::from(m.texture_height);
-                if m.texture_width == 0 || m.texture_height == 0 || end > self.texels.len() as u64 {
+            for (what, offset, w, h) in [
+                (
+                    "texture",
+                    m.texture_offset,
+                    m.texture_width,
+                    m.texture_height,
+                ),
+                (
+                    "metallic-roughness texture",
+                    m.mr_texture_offset,
+                    m.mr_texture_width,
+                    m.mr_texture_height,
+                ),
+                (
+                    "normal texture",
+                    m.normal_texture_offset,
+                    m.normal_texture_width,
+                    m.normal_texture_height,
+                ),
+            ] {
+                if offset == NO_TEXTURE {
+                    continue;
+                }
+                let end = u64::from(offset) + u64::from(w) * u64::from(h);
+                if w == 0 || h == 0 || end > self.texels.len() as u64 {
                     return Err(format!(
-                        "material {i}: texture texels {}..{end} ({}x{}) outside the {} texels",
-                        m.texture_offset,
-                        m.texture_width,
-                        m.texture_height,
+                        "material {i}: {what} texels {offset}..{end} ({w}x{h}) outside the {} texels",
                         self.texels.len()
                     ));
                 }
+            }
+            if m.normal_texture_offset != NO_TEXTURE && self.tangents.len() != 3 * triangles {
+                return Err(format!(
+                    "material {i} is normal-mapped but there are {} tangents for {triangles} triangles",
+                    self.tangents.len()
+                ));
             }
         }
         if self.env_texels.len() != (self.env_width as usize) * (self.env_height as usize) {
@@ -433,7 +512,7 @@ impl GpuScene {
     }
 
     /// Bytes each buffer needs, by buffer name, for limit checks and reports.
-    pub fn buffer_sizes(&self) -> [(&'static str, u64); 7] {
+    pub fn buffer_sizes(&self) -> [(&'static str, u64); 8] {
         let bytes = |len: usize, size: usize| (len * size) as u64;
         [
             (
@@ -459,6 +538,7 @@ impl GpuScene {
                 "environment",
                 bytes(self.env_texels.len(), size_of::<gpu_types::EnvTexel>()),
             ),
+            ("tangents", bytes(self.tangents.len(), 16)),
         ]
     }
 }
@@ -466,6 +546,8 @@ impl GpuScene {
 fn gpu_material(material: &Material) -> gpu_types::Material {
     let base = gpu_types::Material {
         texture_offset: NO_TEXTURE,
+        mr_texture_offset: NO_TEXTURE,
+        normal_texture_offset: NO_TEXTURE,
         ..Default::default()
     };
     match *material {
@@ -492,6 +574,7 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
             ..base
         },
         Material::Pbr(ref p) => gpu_types::Material {
+            normal_scale: p.normal_scale,
             albedo: p.base_color,
             kind: material_kind::PBR,
             emission: p.emission.map(|c| c * p.emission_strength),

@@ -20,6 +20,7 @@ pub mod output;
 pub mod reference;
 pub mod scene;
 pub mod shapes;
+pub mod tangents;
 
 pub use camera::Camera;
 pub use environment::{Environment, EnvironmentMap};

@@ -80,7 +80,10 @@ impl Pbr {
     pub fn textures(&self) -> [(&'static str, Option<usize>); 3] {
         [
             ("texture", self.texture),
-            ("metallic_roughness_texture", self.metallic_roughness_texture),
+            (
+                "metallic_roughness_texture",
+                self.metallic_roughness_texture,
+            ),
             ("normal_texture", self.normal_texture),
         ]
     }

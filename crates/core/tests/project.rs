@@ -74,6 +74,9 @@ fn rich_scene() -> Scene {
     short_block.material = Material::Pbr(Box::new(rt_core::material::Pbr {
         base_color: [1.0, 0.766, 0.336],
         texture: Some(0),
+        metallic_roughness_texture: Some(0),
+        normal_texture: Some(0),
+        normal_scale: 0.75,
         metallic: 1.0,
         roughness: 0.35,
         ior: 1.45,

@@ -76,6 +76,7 @@ pub const EMITTERS: Binding = shared(8, "emitters", Access::Read);
 pub const DELTA_LIGHTS: Binding = shared(9, "delta_lights", Access::Read);
 pub const ENVIRONMENT: Binding = shared(20, "environment", Access::Read);
 pub const GGX_ENERGY: Binding = shared(21, "ggx_energy", Access::Read);
+pub const TANGENTS: Binding = shared(22, "tangents", Access::Read);
 /// Adaptive sampling's per-pixel stop marks (written by the CPU between batches).
 pub const PIXEL_DONE: Binding = shared(18, "pixel_done", Access::Read);
 // The outputs, declared by each kernel's own file.
@@ -105,7 +106,7 @@ pub const ACTIVE_SLOTS: Binding = Binding {
 };
 
 /// Every binding of the tracing kernels.
-pub const ALL: [Binding; 21] = [
+pub const ALL: [Binding; 22] = [
     FRAME,
     TRIANGLES,
     SHADING,
@@ -127,6 +128,7 @@ pub const ALL: [Binding; 21] = [
     ACTIVE_SLOTS,
     ENVIRONMENT,
     GGX_ENERGY,
+    TANGENTS,
 ];
 
 /// The bindings `kernel` (over ray queries when `ray_query`) declares, in binding order.

@@ -150,6 +150,7 @@ impl<'a> Renderer<'a> {
             features.delta_lights = true;
             features.pbr = true;
             features.environment = true;
+            features.normal_maps = true;
         }
         let ray_query = ctx.resolve_trace(options.trace, scene) == Trace::Hardware;
         let accel = if ray_query {
@@ -245,6 +246,15 @@ impl<'a> Renderer<'a> {
                     ctx,
                     "ggx energy",
                     &scene.ggx_energy,
+                    wgpu::BufferUsages::empty(),
+                )?,
+            ),
+            (
+                bindings::TANGENTS,
+                storage_buffer(
+                    ctx,
+                    "tangents",
+                    &scene.tangents,
                     wgpu::BufferUsages::empty(),
                 )?,
             ),

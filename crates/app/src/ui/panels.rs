@@ -598,6 +598,32 @@ fn material_fields(ui: &mut Ui, material: &mut Material, textures: usize, choose
     }
 }
 
+/// A combo choosing one of the scene's images (or none) for a texture slot.
+fn texture_slot(
+    ui: &mut Ui,
+    label: &str,
+    id: &str,
+    slot: &mut Option<usize>,
+    textures: usize,
+    tip: &str,
+) {
+    ui.horizontal(|ui| {
+        ui.label(label).on_hover_text(tip);
+        egui::ComboBox::from_id_salt(id)
+            .selected_text(slot.map_or("none".to_string(), |t| format!("texture {t}")))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(slot, None, "none");
+                for i in 0..textures {
+                    ui.selectable_value(slot, Some(i), format!("texture {i}"));
+                }
+            })
+            .response
+            .on_hover_text(
+                "Images load through \"Choose image…\" (base colour) and then can be reused here",
+            );
+    });
+}
+
 /// Every parameter of the physically based material (glTF metallic-roughness).
 fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choose: &mut bool) {
     ui.horizontal(|ui| {
@@ -631,6 +657,26 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
             *choose = true;
         }
     });
+    texture_slot(
+        ui,
+        "Metal/rough image",
+        "pbr metallic roughness",
+        &mut p.metallic_roughness_texture,
+        textures,
+        "glTF's packed image: blue scales metallic, green scales roughness (read linearly)",
+    );
+    texture_slot(
+        ui,
+        "Normal map",
+        "pbr normal map",
+        &mut p.normal_texture,
+        textures,
+        "A tangent-space normal map (+Y up, as glTF); needs vertex normals and UVs",
+    );
+    if p.normal_texture.is_some() {
+        ui.add(egui::Slider::new(&mut p.normal_scale, 0.0..=2.0).text("normal strength"))
+            .on_hover_text("Scales the normal map's tilt");
+    }
     ui.add(egui::Slider::new(&mut p.metallic, 0.0..=1.0).text("metallic"))
         .on_hover_text("0: plastic, wood, stone; 1: metal");
     ui.add(egui::Slider::new(&mut p.roughness, 0.0..=1.0).text("roughness"))

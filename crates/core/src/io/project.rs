@@ -445,19 +445,21 @@ fn check_object(object: &Object, i: usize) -> Result<(), String> {
 /// What serde cannot check: references between parts and numbers a JSON parser turns into ±inf.
 fn check_scene(scene: &Scene) -> Result<(), String> {
     for (i, object) in scene.objects.iter().enumerate() {
-        let texture = match &object.material {
-            Material::Lambertian { texture, .. } => *texture,
-            Material::Pbr(p) => p.texture,
-            _ => None,
+        let slots = match &object.material {
+            Material::Lambertian { texture, .. } => vec![("texture", *texture)],
+            Material::Pbr(p) => p.textures().to_vec(),
+            _ => Vec::new(),
         };
-        if let Some(t) = texture
-            && t >= scene.textures.len()
-        {
-            return Err(format!(
-                "objects[{i}] ('{}').material.texture: texture {t} does not exist ({} textures)",
-                object.name,
-                scene.textures.len()
-            ));
+        for (slot, texture) in slots {
+            if let Some(t) = texture
+                && t >= scene.textures.len()
+            {
+                return Err(format!(
+                    "objects[{i}] ('{}').material.{slot}: texture {t} does not exist ({} textures)",
+                    object.name,
+                    scene.textures.len()
+                ));
+            }
         }
     }
     for light in &scene.lights {

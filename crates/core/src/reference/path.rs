@@ -236,6 +236,44 @@ fn texel(scene: &GpuScene, offset: u32, w: u32, h: u32, x: i32, y: i32) -> Vec3 
     )
 }
 
+fn texel_linear(scene: &GpuScene, offset: u32, w: u32, h: u32, x: i32, y: i32) -> Vec3 {
+    let xi = x.rem_euclid(w as i32) as u32;
+    let yi = y.rem_euclid(h as i32) as u32;
+    let p = scene.texels[(offset + yi * w + xi) as usize].to_le_bytes();
+    Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / 255.0
+}
+
+/// `sample_texture` for data images (metallic-roughness, normals): the bytes read linearly.
+pub fn sample_texture_linear(scene: &GpuScene, offset: u32, w: u32, h: u32, uv: Vec2) -> Vec3 {
+    let x = uv.x * w as f32 - 0.5;
+    let y = (1.0 - uv.y) * h as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let (xi, yi) = (x0 as i32, y0 as i32);
+    let t = |dx: i32, dy: i32| texel_linear(scene, offset, w, h, xi + dx, yi + dy);
+    let top = t(0, 0).lerp(t(1, 0), fx);
+    let bottom = t(0, 1).lerp(t(1, 1), fx);
+    top.lerp(bottom, fy)
+}
+
+/// The shading normal a tangent-space normal map gives: texel t ∈ [0, 1]³ read as
+/// n_t = (2t − 1) with x, y scaled, in the frame (T, B = w·N×T, N) of the interpolated normal N and
+/// the barycentric blend of the corner tangents (T made orthogonal to N).
+pub fn normal_mapped(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], t: Vec3, scale: f32) -> Vec3 {
+    let tangent = Vec3::from_slice(&corners[0]) * b[0]
+        + Vec3::from_slice(&corners[1]) * b[1]
+        + Vec3::from_slice(&corners[2]) * b[2];
+    let tangent = (tangent - n * n.dot(tangent)).normalize_or_zero();
+    if tangent == Vec3::ZERO {
+        return n;
+    }
+    let bitangent = n.cross(tangent) * corners[0][3];
+    let m = t * 2.0 - Vec3::ONE;
+    let mapped = tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
+    let len = mapped.length();
+    if len > 0.0 { mapped / len } else { n }
+}
+
 /// Bilinear, repeating texture lookup; `uv.y` = 0 is the bottom row of the image (OBJ convention).
 pub fn sample_texture(scene: &GpuScene, offset: u32, w: u32, h: u32, uv: Vec2) -> Vec3 {
     let x = uv.x * w as f32 - 0.5;
@@ -335,29 +373,77 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
             -ng_raw.normalize()
         };
         let mut ns = ng;
+        let mut n_interpolated = ng;
         if tri.has_normals != 0 {
             let shading = &scene.shading[hit.triangle as usize];
             let n = Vec3::from(shading.n0) * b0
                 + Vec3::from(shading.n1) * hit.b1
                 + Vec3::from(shading.n2) * hit.b2;
-            let n = n.normalize();
-            ns = if n.dot(ng) < 0.0 { -n } else { n };
+            n_interpolated = n.normalize();
+            ns = if n_interpolated.dot(ng) < 0.0 {
+                -n_interpolated
+            } else {
+                n_interpolated
+            };
         }
-        let albedo = if material.texture_offset != NO_TEXTURE && tri.has_uvs != 0 {
+        let uv = (tri.has_uvs != 0).then(|| {
             let shading = &scene.shading[hit.triangle as usize];
-            let uv = Vec2::from(shading.uv0) * b0
+            Vec2::from(shading.uv0) * b0
                 + Vec2::from(shading.uv1) * hit.b1
-                + Vec2::from(shading.uv2) * hit.b2;
-            sample_texture(
-                scene,
-                material.texture_offset,
-                material.texture_width,
-                material.texture_height,
-                uv,
-            ) * Vec3::from(material.albedo_factor())
-        } else {
-            Vec3::from(material.albedo)
+                + Vec2::from(shading.uv2) * hit.b2
+        });
+        let albedo = match uv {
+            Some(uv) if material.texture_offset != NO_TEXTURE => {
+                sample_texture(
+                    scene,
+                    material.texture_offset,
+                    material.texture_width,
+                    material.texture_height,
+                    uv,
+                ) * Vec3::from(material.albedo_factor())
+            }
+            _ => Vec3::from(material.albedo),
         };
+        let (mut metallic, mut roughness) = (material.metallic, material.roughness);
+        if let (Some(uv), material_kind::PBR) = (uv, material.kind) {
+            if material.mr_texture_offset != NO_TEXTURE {
+                let t = sample_texture_linear(
+                    scene,
+                    material.mr_texture_offset,
+                    material.mr_texture_width,
+                    material.mr_texture_height,
+                    uv,
+                );
+                roughness *= t.y;
+                metallic *= t.z;
+            }
+            if material.normal_texture_offset != NO_TEXTURE && tri.has_normals != 0 {
+                let t = sample_texture_linear(
+                    scene,
+                    material.normal_texture_offset,
+                    material.normal_texture_width,
+                    material.normal_texture_height,
+                    uv,
+                );
+                let i = 3 * hit.triangle as usize;
+                let mapped = normal_mapped(
+                    n_interpolated,
+                    [
+                        scene.tangents[i],
+                        scene.tangents[i + 1],
+                        scene.tangents[i + 2],
+                    ],
+                    [b0, hit.b1, hit.b2],
+                    t,
+                    material.normal_scale,
+                );
+                ns = if mapped.dot(ng) < 0.0 {
+                    -mapped
+                } else {
+                    mapped
+                };
+            }
+        }
         prev_bsdf_pdf = 0.0;
         let next = match material.kind {
             material_kind::METAL => {
@@ -378,7 +464,15 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
             }
             _ => {
                 let surface = if material.kind == material_kind::PBR {
-                    pbr_surface(scene, material, albedo, -direction, ng, ns, front)
+                    pbr_surface(
+                        scene,
+                        material,
+                        (albedo, metallic, roughness),
+                        -direction,
+                        ng,
+                        ns,
+                        front,
+                    )
                 } else {
                     Surface::Lambert { albedo, ns }
                 };
@@ -438,7 +532,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
 fn pbr_surface(
     scene: &GpuScene,
     material: &crate::gpu_types::Material,
-    base: Vec3,
+    (base, metallic, roughness): (Vec3, f32, f32),
     wo: Vec3,
     ng: Vec3,
     ns: Vec3,
@@ -452,13 +546,12 @@ fn pbr_surface(
     } else {
         1.0 / material.param
     };
-    let energy =
-        crate::math::microfacet::energy_lookup(&scene.ggx_energy, wo_local.z, material.roughness);
+    let energy = crate::math::microfacet::energy_lookup(&scene.ggx_energy, wo_local.z, roughness);
     Surface::Pbr {
         bsdf: Pbr::new(
             base,
-            material.metallic,
-            material.roughness,
+            metallic,
+            roughness,
             eta,
             material.transmission,
             wo_local.z,
