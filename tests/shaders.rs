@@ -282,6 +282,7 @@ fn shared_constants_match_wgsl() {
         ("LIGHT_POINT", light_kind::POINT),
         ("LIGHT_SPOT", light_kind::SPOT),
         ("LIGHT_DIRECTIONAL", light_kind::DIRECTIONAL),
+        ("LIGHT_SPOT_GLTF", light_kind::SPOT_GLTF),
     ] {
         assert_eq!(value(wgsl), rust, "{wgsl}");
     }

@@ -210,6 +210,9 @@ fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<func
             if (light.kind == LIGHT_SPOT) {
                 let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-6), 0.0, 1.0);
                 irradiance *= t * t * (3.0 - 2.0 * t);
+            } else if (light.kind == LIGHT_SPOT_GLTF) {
+                let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-3), 0.0, 1.0);
+                irradiance *= t * t;
             }
         }
         if (!(dot(dir, ng) > 0.0) || all(irradiance == vec3(0.0))) {

@@ -149,6 +149,7 @@ struct Hit {
 const LIGHT_POINT: u32 = 1u;
 const LIGHT_SPOT: u32 = 2u;
 const LIGHT_DIRECTIONAL: u32 = 3u;
+const LIGHT_SPOT_GLTF: u32 = 4u;
 
 // A point, spot or directional light; see crates/core/src/light.rs for the units.
 struct DeltaLight {

@@ -148,7 +148,7 @@ impl RtApp {
 
     // ---- files -------------------------------------------------------------------------------
 
-    /// Opens an OBJ, project or lighting file; on failure shows the error and keeps the scene.
+    /// Opens an OBJ, glTF, project or lighting file; on failure shows the error and keeps the scene.
     pub fn open_path(&mut self, path: &Path) -> bool {
         match self.try_open(path) {
             Ok(()) => {
@@ -188,9 +188,14 @@ impl RtApp {
                 scene.settings.max_depth = recommended_max_depth(&scene);
                 self.replace_document(Document::new(scene, Origin::Obj(path.into())));
             }
+            "gltf" | "glb" => {
+                let mut scene = rt_core::io::gltf::load_gltf(path, None)?;
+                scene.settings.max_depth = recommended_max_depth(&scene);
+                self.replace_document(Document::new(scene, Origin::Obj(path.into())));
+            }
             _ => anyhow::bail!(
-                "unknown file type: rt opens Wavefront .obj, .{PROJECT_EXTENSION} projects and \
-                 .{LIGHTING_EXTENSION} lighting files"
+                "unknown file type: rt opens Wavefront .obj, glTF .gltf/.glb, .{PROJECT_EXTENSION} \
+                 projects and .{LIGHTING_EXTENSION} lighting files"
             ),
         }
         Ok(())

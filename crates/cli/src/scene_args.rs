@@ -24,8 +24,12 @@ pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
 
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// Wavefront OBJ file or rt project (.rtproj); the embedded Cornell box when omitted.
+    /// Wavefront OBJ, glTF 2.0 (.gltf, .glb) or rt project (.rtproj); the embedded Cornell box when
+    /// omitted.
     pub scene: Option<PathBuf>,
+    /// Which of a glTF file's scenes to load (its default scene otherwise).
+    #[arg(long, value_name = "N")]
+    pub gltf_scene: Option<usize>,
     /// Camera JSON file ({"from","to","up","vfov","width","height","background"}).
     #[arg(long)]
     pub camera: Option<PathBuf>,
@@ -59,8 +63,12 @@ pub struct SceneArgs {
 impl SceneArgs {
     /// Loads the scene and applies the overrides, in order: file, camera file, flags.
     pub fn load(&self) -> Result<Scene> {
+        if self.gltf_scene.is_some() && !self.scene.as_deref().is_some_and(is_gltf) {
+            anyhow::bail!("--gltf-scene needs a .gltf or .glb scene");
+        }
         let mut scene = match &self.scene {
             Some(path) if is_project(path) => rt_core::io::project::load_project(path)?,
+            Some(path) if is_gltf(path) => rt_core::io::gltf::load_gltf(path, self.gltf_scene)?,
             Some(path) => {
                 let mut scene = rt_core::io::obj::load_obj(path, self.seed.unwrap_or(0))?;
                 scene.frame_for_viewing();
@@ -96,6 +104,12 @@ impl SceneArgs {
         }
         Ok(scene)
     }
+}
+
+fn is_gltf(path: &std::path::Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
 }
 
 fn is_project(path: &std::path::Path) -> bool {

@@ -703,3 +703,45 @@ fn environments_and_view_transforms_from_the_command_line() {
     assert_eq!(exr_a.as_raw(), exr_b.as_raw(), "EXR stays linear");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A real .glb (Khronos' Box Textured) renders, and `info` describes it; a scene index it lacks is
+/// a one-line error.
+#[test]
+fn renders_and_describes_a_gltf_binary() {
+    let glb = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/BoxTextured.glb");
+    let (code, stdout, stderr) = rt_cli(&["info", glb]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("triangles: 12"), "{stdout}");
+    assert!(stdout.contains("pbr"), "{stdout}");
+    let dir = temp_dir("gltf");
+    let out = dir.join("box.png");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        glb,
+        "--gltf-scene",
+        "5",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("no scene 5"), "{stderr}");
+    if !has_gpu() {
+        return;
+    }
+    let out = dir.join("box.exr");
+    let args = [
+        "render", glb, "--width", "24", "--height", "24", "--spp", "4", "-o",
+    ];
+    let (code, _, stderr) = rt_cli(&[&args[..], &[out.to_str().unwrap()]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    let image = image::open(&out).unwrap().to_rgb32f();
+    let lit = image
+        .pixels()
+        .filter(|p| p.0.iter().any(|c| *c > 0.05))
+        .count();
+    assert!(
+        lit > 24 * 24 / 4,
+        "the box is lit and in view: {lit} pixels"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

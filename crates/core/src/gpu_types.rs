@@ -227,6 +227,8 @@ pub mod light_kind {
     pub const POINT: u32 = 1;
     pub const SPOT: u32 = 2;
     pub const DIRECTIONAL: u32 = 3;
+    /// A spot with glTF's falloff (`light::spot_falloff_gltf`).
+    pub const SPOT_GLTF: u32 = 4;
 }
 
 /// A point, spot or directional light (see `crate::light` for the units).

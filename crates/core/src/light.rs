@@ -6,7 +6,8 @@
 //!   makes angle θ with the light receives irradiance E = I cosθ / d² and reflects radiance
 //!   L = (albedo/π) E.
 //! - **Spot**: a point light whose intensity is I inside `inner_angle_deg` of its direction, falls
-//!   smoothly (smoothstep in cos) to zero at `outer_angle_deg`, and is zero beyond.
+//!   smoothly (smoothstep in cos, or glTF's squared linear ramp in cos for lights from glTF files)
+//!   to zero at `outer_angle_deg`, and is zero beyond.
 //! - **Directional** (sun): parallel light travelling along `direction`; irradiance on a surface
 //!   facing it is E = power in W/m², times cosθ otherwise.
 
@@ -21,6 +22,17 @@ pub enum LightKind {
     Point,
     Spot,
     Directional,
+}
+
+/// How a spot light fades between its inner and outer cones.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpotFalloff {
+    /// smoothstep(t), t the position between the cones' cosines.
+    #[default]
+    Smoothstep,
+    /// t², as `KHR_lights_punctual` specifies (its `lightAngleScale`/`lightAngleOffset`).
+    Gltf,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -40,6 +52,8 @@ pub struct Light {
     pub inner_angle_deg: f32,
     #[serde(default = "default_outer")]
     pub outer_angle_deg: f32,
+    #[serde(default)]
+    pub falloff: SpotFalloff,
 }
 
 fn down() -> [f32; 3] {
@@ -65,6 +79,7 @@ impl Light {
             intensity: 1.0,
             inner_angle_deg: default_inner(),
             outer_angle_deg: default_outer(),
+            falloff: SpotFalloff::Smoothstep,
         }
     }
 
@@ -107,6 +122,7 @@ impl Light {
             position: self.position,
             kind: match self.kind {
                 LightKind::Point => light_kind::POINT,
+                LightKind::Spot if self.falloff == SpotFalloff::Gltf => light_kind::SPOT_GLTF,
                 LightKind::Spot => light_kind::SPOT,
                 LightKind::Directional => light_kind::DIRECTIONAL,
             },
@@ -123,4 +139,10 @@ impl Light {
 pub fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     let t = ((cos_angle - cos_outer) / (cos_inner - cos_outer).max(1e-6)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
+}
+
+/// glTF's spot falloff: t², t = clamp((cos − cos_outer) / max(0.001, cos_inner − cos_outer), 0, 1).
+pub fn spot_falloff_gltf(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    let t = ((cos_angle - cos_outer) / (cos_inner - cos_outer).max(1e-3)).clamp(0.0, 1.0);
+    t * t
 }

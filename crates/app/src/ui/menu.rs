@@ -8,10 +8,11 @@ fn scene_dialog() -> rfd::FileDialog {
     rfd::FileDialog::new()
         .add_filter(
             "Scenes and projects",
-            &["obj", PROJECT_EXTENSION, LIGHTING_EXTENSION],
+            &["obj", "gltf", "glb", PROJECT_EXTENSION, LIGHTING_EXTENSION],
         )
         .add_filter("rt project", &[PROJECT_EXTENSION])
         .add_filter("Wavefront OBJ", &["obj"])
+        .add_filter("glTF 2.0", &["gltf", "glb"])
         .add_filter("rt lighting", &[LIGHTING_EXTENSION])
 }
 

@@ -180,12 +180,11 @@ pub fn delta_lights_at(
             let distance = d2.sqrt();
             let dir = to / distance;
             let mut e = Vec3::from(light.power) / d2;
+            let cos = (-dir).dot(Vec3::from(light.direction));
             if light.kind == light_kind::SPOT {
-                e *= crate::light::spot_falloff(
-                    (-dir).dot(Vec3::from(light.direction)),
-                    light.cos_inner,
-                    light.cos_outer,
-                );
+                e *= crate::light::spot_falloff(cos, light.cos_inner, light.cos_outer);
+            } else if light.kind == light_kind::SPOT_GLTF {
+                e *= crate::light::spot_falloff_gltf(cos, light.cos_inner, light.cos_outer);
             }
             (dir, distance, e)
         };
