@@ -15,7 +15,9 @@ pub struct InfoArgs {
 }
 
 pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
+    let started = std::time::Instant::now();
     let scene = args.scene.load()?;
+    let load_time = started.elapsed();
     println!("objects: {}", scene.objects.len());
     for o in &scene.objects {
         println!(
@@ -48,7 +50,16 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
         ),
         None => println!("environment: none"),
     }
+    println!("lights: {}", scene.lights.len());
     if verbose {
+        // Where loading time goes: parsing the file, then flattening and the BVH build.
+        let built = std::time::Instant::now();
+        let gpu_scene = rt_core::GpuScene::build(&scene)?;
+        println!(
+            "load: {load_time:.2?} reading the file; {:.2?} building the GPU scene, of which {:.2?} the BVH",
+            built.elapsed(),
+            gpu_scene.bvh_build_time
+        );
         // The adapter is opened only on request: it takes a second on lavapipe.
         match rt_gpu::GpuContext::new(&args.adapter) {
             Ok(ctx) => println!("adapter: {}", ctx.adapter_label()),

@@ -522,3 +522,42 @@ fn a_gltf_scene_round_trips_through_a_project() {
     assert_eq!(back, scene);
     assert!(Arc::ptr_eq(&back.objects[0].mesh, &back.objects[1].mesh));
 }
+
+/// A base colour texture (a data-URI PNG) with a `KHR_texture_transform`: the image is decoded,
+/// and its offset, rotation and scale are baked into the UVs (then flipped to rt's v-up).
+#[test]
+fn textures_load_and_texture_transforms_bake_into_the_uvs() {
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 0, 255, 255])
+        .unwrap()
+        .write_to(&mut png, image::ImageFormat::Png)
+        .unwrap();
+    let uri = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png.get_ref())
+    );
+    let mut doc = document();
+    doc["images"] = json!([{"uri": uri}]);
+    doc["textures"] = json!([{"source": 0}]);
+    doc["extensionsUsed"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!("KHR_texture_transform"));
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0,
+        "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2.0, 3.0]}}});
+    doc["materials"][0]["normalTexture"] = json!({"index": 0, "scale": 0.5});
+    let scene = load(&embedded(doc), None).unwrap();
+    assert_eq!(scene.textures.len(), 1, "one image, decoded once");
+    assert_eq!((scene.textures[0].width, scene.textures[0].height), (2, 1));
+    let Material::Pbr(p) = &scene.objects[0].material else {
+        panic!()
+    };
+    assert_eq!(
+        (p.texture, p.normal_texture, p.normal_scale),
+        (Some(0), Some(0), 0.5)
+    );
+    // Vertex 0 has glTF uv (0, 0.25): scaled (0, 0.75), offset (0.5, 1.0), v flipped: (0.5, 0.0).
+    let uv = scene.objects[0].mesh.uvs.as_ref().unwrap()[0];
+    assert!((uv - glam::Vec2::new(0.5, 0.0)).length() < 1e-6, "{uv}");
+    rt_core::GpuScene::build(&scene).unwrap();
+}

@@ -5,12 +5,13 @@
 //!   each primitive is one shared mesh, so instances cost no copies;
 //! - the node hierarchy (TRS or matrices) of the default scene or the one asked for;
 //! - materials onto `Material::Pbr` (metallic-roughness with its textures, normal maps, emission
-//!   with `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`);
+//!   with `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`;
+//!   the base colour texture's `KHR_texture_transform` baked into the UVs);
 //! - `KHR_lights_punctual` (candela and lux divided by 683 lm/W, as Blender's importer; spots with
 //!   glTF's own falloff) and the first perspective camera.
 //!
 //! Files that require an extension rt does not support get an error naming it. What rt does not
-//! map (alpha modes, texture transforms, other UV sets, emissive and occlusion textures, skins,
+//! map (alpha modes, other textures' transforms, other UV sets, emissive and occlusion textures, skins,
 //! morph targets) is ignored with a warning. Every byte range is checked before it is read, so a
 //! broken file is an error naming the part at fault, never a panic.
 
@@ -32,6 +33,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_materials_transmission",
     "KHR_materials_volume",
+    "KHR_texture_transform",
 ];
 
 /// Node trees deeper than this are refused (real files nest a few dozen levels).
@@ -490,11 +492,15 @@ impl Loader<'_> {
             .read_normals()
             .map(|it| it.map(Vec3::from).collect::<Vec<_>>())
             .filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
+        let uv_transform = uv_transform_of(&primitive.material());
         let uvs: Option<Vec<Vec2>> = reader
             .read_tex_coords(0)
             .map(|t| {
                 t.into_f32()
-                    .map(|[u, v]| Vec2::new(u, 1.0 - v))
+                    .map(|uv| {
+                        let [u, v] = uv_transform(uv);
+                        Vec2::new(u, 1.0 - v)
+                    })
                     .collect::<Vec<_>>()
             })
             .filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
@@ -583,9 +589,10 @@ impl Loader<'_> {
             );
             return Ok(None);
         }
-        if transformed {
+        if transformed && what != "base colour texture" {
             log::warn!(
-                "{}: the {what} has a KHR_texture_transform, which rt ignores",
+                "{}: the {what}'s KHR_texture_transform is not applied (rt bakes only the base \
+                 colour texture's into the UVs, which every texture of the material then uses)",
                 self.path.display()
             );
         }
@@ -688,6 +695,26 @@ fn decode_texture(bytes: &[u8]) -> std::result::Result<image::RgbaImage, String>
         .decode()
         .map(|i| i.to_rgba8())
         .map_err(|e| format!("unreadable image: {e}"))
+}
+
+/// The base colour texture's `KHR_texture_transform` (glTF's uv' = T·R·S·uv, in glTF's v-down
+/// space), baked into the mesh's UVs: rt's textures share one UV set per mesh.
+fn uv_transform_of(m: &gltf::Material) -> impl Fn([f32; 2]) -> [f32; 2] + use<> {
+    let t = m
+        .pbr_metallic_roughness()
+        .base_color_texture()
+        .and_then(|i| i.texture_transform())
+        .map(|t| (t.offset(), t.rotation(), t.scale()));
+    move |[u, v]| match t {
+        Some((offset, rotation, scale))
+            if offset.iter().chain(&scale).all(|x| x.is_finite()) && rotation.is_finite() =>
+        {
+            let (su, sv) = (u * scale[0], v * scale[1]);
+            let (s, c) = rotation.sin_cos();
+            [c * su + s * sv + offset[0], -s * su + c * sv + offset[1]]
+        }
+        _ => [u, v],
+    }
 }
 
 /// rt's TRS of a node's world matrix (shear, which TRS cannot hold, is dropped).
