@@ -48,6 +48,7 @@ fn zero_area_and_duplicated_triangles_are_harmless() {
         ],
         normals: None,
         uvs: None,
+        colors: None,
         indices: vec![[0, 1, 2], [0, 0, 0], [0, 1, 4], [0, 1, 4], [3, 5, 4]],
     };
     objects.push(object("degenerate", mesh, Material::lambertian([0.5; 3])));
@@ -56,6 +57,7 @@ fn zero_area_and_duplicated_triangles_are_harmless() {
         positions: vec![Vec3::ZERO, Vec3::Y, Vec3::Y * 2.0],
         normals: None,
         uvs: None,
+        colors: None,
         indices: vec![[0, 1, 2]],
     };
     objects.push(object(
@@ -93,6 +95,7 @@ fn one_triangle_and_camera_inside_an_object() {
         ],
         normals: None,
         uvs: None,
+        colors: None,
         indices: vec![[0, 1, 2]],
     };
     let scene1 = scene(
@@ -194,6 +197,7 @@ fn invalid_geometry_is_rejected_naming_object_and_vertex() {
         positions: vec![Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y],
         normals: None,
         uvs: None,
+        colors: None,
         indices: vec![[0, 1, 2]],
     };
     scene
@@ -503,6 +507,7 @@ fn grid(n: u32) -> Mesh {
         positions,
         normals: None,
         uvs: None,
+        colors: None,
         indices,
     }
 }

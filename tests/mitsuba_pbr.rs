@@ -30,43 +30,5 @@ fn pbr_materials_and_an_environment_match_mitsuba() {
         load_environment(&env).unwrap(),
     ));
     let image = render(ctx, &scene);
-    let reference = image::open(data.join("reference.exr"))
-        .expect("reading the Mitsuba reference")
-        .to_rgb32f();
-    assert_eq!(reference.dimensions(), (WIDTH, HEIGHT));
-    let reference: Vec<[f32; 3]> = reference.pixels().map(|p| p.0).collect();
-
-    let n = f64::from(WIDTH * HEIGHT);
-    for ch in 0..3 {
-        let ours: f64 = image.pixels.iter().map(|p| f64::from(p[ch])).sum::<f64>() / n;
-        let theirs: f64 = reference.iter().map(|p| f64::from(p[ch])).sum::<f64>() / n;
-        eprintln!("channel {ch}: rt {ours:.5}, Mitsuba {theirs:.5}");
-        assert!(
-            (ours / theirs - 1.0).abs() <= 0.01,
-            "channel {ch}: rt's mean {ours:.5} is not within 1% of Mitsuba's {theirs:.5}"
-        );
-    }
-    let (mut blocks, mut off) = (0, Vec::new());
-    for by in (0..HEIGHT).step_by(32) {
-        for bx in (0..WIDTH).step_by(32) {
-            let (mut ours, mut theirs) = (0.0f64, 0.0f64);
-            for y in by..by + 32 {
-                for x in bx..bx + 32 {
-                    let i = (y * WIDTH + x) as usize;
-                    ours += (0..3).map(|c| f64::from(image.pixels[i][c])).sum::<f64>();
-                    theirs += reference[i].iter().map(|&c| f64::from(c)).sum::<f64>();
-                }
-            }
-            blocks += 1;
-            let d = ours / theirs - 1.0;
-            if d.abs() > 0.05 {
-                off.push((bx, by, d));
-            }
-        }
-    }
-    assert!(
-        off.len() as f64 <= 0.05 * f64::from(blocks),
-        "{} of {blocks} blocks differ by more than 5%: {off:?}",
-        off.len()
-    );
+    assert_matches_reference(&image, &data.join("reference.exr"), "Mitsuba", 0.01, 0.05);
 }

@@ -283,6 +283,12 @@ fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), vec3(0.0));
 }
 
+// The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
+fn vertex_color(sh: Shading, b: vec3<f32>) -> vec3<f32> {
+    return srgb_to_linear(unpack4x8unorm(sh.c0).rgb) * b.x + srgb_to_linear(unpack4x8unorm(sh.c1).rgb) * b.y
+        + srgb_to_linear(unpack4x8unorm(sh.c2).rgb) * b.z;
+}
+
 fn albedo_factor(m: Material) -> vec3<f32> {
     return select(vec3(1.0), m.albedo, m.kind == MAT_PBR);
 }
@@ -388,6 +394,9 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
                 let c0 = 1.0 - hit.b1 - hit.b2;
                 a = sample_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2) * albedo_factor(material);
             }
+            if ((tri.has_normals & HAS_COLORS) != 0u) {
+                a *= vertex_color(shading[hit.triangle], vec3(1.0 - hit.b1 - hit.b2, hit.b1, hit.b2));
+            }
             aov_albedo = a;
         }
     }
@@ -417,7 +426,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     }
     var ns = ng;
     var n_interpolated = ng;
-    if (tri.has_normals != 0u) {
+    if ((tri.has_normals & HAS_NORMALS) != 0u) {
         n_interpolated = normalize(sh.n0 * b0 + sh.n1 * hit.b1 + sh.n2 * hit.b2);
         ns = select(n_interpolated, -n_interpolated, dot(n_interpolated, ng) < 0.0);
     }
@@ -425,6 +434,9 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     var albedo = material.albedo;
     if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
         albedo = sample_texture(material, uv) * albedo_factor(material);
+    }
+    if ((tri.has_normals & HAS_COLORS) != 0u) {
+        albedo *= vertex_color(sh, vec3(b0, hit.b1, hit.b2));
     }
     var metallic = material.metallic;
     var roughness = material.roughness;
@@ -434,7 +446,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
             roughness *= t.y;
             metallic *= t.z;
         }
-        if (HAS_NORMAL_MAPS && material.normal_texture_offset != NO_TEXTURE && tri.has_normals != 0u) {
+        if (HAS_NORMAL_MAPS && material.normal_texture_offset != NO_TEXTURE && (tri.has_normals & HAS_NORMALS) != 0u) {
             let t = sample_texture_linear(material.normal_texture_offset, material.normal_texture_width, material.normal_texture_height, uv);
             let i = 3u * hit.triangle;
             let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], vec3(b0, hit.b1, hit.b2), t, material.normal_scale);

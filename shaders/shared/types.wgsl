@@ -7,23 +7,25 @@ const MAT_EMISSIVE: u32 = 3u;
 const MAT_PBR: u32 = 4u;
 const NO_TEXTURE: u32 = 0xffffffffu;
 const MISS: u32 = 0xffffffffu;
+const HAS_NORMALS: u32 = 1u;
+const HAS_COLORS: u32 = 2u;
 
 struct Triangle {
     v0: vec3<f32>,       // 0
     material: u32,       // 12
     v1: vec3<f32>,       // 16
-    has_normals: u32,    // 28
+    has_normals: u32,    // 28: bit 0 HAS_NORMALS, bit 1 HAS_COLORS
     v2: vec3<f32>,       // 32
     has_uvs: u32,        // 44
 }
 
 struct Shading {
     n0: vec3<f32>,       // 0
-    _pad0: u32,          // 12
+    c0: u32,             // 12: corner colours, RGBA8 sRGB (white without vertex colours)
     n1: vec3<f32>,       // 16
-    _pad1: u32,          // 28
+    c1: u32,             // 28
     n2: vec3<f32>,       // 32
-    _pad2: u32,          // 44
+    c2: u32,             // 44
     uv0: vec2<f32>,      // 48
     uv1: vec2<f32>,      // 56
     uv2: vec2<f32>,      // 64

@@ -275,6 +275,12 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
     }
     let mut floor = (*scene.objects[0].mesh).clone();
     floor.normals = Some(vec![Vec3::Y; floor.positions.len()]);
+    floor.colors = Some(vec![
+        Vec3::new(1.0, 0.9, 0.8),
+        Vec3::new(0.3, 1.0, 0.5),
+        Vec3::new(0.9, 0.4, 1.0),
+        Vec3::ONE,
+    ]);
     scene.objects[0].mesh = std::sync::Arc::new(floor);
     scene.objects[0].material = pbr(Pbr {
         base_color: [0.9; 3],
@@ -336,4 +342,58 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
     ));
     scene.environment = Some(test_environment());
     scene
+}
+
+/// Compares a render with another renderer's reference image (`path`, an EXR of the same size):
+/// every channel's mean within `mean_tolerance` (relative), and at most 5% of the 32-px blocks
+/// off by more than `block_tolerance` (relative, on the sum of their channels; blocks dark in
+/// both, less than 1e-3 per channel on average apart, agree).
+pub fn assert_matches_reference(
+    image: &Image,
+    path: &std::path::Path,
+    who: &str,
+    mean_tolerance: f64,
+    block_tolerance: f64,
+) {
+    let (width, height) = (image.width, image.height);
+    let reference = ::image::open(path)
+        .unwrap_or_else(|e| panic!("reading {}: {e}", path.display()))
+        .to_rgb32f();
+    assert_eq!(reference.dimensions(), (width, height));
+    let reference: Vec<[f32; 3]> = reference.pixels().map(|p| p.0).collect();
+    let n = f64::from(width * height);
+    for ch in 0..3 {
+        let ours: f64 = image.pixels.iter().map(|p| f64::from(p[ch])).sum::<f64>() / n;
+        let theirs: f64 = reference.iter().map(|p| f64::from(p[ch])).sum::<f64>() / n;
+        eprintln!("channel {ch}: rt {ours:.5}, {who} {theirs:.5}");
+        assert!(
+            (ours / theirs - 1.0).abs() <= mean_tolerance,
+            "channel {ch}: rt's mean {ours:.5} is not within {}% of {who}'s {theirs:.5}",
+            mean_tolerance * 100.0
+        );
+    }
+    let (mut blocks, mut off) = (0, Vec::new());
+    for by in (0..height).step_by(32) {
+        for bx in (0..width).step_by(32) {
+            let (mut ours, mut theirs) = (0.0f64, 0.0f64);
+            for y in by..(by + 32).min(height) {
+                for x in bx..(bx + 32).min(width) {
+                    let i = (y * width + x) as usize;
+                    ours += (0..3).map(|c| f64::from(image.pixels[i][c])).sum::<f64>();
+                    theirs += reference[i].iter().map(|&c| f64::from(c)).sum::<f64>();
+                }
+            }
+            blocks += 1;
+            let d = (ours - theirs).abs();
+            if d > block_tolerance * theirs && d > 1e-3 * 32.0 * 32.0 * 3.0 {
+                off.push((bx, by, ours / theirs - 1.0));
+            }
+        }
+    }
+    assert!(
+        off.len() as f64 <= 0.05 * f64::from(blocks),
+        "{} of {blocks} blocks differ from {who} by more than {}%: {off:?}",
+        off.len(),
+        block_tolerance * 100.0
+    );
 }

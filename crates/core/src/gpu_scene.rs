@@ -141,6 +141,15 @@ impl GpuScene {
                     material.albedo = [1.0; 3];
                 }
             }
+            // Vertex colours tint diffuse and PBR materials (the others have no base colour).
+            let colored = mesh
+                .colors
+                .as_ref()
+                .is_some_and(|c| c.len() == mesh.positions.len())
+                && matches!(
+                    object.material,
+                    Material::Lambertian { .. } | Material::Pbr(_)
+                );
             let mut tangents = None;
             if let Material::Pbr(p) = &object.material {
                 let slot = |t: Option<usize>, name: &str| -> Result<Option<usize>> {
@@ -220,6 +229,11 @@ impl GpuScene {
                     .as_ref()
                     .map(|ns| idx.map(|i| (nm * ns[i as usize]).normalize_or_zero()));
                 let uv = mesh.uvs.as_ref().map(|uvs| idx.map(|i| uvs[i as usize]));
+                let colors = mesh
+                    .colors
+                    .as_ref()
+                    .filter(|_| colored)
+                    .map(|cs| idx.map(|i| gpu_types::pack_color(cs[i as usize].to_array())));
                 let corners = if flip { [0, 2, 1] } else { [0, 1, 2] };
                 let sign = if flip { -1.0 } else { 1.0 };
                 let t = tangents.as_ref().map(|t: &Vec<[f32; 4]>| {
@@ -230,7 +244,7 @@ impl GpuScene {
                     })
                 });
                 world.push(p);
-                tri_data.push((object_index as u32, n, uv, t));
+                tri_data.push((object_index as u32, n, uv, t, colors));
             }
         }
 
@@ -262,7 +276,7 @@ impl GpuScene {
         out.shading.reserve(world.len());
         for &i in &triangle_order {
             let p = world[i as usize];
-            let (material, normals, uvs, t) = &tri_data[i as usize];
+            let (material, normals, uvs, t, colors) = &tri_data[i as usize];
             if out.features.normal_maps {
                 out.tangents.extend(t.unwrap_or([[0.0; 4]; 3]));
             }
@@ -271,13 +285,18 @@ impl GpuScene {
                 v0: p[0].to_array(),
                 material: *material,
                 v1: p[1].to_array(),
-                has_normals: normals.is_some() as u32,
+                has_normals: normals.is_some() as u32 * gpu_types::HAS_NORMALS
+                    + colors.is_some() as u32 * gpu_types::HAS_COLORS,
                 v2: p[2].to_array(),
                 has_uvs: uvs.is_some() as u32,
             });
             let n = normals.unwrap_or([Vec3::ZERO; 3]);
             let uv = uvs.unwrap_or([Vec2::ZERO; 3]);
+            let c = colors.unwrap_or([u32::MAX; 3]);
             out.shading.push(Shading {
+                c0: c[0],
+                c1: c[1],
+                c2: c[2],
                 n0: n[0].to_array(),
                 n1: n[1].to_array(),
                 n2: n[2].to_array(),

@@ -15,6 +15,16 @@ pub mod material_kind {
     pub const PBR: u32 = 4;
 }
 
+/// `Triangle.has_normals` bits.
+pub const HAS_NORMALS: u32 = 1;
+pub const HAS_COLORS: u32 = 2;
+
+/// A linear RGB colour packed as the kernels read vertex colours: sRGB-encoded bytes, A = 255.
+pub fn pack_color(c: [f32; 3]) -> u32 {
+    let b = c.map(|v| (crate::output::linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u32);
+    b[0] | (b[1] << 8) | (b[2] << 16) | (255 << 24)
+}
+
 /// `Material.texture_offset` when the material has no texture.
 pub const NO_TEXTURE: u32 = u32::MAX;
 
@@ -25,7 +35,8 @@ pub struct Triangle {
     pub v0: [f32; 3],  // 0
     pub material: u32, // 12
     pub v1: [f32; 3],  // 16
-    /// 1 when `Shading` holds vertex normals, 0 for flat shading.
+    /// Bit 0 (`HAS_NORMALS`): `Shading` holds vertex normals (flat shading without);
+    /// bit 1 (`HAS_COLORS`): it holds vertex colours.
     pub has_normals: u32, // 28
     pub v2: [f32; 3],  // 32
     /// 1 when `Shading` holds texture coordinates.
@@ -36,15 +47,16 @@ pub struct Triangle {
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Shading {
-    pub n0: [f32; 3],    // 0
-    pub _pad0: u32,      // 12
-    pub n1: [f32; 3],    // 16
-    pub _pad1: u32,      // 28
-    pub n2: [f32; 3],    // 32
-    pub _pad2: u32,      // 44
-    pub uv0: [f32; 2],   // 48
-    pub uv1: [f32; 2],   // 56
-    pub uv2: [f32; 2],   // 64
+    pub n0: [f32; 3], // 0
+    /// Corner 0's vertex colour, RGBA8 sRGB-encoded (R in the low byte), white without colours.
+    pub c0: u32, // 12
+    pub n1: [f32; 3], // 16
+    pub c1: u32,      // 28
+    pub n2: [f32; 3], // 32
+    pub c2: u32,      // 44
+    pub uv0: [f32; 2], // 48
+    pub uv1: [f32; 2], // 56
+    pub uv2: [f32; 2], // 64
     pub _pad3: [f32; 2], // 72
 }
 
@@ -297,7 +309,7 @@ pub fn layouts() -> Vec<StructLayout> {
         layout!(
             "Shading",
             Shading,
-            [n0, _pad0, n1, _pad1, n2, _pad2, uv0, uv1, uv2, _pad3]
+            [n0, c0, n1, c1, n2, c2, uv0, uv1, uv2, _pad3]
         ),
         layout!(
             "Material",

@@ -15,6 +15,10 @@ pub struct Mesh {
     pub positions: Vec<Vec3>,
     pub normals: Option<Vec<Vec3>>,
     pub uvs: Option<Vec<Vec2>>,
+    /// Linear RGB vertex colours (OBJ `v x y z r g b`, glTF COLOR_0); they multiply the albedo of
+    /// diffuse and the base colour of PBR materials.
+    #[serde(default)]
+    pub colors: Option<Vec<Vec3>>,
     /// Counter-clockwise triangles (the front face), indexing `positions`.
     pub indices: Vec<[u32; 3]>,
 }

@@ -43,6 +43,7 @@ pub fn uv_sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
         positions,
         normals: Some(normals),
         uvs: None,
+        colors: None,
         indices,
     }
 }
@@ -62,6 +63,7 @@ pub fn quad(center: Vec3, normal: Vec3, size: f32) -> Mesh {
         positions,
         normals: None,
         uvs: None,
+        colors: None,
         indices: vec![[0, 1, 2], [0, 2, 3]],
     }
 }
@@ -102,6 +104,7 @@ pub fn cuboid(min: Vec3, max: Vec3, inward: bool) -> Mesh {
         positions,
         normals: None,
         uvs: None,
+        colors: None,
         indices,
     }
 }

@@ -546,7 +546,29 @@ fn textures_load_and_texture_transforms_bake_into_the_uvs() {
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0,
         "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2.0, 3.0]}}});
     doc["materials"][0]["normalTexture"] = json!({"index": 0, "scale": 0.5});
-    let scene = load(&embedded(doc), None).unwrap();
+    // Vertex colours: COLOR_0 as normalized u8 RGBA, a fifth buffer view.
+    let mut buffer = quad_buffer();
+    buffer.extend([
+        255u8, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255,
+    ]);
+    doc["buffers"][0]["byteLength"] = json!(buffer.len());
+    doc["bufferViews"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"buffer": 0, "byteOffset": 140, "byteLength": 16}));
+    doc["accessors"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"bufferView": 4, "componentType": 5121,
+        "normalized": true, "count": 4, "type": "VEC4"}));
+    doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = json!(4);
+    doc["buffers"][0]["uri"] = json!(format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&buffer)
+    ));
+    let scene = load(&serde_json::to_vec(&doc).unwrap(), None).unwrap();
+    let colors = scene.objects[0].mesh.colors.as_ref().expect("COLOR_0 read");
+    assert_eq!(colors[1], glam::Vec3::Y);
     assert_eq!(scene.textures.len(), 1, "one image, decoded once");
     assert_eq!((scene.textures[0].width, scene.textures[0].height), (2, 1));
     let Material::Pbr(p) = &scene.objects[0].material else {

@@ -412,3 +412,17 @@ fn the_shipped_scenes_load() {
     let bunny = load_obj(&root.join("assets/bunny/bunny-lowres-npm.obj"), 0).unwrap();
     assert_eq!(bunny.triangle_count(), 3674);
 }
+
+/// `v x y z r g b` gives the mesh vertex colours.
+#[test]
+fn vertex_colours_are_read() {
+    let scene = load(
+        "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nf 1 2 3\n",
+        None,
+    )
+    .unwrap();
+    let colors = scene.objects[0].mesh.colors.as_ref().expect("colours");
+    assert_eq!(colors[1], glam::Vec3::Y);
+    let plain = load("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n", None).unwrap();
+    assert!(plain.objects[0].mesh.colors.is_none());
+}

@@ -14,7 +14,13 @@ use rt_core::{Material, Object, Scene, Texture, Transform};
 
 fn rich_scene() -> Scene {
     let mut scene = rt_core::assets::cornell_box().unwrap();
-    let sphere = Arc::new(rt_core::shapes::uv_sphere(50.0, 8, 12));
+    let mut sphere = rt_core::shapes::uv_sphere(50.0, 8, 12);
+    sphere.colors = Some(
+        (0..sphere.positions.len())
+            .map(|i| glam::Vec3::new(i as f32 / 200.0, 0.5, 1.0))
+            .collect(),
+    );
+    let sphere = Arc::new(sphere);
     scene.textures.push(Texture {
         name: "checker.png".into(),
         width: 2,

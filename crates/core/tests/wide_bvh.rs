@@ -23,6 +23,7 @@ fn scene_of(positions: Vec<Vec3>) -> Scene {
                 positions,
                 normals: None,
                 uvs: None,
+                colors: None,
                 indices,
             }),
             material: Material::Lambertian {

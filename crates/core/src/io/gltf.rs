@@ -1,7 +1,8 @@
 //! glTF 2.0 (.gltf with its buffers, .glb, embedded data URIs) through the `gltf` crate, mapped onto
 //! rt's scene model:
 //! - meshes: triangles, triangle strips and fans (other modes are an error naming the mode),
-//!   indexed or not, positions, normals and the first UV set (flipped to rt's v-up convention);
+//!   indexed or not, positions, normals, the first UV set (flipped to rt's v-up convention) and
+//!   vertex colours (COLOR_0, alpha dropped);
 //!   each primitive is one shared mesh, so instances cost no copies;
 //! - the node hierarchy (TRS or matrices) of the default scene or the one asked for;
 //! - materials onto `Material::Pbr` (metallic-roughness with its textures, normal maps, emission
@@ -288,6 +289,7 @@ enum Expect {
     Vec3F32,
     Uv,
     Indices,
+    Color,
 }
 
 /// Checks that `accessor` holds what `expect` says and that every byte it reads lies inside its
@@ -304,6 +306,7 @@ fn check_accessor(
         Expect::Vec3F32 => ty == T::F32 && dims == D::Vec3,
         Expect::Uv => matches!(ty, T::F32 | T::U8 | T::U16) && dims == D::Vec2,
         Expect::Indices => matches!(ty, T::U8 | T::U16 | T::U32) && dims == D::Scalar,
+        Expect::Color => matches!(ty, T::F32 | T::U8 | T::U16) && matches!(dims, D::Vec3 | D::Vec4),
     };
     if !ok {
         return Err(format!(
@@ -470,6 +473,7 @@ impl Loader<'_> {
         for (semantic, expect) in [
             (gltf::Semantic::Normals, Expect::Vec3F32),
             (gltf::Semantic::TexCoords(0), Expect::Uv),
+            (gltf::Semantic::Colors(0), Expect::Color),
         ] {
             if let Some(a) = primitive.get(&semantic) {
                 check_accessor(&a, self.buffers, expect).map_err(|e| format!("{at}: {e}"))?;
@@ -504,6 +508,10 @@ impl Loader<'_> {
                     .collect::<Vec<_>>()
             })
             .filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
+        let colors: Option<Vec<Vec3>> = reader
+            .read_colors(0)
+            .map(|c| c.into_rgb_f32().map(Vec3::from).collect::<Vec<_>>())
+            .filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
         let flat: Vec<u32> = match reader.read_indices() {
             Some(i) => i.into_u32().collect(),
             None => (0..n as u32).collect(),
@@ -530,6 +538,7 @@ impl Loader<'_> {
             positions,
             normals,
             uvs,
+            colors,
             indices,
         });
         self.meshes.insert(key, mesh.clone());

@@ -412,10 +412,18 @@ fn mesh_from_tobj(m: &tobj::Mesh) -> Mesh {
         .chunks_exact(3)
         .map(|t| [t[0], t[1], t[2]])
         .collect();
+    let colors =
+        (m.vertex_color.len() == m.positions.len() && !m.vertex_color.is_empty()).then(|| {
+            m.vertex_color
+                .chunks_exact(3)
+                .map(Vec3::from_slice)
+                .collect()
+        });
     Mesh {
         positions,
         normals,
         uvs,
+        colors,
         indices,
     }
 }

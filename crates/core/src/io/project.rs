@@ -566,14 +566,16 @@ fn check_entry_name(name: &str) -> Result<(), &'static str> {
     Ok(())
 }
 
-/// `MESH_MAGIC`, then u32 vertex count, u32 triangle count, u32 flags (1: normals, 2: UVs), then
-/// positions (3 f32 per vertex), normals (3 f32), UVs (2 f32) and indices (3 u32 per triangle), all
-/// little-endian.
+/// `MESH_MAGIC`, then u32 vertex count, u32 triangle count, u32 flags (1: normals, 2: UVs, 4: vertex
+/// colours), then positions (3 f32 per vertex), normals (3 f32), UVs (2 f32), colours (3 f32) and
+/// indices (3 u32 per triangle), all little-endian.
 pub fn encode_mesh(mesh: &Mesh) -> Vec<u8> {
     let n = mesh.positions.len();
     let mut out = Vec::with_capacity(20 + n * 32 + mesh.indices.len() * 12);
     out.extend_from_slice(MESH_MAGIC);
-    let flags = u32::from(mesh.normals.is_some()) | (u32::from(mesh.uvs.is_some()) << 1);
+    let flags = u32::from(mesh.normals.is_some())
+        | (u32::from(mesh.uvs.is_some()) << 1)
+        | (u32::from(mesh.colors.is_some()) << 2);
     for v in [n as u32, mesh.indices.len() as u32, flags] {
         out.extend_from_slice(&v.to_le_bytes());
     }
@@ -586,6 +588,9 @@ pub fn encode_mesh(mesh: &Mesh) -> Vec<u8> {
     }
     for uv in mesh.uvs.iter().flatten() {
         uv.to_array().into_iter().for_each(&mut put);
+    }
+    for colour in mesh.colors.iter().flatten() {
+        colour.to_array().into_iter().for_each(&mut put);
     }
     for tri in &mesh.indices {
         for i in tri {
@@ -603,10 +608,11 @@ pub fn decode_mesh(bytes: &[u8]) -> Result<Mesh, String> {
     let word =
         |i: usize| u32::from_le_bytes([header[i], header[i + 1], header[i + 2], header[i + 3]]);
     let (vertices, triangles, flags) = (word(8) as usize, word(12) as usize, word(16));
-    if flags > 3 {
+    if flags > 7 {
         return Err(format!("unknown mesh flags {flags}"));
     }
-    let floats_per_vertex = 3 + 3 * (flags & 1) as usize + 2 * (flags >> 1) as usize;
+    let floats_per_vertex =
+        3 + 3 * (flags & 1) as usize + 2 * ((flags >> 1) & 1) as usize + 3 * (flags >> 2) as usize;
     let expected = (vertices as u128) * (floats_per_vertex as u128) * 4 + (triangles as u128) * 12;
     if expected != (bytes.len() - 20) as u128 {
         return Err(format!(
@@ -628,6 +634,11 @@ pub fn decode_mesh(bytes: &[u8]) -> Result<Mesh, String> {
     });
     let uvs =
         (flags & 2 != 0).then(|| (0..vertices).map(|_| Vec2::new(float(), float())).collect());
+    let colors = (flags & 4 != 0).then(|| {
+        (0..vertices)
+            .map(|_| Vec3::new(float(), float(), float()))
+            .collect()
+    });
     let offset = 20 + vertices * floats_per_vertex * 4;
     let indices: Vec<[u32; 3]> = bytes[offset..]
         .chunks_exact(12)
@@ -650,6 +661,7 @@ pub fn decode_mesh(bytes: &[u8]) -> Result<Mesh, String> {
         positions,
         normals,
         uvs,
+        colors,
         indices,
     })
 }

@@ -235,6 +235,19 @@ fn texel(scene: &GpuScene, offset: u32, w: u32, h: u32, x: i32, y: i32) -> Vec3 
     )
 }
 
+/// The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
+pub fn vertex_color(shading: &crate::gpu_types::Shading, b: [f32; 3]) -> Vec3 {
+    let decode = |c: u32| {
+        let p = c.to_le_bytes();
+        Vec3::new(
+            srgb_to_linear(p[0] as f32 / 255.0),
+            srgb_to_linear(p[1] as f32 / 255.0),
+            srgb_to_linear(p[2] as f32 / 255.0),
+        )
+    };
+    decode(shading.c0) * b[0] + decode(shading.c1) * b[1] + decode(shading.c2) * b[2]
+}
+
 fn texel_linear(scene: &GpuScene, offset: u32, w: u32, h: u32, x: i32, y: i32) -> Vec3 {
     let xi = x.rem_euclid(w as i32) as u32;
     let yi = y.rem_euclid(h as i32) as u32;
@@ -373,7 +386,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         };
         let mut ns = ng;
         let mut n_interpolated = ng;
-        if tri.has_normals != 0 {
+        if tri.has_normals & crate::gpu_types::HAS_NORMALS != 0 {
             let shading = &scene.shading[hit.triangle as usize];
             let n = Vec3::from(shading.n0) * b0
                 + Vec3::from(shading.n1) * hit.b1
@@ -403,6 +416,11 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
             }
             _ => Vec3::from(material.albedo),
         };
+        let albedo = if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
+            albedo * vertex_color(&scene.shading[hit.triangle as usize], [b0, hit.b1, hit.b2])
+        } else {
+            albedo
+        };
         let (mut metallic, mut roughness) = (material.metallic, material.roughness);
         if let (Some(uv), material_kind::PBR) = (uv, material.kind) {
             if material.mr_texture_offset != NO_TEXTURE {
@@ -416,7 +434,9 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                 roughness *= t.y;
                 metallic *= t.z;
             }
-            if material.normal_texture_offset != NO_TEXTURE && tri.has_normals != 0 {
+            if material.normal_texture_offset != NO_TEXTURE
+                && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
+            {
                 let t = sample_texture_linear(
                     scene,
                     material.normal_texture_offset,
