@@ -10,6 +10,13 @@ struct PbrBsdf {
     transmission: f32,
     q_reflect: f32,
     q_glass: f32,
+    thin: bool,
+}
+
+// The transmissive part's Fresnel: the interface's, or a thin sheet's 2R/(1+R).
+fn glass_fresnel(cos_in: f32, eta: f32, thin: bool) -> f32 {
+    let r = fresnel_dielectric(cos_in, eta);
+    return select(r, 2.0 * r / (1.0 + r), thin);
 }
 
 fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmission: f32, cos_o: f32, energy: f32) -> PbrBsdf {
@@ -17,7 +24,7 @@ fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmissi
     let m = metallic;
     let t = transmission;
     return PbrBsdf(base, m, vec3(1.0) + base * (1.0 / max(energy, 1e-3) - 1.0), alpha_of_roughness(roughness),
-                   eta, t, m + (1.0 - m) * (1.0 - t) * fs, (1.0 - m) * t);
+                   eta, t, m + (1.0 - m) * (1.0 - t) * fs, (1.0 - m) * t, false);
 }
 
 // f |cos θi| in xyz and the sampling pdf in w.
@@ -45,13 +52,33 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
         let pdf_reflect = ggx_g1(wo, a) * d / (4.0 * wo.z);
         let f_metal = fresnel_schlick(b.base, woh) * b.ms;
         let f_d = fresnel_dielectric(woh, b.eta);
+        let f_g = glass_fresnel(woh, b.eta, b.thin);
         let diffuse = b.base * (wi.z * (1.0 / PI));
-        let f = f_metal * (m * spec_cos) + (vec3(f_d * spec_cos) + diffuse * ((1.0 - t) * (1.0 - f_d))) * (1.0 - m);
-        let pdf = b.q_reflect * pdf_reflect + b.q_glass * pdf_reflect * f_d + q_diffuse * wi.z * (1.0 / PI);
+        let layer = (1.0 - t) * f_d + t * f_g;
+        let f = f_metal * (m * spec_cos) + (vec3(layer * spec_cos) + diffuse * ((1.0 - t) * (1.0 - f_d))) * (1.0 - m);
+        let pdf = b.q_reflect * pdf_reflect + b.q_glass * pdf_reflect * f_g + q_diffuse * wi.z * (1.0 / PI);
         return vec4(f, pdf);
     }
     if (wi.z == 0.0 || b.q_glass <= 0.0) {
         return vec4(0.0);
+    }
+    if (b.thin) {
+        let mirrored = vec3(wi.x, wi.y, -wi.z);
+        let hs_t = wo + mirrored;
+        let l2 = dot(hs_t, hs_t);
+        if (l2 <= 0.0) {
+            return vec4(0.0);
+        }
+        let h_t = hs_t * inverseSqrt(l2);
+        let woh_t = dot(wo, h_t);
+        if (woh_t <= 0.0) {
+            return vec4(0.0);
+        }
+        let d_t = ggx_d(h_t, a);
+        let t_g = 1.0 - glass_fresnel(woh_t, b.eta, true);
+        let spec_t = d_t * ggx_g2(wo, mirrored, a) / (4.0 * wo.z);
+        let pdf_t = b.q_glass * ggx_g1(wo, a) * d_t / (4.0 * wo.z) * t_g;
+        return vec4(b.base * ((1.0 - m) * t * t_g * spec_t), pdf_t);
     }
     let hs = wo + wi * b.eta;
     let len2 = dot(hs, hs);
@@ -92,13 +119,19 @@ fn pbr_sample(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32) -> BsdfS
         let m = sample_vndf(wo, b.alpha, u1, u2);
         var reflects = u_lobe < b.q_reflect;
         if (!reflects) {
-            reflects = (u_lobe - b.q_reflect) < fresnel_dielectric(dot(wo, m), b.eta) * b.q_glass;
+            reflects = (u_lobe - b.q_reflect) < glass_fresnel(dot(wo, m), b.eta, b.thin) * b.q_glass;
         }
         if (reflects) {
             wi = 2.0 * dot(wo, m) * m - wo;
             if (wi.z <= 0.0) {
                 return none;
             }
+        } else if (b.thin) {
+            wi = 2.0 * dot(wo, m) * m - wo;
+            if (wi.z <= 0.0) {
+                return none;
+            }
+            wi.z = -wi.z;
         } else {
             wi = refract_dir(-wo, m, b.eta);
             if (wi.z >= 0.0) {

@@ -250,7 +250,9 @@ fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f3
     let n = select(ng, ns, dot(wo, ns) > 0.0);
     let basis = onb(n);
     let wo_local = vec3(dot(wo, basis.t), dot(wo, basis.b), dot(wo, n));
-    let eta = select(1.0 / material.param, material.param, front);
+    // A thin sheet looks the same from both sides.
+    let thin = (material.flags & THIN_WALLED) != 0u;
+    let eta = select(1.0 / material.param, material.param, front || thin);
     let energy = energy_lookup(wo_local.z, roughness);
     var s: Surface;
     s.kind = SURFACE_PBR;
@@ -259,6 +261,7 @@ fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f3
     s.n = n;
     s.wo = wo_local;
     s.bsdf = pbr_bsdf(base, metallic, roughness, eta, material.transmission, wo_local.z, energy);
+    s.bsdf.thin = thin;
     return s;
 }
 

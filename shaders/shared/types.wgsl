@@ -51,7 +51,13 @@ struct Material {
     normal_texture_offset: u32,  // 84: tangent-space normals, linear; NO_TEXTURE if none
     normal_texture_width: u32,   // 88
     normal_texture_height: u32,  // 92
+    flags: u32,              // 96: bit 0 THIN_WALLED
+    _pad_a: u32,             // 100
+    _pad_b: u32,             // 104
+    _pad_c: u32,             // 108
 }
+
+const THIN_WALLED: u32 = 1u;
 
 // An environment texel with its alias-table entry (core::gpu_types::EnvTexel).
 struct EnvTexel {

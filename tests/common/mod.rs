@@ -325,6 +325,8 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         pbr(Pbr {
             base_color: [0.2, 0.3, 0.8],
             roughness: 0.6,
+            transmission: 0.6,
+            thin_walled: true,
             emission: [1.0, 0.5, 0.2],
             emission_strength: 3.0,
             ..Default::default()

@@ -602,6 +602,11 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
             metallic: p.metallic,
             roughness: p.roughness,
             transmission: p.transmission,
+            flags: if p.thin_walled {
+                gpu_types::THIN_WALLED
+            } else {
+                0
+            },
             ..base
         },
     }

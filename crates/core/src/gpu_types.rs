@@ -93,7 +93,15 @@ pub struct Material {
     pub normal_texture_offset: u32, // 84
     pub normal_texture_width: u32, // 88
     pub normal_texture_height: u32, // 92
+    /// PBR: bit 0 (`THIN_WALLED`) thin-walled transmission.
+    pub flags: u32, // 96
+    pub _pad_a: u32, // 100
+    pub _pad_b: u32, // 104
+    pub _pad_c: u32, // 108
 }
+
+/// `Material.flags` bits.
+pub const THIN_WALLED: u32 = 1;
 
 impl Material {
     /// What a texture lookup is multiplied by: PBR's base colour factor (a Lambertian texture
@@ -332,7 +340,11 @@ pub fn layouts() -> Vec<StructLayout> {
                 mr_texture_height,
                 normal_texture_offset,
                 normal_texture_width,
-                normal_texture_height
+                normal_texture_height,
+                flags,
+                _pad_a,
+                _pad_b,
+                _pad_c
             ]
         ),
         layout!(

@@ -48,6 +48,9 @@ pub struct Pbr {
     pub roughness: f32,
     pub ior: f32,
     pub transmission: f32,
+    /// Transmission through a thin sheet (no volume behind the surface; light passes without
+    /// bending), as glTF's transmission without `KHR_materials_volume`.
+    pub thin_walled: bool,
     pub attenuation_color: Rgb,
     /// `None`: no absorption.
     pub attenuation_distance: Option<f32>,
@@ -67,6 +70,7 @@ impl Default for Pbr {
             roughness: 0.5,
             ior: 1.5,
             transmission: 0.0,
+            thin_walled: false,
             attenuation_color: [1.0; 3],
             attenuation_distance: None,
             emission: [0.0; 3],

@@ -201,6 +201,18 @@ fn every_supported_feature_maps_onto_the_scene_model() {
     assert!((spot.inner_angle_deg - 0.2f32.to_degrees()).abs() < 1e-4);
     assert!((spot.outer_angle_deg - 0.6f32.to_degrees()).abs() < 1e-4);
     assert!(scene.environment.is_none(), "the file brings its lights");
+    assert!(!p.thin_walled, "transmission with a volume refracts");
+    let mut doc = document();
+    let ext = doc["materials"][0]["extensions"].as_object_mut().unwrap();
+    ext.remove("KHR_materials_volume");
+    let thin = load(&embedded(doc), None).unwrap();
+    let Material::Pbr(p) = &thin.objects[0].material else {
+        panic!()
+    };
+    assert!(
+        p.thin_walled,
+        "transmission without a volume is thin-walled"
+    );
     rt_core::GpuScene::build(&scene).unwrap();
 }
 

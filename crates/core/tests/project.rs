@@ -87,6 +87,7 @@ fn rich_scene() -> Scene {
         roughness: 0.35,
         ior: 1.45,
         transmission: 0.25,
+        thin_walled: true,
         attenuation_color: [0.5, 0.6, 0.7],
         attenuation_distance: Some(3.0),
         emission: [0.1, 0.2, 0.3],

@@ -686,6 +686,8 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
     ui.add(egui::Slider::new(&mut p.transmission, 0.0..=1.0).text("transmission"))
         .on_hover_text("How much light passes through (glass 1)");
     if p.transmission > 0.0 {
+        ui.checkbox(&mut p.thin_walled, "thin-walled")
+            .on_hover_text("A sheet (a window pane, a leaf): light passes through without bending");
         ui.horizontal(|ui| {
             ui.label("Absorption colour");
             ui.color_edit_button_rgb(&mut p.attenuation_color)

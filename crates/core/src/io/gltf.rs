@@ -676,6 +676,8 @@ impl Loader<'_> {
             roughness: clamp01(pbr.roughness_factor()),
             ior,
             transmission: clamp01(transmission),
+            // glTF: transmission without a volume is a thin-walled surface.
+            thin_walled: transmission > 0.0 && volume.is_none(),
             attenuation_color: colour(attenuation_color).map(|c| c.min(1.0)),
             attenuation_distance,
             emission: colour(m.emissive_factor()),

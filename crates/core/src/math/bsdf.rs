@@ -6,6 +6,12 @@
 //!   + (1 − m) · [F(ωo·h) · f_spec + (1 − t)(1 − F(ωo·h)) · c/π]   (dielectric over diffuse)
 //!   + (1 − m) · t · c · f_walter                                  (rough refraction, ωi below)
 //!
+//! A thin-walled surface (a sheet without a volume behind it: glTF's transmission without
+//! `KHR_materials_volume`) lets light through without bending it: the slab's total reflectance
+//! R' = 2R/(1 + R) (R the single interface's Fresnel, summing the inter-reflections inside the
+//! sheet) replaces F for the transmitted part's reflection, and its transmission is the GGX
+//! reflection lobe mirrored to the other side, (1 − R') D G2 / (4 cosθo) with ωi's z flipped.
+//!
 //! with f_spec = D G2 / (4 cosθo cosθi) (GGX, height-correlated Smith), F the unpolarised dielectric
 //! Fresnel of relative index η, f_walter Walter et al. 2007's BTDF (its own 1 − F, and 1/η² for
 //! radiance), and k_ms = 1 + c (1/E(μo) − 1) Turquin 2019's multiple-scattering compensation of the
@@ -36,6 +42,14 @@ pub struct Pbr {
     pub ms: Vec3,
     pub q_reflect: f32,
     pub q_glass: f32,
+    /// Thin-walled transmission (see above).
+    pub thin: bool,
+}
+
+/// The Fresnel reflectance the transmissive part uses: the interface's, or a thin sheet's 2R/(1+R).
+fn glass_fresnel(cos: f32, eta: f32, thin: bool) -> f32 {
+    let r = fresnel_dielectric(cos, eta);
+    if thin { 2.0 * r / (1.0 + r) } else { r }
 }
 
 /// A direction drawn from the BSDF, with f cosθi / pdf and the pdf (solid angle).
@@ -69,7 +83,13 @@ impl Pbr {
             ms: Vec3::ONE + base * (1.0 / energy.max(1e-3) - 1.0),
             q_reflect: m + (1.0 - m) * (1.0 - t) * fs,
             q_glass: (1.0 - m) * t,
+            thin: false,
         }
+    }
+
+    /// This surface, thin-walled.
+    pub fn thin_walled(self, thin: bool) -> Self {
+        Pbr { thin, ..self }
     }
 
     fn q_diffuse(&self) -> f32 {
@@ -93,16 +113,31 @@ impl Pbr {
             let pdf_reflect = ggx_g1(wo, a) * d / (4.0 * wo.z);
             let f_metal = fresnel_schlick(self.base, woh) * self.ms;
             let f_d = fresnel_dielectric(woh, self.eta);
+            let f_g = glass_fresnel(woh, self.eta, self.thin);
             let diffuse = self.base * (wi.z * std::f32::consts::FRAC_1_PI);
+            let layer = (1.0 - t) * f_d + t * f_g;
             let f = f_metal * (m * spec_cos)
-                + (Vec3::splat(f_d * spec_cos) + diffuse * ((1.0 - t) * (1.0 - f_d))) * (1.0 - m);
+                + (Vec3::splat(layer * spec_cos) + diffuse * ((1.0 - t) * (1.0 - f_d))) * (1.0 - m);
             let pdf = self.q_reflect * pdf_reflect
-                + self.q_glass * pdf_reflect * f_d
+                + self.q_glass * pdf_reflect * f_g
                 + self.q_diffuse() * wi.z * std::f32::consts::FRAC_1_PI;
             return (f, pdf);
         }
         if wi.z == 0.0 || self.q_glass <= 0.0 {
             return (Vec3::ZERO, 0.0);
+        }
+        if self.thin {
+            let mirrored = Vec3::new(wi.x, wi.y, -wi.z);
+            let h = (wo + mirrored).normalize_or_zero();
+            let woh = wo.dot(h);
+            if woh <= 0.0 {
+                return (Vec3::ZERO, 0.0);
+            }
+            let d = ggx_d(h, a);
+            let t_g = 1.0 - glass_fresnel(woh, self.eta, true);
+            let spec_cos = d * ggx_g2(wo, mirrored, a) / (4.0 * wo.z);
+            let pdf = self.q_glass * ggx_g1(wo, a) * d / (4.0 * wo.z) * t_g;
+            return (self.base * ((1.0 - m) * t * t_g * spec_cos), pdf);
         }
         let mut h = (wo + wi * self.eta).normalize_or_zero();
         if h.z < 0.0 {
@@ -135,13 +170,19 @@ impl Pbr {
             wi
         } else if u_lobe < self.q_reflect + self.q_glass {
             let m = sample_vndf(wo, self.alpha, u1, u2);
-            let f = fresnel_dielectric(wo.dot(m), self.eta);
+            let f = glass_fresnel(wo.dot(m), self.eta, self.thin);
             if (u_lobe - self.q_reflect) < f * self.q_glass {
                 let wi = 2.0 * wo.dot(m) * m - wo;
                 if wi.z <= 0.0 {
                     return None;
                 }
                 wi
+            } else if self.thin {
+                let wi = 2.0 * wo.dot(m) * m - wo;
+                if wi.z <= 0.0 {
+                    return None;
+                }
+                Vec3::new(wi.x, wi.y, -wi.z)
             } else {
                 let wi = refract(-wo, m, self.eta);
                 if wi.z >= 0.0 {
@@ -225,10 +266,12 @@ mod tests {
             ("plastic: VNDF + diffuse", 0.0, 0.6, 1.5, 0.0, 0.6),
             ("rough glass from outside", 0.0, 0.5, 1.5, 1.0, 0.7),
             ("rough glass from inside", 0.0, 0.6, 1.0 / 1.5, 1.0, 0.8),
+            ("thin-walled rough glass", 0.0, 0.4, 1.5, 1.0, 0.6),
+            ("half-transmissive thin sheet", 0.0, 0.5, 1.5, 0.5, 0.7),
         ];
         let n = 400_000usize;
         for (k, &(what, m, r, eta, t, cos_o)) in cases.iter().enumerate() {
-            let b = pbr(m, r, eta, t, cos_o);
+            let b = pbr(m, r, eta, t, cos_o).thin_walled(what.contains("thin"));
             let wo = wo_at(cos_o);
             let mut counts = vec![0.0f64; THETA_BINS * PHI_BINS + 1];
             let mut rng = Rng::new(k as u32, 0, 77);
@@ -264,7 +307,7 @@ mod tests {
         for _ in 0..n {
             let (a, u1, u2) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
             let w = match b.sample(wo, a, u1, u2) {
-                Some(s) if s.wi.z < 0.0 => f64::from(s.weight.x * b.eta * b.eta),
+                Some(s) if s.wi.z < 0.0 && !b.thin => f64::from(s.weight.x * b.eta * b.eta),
                 Some(s) => f64::from(s.weight.x),
                 None => 0.0,
             };
@@ -316,6 +359,17 @@ mod tests {
                 }
             }
             eprintln!("roughness {roughness}: white metal keeps at least {worst_metal:.4}");
+            // A thin white sheet reflects or transmits everything a single GGX bounce keeps: at
+            // most 1, and (as a mirrored reflection lobe) as much as the white conductor's E.
+            for cos_o in [0.2, 0.7, 1.0] {
+                let b = pbr(0.0, roughness, 1.5, 1.0, cos_o).thin_walled(true);
+                let (e, se) = albedo(&b, wo_at(cos_o), n);
+                let energy = energy_lookup(energy_table(), cos_o, roughness) as f64;
+                assert!(
+                    e <= 1.0 + 4.0 * se + 1e-3 && (e - energy).abs() <= 4.0 * se + 5e-3,
+                    "thin sheet, roughness {roughness}, cos {cos_o}: {e:.4} ± {se:.4}, E {energy:.4}"
+                );
+            }
         }
     }
 

@@ -560,7 +560,9 @@ fn pbr_surface(
     let n = if wo.dot(ns) > 0.0 { ns } else { ng };
     let (t, b) = onb(n);
     let wo_local = Vec3::new(wo.dot(t), wo.dot(b), wo.dot(n));
-    let eta = if front {
+    // A thin sheet looks the same from both sides.
+    let thin = material.flags & crate::gpu_types::THIN_WALLED != 0;
+    let eta = if front || thin {
         material.param
     } else {
         1.0 / material.param
@@ -575,7 +577,8 @@ fn pbr_surface(
             material.transmission,
             wo_local.z,
             energy,
-        ),
+        )
+        .thin_walled(thin),
         frame: [t, b, n],
         wo: wo_local,
     }
