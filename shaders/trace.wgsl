@@ -1,10 +1,8 @@
 // The path-tracing megakernel: one invocation per pixel, `frame.samples_this_dispatch` whole paths
-// each (shared/path.wgsl's vertices in a loop), folded into a running per-pixel mean so any number
+// each (shared/path.wgsl's vertices in a loop), added to the pixel's exact sums (shared/accumulate.wgsl) so any number
 // of dispatches can be stopped after any one. Composed with shared/{types,rng,sampling,intersect,
 // bvh or cwbvh,scene_bindings,path}.wgsl (see crates/gpu/src/shaders.rs).
 
-// xyz: running mean of radiance; w: running mean of squared luminance (for variance estimates).
-@group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 // [0]: rays traced; [1]: samples dropped as NaN/Inf.
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;
 // Per pixel of the tile: [3i] running mean of the first hit's albedo, [3i + 1] of its normal,
@@ -44,7 +42,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     if (pixel_stopped(slot)) {
         return;
     }
-    var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
+    var sums = load_pixel_sums(slot);
     var aov_means: AovMeans;
     if (WRITE_AOVS) {
         aov_means = load_aov_means(slot);
@@ -52,26 +50,23 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     var rays = 0u;
     var dropped = 0u;
     for (var s = 0u; s < frame.samples_this_dispatch; s++) {
-        let sample_index = frame.sample_base + s;
+        let sample_index = frame.sample_offset + frame.sample_base + s;
         var rng = rng_init(pixel, sample_index, frame.seed);
         aov_albedo = vec3(0.0);
         aov_normal = vec3(0.0);
         aov_emission = vec3(0.0);
         var l = path_radiance(x, y, &rng, &rays);
-        if (!is_finite3(l)) {
-            l = vec3(0.0);
+        if (sample_is_kept(l)) {
+            add_sample(&sums, l);
+        } else {
             dropped += 1u;
         }
-
-        let lum = luminance(l);
-        // Running mean, one sample at a time: the same float operations however samples are batched.
-        mean += (vec4(l, lum * lum) - mean) / f32(sample_index + 1u);
         if (WRITE_AOVS) {
             let values = AovMeans(vec4(aov_albedo, 0.0), vec4(aov_normal, 0.0), vec4(aov_emission, 0.0));
-            add_aov_sample(&aov_means, values, f32(sample_index + 1u));
+            add_aov_sample(&aov_means, values, f32(frame.sample_base + s + 1u));
         }
     }
-    accum[slot] = mean;
+    store_pixel_sums(slot, sums);
     if (WRITE_AOVS) {
         store_aov_means(slot, aov_means);
     }

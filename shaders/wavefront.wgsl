@@ -9,12 +9,10 @@
 //              for next-event estimation, the path re-queued if it goes on;
 //     connect: each shadow ray traced, its contribution added to its path if unoccluded;
 //     advance: (one invocation) the next queue becomes current;
-//   finish: each pixel's samples folded into the running mean in sample order, as the megakernel
+//   finish: each pixel's samples added to its exact sums (shared/accumulate.wgsl), as the megakernel
 //           does, so the two give the same image.
 // Composed with shared/{types,rng,sampling,intersect,bvh or cwbvh,scene_bindings,path}.wgsl.
 
-// xyz: running mean of radiance; w: running mean of squared luminance (as in trace.wgsl).
-@group(0) @binding(6) var<storage, read_write> accum: array<vec4<f32>>;
 // [0]: rays traced; [1]: samples dropped as NaN/Inf.
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;
 // With WRITE_AOVS, per pixel of the tile: running means of the first hit's albedo, normal and the
@@ -86,7 +84,7 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let slot = wave_slot(i % band);
     let x = slot % frame.width;
     let y = frame.tile_row_begin + slot / frame.width;
-    var rng = rng_init(y * frame.width + x, frame.sample_base + i / band, frame.seed);
+    var rng = rng_init(y * frame.width + x, frame.sample_offset + frame.sample_base + i / band, frame.seed);
     let path = start_path(x, y, &rng);
     paths[i] = WavePath(path, rng, Hit(0.0, MISS, 0.0, 0.0));
     ray_queues[i] = i;
@@ -178,7 +176,7 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let slot = wave_slot(gid.x);
-    var mean = select(accum[slot], vec4(0.0), frame.sample_base == 0u);
+    var sums = load_pixel_sums(slot);
     var aov_means: AovMeans;
     if (WRITE_AOVS) {
         aov_means = load_aov_means(slot);
@@ -186,20 +184,19 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
     var dropped = 0u;
     for (var s = 0u; s < frame.samples_this_dispatch; s++) {
         let i = s * band + gid.x;
-        var l = paths[i].path.radiance;
-        if (!is_finite3(l)) {
-            l = vec3(0.0);
+        let l = paths[i].path.radiance;
+        if (sample_is_kept(l)) {
+            add_sample(&sums, l);
+        } else {
             dropped += 1u;
         }
-        let lum = luminance(l);
         let n = f32(frame.sample_base + s + 1u);
-        mean += (vec4(l, lum * lum) - mean) / n;
         if (WRITE_AOVS) {
             let values = AovMeans(path_aovs[3u * i], path_aovs[3u * i + 1u], path_aovs[3u * i + 2u]);
             add_aov_sample(&aov_means, values, n);
         }
     }
-    accum[slot] = mean;
+    store_pixel_sums(slot, sums);
     if (WRITE_AOVS) {
         store_aov_means(slot, aov_means);
     }

@@ -236,7 +236,7 @@ fn too_large_an_image_is_a_clear_error() {
     else {
         let limit = ctx.device.limits().max_storage_buffer_binding_size;
         assert!(
-            limit >= 16384 * 16384 * 16,
+            limit >= 16384 * 16384 * rt_core::accumulation::PIXEL_SUMS_BYTES,
             "renderer accepted a buffer over the limit"
         );
         return;

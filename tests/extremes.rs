@@ -610,14 +610,14 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
             frame,
             options,
             3,
-            Some(u64::from(rows) * 37 * 16),
+            Some(u64::from(rows) * 37 * rt_core::accumulation::PIXEL_SUMS_BYTES),
             |_| true,
         )
         .unwrap();
         assert_eq!((tiled.width, tiled.height), (37, 23));
         assert_eq!(tiled.samples_per_pixel, 3);
         assert!(
-            tiled.pixels == whole.pixels,
+            tiled.pixels == whole.pixels && tiled.sums == whole.sums,
             "tiles of {rows} rows differ from the untiled image"
         );
         let aovs = aovs.unwrap();
@@ -628,7 +628,7 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
             "tiles of {rows} rows: the stitched AOVs differ from the untiled ones"
         );
     }
-    assert_eq!(rt_gpu::tile_rows(16384, 16384, 128 << 20), 512);
+    assert_eq!(rt_gpu::tile_rows(16384, 16384, 128 << 20), 128);
 }
 
 /// The firefly clamp scales down light that has bounced (never a directly seen emitter), so with

@@ -128,7 +128,7 @@ struct Frame {
     env_height: u32,             // 152
     env_rotation: f32,           // 156: turns about +y
     env_pick: f32,               // 160: probability that next-event estimation samples the environment
-    _pad_c: u32,                 // 164
+    sample_offset: u32,          // 164: the render's first sample index (a shard's range start)
     _pad_d: u32,                 // 168
     _pad_e: u32,                 // 172
 }

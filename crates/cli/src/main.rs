@@ -4,10 +4,12 @@ mod bench;
 mod compare;
 mod converge;
 mod info;
+mod merge;
 mod options;
 mod plot;
 mod render;
 mod scene_args;
+mod shard;
 
 use std::process::ExitCode;
 
@@ -31,6 +33,8 @@ struct Cli {
 enum Command {
     /// Render a scene (the embedded Cornell box when none is given) to an image.
     Render(render::RenderArgs),
+    /// Merge render parts (`render --shard`) into the frame: exact, and itself a part as .exr.
+    Merge(merge::MergeArgs),
     /// Print a scene's objects, materials, triangle count and bounds.
     Info(info::InfoArgs),
     /// Error metrics (relMSE, RMSE, mean ratio) of an image against a reference image.
@@ -69,6 +73,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(args, cli.verbose),
         Command::Info(args) => info::run(args, cli.verbose),
+        Command::Merge(args) => merge::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Converge(args) => converge::run(args),

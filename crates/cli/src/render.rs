@@ -11,6 +11,7 @@ use rt_gpu::{GpuContext, Renderer};
 
 use crate::options::{EngineArgs, EstimatorArgs};
 use crate::scene_args::SceneArgs;
+use crate::shard::{PartIdentity, ShardArgs};
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -45,6 +46,8 @@ pub struct RenderArgs {
     #[arg(long, conflicts_with = "adaptive")]
     no_adaptive: bool,
     #[command(flatten)]
+    shard: ShardArgs,
+    #[command(flatten)]
     estimator: EstimatorArgs,
     #[command(flatten)]
     engine: EngineArgs,
@@ -58,16 +61,22 @@ pub enum ViewArg {
     Neutral,
 }
 
-impl RenderArgs {
-    fn view(&self) -> rt_core::output::View {
+impl ViewArg {
+    pub fn with_exposure(self, exposure_stops: f32) -> rt_core::output::View {
         use rt_core::output::ViewTransform;
         rt_core::output::View {
-            transform: match self.view {
+            transform: match self {
                 ViewArg::Standard => ViewTransform::Standard,
                 ViewArg::Neutral => ViewTransform::KhronosPbrNeutral,
             },
-            exposure_stops: self.exposure,
+            exposure_stops,
         }
+    }
+}
+
+impl RenderArgs {
+    fn view(&self) -> rt_core::output::View {
+        self.view.with_exposure(self.exposure)
     }
 }
 
@@ -93,13 +102,19 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     } else if settings.adaptive_threshold.is_none() {
         settings.adaptive_threshold = args.noise_target.map(|x| x as f32);
     }
+    let range = args.shard.range(settings.samples_per_pixel)?;
+    if range.is_some() {
+        crate::shard::check_options(&args.output, open_ended, args.denoise)?;
+    }
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
 
     let ctx = GpuContext::new(&args.engine.adapter)?;
     let gpu_scene = GpuScene::build(&scene)?;
     let max_buffer = max_accumulation_bytes(&ctx);
-    let accum_bytes = u64::from(scene.settings.width) * u64::from(scene.settings.height) * 16;
+    let accum_bytes = u64::from(scene.settings.width)
+        * u64::from(scene.settings.height)
+        * rt_core::accumulation::PIXEL_SUMS_BYTES;
     if accum_bytes > max_buffer {
         if open_ended {
             anyhow::bail!(
@@ -110,12 +125,13 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
                 scene.settings.height
             );
         }
-        return render_in_tiles(&args, &scene, &ctx, &gpu_scene, max_buffer);
+        return render_in_tiles(&args, &scene, &ctx, &gpu_scene, max_buffer, range);
     }
-    let options = args.engine.render_options(args.denoise);
+    let options = shard_options(&args, range);
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
 
-    let spp = scene.settings.samples_per_pixel;
+    // A shard's own samples; the frame's otherwise.
+    let spp = range.map_or(scene.settings.samples_per_pixel, |[a, b]| b - a);
     let bar = if open_ended {
         ProgressBar::new_spinner()
     } else {
@@ -178,6 +194,10 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
             });
         if let Err(e) = step {
             bar.finish_and_clear();
+            if range.is_some() {
+                return Err(anyhow::Error::from(e)
+                    .context("the shard's render failed; no part was written (render it again)"));
+            }
             return Err(save_after_failure(&args, last_image, e.into()));
         }
         let done = renderer.samples_done();
@@ -203,7 +223,16 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let render_time = started.elapsed();
     let image = renderer.read_image()?;
     let noise = image.estimated_noise();
-    save(&args, &image)?;
+    match range {
+        Some(range) => {
+            let aovs = renderer.read_aovs()?;
+            let note = shard_note(range, &ctx, renderer.kernel());
+            let identity = PartIdentity::of(&scene, &gpu_scene);
+            let part = crate::shard::part_from(identity, range, &image, aovs.as_ref(), note);
+            crate::shard::save(&args.output, &part)?;
+        }
+        None => save(&args, &image)?,
+    }
 
     let secs = render_time.as_secs_f64().max(1e-9);
     let paths = pixels as f64 * image.mean_samples();
@@ -226,6 +255,12 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
             "adaptive:       threshold {threshold}, mean {:.1} spp, {:.1}% of pixels stopped before the last batch",
             image.mean_samples(),
             100.0 * stopped as f64 / counts.len().max(1) as f64
+        );
+    }
+    if let Some([a, b]) = range {
+        eprintln!(
+            "shard:          samples {a}..{b} of {}, saved as a part for `rt-cli merge`",
+            scene.settings.samples_per_pixel
         );
     }
     eprintln!("render time:    {render_time:.2?} (stopped by {stopped_by})");
@@ -315,6 +350,7 @@ fn render_in_tiles(
     ctx: &GpuContext,
     gpu_scene: &GpuScene,
     max_buffer: u64,
+    range: Option<[u32; 2]>,
 ) -> Result<()> {
     let settings = &scene.settings;
     let rows = rt_gpu::tile_rows(settings.width, settings.height, max_buffer);
@@ -333,10 +369,8 @@ fn render_in_tiles(
         ctx,
         gpu_scene,
         frame,
-        args.engine
-            .render_options(args.denoise)
-            .with_scene_settings(settings),
-        settings.samples_per_pixel,
+        shard_options(args, range).with_scene_settings(settings),
+        range.map_or(settings.samples_per_pixel, |[a, b]| b - a),
         Some(max_buffer),
         |fraction| {
             bar.set_position((fraction * 1000.0) as u64);
@@ -345,7 +379,15 @@ fn render_in_tiles(
     )?;
     bar.finish_and_clear();
     let render_time = started.elapsed();
-    save(args, &image)?;
+    match range {
+        Some(range) => {
+            let note = shard_note(range, ctx, args.engine.kernel());
+            let identity = PartIdentity::of(scene, gpu_scene);
+            let part = crate::shard::part_from(identity, range, &image, aovs.as_ref(), note);
+            crate::shard::save(&args.output, &part)?;
+        }
+        None => save(args, &image)?,
+    }
     let trace = ctx.resolve_trace(args.engine.trace.into(), gpu_scene);
     print_scene_summary(ctx, args.engine.kernel(), trace, gpu_scene);
     eprintln!(
@@ -362,6 +404,25 @@ fn render_in_tiles(
     }
     eprintln!("saved:          {}", args.output.display());
     Ok(())
+}
+
+/// The render options, with a shard's first sample, and the denoiser's guides a part keeps.
+fn shard_options(args: &RenderArgs, range: Option<[u32; 2]>) -> rt_gpu::RenderOptions {
+    rt_gpu::RenderOptions {
+        first_sample: range.map_or(0, |r| r[0]),
+        ..args.engine.render_options(args.denoise || range.is_some())
+    }
+}
+
+/// Where a shard's samples were rendered (kept in the part's notes).
+fn shard_note(range: [u32; 2], ctx: &GpuContext, kernel: rt_gpu::Kernel) -> String {
+    format!(
+        "samples {}..{}: {}, {} kernel",
+        range[0],
+        range[1],
+        ctx.adapter_label(),
+        kernel.name()
+    )
 }
 
 /// After the GPU failed mid-render: saves the samples last read back (if any) and returns the
@@ -418,11 +479,21 @@ fn save_denoised(
     image: &rt_gpu::Image,
     aovs: Option<&rt_gpu::Aovs>,
 ) -> Result<()> {
-    let started = Instant::now();
-    let path = denoised_path(&args.output);
     let aovs = aovs.context("the renderer did not keep albedo and normals")?;
+    save_denoised_image(&args.output, image, aovs, args.view())
+}
+
+/// Denoises `image` guided by `aovs` and saves it beside `output` (`denoised_path`).
+pub fn save_denoised_image(
+    output: &std::path::Path,
+    image: &rt_gpu::Image,
+    aovs: &rt_gpu::Aovs,
+    view: rt_core::output::View,
+) -> Result<()> {
+    let started = Instant::now();
+    let path = denoised_path(output);
     let denoised = image.denoised(aovs).map_err(anyhow::Error::msg)?;
-    rt_core::output::save_image(&path, image.width, image.height, &denoised, args.view())
+    rt_core::output::save_image(&path, image.width, image.height, &denoised, view)
         .with_context(|| format!("saving {}", path.display()))?;
     eprintln!(
         "denoised:       {} ({:.2?}; biased: a preview of the converged image, not a measurement)",

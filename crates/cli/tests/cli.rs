@@ -4,67 +4,8 @@
     reason = "test helpers fail the test on unexpected errors"
 )]
 
-use std::process::Command;
-
-fn rt_cli(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rt-cli"))
-        .args(args)
-        .output()
-        .expect("run rt-cli");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
-
-/// `rt-cli render` of the embedded Cornell box at `width` x `height` and `spp` into `out`, with
-/// `extra` arguments; returns the exit code and stderr.
-fn render_cornell(
-    width: u32,
-    height: u32,
-    spp: u32,
-    out: &std::path::Path,
-    extra: &[&str],
-) -> (i32, String) {
-    render_cornell_with_env(width, height, spp, out, extra, &[])
-}
-
-/// `render_cornell` with environment variables set for rt-cli.
-fn render_cornell_with_env(
-    width: u32,
-    height: u32,
-    spp: u32,
-    out: &std::path::Path,
-    extra: &[&str],
-    env: &[(&str, &str)],
-) -> (i32, String) {
-    let (w, h, n) = (width.to_string(), height.to_string(), spp.to_string());
-    let result = Command::new(env!("CARGO_BIN_EXE_rt-cli"))
-        .args(["render", "--width", &w, "--height", &h, "--spp", &n, "-o"])
-        .arg(out)
-        .args(extra)
-        .envs(env.iter().copied())
-        .output()
-        .expect("run rt-cli");
-    (
-        result.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&result.stderr).into(),
-    )
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("rt-cli-test-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// Whether the GPU tests here can run, under the suites' one policy (`GpuContext::for_tests`):
-/// without an adapter they fail under CI and are skipped with a message elsewhere.
-fn has_gpu() -> bool {
-    static FOUND: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *FOUND.get_or_init(|| rt_gpu::GpuContext::for_tests().is_some())
-}
+mod common;
+use common::{has_gpu, render_cornell, render_cornell_with_env, rt_cli, temp_dir};
 
 #[test]
 fn renders_the_embedded_cornell_box_to_every_format() {
@@ -538,7 +479,7 @@ fn tiled_renders_honour_every_flag() {
             (out, stderr)
         };
         let (whole, whole_log) = render("whole", &[]);
-        let seven_rows = (24 * 16 * 7).to_string();
+        let seven_rows = (24 * 64 * 7).to_string();
         let (tiled, tiled_log) = render("tiled", &[("RT_MAX_ACCUMULATION_BYTES", &seven_rows)]);
         assert!(!whole_log.contains("tiles of"), "{whole_log}");
         assert!(tiled_log.contains("3 tiles of 7 rows"), "{tiled_log}");

@@ -81,7 +81,7 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
             (true, false) => 1.0,
             (true, true) => 0.5,
         },
-        _pad_c: 0,
+        sample_offset: 0,
         _pad_d: 0,
         _pad_e: 0,
     })

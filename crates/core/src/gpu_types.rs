@@ -225,7 +225,9 @@ pub struct Frame {
     pub env_rotation: f32, // 156
     /// Probability that next-event estimation samples the environment rather than an emitter.
     pub env_pick: f32, // 160
-    pub _pad_c: u32,          // 164
+    /// The render's first sample index: a shard of a larger render starts past zero (the random
+    /// numbers of sample k are those of sample `sample_offset + k` of the whole image).
+    pub sample_offset: u32, // 164
     pub _pad_d: u32,          // 168
     pub _pad_e: u32,          // 172
 }
@@ -418,7 +420,7 @@ pub fn layouts() -> Vec<StructLayout> {
                 env_height,
                 env_rotation,
                 env_pick,
-                _pad_c,
+                sample_offset,
                 _pad_d,
                 _pad_e
             ]

@@ -1,6 +1,7 @@
 //! rt's core: the scene model, loaders, BVH construction, the GPU data layout, and a CPU reference
 //! of the kernel's estimator. Nothing here depends on wgpu.
 
+pub mod accumulation;
 pub mod assets;
 pub mod bvh;
 pub mod camera;
@@ -17,6 +18,7 @@ pub mod material;
 pub mod math;
 pub mod metrics;
 pub mod output;
+pub mod part;
 pub mod reference;
 pub mod scene;
 pub mod shapes;

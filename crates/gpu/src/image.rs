@@ -1,9 +1,11 @@
 //! What a render reads back: the image (per-pixel means) and the denoiser's guides, and the one
 //! place they are denoised (the CLI, `converge` and the editor all call `Image::denoised`).
 
+use rt_core::accumulation::PixelSums;
 use rt_core::output::SampleCounts;
 
-/// A rendered image: per pixel, the mean radiance (rgb) and mean squared luminance (a).
+/// A rendered image: per pixel, the mean radiance (rgb) and mean squared luminance (a), and the
+/// exact sums they are the means of (what a render shard keeps for `rt-cli merge`).
 #[derive(Clone, Debug)]
 pub struct Image {
     pub width: u32,
@@ -13,6 +15,7 @@ pub struct Image {
     /// With adaptive sampling, each pixel's own count (at most `samples_per_pixel`).
     pub sample_counts: Option<Vec<u32>>,
     pub pixels: Vec<[f32; 4]>,
+    pub sums: Vec<PixelSums>,
 }
 
 impl Image {

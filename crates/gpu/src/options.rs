@@ -101,6 +101,10 @@ pub struct RenderOptions {
     /// default, for renderers that share a device with others (the tests): a CI run of the suite
     /// with it on stalled inside lavapipe. `rt-cli render` and `converge` turn it on.
     pub rebuild_on_cpu: bool,
+    /// The index of the render's first sample: a shard of a larger render (`rt-cli render
+    /// --shard`) takes samples `first_sample..first_sample + spp` of the whole image's, with the
+    /// same random numbers a one-machine render gives them.
+    pub first_sample: u32,
     pub experiments: Experiments,
 }
 
@@ -116,6 +120,7 @@ impl Default for RenderOptions {
             adaptive: None,
             clamp: None,
             rebuild_on_cpu: false,
+            first_sample: 0,
             experiments: Experiments::default(),
         }
     }

@@ -4,6 +4,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use rt_core::accumulation::{self, PIXEL_SUMS_BYTES, PixelSums};
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
 use wgpu::util::DeviceExt;
@@ -121,8 +122,8 @@ impl<'a> Renderer<'a> {
             )));
         }
         let pixels = u64::from(frame.width) * u64::from(frame.tile_row_end - frame.tile_row_begin);
-        let accum_size = pixels * 16;
-        ctx.check_buffer("accumulation (width x height x 16 bytes)", accum_size)?;
+        let accum_size = pixels * PIXEL_SUMS_BYTES;
+        ctx.check_buffer("accumulation (width x height x 64 bytes)", accum_size)?;
         // Albedo and normal, or a placeholder the kernel never touches.
         let aov_size = if options.aovs { pixels * 48 } else { 48 };
         ctx.check_buffer(
@@ -521,8 +522,14 @@ impl<'a> Renderer<'a> {
         self.read_counters()?;
         let (ctx, accum) = (self.ctx, &self.accum);
         let (width, rows) = (self.frame.width, tile_rows(&self.frame));
-        self.adaptive.update(ctx, self.samples_done, || {
-            read_accumulation(ctx, accum, width, rows)
+        let samples_done = self.samples_done;
+        self.adaptive.update(ctx, samples_done, || {
+            // Only pixels still sampling are judged, and they all hold `samples_done` samples.
+            let sums = read_accumulation(ctx, accum, width, rows)?;
+            Ok(sums
+                .iter()
+                .map(|s| accumulation::pixel_mean(s, samples_done))
+                .collect())
         })?;
         if first_after_build && self.samples_done > samples {
             // A rebuild's first batch: not a measure of the kernel's speed or dispatch length.
@@ -587,6 +594,7 @@ impl<'a> Renderer<'a> {
         self.ctx.alive()?;
         let frame = Frame {
             sample_base: self.samples_done,
+            sample_offset: self.options.first_sample,
             samples_this_dispatch: samples,
             ..self.frame
         };
@@ -694,23 +702,57 @@ impl<'a> Renderer<'a> {
     /// batch failed part-way, its finished rows hold one batch more than `samples_per_pixel` says
     /// until the next batch completes it (keep the last image read before the failure to save).
     pub fn read_image(&self) -> Result<Image> {
-        let pixels = self.read_accumulation()?;
-        let pixels = if self.samples_done == 0 {
-            vec![[0.0; 4]; pixels.len()]
+        let sums = if self.samples_done == 0 && self.unfinished.is_none() {
+            vec![PixelSums::default(); tile_pixels(&self.frame)]
         } else {
-            pixels
+            self.read_accumulation()?
         };
-        let sample_counts = self.adaptive.counts(self.samples_done);
+        let sample_counts = self.sample_counts();
+        let pixels = match &sample_counts {
+            Some(counts) => sums
+                .iter()
+                .zip(counts)
+                .map(|(s, &n)| accumulation::pixel_mean(s, n))
+                .collect(),
+            None => sums
+                .iter()
+                .map(|s| accumulation::pixel_mean(s, self.samples_done))
+                .collect(),
+        };
         Ok(Image {
             width: self.frame.width,
-            height: self.frame.tile_row_end - self.frame.tile_row_begin,
+            height: tile_rows(&self.frame),
             samples_per_pixel: self.samples_done,
             sample_counts,
             pixels,
+            sums,
         })
     }
 
-    fn read_accumulation(&self) -> Result<Vec<[f32; 4]>> {
+    /// Each pixel's count where they differ: with adaptive sampling, or after a batch failed
+    /// part-way (the pixels it reached hold its samples too).
+    fn sample_counts(&self) -> Option<Vec<u32>> {
+        let counts = self.adaptive.counts(self.samples_done);
+        let Some((at, extra)) = self.unfinished else {
+            return counts;
+        };
+        let mut counts =
+            counts.unwrap_or_else(|| vec![self.samples_done; tile_pixels(&self.frame)]);
+        if self.compacts() {
+            for &slot in &self.adaptive.active()[..at as usize] {
+                counts[slot as usize] += extra;
+            }
+        } else {
+            let width = self.frame.width as usize;
+            let reached = (at - self.frame.tile_row_begin) as usize * width;
+            for c in &mut counts[..reached] {
+                *c += extra;
+            }
+        }
+        Some(counts)
+    }
+
+    fn read_accumulation(&self) -> Result<Vec<PixelSums>> {
         read_accumulation(
             self.ctx,
             &self.accum,
@@ -724,15 +766,23 @@ fn tile_rows(frame: &Frame) -> u32 {
     frame.tile_row_end - frame.tile_row_begin
 }
 
-/// The accumulation buffer as it is: per pixel of the tile, mean radiance and mean squared
-/// luminance.
+fn tile_pixels(frame: &Frame) -> usize {
+    frame.width as usize * tile_rows(frame) as usize
+}
+
+/// The accumulation buffer as it is: per pixel of the tile, the exact sums of radiance and squared
+/// luminance (`rt_core::accumulation`).
 fn read_accumulation(
     ctx: &GpuContext,
     accum: &wgpu::Buffer,
     width: u32,
     rows: u32,
-) -> Result<Vec<[f32; 4]>> {
-    let bytes = read_buffer(ctx, accum, u64::from(width) * u64::from(rows) * 16)?;
+) -> Result<Vec<PixelSums>> {
+    let bytes = read_buffer(
+        ctx,
+        accum,
+        u64::from(width) * u64::from(rows) * PIXEL_SUMS_BYTES,
+    )?;
     Ok(bytemuck::pod_collect_to_vec(&bytes))
 }
 

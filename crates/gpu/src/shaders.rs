@@ -23,6 +23,7 @@ pub const FILES: &[(&str, &str)] = &[
     shader_file!("shared/ray_query.wgsl"),
     shader_file!("shared/scene_bindings.wgsl"),
     shader_file!("shared/path.wgsl"),
+    shader_file!("shared/accumulate.wgsl"),
     shader_file!("trace.wgsl"),
     shader_file!("wavefront.wgsl"),
     shader_file!("trace_rays.wgsl"),
@@ -54,6 +55,7 @@ macro_rules! tracing_module {
                 "shared/bsdf.wgsl",
                 "shared/environment.wgsl",
                 "shared/path.wgsl",
+                "shared/accumulate.wgsl",
                 $entry,
             ],
         }

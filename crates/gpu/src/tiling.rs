@@ -1,6 +1,7 @@
 //! Images larger than one accumulation buffer, rendered in bands of rows one after another.
 
 use rt_core::GpuScene;
+use rt_core::accumulation::{PIXEL_SUMS_BYTES, PixelSums};
 use rt_core::gpu_types::Frame;
 
 use crate::context::GpuContext;
@@ -9,9 +10,10 @@ use crate::image::{Aovs, Image};
 use crate::options::RenderOptions;
 use crate::renderer::Renderer;
 
-/// Rows per tile so that a tile's accumulation buffer (16 bytes per pixel) fits in `max_bytes`.
+/// Rows per tile so that a tile's accumulation buffer (`PIXEL_SUMS_BYTES` per pixel) fits in
+/// `max_bytes`.
 pub fn tile_rows(width: u32, height: u32, max_bytes: u64) -> u32 {
-    let row_bytes = u64::from(width.max(1)) * 16;
+    let row_bytes = u64::from(width.max(1)) * PIXEL_SUMS_BYTES;
     ((max_bytes / row_bytes).max(1) as u32).min(height.max(1))
 }
 
@@ -47,6 +49,7 @@ pub fn render_tiled(
     let rows_per_tile = tile_rows(frame.width, frame.height, max_bytes);
     let pixel_count = frame.width as usize * frame.height as usize;
     let mut pixels = vec![[0.0f32; 4]; pixel_count];
+    let mut sums = vec![PixelSums::default(); pixel_count];
     let mut counts = options.adaptive.map(|_| vec![0u32; pixel_count]);
     let mut aovs = options.aovs.then(|| Aovs {
         albedo: vec![[0.0; 3]; pixel_count],
@@ -89,6 +92,7 @@ pub fn render_tiled(
         let start = begin as usize * frame.width as usize;
         let range = start..start + tile.pixels.len();
         pixels[range.clone()].copy_from_slice(&tile.pixels);
+        sums[range.clone()].copy_from_slice(&tile.sums);
         if let (Some(all), Some(tile)) = (counts.as_mut(), &tile.sample_counts) {
             all[range.clone()].copy_from_slice(tile);
         }
@@ -106,6 +110,7 @@ pub fn render_tiled(
             samples_per_pixel: done_samples,
             sample_counts: counts,
             pixels,
+            sums,
         },
         aovs,
     })

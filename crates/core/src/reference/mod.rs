@@ -45,7 +45,8 @@ pub struct ReferenceImage {
     pub variance: Vec<[f32; 3]>,
 }
 
-/// Renders samples `0..spp` of every pixel (needs `spp >= 2` for a variance).
+/// Renders samples `frame.sample_offset..frame.sample_offset + spp` of every pixel (needs
+/// `spp >= 2` for a variance).
 pub fn render(scene: &GpuScene, frame: &Frame, spp: u32) -> ReferenceImage {
     let n = (frame.width * frame.height) as usize;
     let mut mean = vec![[0.0f32; 3]; n];
@@ -55,7 +56,7 @@ pub fn render(scene: &GpuScene, frame: &Frame, spp: u32) -> ReferenceImage {
             let i = (y * frame.width + x) as usize;
             let (mut sum, mut sum_sq) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
             for s in 0..spp {
-                let l = radiance(scene, frame, x, y, s).as_dvec3();
+                let l = radiance(scene, frame, x, y, frame.sample_offset + s).as_dvec3();
                 sum += l;
                 sum_sq += l * l;
             }

@@ -1,0 +1,77 @@
+// Exact per-pixel sums of samples (crates/core/src/accumulation.rs is the CPU twin and documents
+// the format): per pixel, red, green, blue and squared luminance, each a 128-bit two's-complement
+// fixed-point number with 64 fraction bits in a vec4<u32>, least significant word first. Integer
+// addition is associative, so a pixel's sums are the same bit for bit however its samples were
+// batched, tiled or split across machines and merged (`rt-cli merge`).
+
+// Per pixel of the tile: [4i] red, [4i + 1] green, [4i + 2] blue, [4i + 3] squared luminance.
+@group(0) @binding(6) var<storage, read_write> accum: array<vec4<u32>>;
+
+// A channel at or above 2^44 drops the sample (as NaN and Inf do); squared luminance is clamped
+// at 2^50 so a firefly cannot overflow its sum (accumulation.rs `MAX_SAMPLE`, `MAX_SQUARED`).
+const MAX_SAMPLE: f32 = 0x1p44f;
+const MAX_SQUARED: f32 = 0x1p50f;
+
+struct PixelSums {
+    r: vec4<u32>,
+    g: vec4<u32>,
+    b: vec4<u32>,
+    squared: vec4<u32>,
+}
+
+// `v` in the fixed-point format. Every step is exact in f32 (products by powers of two, floors,
+// and differences that keep only the low bits of `v`), so any GPU gets the same words.
+fn to_fixed(v: f32) -> vec4<u32> {
+    let a = abs(v);
+    let w3 = floor(a * 0x1p-32f);
+    var r = a - w3 * 0x1p32f;
+    let w2 = floor(r);
+    r = (r - w2) * 0x1p32f;
+    let w1 = floor(r);
+    let w0 = floor((r - w1) * 0x1p32f);
+    let m = vec4(u32(w0), u32(w1), u32(w2), u32(w3));
+    return select(m, fixed_negate(m), v < 0.0);
+}
+
+fn fixed_add(a: vec4<u32>, b: vec4<u32>) -> vec4<u32> {
+    let x = a.x + b.x;
+    var carry = select(0u, 1u, x < a.x);
+    let y = a.y + b.y + carry;
+    carry = select(0u, 1u, y < a.y || (carry == 1u && y == a.y));
+    let z = a.z + b.z + carry;
+    carry = select(0u, 1u, z < a.z || (carry == 1u && z == a.z));
+    let w = a.w + b.w + carry;
+    return vec4(x, y, z, w);
+}
+
+fn fixed_negate(m: vec4<u32>) -> vec4<u32> {
+    return fixed_add(~m, vec4(1u, 0u, 0u, 0u));
+}
+
+// Whether a sample counts: finite and below MAX_SAMPLE (a dropped one adds nothing but its count).
+fn sample_is_kept(l: vec3<f32>) -> bool {
+    return is_finite3(l) && all(abs(l) < vec3(MAX_SAMPLE));
+}
+
+fn add_sample(sums: ptr<function, PixelSums>, l: vec3<f32>) {
+    let lum = luminance(l);
+    (*sums).r = fixed_add((*sums).r, to_fixed(l.x));
+    (*sums).g = fixed_add((*sums).g, to_fixed(l.y));
+    (*sums).b = fixed_add((*sums).b, to_fixed(l.z));
+    (*sums).squared = fixed_add((*sums).squared, to_fixed(min(lum * lum, MAX_SQUARED)));
+}
+
+// The pixel's sums so far (zero when this render's first batch starts).
+fn load_pixel_sums(slot: u32) -> PixelSums {
+    if (frame.sample_base == 0u) {
+        return PixelSums(vec4(0u), vec4(0u), vec4(0u), vec4(0u));
+    }
+    return PixelSums(accum[4u * slot], accum[4u * slot + 1u], accum[4u * slot + 2u], accum[4u * slot + 3u]);
+}
+
+fn store_pixel_sums(slot: u32, sums: PixelSums) {
+    accum[4u * slot] = sums.r;
+    accum[4u * slot + 1u] = sums.g;
+    accum[4u * slot + 2u] = sums.b;
+    accum[4u * slot + 3u] = sums.squared;
+}
