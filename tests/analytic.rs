@@ -243,7 +243,7 @@ fn too_large_an_image_is_a_clear_error() {
     };
     let message = err.to_string();
     assert!(
-        message.contains("accumulation") && message.contains("4294967296"),
+        message.contains("accumulation") && message.contains("17179869184"),
         "{message}"
     );
 }

@@ -193,9 +193,13 @@ impl RtApp {
                 scene.settings.max_depth = recommended_max_depth(&scene);
                 self.replace_document(Document::new(scene, Origin::Obj(path.into())));
             }
+            "exr" => {
+                let (image, aovs, what) = read_rendered_exr(path)?;
+                self.add_render_view(RenderJob::finished(image, aovs, Some(what)));
+            }
             _ => anyhow::bail!(
                 "unknown file type: rt opens Wavefront .obj, glTF .gltf/.glb, .{PROJECT_EXTENSION} \
-                 projects and .{LIGHTING_EXTENSION} lighting files"
+                 projects, .{LIGHTING_EXTENSION} lighting files and .exr renders (into the viewer)"
             ),
         }
         Ok(())
@@ -481,8 +485,6 @@ impl RtApp {
             self.show_error(format!("Cannot render: {e}"));
             return None;
         }
-        let id = self.next_render_id;
-        self.next_render_id += 1;
         let job = RenderJob::start(
             self.device.clone(),
             self.doc.scene.clone(),
@@ -493,6 +495,13 @@ impl RtApp {
             },
             self.waker(),
         );
+        Some(self.add_render_view(job))
+    }
+
+    /// Opens a viewer window on `job`; returns its id.
+    fn add_render_view(&mut self, job: RenderJob) -> u64 {
+        let id = self.next_render_id;
+        self.next_render_id += 1;
         self.renders.push(RenderView {
             id,
             job,
@@ -505,7 +514,7 @@ impl RtApp {
             show_denoised: false,
             denoised: None,
         });
-        Some(id)
+        id
     }
 
     pub fn cancel_renders(&mut self) {
@@ -628,5 +637,32 @@ pub fn light_with_the_default_environment(scene: &mut Scene) {
     match rt_core::assets::default_environment() {
         Ok(env) => scene.environment = Some(env),
         Err(e) => log::warn!("the built-in environment did not load: {e}"),
+    }
+}
+
+/// An EXR for the viewer: a part or merged frame (`rt-cli render --shard`, `rt-cli merge`) with its
+/// counts and denoiser guides, or any other EXR as plain colour; and what it is, for the window.
+fn read_rendered_exr(path: &Path) -> anyhow::Result<(rt_gpu::Image, Option<rt_gpu::Aovs>, String)> {
+    match rt_core::part::read_part(path) {
+        Ok(part) => {
+            let (image, aovs) = rt_gpu::Image::from_part(&part);
+            let h = &part.header;
+            let what = format!(
+                "{} of {} samples from {}",
+                rt_core::part::format_ranges(&h.sample_ranges),
+                h.total_spp,
+                path.display()
+            );
+            Ok((image, aovs, what))
+        }
+        Err(part_error) => {
+            let plain = image::open(path)
+                .map_err(|e| anyhow::anyhow!("{e} (and as a render part: {part_error})"))?;
+            let rgb = plain.into_rgb32f();
+            let (width, height) = rgb.dimensions();
+            let pixels: Vec<[f32; 3]> = rgb.pixels().map(|p| p.0).collect();
+            let what = format!("{} (colour only)", path.display());
+            Ok((rt_gpu::Image::from_rgb(width, height, &pixels), None, what))
+        }
     }
 }

@@ -178,6 +178,33 @@ impl RenderJob {
         }
     }
 
+    /// A finished job holding an image rendered elsewhere (a merged EXR opened in the viewer).
+    pub fn finished(image: Image, aovs: Option<rt_gpu::Aovs>, adapter: Option<String>) -> Self {
+        let (_, events) = channel();
+        let mut scene = Scene::default();
+        scene.settings.width = image.width;
+        scene.settings.height = image.height;
+        scene.settings.samples_per_pixel = image.samples_per_pixel;
+        RenderJob {
+            progress: Progress {
+                samples_done: image.samples_per_pixel,
+                samples_total: image.samples_per_pixel,
+                elapsed: Duration::ZERO,
+                noise: Some(image.estimated_noise()),
+            },
+            scene,
+            state: JobState::Finished,
+            image: Some(image),
+            image_revision: 1,
+            adapter,
+            gpu_scene: None,
+            aovs,
+            cancel: Arc::new(AtomicBool::new(false)),
+            events,
+            thread: None,
+        }
+    }
+
     pub fn is_running(&self) -> bool {
         self.state == JobState::Running
     }

@@ -490,3 +490,73 @@ fn a_bare_model_is_lit_by_the_default_environment() {
         "a scene with emitters keeps its own light"
     );
 }
+
+/// A merged frame from the cluster (`rt-cli merge -o frame.exr`) opens in a viewer window with its
+/// samples and guides, so it can be denoised, tone-mapped and saved there; a plain EXR opens as
+/// colour.
+#[test]
+fn a_merged_exr_opens_in_the_viewer() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    let dir = std::env::temp_dir().join(format!("rt-editor-exr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (width, height) = (6u32, 4u32);
+    let size = (width * height) as usize;
+    let mut sums = vec![rt_core::accumulation::PixelSums::default(); size];
+    for (i, s) in sums.iter_mut().enumerate() {
+        for _ in 0..4 {
+            rt_core::accumulation::add_sample(s, [i as f32 / 24.0, 0.25, 0.5]);
+        }
+    }
+    let part = rt_core::part::Part {
+        header: rt_core::part::PartHeader {
+            format_version: rt_core::part::PART_FORMAT_VERSION,
+            rt_version: "test".into(),
+            scene_hash: "s".into(),
+            assets_hash: "a".into(),
+            settings_hash: "x".into(),
+            width,
+            height,
+            total_spp: 4,
+            sample_ranges: vec![[0, 4]],
+            notes: vec![],
+        },
+        counts: vec![4; size],
+        sums,
+        guides: rt_core::part::Guides {
+            albedo: vec![[0.5; 3]; size],
+            normal: vec![[0.0, 0.0, 1.0]; size],
+            emission: vec![[0.0; 3]; size],
+        },
+    };
+    let merged = dir.join("frame.exr");
+    rt_core::part::save_part(&merged, &part).unwrap();
+    let plain = dir.join("plain.exr");
+    rt_core::output::save_image(&plain, width, height, &vec![[0.25; 3]; size], 0.0).unwrap();
+    let scene_before = harness.state().doc.scene.clone();
+    assert!(harness.state_mut().open_path(&merged));
+    assert!(harness.state_mut().open_path(&plain));
+    harness.run_ok();
+    let app = harness.state();
+    assert_eq!(
+        app.doc.scene, scene_before,
+        "opening an image keeps the scene"
+    );
+    assert_eq!(app.renders.len(), 2);
+    let image = app.renders[0].job.image.as_ref().unwrap();
+    assert_eq!(
+        (image.width, image.height, image.samples_per_pixel),
+        (6, 4, 4)
+    );
+    assert_eq!(image.pixels, part.pixels());
+    assert!(app.renders[0].job.aovs.is_some(), "the guides came along");
+    assert_eq!(JobState::Finished, app.renders[0].job.state);
+    let colour = app.renders[1].job.image.as_ref().unwrap();
+    assert_eq!(colour.pixels[0][1], 0.25);
+    assert!(app.renders[1].job.aovs.is_none());
+    harness.get_by_label_contains("Render 1").hover();
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -35,11 +35,13 @@ pub struct MergeArgs {
 
 pub fn run(args: MergeArgs) -> Result<()> {
     let format = ImageFormat::from_path(&args.output)?;
-    let mut parts = Vec::with_capacity(args.parts.len());
-    for path in &args.parts {
-        parts.push((path.clone(), rt_core::part::read_part(path)?));
+    // One part in memory at a time besides the total.
+    let (first, rest) = args.parts.split_first().context("no parts to merge")?;
+    let mut merger = rt_core::part::Merger::new(first, rt_core::part::read_part(first)?);
+    for path in rest {
+        merger.add(path, &rt_core::part::read_part(path)?)?;
     }
-    let merged = rt_core::part::merge(&parts, args.allow_partial)?;
+    let merged = merger.finish(args.allow_partial)?;
     let view = args.view.with_exposure(args.exposure);
     let (width, height) = (merged.header.width, merged.header.height);
     if format == ImageFormat::Exr {
@@ -59,7 +61,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
     let h = &merged.header;
     eprintln!(
         "merged:         {} parts, samples {} of {} ({}), {}x{}",
-        parts.len(),
+        args.parts.len(),
         rt_core::part::format_ranges(&h.sample_ranges),
         h.total_spp,
         if merged.is_complete() {
@@ -71,22 +73,8 @@ pub fn run(args: MergeArgs) -> Result<()> {
         height
     );
     if args.denoise {
-        let image = rt_gpu::Image {
-            width,
-            height,
-            samples_per_pixel: merged.counts.iter().copied().max().unwrap_or(0),
-            sample_counts: Some(merged.counts.clone()),
-            pixels: merged.pixels(),
-            sums: merged.sums.clone(),
-        };
-        if merged.guides.albedo.len() != merged.counts.len() {
-            anyhow::bail!("the parts carry no albedo and normals to guide the denoiser");
-        }
-        let aovs = rt_gpu::Aovs {
-            albedo: merged.guides.albedo.clone(),
-            normal: merged.guides.normal.clone(),
-            emission: merged.guides.emission.clone(),
-        };
+        let (image, aovs) = rt_gpu::Image::from_part(&merged);
+        let aovs = aovs.context("the parts carry no albedo and normals to guide the denoiser")?;
         crate::render::save_denoised_image(&args.output, &image, &aovs, view)?;
     }
     eprintln!("saved:          {}", args.output.display());

@@ -300,7 +300,13 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
         .file_name()
         .and_then(|n| n.to_str())
         .unwrap_or("output");
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    // The host as well as the process: render tasks on several machines may write one shared
+    // directory (a retried or duplicated shard), and must neither share nor remove each other's.
+    let tmp = dir.join(format!(
+        ".{name}.{}-{}.tmp",
+        host_name(),
+        std::process::id()
+    ));
     remove_stale_temporaries(dir, name);
     let result = (|| {
         let mut file = std::fs::File::create(&tmp).map_err(io_err(&tmp))?;
@@ -316,6 +322,30 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
 
 /// Removes `.NAME.PID.tmp` files that a killed save left behind: those of processes that no longer
 /// run (on Linux, by `/proc`; elsewhere, those older than a day). Best effort: errors are ignored.
+/// This machine's name as atomic saves put it in their temporary files' names.
+pub fn host_name() -> String {
+    let name = std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .ok()
+        .or_else(|| std::env::var("HOSTNAME").ok())
+        .unwrap_or_default();
+    let clean: String = name
+        .trim()
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if clean.is_empty() {
+        "host".into()
+    } else {
+        clean
+    }
+}
+
 fn remove_stale_temporaries(dir: &Path, name: &str) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
@@ -323,18 +353,21 @@ fn remove_stale_temporaries(dir: &Path, name: &str) {
     let prefix = format!(".{name}.");
     for entry in entries.flatten() {
         let file_name = entry.file_name();
-        let Some(pid) = file_name
+        let Some((host, pid)) = file_name
             .to_str()
             .and_then(|n| n.strip_prefix(&prefix))
             .and_then(|rest| rest.strip_suffix(".tmp"))
-            .and_then(|pid| pid.parse::<u32>().ok())
+            .and_then(|rest| rest.rsplit_once('-'))
+            .and_then(|(host, pid)| Some((host.to_string(), pid.parse::<u32>().ok()?)))
         else {
             continue;
         };
-        if pid == std::process::id() {
+        let here = host == host_name();
+        if here && pid == std::process::id() {
             continue;
         }
-        let stale = if cfg!(target_os = "linux") {
+        // Another machine's processes are not in this one's /proc: only age tells of those.
+        let stale = if here && cfg!(target_os = "linux") {
             !Path::new(&format!("/proc/{pid}")).exists()
         } else {
             entry

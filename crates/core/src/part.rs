@@ -402,17 +402,99 @@ fn coalesce(mut ranges: Vec<[u32; 2]>) -> Vec<[u32; 2]> {
     out
 }
 
-/// Merges parts (each with the file it came from, for messages): refuses parts that disagree on
-/// any checked header field (naming it and the files), overlapping sample ranges, and (unless
-/// `allow_partial`) a union that is not every sample of the frame. The result is itself a part.
+/// Merges parts (each with the file it came from, for messages): see `Merger`.
 pub fn merge(parts: &[(PathBuf, Part)], allow_partial: bool) -> Result<Part> {
-    let err = |m: String| Error::Scene(m);
-    let Some((first_path, first)) = parts.first() else {
-        return Err(err("no parts to merge".into()));
+    let mut parts = parts.iter();
+    let Some((path, first)) = parts.next() else {
+        return Err(Error::Scene("no parts to merge".into()));
     };
-    let f = &first.header;
-    for (path, part) in &parts[1..] {
-        let h = &part.header;
+    let mut merger = Merger::new(path, first.clone());
+    for (path, part) in parts {
+        merger.add(path, part)?;
+    }
+    merger.finish(allow_partial)
+}
+
+/// Adds parts one at a time, so a merge holds one part besides the running total however many
+/// there are (100 parts of a 4K frame would not fit in memory at once). Refuses a part that
+/// disagrees with the first on any checked header field (naming it and both files) or whose
+/// sample ranges overlap one already added; `finish` refuses (unless `allow_partial`) a union
+/// that is not every sample of the frame. The result is itself a part.
+pub struct Merger {
+    first_path: PathBuf,
+    total: Part,
+    /// Every range added, with its file, to name both parts of an overlap.
+    ranges: Vec<([u32; 2], PathBuf)>,
+    /// Sample-weighted sums of the guides (`None` once a part has none).
+    guide_sums: Option<[Vec<[f32; 3]>; 3]>,
+}
+
+impl Merger {
+    pub fn new(path: &Path, first: Part) -> Self {
+        let guide_sums = weighted_guides(&first);
+        let ranges = first
+            .header
+            .sample_ranges
+            .iter()
+            .map(|r| (*r, path.to_path_buf()))
+            .collect();
+        Merger {
+            first_path: path.into(),
+            total: first,
+            ranges,
+            guide_sums,
+        }
+    }
+
+    pub fn add(&mut self, path: &Path, part: &Part) -> Result<()> {
+        self.check_header(path, &part.header)?;
+        for r in &part.header.sample_ranges {
+            if let Some((other, other_path)) =
+                self.ranges.iter().find(|(o, _)| r[0] < o[1] && o[0] < r[1])
+            {
+                return Err(Error::Scene(format!(
+                    "{} (samples {}..{}) and {} (samples {}..{}) overlap: a sample would count twice",
+                    other_path.display(),
+                    other[0],
+                    other[1],
+                    path.display(),
+                    r[0],
+                    r[1]
+                )));
+            }
+        }
+        self.ranges.extend(
+            part.header
+                .sample_ranges
+                .iter()
+                .map(|r| (*r, path.to_path_buf())),
+        );
+        for (c, &n) in self.total.counts.iter_mut().zip(&part.counts) {
+            *c += n;
+        }
+        for (s, p) in self.total.sums.iter_mut().zip(&part.sums) {
+            *s = accumulation::add_pixels(s, p);
+        }
+        match (self.guide_sums.as_mut(), weighted_guides(part)) {
+            (Some(sums), Some(more)) => {
+                for (plane, add) in sums.iter_mut().zip(more) {
+                    for (a, b) in plane.iter_mut().zip(add) {
+                        *a = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+                    }
+                }
+            }
+            _ => self.guide_sums = None,
+        }
+        for note in &part.header.notes {
+            if !self.total.header.notes.contains(note) {
+                self.total.header.notes.push(note.clone());
+            }
+        }
+        Ok(())
+    }
+
+    fn check_header(&self, path: &Path, h: &PartHeader) -> Result<()> {
+        let f = &self.total.header;
         let fields: [(&str, String, String); 8] = [
             (
                 "format_version",
@@ -442,105 +524,66 @@ pub fn merge(parts: &[(PathBuf, Part)], allow_partial: bool) -> Result<Part> {
                     "settings_hash" => " (another seed, camera, size, depth or estimator)",
                     _ => "",
                 };
-                return Err(err(format!(
+                return Err(Error::Scene(format!(
                     "{} and {} do not belong to one render: their {name} differs{why}: {a} vs {b}",
-                    first_path.display(),
+                    self.first_path.display(),
                     path.display()
                 )));
             }
         }
+        Ok(())
     }
-    // Every range with its file, to name both parts of an overlap.
-    let mut ranges: Vec<([u32; 2], &Path)> = parts
-        .iter()
-        .flat_map(|(p, part)| {
-            part.header
-                .sample_ranges
-                .iter()
-                .map(move |r| (*r, p.as_path()))
-        })
-        .collect();
-    ranges.sort_by_key(|(r, _)| *r);
-    for pair in ranges.windows(2) {
-        let ((a, pa), (b, pb)) = (pair[0], pair[1]);
-        if b[0] < a[1] {
-            return Err(err(format!(
-                "{} (samples {}..{}) and {} (samples {}..{}) overlap: a sample would count twice",
-                pa.display(),
-                a[0],
-                a[1],
-                pb.display(),
-                b[0],
-                b[1]
+
+    /// The merged part.
+    pub fn finish(self, allow_partial: bool) -> Result<Part> {
+        let total_spp = self.total.header.total_spp;
+        let union = coalesce(self.ranges.iter().map(|(r, _)| *r).collect());
+        if !allow_partial && union != [[0, total_spp]] {
+            let missing = missing_ranges(&union, total_spp);
+            return Err(Error::Scene(format!(
+                "the parts hold samples {} of the frame's 0..{total_spp}: missing {} (pass \
+                 --allow-partial to merge them anyway)",
+                format_ranges(&union),
+                format_ranges(&missing)
             )));
         }
+        let mut total = self.total;
+        total.header.sample_ranges = union;
+        total.guides = match self.guide_sums {
+            Some([albedo, normal, emission]) => {
+                let mean = |plane: Vec<[f32; 3]>| -> Vec<[f32; 3]> {
+                    plane
+                        .into_iter()
+                        .zip(&total.counts)
+                        .map(|(v, &n)| v.map(|x| x / (n.max(1) as f32)))
+                        .collect()
+                };
+                Guides {
+                    albedo: mean(albedo),
+                    normal: mean(normal),
+                    emission: mean(emission),
+                }
+            }
+            None => Guides::default(),
+        };
+        Ok(total)
     }
-    let union = coalesce(ranges.iter().map(|(r, _)| *r).collect());
-    if !allow_partial && union != [[0, f.total_spp]] {
-        let missing = missing_ranges(&union, f.total_spp);
-        return Err(err(format!(
-            "the parts hold samples {} of the frame's 0..{}: missing {} (pass --allow-partial to \
-             merge them anyway)",
-            format_ranges(&union),
-            f.total_spp,
-            format_ranges(&missing)
-        )));
-    }
-    let size = first.counts.len();
-    let mut counts = vec![0u32; size];
-    let mut sums = vec![PixelSums::default(); size];
-    for (_, part) in parts {
-        for (c, &n) in counts.iter_mut().zip(&part.counts) {
-            *c += n;
-        }
-        for (s, p) in sums.iter_mut().zip(&part.sums) {
-            *s = accumulation::add_pixels(s, p);
-        }
-    }
-    let guides = merge_guides(parts, &counts);
-    let mut notes: Vec<String> = parts
-        .iter()
-        .flat_map(|(_, p)| p.header.notes.clone())
-        .collect();
-    notes.dedup();
-    Ok(Part {
-        header: PartHeader {
-            sample_ranges: union,
-            notes,
-            ..f.clone()
-        },
-        counts,
-        sums,
-        guides,
-    })
 }
 
-/// Sample-weighted means of the guides (empty when a part has none).
-fn merge_guides(parts: &[(PathBuf, Part)], counts: &[u32]) -> Guides {
-    let size = counts.len();
-    if parts.iter().any(|(_, p)| p.guides.albedo.len() != size) {
-        return Guides::default();
+/// A part's guides times each pixel's count (the guides merge as sample-weighted means).
+fn weighted_guides(part: &Part) -> Option<[Vec<[f32; 3]>; 3]> {
+    let size = part.counts.len();
+    let planes = part.guides.planes();
+    if planes.iter().any(|p| p.len() != size) {
+        return None;
     }
-    let merge_one = |pick: fn(&Guides) -> &Vec<[f32; 3]>| -> Vec<[f32; 3]> {
-        (0..size)
-            .map(|i| {
-                let mut acc = [0.0f64; 3];
-                for (_, p) in parts {
-                    let w = f64::from(p.counts[i]);
-                    for (k, a) in acc.iter_mut().enumerate() {
-                        *a += w * f64::from(pick(&p.guides)[i][k]);
-                    }
-                }
-                let n = f64::from(counts[i]).max(1.0);
-                acc.map(|a| (a / n) as f32)
-            })
+    Some(planes.map(|plane| {
+        plane
+            .iter()
+            .zip(&part.counts)
+            .map(|(v, &n)| v.map(|x| x * n as f32))
             .collect()
-    };
-    Guides {
-        albedo: merge_one(|g| &g.albedo),
-        normal: merge_one(|g| &g.normal),
-        emission: merge_one(|g| &g.emission),
-    }
+    }))
 }
 
 fn missing_ranges(union: &[[u32; 2]], total: u32) -> Vec<[u32; 2]> {

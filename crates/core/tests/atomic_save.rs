@@ -77,8 +77,9 @@ fn killing_a_save_never_leaves_a_broken_file() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A killed save leaves `.NAME.PID.tmp` behind; the next save of that file removes the leftovers
-/// of processes that are gone, and leaves those of running ones alone.
+/// A killed save leaves `.NAME.HOST-PID.tmp` behind; the next save of that file removes the
+/// leftovers of this machine's processes that are gone, and leaves those of running ones, and
+/// recent ones of other machines sharing the directory, alone.
 #[cfg(target_os = "linux")]
 #[test]
 fn the_next_save_removes_temporaries_of_killed_saves() {
@@ -86,10 +87,12 @@ fn the_next_save_removes_temporaries_of_killed_saves() {
     std::fs::create_dir_all(&dir).unwrap();
     let target = dir.join("out.png");
     // PIDs above the kernel's maximum (4,194,304) never run; PID 1 always does.
-    let stale = dir.join(".out.png.999999999.tmp");
-    let running = dir.join(".out.png.1.tmp");
-    let other = dir.join(".other.png.999999999.tmp");
-    for f in [&stale, &running, &other] {
+    let host = rt_core::output::host_name();
+    let stale = dir.join(format!(".out.png.{host}-999999999.tmp"));
+    let running = dir.join(format!(".out.png.{host}-1.tmp"));
+    let other = dir.join(format!(".other.png.{host}-999999999.tmp"));
+    let elsewhere = dir.join(".out.png.another-host-999999999.tmp");
+    for f in [&stale, &running, &other, &elsewhere] {
         std::fs::write(f, b"partial").unwrap();
     }
     rt_core::output::save_image(&target, 1, 1, &[[0.5; 3]], 0.0).unwrap();
@@ -97,5 +100,9 @@ fn the_next_save_removes_temporaries_of_killed_saves() {
     assert!(!stale.exists(), "the dead process's temporary is removed");
     assert!(running.exists(), "a running process's temporary is kept");
     assert!(other.exists(), "other files' temporaries are not touched");
+    assert!(
+        elsewhere.exists(),
+        "another machine's recent temporary is not judged by this machine's processes"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

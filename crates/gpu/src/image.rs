@@ -15,7 +15,48 @@ pub struct Image {
     /// With adaptive sampling, each pixel's own count (at most `samples_per_pixel`).
     pub sample_counts: Option<Vec<u32>>,
     pub pixels: Vec<[f32; 4]>,
+    /// Empty for an image that did not come from a render or a part (a plain EXR opened).
     pub sums: Vec<PixelSums>,
+}
+
+impl Image {
+    /// A part's (or merged frame's) image, and its denoiser guides when it carries them.
+    pub fn from_part(part: &rt_core::part::Part) -> (Image, Option<Aovs>) {
+        let image = Image {
+            width: part.header.width,
+            height: part.header.height,
+            samples_per_pixel: part.counts.iter().copied().max().unwrap_or(0),
+            sample_counts: Some(part.counts.clone()),
+            pixels: part.pixels(),
+            sums: part.sums.clone(),
+        };
+        let g = &part.guides;
+        let aovs = (g.albedo.len() == part.counts.len()).then(|| Aovs {
+            albedo: g.albedo.clone(),
+            normal: g.normal.clone(),
+            emission: g.emission.clone(),
+        });
+        (image, aovs)
+    }
+
+    /// An image of known colour only (one "sample" per pixel, no variance).
+    pub fn from_rgb(width: u32, height: u32, rgb: &[[f32; 3]]) -> Image {
+        let pixels = rgb
+            .iter()
+            .map(|&[r, g, b]| {
+                let y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+                [r, g, b, y * y]
+            })
+            .collect();
+        Image {
+            width,
+            height,
+            samples_per_pixel: 1,
+            sample_counts: None,
+            pixels,
+            sums: Vec::new(),
+        }
+    }
 }
 
 impl Image {

@@ -14,6 +14,10 @@ fn scene_dialog() -> rfd::FileDialog {
         .add_filter("Wavefront OBJ", &["obj"])
         .add_filter("glTF 2.0", &["gltf", "glb"])
         .add_filter("rt lighting", &[LIGHTING_EXTENSION])
+        .add_filter(
+            "Rendered image (EXR: merged parts open with their samples)",
+            &["exr"],
+        )
 }
 
 pub fn open_dialog(app: &mut RtApp) {
