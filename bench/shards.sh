@@ -21,7 +21,7 @@ args=(--width "$width" --height "$height")
 if [ -n "$scene" ]; then args=("$scene" "${args[@]}"); fi
 now() { date +%s.%N; }
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
-echo "adapter: $("$cli" info "${args[@]:0:1}" -v 2>&1 | grep -m1 adapter | cut -d: -f2- | xargs)"
+echo "adapter: $("$cli" render --width 8 --height 8 --spp 1 -o "$dir/probe.png" 2>&1 | grep -m1 "^adapter" | cut -d: -f2- | xargs)"
 t0=$(now)
 "$cli" render "${args[@]}" --spp "$spp" --sample-range 0..1 -o "$dir/startup.exr" 2>/dev/null
 startup=$(echo "$(now) - $t0" | bc)
