@@ -236,14 +236,14 @@ fn too_large_an_image_is_a_clear_error() {
     else {
         let limit = ctx.device.limits().max_storage_buffer_binding_size;
         assert!(
-            limit >= 16384 * 16384 * rt_core::accumulation::PIXEL_SUMS_BYTES,
+            limit >= 16384 * 16384 * rt_core::accumulation::CHANNEL_SUM_BYTES,
             "renderer accepted a buffer over the limit"
         );
         return;
     };
     let message = err.to_string();
     assert!(
-        message.contains("accumulation") && message.contains("17179869184"),
+        message.contains("accumulation") && message.contains("4294967296"),
         "{message}"
     );
 }

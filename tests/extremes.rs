@@ -610,7 +610,7 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
             frame,
             options,
             3,
-            Some(u64::from(rows) * 37 * rt_core::accumulation::PIXEL_SUMS_BYTES),
+            Some(u64::from(rows) * 37 * rt_core::accumulation::CHANNEL_SUM_BYTES),
             |_| true,
         )
         .unwrap();
@@ -628,7 +628,7 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
             "tiles of {rows} rows: the stitched AOVs differ from the untiled ones"
         );
     }
-    assert_eq!(rt_gpu::tile_rows(16384, 16384, 128 << 20), 128);
+    assert_eq!(rt_gpu::tile_rows(16384, 16384, 128 << 20), 512);
 }
 
 /// The firefly clamp scales down light that has bounced (never a directly seen emitter), so with

@@ -4,8 +4,13 @@
 // addition is associative, so a pixel's sums are the same bit for bit however its samples were
 // batched, tiled or split across machines and merged (`rt-cli merge`).
 
-// Per pixel of the tile: [4i] red, [4i + 1] green, [4i + 2] blue, [4i + 3] squared luminance.
-@group(0) @binding(6) var<storage, read_write> accum: array<vec4<u32>>;
+// Per pixel of the tile, one channel's sum in each buffer: 16 bytes per pixel per binding, so an
+// image as large fits in the adapter's binding limit as with float means (lavapipe: 128 MiB, about
+// 8 megapixels).
+@group(0) @binding(6) var<storage, read_write> accum_red: array<vec4<u32>>;
+@group(0) @binding(23) var<storage, read_write> accum_green: array<vec4<u32>>;
+@group(0) @binding(24) var<storage, read_write> accum_blue: array<vec4<u32>>;
+@group(0) @binding(25) var<storage, read_write> accum_squared: array<vec4<u32>>;
 
 // A channel at or above 2^44 drops the sample (as NaN and Inf do); squared luminance is clamped
 // at 2^50 so a firefly cannot overflow its sum (accumulation.rs `MAX_SAMPLE`, `MAX_SQUARED`).
@@ -66,12 +71,12 @@ fn load_pixel_sums(slot: u32) -> PixelSums {
     if (frame.sample_base == 0u) {
         return PixelSums(vec4(0u), vec4(0u), vec4(0u), vec4(0u));
     }
-    return PixelSums(accum[4u * slot], accum[4u * slot + 1u], accum[4u * slot + 2u], accum[4u * slot + 3u]);
+    return PixelSums(accum_red[slot], accum_green[slot], accum_blue[slot], accum_squared[slot]);
 }
 
 fn store_pixel_sums(slot: u32, sums: PixelSums) {
-    accum[4u * slot] = sums.r;
-    accum[4u * slot + 1u] = sums.g;
-    accum[4u * slot + 2u] = sums.b;
-    accum[4u * slot + 3u] = sums.squared;
+    accum_red[slot] = sums.r;
+    accum_green[slot] = sums.g;
+    accum_blue[slot] = sums.b;
+    accum_squared[slot] = sums.squared;
 }

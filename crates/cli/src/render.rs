@@ -114,7 +114,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let max_buffer = max_accumulation_bytes(&ctx);
     let accum_bytes = u64::from(scene.settings.width)
         * u64::from(scene.settings.height)
-        * rt_core::accumulation::PIXEL_SUMS_BYTES;
+        * rt_core::accumulation::CHANNEL_SUM_BYTES;
     if accum_bytes > max_buffer {
         if open_ended {
             anyhow::bail!(

@@ -479,7 +479,7 @@ fn tiled_renders_honour_every_flag() {
             (out, stderr)
         };
         let (whole, whole_log) = render("whole", &[]);
-        let seven_rows = (24 * 64 * 7).to_string();
+        let seven_rows = (24 * 16 * 7).to_string();
         let (tiled, tiled_log) = render("tiled", &[("RT_MAX_ACCUMULATION_BYTES", &seven_rows)]);
         assert!(!whole_log.contains("tiles of"), "{whole_log}");
         assert!(tiled_log.contains("3 tiles of 7 rows"), "{tiled_log}");

@@ -15,8 +15,12 @@ pub type FixedSum = [u32; 4];
 /// A pixel's sums of red, green, blue and squared luminance.
 pub type PixelSums = [FixedSum; 4];
 
-/// Bytes of `PixelSums` (what the kernels' accumulation buffer holds per pixel).
+/// Bytes of `PixelSums` (what the kernels' accumulation buffers hold per pixel).
 pub const PIXEL_SUMS_BYTES: u64 = 64;
+
+/// Bytes per pixel of each of the kernels' four accumulation buffers (one channel's sum each), the
+/// size the adapter's binding limit applies to.
+pub const CHANNEL_SUM_BYTES: u64 = 16;
 
 /// A sample channel at or above this (2^44 ≈ 1.8e13) counts as dropped, like NaN and infinity;
 /// the kernels do the same.

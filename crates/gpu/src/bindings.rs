@@ -80,7 +80,13 @@ pub const TANGENTS: Binding = shared(22, "tangents", Access::Read);
 /// Adaptive sampling's per-pixel stop marks (written by the CPU between batches).
 pub const PIXEL_DONE: Binding = shared(18, "pixel_done", Access::Read);
 // The outputs, declared by each kernel's own file.
-pub const ACCUM: Binding = shared(6, "accum", Access::ReadWrite);
+/// The exact sums, a channel per buffer (`shaders/shared/accumulate.wgsl`).
+pub const ACCUM: [Binding; 4] = [
+    shared(6, "accum_red", Access::ReadWrite),
+    shared(23, "accum_green", Access::ReadWrite),
+    shared(24, "accum_blue", Access::ReadWrite),
+    shared(25, "accum_squared", Access::ReadWrite),
+];
 pub const COUNTERS: Binding = shared(7, "counters", Access::ReadWrite);
 pub const AOVS: Binding = shared(10, "aovs", Access::ReadWrite);
 // The wavefront's queues (shaders/wavefront.wgsl).
@@ -106,14 +112,14 @@ pub const ACTIVE_SLOTS: Binding = Binding {
 };
 
 /// Every binding of the tracing kernels.
-pub const ALL: [Binding; 22] = [
+pub const ALL: [Binding; 25] = [
     FRAME,
     TRIANGLES,
     SHADING,
     MATERIALS,
     NODES,
     TEXELS,
-    ACCUM,
+    ACCUM[0],
     COUNTERS,
     EMITTERS,
     DELTA_LIGHTS,
@@ -129,6 +135,9 @@ pub const ALL: [Binding; 22] = [
     ENVIRONMENT,
     GGX_ENERGY,
     TANGENTS,
+    ACCUM[1],
+    ACCUM[2],
+    ACCUM[3],
 ];
 
 /// The bindings `kernel` (over ray queries when `ray_query`) declares, in binding order.

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use rt_core::accumulation::{self, PIXEL_SUMS_BYTES, PixelSums};
+use rt_core::accumulation::{self, CHANNEL_SUM_BYTES, PixelSums};
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
 use wgpu::util::DeviceExt;
@@ -70,7 +70,8 @@ pub struct Renderer<'a> {
     /// The driver's acceleration structure, when tracing with ray queries.
     accel: Option<SceneAccel>,
     frame_buffer: wgpu::Buffer,
-    accum: wgpu::Buffer,
+    /// The exact sums: red, green, blue, squared luminance.
+    accum: [wgpu::Buffer; 4],
     aovs: wgpu::Buffer,
     counters: wgpu::Buffer,
     /// Adaptive sampling's stop marks and pixels still sampling.
@@ -122,8 +123,11 @@ impl<'a> Renderer<'a> {
             )));
         }
         let pixels = u64::from(frame.width) * u64::from(frame.tile_row_end - frame.tile_row_begin);
-        let accum_size = pixels * PIXEL_SUMS_BYTES;
-        ctx.check_buffer("accumulation (width x height x 64 bytes)", accum_size)?;
+        let accum_size = pixels * CHANNEL_SUM_BYTES;
+        ctx.check_buffer(
+            "accumulation (width x height x 16 bytes, one per channel)",
+            accum_size,
+        )?;
         // Albedo and normal, or a placeholder the kernel never touches.
         let aov_size = if options.aovs { pixels * 48 } else { 48 };
         ctx.check_buffer(
@@ -276,7 +280,8 @@ impl<'a> Renderer<'a> {
             let output = |label: &str, size: u64| output_buffer(ctx, label, size);
             (
                 frame_buffer,
-                output("accumulation", accum_size),
+                ["red", "green", "blue", "squared luminance"]
+                    .map(|c| output(&format!("accumulation: {c}"), accum_size)),
                 output("albedo and normal", aov_size),
                 output("counters", 8),
                 AdaptiveState::new(ctx, options.adaptive, frame.width, rows_in_tile),
@@ -284,11 +289,11 @@ impl<'a> Renderer<'a> {
         })?;
         let bound: Vec<(Binding, wgpu::Buffer)> = [
             (bindings::FRAME, frame_buffer.clone()),
-            (bindings::ACCUM, accum.clone()),
             (bindings::COUNTERS, counters.clone()),
             (bindings::AOVS, aovs.clone()),
         ]
         .into_iter()
+        .chain(bindings::ACCUM.into_iter().zip(accum.iter().cloned()))
         .chain(adaptive.bound())
         .chain(scene_buffers)
         .collect();
@@ -774,16 +779,19 @@ fn tile_pixels(frame: &Frame) -> usize {
 /// luminance (`rt_core::accumulation`).
 fn read_accumulation(
     ctx: &GpuContext,
-    accum: &wgpu::Buffer,
+    accum: &[wgpu::Buffer; 4],
     width: u32,
     rows: u32,
 ) -> Result<Vec<PixelSums>> {
-    let bytes = read_buffer(
-        ctx,
-        accum,
-        u64::from(width) * u64::from(rows) * PIXEL_SUMS_BYTES,
-    )?;
-    Ok(bytemuck::pod_collect_to_vec(&bytes))
+    let size = u64::from(width) * u64::from(rows) * CHANNEL_SUM_BYTES;
+    let mut sums = vec![PixelSums::default(); width as usize * rows as usize];
+    for (c, buffer) in accum.iter().enumerate() {
+        let words: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&read_buffer(ctx, buffer, size)?);
+        for (s, w) in sums.iter_mut().zip(words) {
+            s[c] = w;
+        }
+    }
+    Ok(sums)
 }
 
 /// The megakernel's bind group over `bound`.

@@ -1,7 +1,7 @@
 //! Images larger than one accumulation buffer, rendered in bands of rows one after another.
 
 use rt_core::GpuScene;
-use rt_core::accumulation::{PIXEL_SUMS_BYTES, PixelSums};
+use rt_core::accumulation::{CHANNEL_SUM_BYTES, PixelSums};
 use rt_core::gpu_types::Frame;
 
 use crate::context::GpuContext;
@@ -10,10 +10,10 @@ use crate::image::{Aovs, Image};
 use crate::options::RenderOptions;
 use crate::renderer::Renderer;
 
-/// Rows per tile so that a tile's accumulation buffer (`PIXEL_SUMS_BYTES` per pixel) fits in
-/// `max_bytes`.
+/// Rows per tile so that each of a tile's accumulation buffers (`CHANNEL_SUM_BYTES` per pixel)
+/// fits in `max_bytes`.
 pub fn tile_rows(width: u32, height: u32, max_bytes: u64) -> u32 {
-    let row_bytes = u64::from(width.max(1)) * PIXEL_SUMS_BYTES;
+    let row_bytes = u64::from(width.max(1)) * CHANNEL_SUM_BYTES;
     ((max_bytes / row_bytes).max(1) as u32).min(height.max(1))
 }
 
