@@ -24,18 +24,29 @@ struct PixelSums {
     squared: vec4<u32>,
 }
 
-// `v` in the fixed-point format. Every step is exact in f32 (products by powers of two, floors,
-// and differences that keep only the low bits of `v`), so any GPU gets the same words.
+// `v` in the fixed-point format, from its bits: |v| = m × 2^(e − 150) with the 24-bit mantissa m and
+// biased exponent e, which is m × 2^(e − 86) steps of 2^-64, so m shifts into at most two words.
+// Integer operations only, so any GPU gets the same words (and they are cheaper than float steps).
 fn to_fixed(v: f32) -> vec4<u32> {
-    let a = abs(v);
-    let w3 = floor(a * 0x1p-32f);
-    var r = a - w3 * 0x1p32f;
-    let w2 = floor(r);
-    r = (r - w2) * 0x1p32f;
-    let w1 = floor(r);
-    let w0 = floor((r - w1) * 0x1p32f);
-    let m = vec4(u32(w0), u32(w1), u32(w2), u32(w3));
-    return select(m, fixed_negate(m), v < 0.0);
+    let bits = bitcast<u32>(v);
+    let biased = (bits >> 23u) & 0xffu;
+    let m = (bits & 0x7fffffu) | 0x800000u;
+    let shift = i32(biased) - 86;
+    var words = vec4(0u);
+    if (biased == 0u) {
+        // Zero or subnormal: below the 2^-64 step.
+    } else if (shift < 0) {
+        // Below 2^-41: the bits under 2^-64 are truncated.
+        words.x = select(0u, m >> u32(-shift), shift > -24);
+    } else {
+        let word = u32(shift) >> 5u;
+        let bit = u32(shift) & 31u;
+        let low = m << bit;
+        let high = select(0u, m >> (32u - bit), bit != 0u);
+        let k = vec4(0u, 1u, 2u, 3u);
+        words = select(vec4(0u), vec4(low), k == vec4(word)) | select(vec4(0u), vec4(high), k == vec4(word + 1u));
+    }
+    return select(words, fixed_negate(words), v < 0.0);
 }
 
 fn fixed_add(a: vec4<u32>, b: vec4<u32>) -> vec4<u32> {

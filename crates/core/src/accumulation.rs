@@ -29,20 +29,21 @@ pub const MAX_SAMPLE: f32 = 17_592_186_044_416.0;
 /// Squared luminance is clamped to this (2^50) so that a firefly cannot overflow its sum.
 pub const MAX_SQUARED: f32 = 1_125_899_906_842_624.0;
 
-const TWO_POW_32: f32 = 4_294_967_296.0;
-
 /// `v` in the fixed-point format (exact for |v| ≥ 2^-41 and below 2^62; truncated towards zero
-/// at 2^-64). The steps are those of `to_fixed` in `accumulate.wgsl`: each is exact in f32.
+/// at 2^-64), from its bits as `to_fixed` in `accumulate.wgsl`: |v| = m × 2^(e − 150) is m shifted
+/// by e − 86 steps of 2^-64.
 pub fn to_fixed(v: f32) -> FixedSum {
-    let a = v.abs();
-    let w3 = (a / TWO_POW_32).floor();
-    let mut r = a - w3 * TWO_POW_32;
-    let w2 = r.floor();
-    r = (r - w2) * TWO_POW_32;
-    let w1 = r.floor();
-    let w0 = ((r - w1) * TWO_POW_32).floor();
-    let m = [w0 as u32, w1 as u32, w2 as u32, w3 as u32];
-    if v < 0.0 { negate(m) } else { m }
+    let bits = v.to_bits();
+    let biased = (bits >> 23) & 0xff;
+    let m = u128::from((bits & 0x7f_ffff) | 0x80_0000);
+    let shift = biased as i32 - 86;
+    let magnitude = match biased {
+        0 => 0,
+        _ if shift < 0 => m.checked_shr(shift.unsigned_abs()).unwrap_or(0),
+        _ => m.checked_shl(shift as u32).unwrap_or(0),
+    };
+    let words = from_u128(magnitude);
+    if v < 0.0 { negate(words) } else { words }
 }
 
 /// `a + b`, wrapping like the kernels' 128-bit addition.
