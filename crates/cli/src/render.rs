@@ -11,7 +11,7 @@ use rt_gpu::{GpuContext, Renderer};
 
 use crate::options::{EngineArgs, EstimatorArgs};
 use crate::scene_args::SceneArgs;
-use crate::shard::{PartIdentity, ShardArgs};
+use crate::shard::ShardArgs;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -227,9 +227,8 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         Some(range) => {
             let aovs = renderer.read_aovs()?;
             let note = shard_note(range, &ctx, renderer.kernel());
-            let identity = PartIdentity::of(&scene, &gpu_scene);
-            let part = crate::shard::part_from(identity, range, &image, aovs.as_ref(), note);
-            crate::shard::save(&args.output, &part)?;
+            let scenes = (&scene, &gpu_scene);
+            crate::shard::save(&args.output, range, scenes, &image, aovs.as_ref(), note)?;
         }
         None => save(&args, &image)?,
     }
@@ -382,9 +381,8 @@ fn render_in_tiles(
     match range {
         Some(range) => {
             let note = shard_note(range, ctx, args.engine.kernel());
-            let identity = PartIdentity::of(scene, gpu_scene);
-            let part = crate::shard::part_from(identity, range, &image, aovs.as_ref(), note);
-            crate::shard::save(&args.output, &part)?;
+            let scenes = (scene, gpu_scene);
+            crate::shard::save(&args.output, range, scenes, &image, aovs.as_ref(), note)?;
         }
         None => save(args, &image)?,
     }

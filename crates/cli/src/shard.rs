@@ -61,15 +61,15 @@ pub fn check_options(output: &Path, open_ended: bool, denoise: bool) -> Result<(
 }
 
 /// Everything a part's header says of the render but its samples.
-pub struct PartIdentity {
-    pub scene_hash: String,
-    pub assets_hash: String,
-    pub settings_hash: String,
-    pub total_spp: u32,
+struct PartIdentity {
+    scene_hash: String,
+    assets_hash: String,
+    settings_hash: String,
+    total_spp: u32,
 }
 
 impl PartIdentity {
-    pub fn of(scene: &rt_core::Scene, gpu_scene: &rt_core::GpuScene) -> Self {
+    fn of(scene: &rt_core::Scene, gpu_scene: &rt_core::GpuScene) -> Self {
         let (scene_hash, assets_hash, settings_hash) =
             rt_core::part::scene_hashes(scene, gpu_scene);
         PartIdentity {
@@ -82,7 +82,7 @@ impl PartIdentity {
 }
 
 /// The part of samples `range` read back from a render.
-pub fn part_from(
+fn part_from(
     identity: PartIdentity,
     range: [u32; 2],
     image: &rt_gpu::Image,
@@ -119,7 +119,16 @@ pub fn part_from(
     }
 }
 
-/// Saves the part (atomically).
-pub fn save(path: &Path, part: &Part) -> Result<()> {
-    rt_core::part::save_part(path, part).with_context(|| format!("saving {}", path.display()))
+/// Saves samples `range` read back from a render of `scene` as a part at `path` (atomically);
+/// `note` says where they were rendered.
+pub fn save(
+    path: &Path,
+    range: [u32; 2],
+    (scene, gpu_scene): (&rt_core::Scene, &rt_core::GpuScene),
+    image: &rt_gpu::Image,
+    aovs: Option<&rt_gpu::Aovs>,
+    note: String,
+) -> Result<()> {
+    let part = part_from(PartIdentity::of(scene, gpu_scene), range, image, aovs, note);
+    rt_core::part::save_part(path, &part).with_context(|| format!("saving {}", path.display()))
 }

@@ -80,17 +80,22 @@ pub fn shard_range(spp: u32, index: u32, count: u32) -> [u32; 2] {
     [at(index), at(index + 1)]
 }
 
-/// Parses `i/n` (0 ≤ i < n).
-pub fn parse_shard(s: &str) -> std::result::Result<(u32, u32), String> {
-    let (i, n) = s
-        .split_once('/')
-        .ok_or_else(|| format!("expected INDEX/COUNT like 2/8, got '{s}'"))?;
+/// Two whole numbers around `separator`, as `--shard` and `--sample-range` take them.
+fn parse_pair(s: &str, separator: &str, expected: &str) -> std::result::Result<(u32, u32), String> {
+    let (a, b) = s
+        .split_once(separator)
+        .ok_or_else(|| format!("expected {expected}, got '{s}'"))?;
     let parse = |t: &str| {
         t.trim()
             .parse::<u32>()
             .map_err(|_| format!("'{t}' is not a whole number (in '{s}')"))
     };
-    let (i, n) = (parse(i)?, parse(n)?);
+    Ok((parse(a)?, parse(b)?))
+}
+
+/// Parses `i/n` (0 ≤ i < n).
+pub fn parse_shard(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (i, n) = parse_pair(s, "/", "INDEX/COUNT like 2/8")?;
     if n == 0 || i >= n {
         return Err(format!(
             "shard {i}/{n}: the index counts from 0 and must be below the count"
@@ -101,15 +106,7 @@ pub fn parse_shard(s: &str) -> std::result::Result<(u32, u32), String> {
 
 /// Parses `A..B` (A < B).
 pub fn parse_sample_range(s: &str) -> std::result::Result<[u32; 2], String> {
-    let (a, b) = s
-        .split_once("..")
-        .ok_or_else(|| format!("expected FIRST..END like 0..256, got '{s}'"))?;
-    let parse = |t: &str| {
-        t.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("'{t}' is not a whole number (in '{s}')"))
-    };
-    let (a, b) = (parse(a)?, parse(b)?);
+    let (a, b) = parse_pair(s, "..", "FIRST..END like 0..256")?;
     if a >= b {
         return Err(format!("sample range {a}..{b} is empty"));
     }
@@ -161,15 +158,6 @@ impl Part {
             .zip(&self.counts)
             .map(|(s, &n)| accumulation::pixel_mean(s, n))
             .collect()
-    }
-
-    /// Samples the ranges cover (each pixel's most).
-    pub fn range_samples(&self) -> u64 {
-        self.header
-            .sample_ranges
-            .iter()
-            .map(|[a, b]| u64::from(b - a))
-            .sum()
     }
 
     /// Whether the ranges cover every sample of the frame.

@@ -44,7 +44,7 @@ impl Image {
         let pixels = rgb
             .iter()
             .map(|&[r, g, b]| {
-                let y = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+                let y = rt_core::math::sampling::luminance(glam::Vec3::new(r, g, b));
                 [r, g, b, y * y]
             })
             .collect();
