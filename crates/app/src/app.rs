@@ -38,22 +38,39 @@ pub struct RenderView {
     pub show_denoised: bool,
     /// The denoised image, computed on first use.
     pub denoised: Option<Vec<[f32; 3]>>,
+    /// Which denoiser made `denoised`.
+    pub denoiser: Option<&'static str>,
 }
 
-/// The path-traced viewport: a render job at viewport size, restarted when anything changes.
-#[derive(Default)]
-pub struct LiveView {
+/// The path-traced viewport: its engine, what it was last asked for, and the texture it shows.
+pub struct LiveViewport {
     pub enabled: bool,
-    pub job: Option<RenderJob>,
-    /// (document revision, viewport size) the job renders.
+    /// The engine's threads while the view is on (`rt_gpu::live`); dropped when it is turned off,
+    /// which stops its work and frees its buffers.
+    pub view: Option<rt_gpu::live::LiveView>,
+    /// (document revision, viewport size) last sent to the view.
     pub key: Option<(u64, [u32; 2])>,
-    /// The GPU arrays of the last job and the (geometry revision, light sampling) they were built
-    /// for: camera moves reuse them instead of rebuilding the BVH.
-    pub gpu_scene: Option<((u64, bool), Arc<rt_core::GpuScene>)>,
-    /// What the running job's geometry is.
-    pub job_geometry: Option<(u64, bool)>,
+    /// Whether the user was dragging in the viewport at the last frame.
+    pub interacting: bool,
+    /// Show the denoised image (on by default); the raw one is a click away.
+    pub show_denoised: bool,
     pub texture: Option<egui::TextureHandle>,
-    pub texture_revision: u64,
+    /// (change, samples, pixel size, denoised) the texture was made from.
+    pub texture_key: Option<(u64, u32, u32, bool)>,
+}
+
+impl Default for LiveViewport {
+    fn default() -> Self {
+        LiveViewport {
+            enabled: false,
+            view: None,
+            key: None,
+            interacting: false,
+            show_denoised: true,
+            texture: None,
+            texture_key: None,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,7 +100,7 @@ pub struct RtApp {
     pub selected_light: Option<usize>,
     pub device: RenderDevice,
     pub renders: Vec<RenderView>,
-    pub live: LiveView,
+    pub live: LiveViewport,
     pub ui: UiState,
     pub recent: RecentFiles,
     /// Whether the raster preview's GPU resources exist (egui runs on wgpu).
@@ -105,7 +122,7 @@ impl RtApp {
             selected_light: None,
             device: RenderDevice::new(options.adapter.clone()),
             renders: Vec::new(),
-            live: LiveView::default(),
+            live: LiveViewport::default(),
             ui: UiState::default(),
             recent: RecentFiles::load(options.config_dir.as_deref()),
             preview_available: false,
@@ -131,7 +148,7 @@ impl RtApp {
         app
     }
 
-    fn waker(&self) -> impl Fn() + Send + 'static {
+    fn waker(&self) -> impl Fn() + Send + Sync + 'static {
         let ctx = self.repaint.clone();
         move || {
             if let Some(ctx) = &ctx {
@@ -209,7 +226,6 @@ impl RtApp {
         self.doc = doc;
         self.selection = None;
         self.selected_light = None;
-        self.live.job = None;
         self.live.key = None;
     }
 
@@ -513,6 +529,7 @@ impl RtApp {
             texture_key: None,
             show_denoised: false,
             denoised: None,
+            denoiser: None,
         });
         id
     }
@@ -545,69 +562,58 @@ impl RtApp {
             }
         }
         self.renders.retain(|r| r.open || r.job.is_running());
-        if let Some(job) = &mut self.live.job {
-            job.poll();
-            if let JobState::Failed(message) = &job.state {
-                let message = message.clone();
+        if let Some(view) = &mut self.live.view {
+            view.tick();
+            if let Some(message) = view.error() {
+                let message = message.to_string();
                 self.live.enabled = false;
-                self.live.job = None;
+                self.live.view = None;
                 self.show_error(format!("The path-traced viewport stopped:\n{message}"));
             }
         }
     }
 
-    /// Keeps the path-traced viewport's job in step with the scene and the viewport size.
-    pub fn update_live_view(&mut self, size: [u32; 2]) {
+    /// Keeps the path-traced viewport in step with the scene, the viewport's size and whether the
+    /// user is dragging (the view then stays at its coarse step); starts and stops its threads.
+    pub fn update_live_view(&mut self, size: [u32; 2], interacting: bool) {
         if !self.live.enabled {
-            self.live.job = None;
+            self.live.view = None;
             self.live.key = None;
+            self.live.texture = None;
+            self.live.texture_key = None;
             return;
         }
+        let waker = self.waker();
+        let device = self.device.clone();
+        let view = self.live.view.get_or_insert_with(|| {
+            rt_gpu::live::LiveView::start(
+                move || device.get().map_err(|e| format!("{e:#}")),
+                rt_gpu::live::LiveSettings::default(),
+                waker,
+            )
+        });
+        view.show_denoised = self.live.show_denoised;
         let key = (self.doc.revision(), size);
         if self.live.key == Some(key) {
+            if interacting != self.live.interacting {
+                view.set_interacting(interacting);
+                self.live.interacting = interacting;
+            }
             return;
         }
         let mut scene = self.doc.scene.clone();
         scene.settings.width = size[0].max(1);
         scene.settings.height = size[1].max(1);
-        scene.settings.samples_per_pixel = 1 << 16;
         if rt_core::frame::validate(&scene).is_err() {
             return;
         }
         self.live.key = Some(key);
-        // Nothing of the new job has been shown yet.
-        self.live.texture_revision = u64::MAX;
-        let geometry = (
-            self.doc.geometry_revision(),
-            scene.settings.next_event_estimation,
-        );
-        if let Some(built) = self.live.job.as_ref().and_then(|j| j.gpu_scene.clone())
-            && self
-                .live
-                .gpu_scene
-                .as_ref()
-                .is_none_or(|(k, _)| *k != geometry)
-            && self.live.job_geometry == Some(geometry)
-        {
-            self.live.gpu_scene = Some((geometry, built));
-        }
-        let reuse = self
-            .live
-            .gpu_scene
-            .as_ref()
-            .filter(|(k, _)| *k == geometry)
-            .map(|(_, g)| g.clone());
-        self.live.job_geometry = Some(geometry);
-        self.live.job = Some(RenderJob::start(
-            self.device.clone(),
+        self.live.interacting = interacting;
+        view.request(rt_gpu::live::LiveRequest {
             scene,
-            reuse,
-            JobOptions {
-                preview_every: Some(Duration::from_millis(150)),
-                keep_aovs: false,
-            },
-            self.waker(),
-        ));
+            size,
+            interacting,
+        });
     }
 
     pub fn adapter_label(&self) -> String {

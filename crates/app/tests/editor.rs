@@ -303,12 +303,33 @@ fn a_bad_file_shows_an_error_and_keeps_the_scene() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `P` turns the path-traced view on (not while a text field has focus); after a camera move the
+/// first image shown is coarse and reuses the GPU scene, and the view reaches full resolution and
+/// a denoised image without input; `P` again stops it and drops its threads.
 #[test]
-fn the_path_traced_viewport_renders_and_restarts_on_change_reusing_the_bvh() {
+fn the_path_traced_viewport_starts_coarse_refines_denoises_and_stops() {
     if !have_gpu() {
         return;
     }
     let mut harness = harness();
+    harness.run_ok();
+    // A focused text field takes the key: no toggle.
+    let floor = index_of(harness.state(), "floor");
+    harness.state_mut().select_object(Some(floor));
+    harness.run_ok();
+    harness
+        .get_all_by_role(egui::accesskit::Role::TextInput)
+        .find(|n| n.value().as_deref() == Some("floor"))
+        .expect("the name field")
+        .focus();
+    harness.run_ok();
+    harness.key_press(egui::Key::P);
+    harness.run_ok();
+    assert!(
+        !harness.state().live.enabled,
+        "P typed into a text field does not toggle the view"
+    );
+    harness.key_press(egui::Key::Escape);
     harness.run_ok();
     harness.key_press(egui::Key::P);
     harness.step();
@@ -316,41 +337,41 @@ fn the_path_traced_viewport_renders_and_restarts_on_change_reusing_the_bvh() {
         harness.state().live.enabled,
         "P turns the path-traced view on"
     );
-    step_until(&mut harness, "the first path-traced samples", |app| {
-        app.live
-            .job
-            .as_ref()
-            .is_some_and(|j| j.image.is_some() && j.gpu_scene.is_some())
+    let display = |app: &RtApp| app.live.view.as_ref().and_then(|v| v.display()).cloned();
+    step_until(&mut harness, "a full-resolution image", |app| {
+        display(app).is_some_and(|f| f.pixel_size == 1)
     });
-    let first = harness
-        .state()
-        .live
-        .job
-        .as_ref()
-        .unwrap()
-        .gpu_scene
-        .clone()
-        .unwrap();
     harness.state_mut().doc.edit("camera", "camera", |s| {
         s.camera.vfov_deg = 30.0;
     });
     harness.step();
-    let job = harness.state().live.job.as_ref().unwrap();
-    assert_eq!(
-        job.scene.camera.vfov_deg, 30.0,
-        "a change restarts the view"
-    );
+    let generation = harness.state().live.view.as_ref().unwrap().generation();
+    step_until(&mut harness, "the first image after the move", |app| {
+        display(app).is_some()
+    });
+    let first = display(harness.state()).unwrap();
+    assert_eq!(first.generation, generation);
     assert!(
-        std::sync::Arc::ptr_eq(job.gpu_scene.as_ref().unwrap(), &first),
-        "a camera move reuses the scene's GPU arrays"
+        first.pixel_size > 1,
+        "the first image is coarse: {}",
+        first.pixel_size
     );
-    step_until(&mut harness, "samples after the restart", |app| {
-        app.live.job.as_ref().is_some_and(|j| j.image.is_some())
+    assert_eq!(
+        first.rebuild,
+        rt_gpu::live::Rebuild::Nothing,
+        "a camera move rebuilds nothing"
+    );
+    step_until(&mut harness, "a denoised full-resolution image", |app| {
+        display(app).is_some_and(|f| f.pixel_size == 1 && f.denoiser.is_some())
     });
     let image = harness.render().unwrap();
     image
         .save(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("editor-path-traced.png"))
         .unwrap();
+    harness.key_press(egui::Key::P);
+    harness.step();
+    let app = harness.state();
+    assert!(!app.live.enabled && app.live.view.is_none() && app.live.texture.is_none());
 }
 
 #[test]

@@ -41,6 +41,26 @@ pub struct BenchArgs {
     /// Only the scenes whose names contain this.
     #[arg(long)]
     only: Option<String>,
+    /// Measure the interactive viewport instead (`rt_gpu::live`, as the editor runs it): change to
+    /// first image, UI frame times while refining, spp after 5 s and --seconds, relMSE of the
+    /// denoised view against a reference.
+    #[arg(long)]
+    interactive: bool,
+    /// The interactive view's size.
+    #[arg(long, default_value = "1280x720", value_parser = crate::interactive::parse_size)]
+    view_size: [u32; 2],
+    /// How long the interactive view refines after the drag.
+    #[arg(long, default_value_t = 30.0)]
+    seconds: f64,
+    /// Folder of references (NAME-WxH.exr) for the interactive view's relMSE.
+    #[arg(long)]
+    reference_dir: Option<PathBuf>,
+    /// Render a missing reference with this many samples (0: skip the relMSE).
+    #[arg(long, default_value_t = 0)]
+    reference_spp: u32,
+    /// The interactive view without its denoiser.
+    #[arg(long)]
+    no_denoise: bool,
 }
 
 fn parse_workgroup(s: &str) -> Result<[u32; 2], String> {
@@ -234,6 +254,38 @@ pub fn run(args: BenchArgs) -> Result<()> {
         "Mpaths/s",
         "Mrays/s"
     );
+    if args.interactive {
+        let mut scenes = Vec::new();
+        // A name that matches exactly selects that scene alone ("cornell", not its variants).
+        let exact = args
+            .only
+            .as_ref()
+            .is_some_and(|o| suite.iter().any(|(n, _)| n == o));
+        for (name, scene) in suite {
+            let wanted = args.only.as_ref().is_none_or(|o| {
+                if exact {
+                    name == *o
+                } else {
+                    name.contains(o.as_str())
+                }
+            });
+            if wanted {
+                scenes.push((name, scene?));
+            }
+        }
+        let interactive = crate::interactive::InteractiveArgs {
+            size: args.view_size,
+            seconds: args.seconds,
+            reference_dir: args.reference_dir.clone(),
+            reference_spp: args.reference_spp,
+            no_denoise: args.no_denoise,
+            kernel: args
+                .engine
+                .kernel
+                .map_or(rt_gpu::live::LiveSettings::default().kernel, Into::into),
+        };
+        return crate::interactive::run(ctx, scenes, &interactive);
+    }
     let mut records = Vec::new();
     for (name, scene) in suite {
         if args

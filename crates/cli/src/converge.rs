@@ -30,9 +30,10 @@ pub struct ConvergeArgs {
     max_spp: u32,
     #[command(flatten)]
     estimator: EstimatorArgs,
-    /// Measure the denoised image at each step (the denoising time counts).
-    #[arg(long)]
-    denoise: bool,
+    /// Measure the denoised image at each step (the denoising time counts):
+    /// `--denoise[=auto|oidn|atrous]`, as `render --denoise`.
+    #[arg(long, value_enum, num_args = 0..=1, require_equals = true, default_missing_value = "auto", value_name = "DENOISER")]
+    denoise: Option<crate::options::DenoiseArg>,
     #[command(flatten)]
     bvh: BvhArgs,
     #[command(flatten)]
@@ -126,7 +127,9 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
                 } else {
                     "independent, "
                 }
-                + if args.denoise { "denoised, " } else { "" },
+                + &args
+                    .denoise
+                    .map_or(String::new(), |d| format!("denoised ({}), ", d.name())),
             scene.settings.max_depth,
             args.bvh.bvh_quality
         )
@@ -137,7 +140,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     let gpu_scene =
         GpuScene::build_with_layout(&scene, args.bvh.bvh_quality.into(), args.bvh.bvh.into())?;
     let bvh = start.elapsed();
-    let options = args.engine.render_options(args.denoise);
+    let options = args.engine.render_options(args.denoise.is_some());
     let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
     // The first dispatch includes compiling the kernel; a warm-up sample keeps that out of the
     // curve (it is a one-off per feature set, cached afterwards).
@@ -170,15 +173,17 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         // render_batch waits for its dispatches, so this is GPU time as the user sees it.
         rendering += step_start.elapsed();
         let image = renderer.read_image()?;
-        let pixels = if args.denoise {
+        let pixels = if let Some(denoiser) = args.denoise {
             let aovs = renderer
                 .read_aovs()?
                 .context("the renderer did not keep albedo and normals")?;
             let started = Instant::now();
-            let denoised = image.denoised(&aovs).map_err(anyhow::Error::msg)?;
+            let denoised = image
+                .denoised(&aovs, denoiser.choice())
+                .map_err(anyhow::Error::msg)?;
             // The user waits for the denoiser too (but only for the image they keep).
             denoise_time = started.elapsed();
-            denoised
+            denoised.pixels
         } else {
             image.rgb()
         };

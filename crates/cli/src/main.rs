@@ -4,6 +4,7 @@ mod bench;
 mod compare;
 mod converge;
 mod info;
+mod interactive;
 mod merge;
 mod options;
 mod plot;

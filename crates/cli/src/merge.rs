@@ -22,9 +22,10 @@ pub struct MergeArgs {
     #[arg(long)]
     allow_partial: bool,
     /// Also write a denoised copy beside the output (NAME.denoised.EXT), guided by the parts'
-    /// albedo and normals: after the merge, so the denoiser sees the whole frame's samples.
-    #[arg(long)]
-    denoise: bool,
+    /// albedo and normals: after the merge, so the denoiser sees the whole frame's samples
+    /// (`--denoise[=auto|oidn|atrous]`, as `render --denoise`).
+    #[arg(long, value_enum, num_args = 0..=1, require_equals = true, default_missing_value = "auto", value_name = "DENOISER")]
+    denoise: Option<crate::options::DenoiseArg>,
     /// Exposure in stops for 8-bit outputs.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
@@ -72,10 +73,10 @@ pub fn run(args: MergeArgs) -> Result<()> {
         width,
         height
     );
-    if args.denoise {
+    if let Some(denoiser) = args.denoise {
         let (image, aovs) = rt_gpu::Image::from_part(&merged);
         let aovs = aovs.context("the parts carry no albedo and normals to guide the denoiser")?;
-        crate::render::save_denoised_image(&args.output, &image, &aovs, view)?;
+        crate::render::save_denoised_image(&args.output, &image, &aovs, view, denoiser)?;
     }
     eprintln!("saved:          {}", args.output.display());
     Ok(())

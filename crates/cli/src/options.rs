@@ -278,3 +278,33 @@ mod tests {
         assert!(!options.aovs);
     }
 }
+
+/// `--denoise[=auto|oidn|atrous]`: which denoiser (`rt_core::denoiser`). `auto` (a bare
+/// `--denoise`) runs Open Image Denoise when it loads and rt's À-Trous filter otherwise, saying
+/// why; `oidn` fails when OIDN is missing instead.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum DenoiseArg {
+    #[default]
+    Auto,
+    Oidn,
+    Atrous,
+}
+
+impl DenoiseArg {
+    pub fn name(self) -> &'static str {
+        match self {
+            DenoiseArg::Auto => "auto",
+            DenoiseArg::Oidn => "oidn",
+            DenoiseArg::Atrous => "atrous",
+        }
+    }
+
+    pub fn choice(self) -> rt_core::denoiser::DenoiserChoice {
+        use rt_core::denoiser::DenoiserChoice;
+        match self {
+            DenoiseArg::Auto => DenoiserChoice::Auto,
+            DenoiseArg::Oidn => DenoiserChoice::Oidn,
+            DenoiseArg::Atrous => DenoiserChoice::Atrous,
+        }
+    }
+}

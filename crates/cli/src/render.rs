@@ -37,10 +37,12 @@ pub struct RenderArgs {
     /// Khronos PBR Neutral tone mapper (highlights roll off instead of clipping). EXR stays linear.
     #[arg(long, value_enum, default_value = "standard")]
     view: ViewArg,
-    /// Also write a denoised copy beside the output (NAME.denoised.EXT), filtered with the
-    /// edge-avoiding À-Trous denoiser guided by albedo and normals; the output itself stays raw.
-    #[arg(long)]
-    denoise: bool,
+    /// Also write a denoised copy beside the output (NAME.denoised.EXT) guided by albedo and
+    /// normals: `--denoise` or `--denoise=auto` uses Open Image Denoise where it is installed
+    /// (scripts/ensure-oidn) and rt's À-Trous filter otherwise; `=oidn` requires OIDN; `=atrous`.
+    /// The output itself stays raw.
+    #[arg(long, value_enum, num_args = 0..=1, require_equals = true, default_missing_value = "auto", value_name = "DENOISER")]
+    denoise: Option<crate::options::DenoiseArg>,
     /// Give every pixel every sample even with --noise-target (which otherwise turns adaptive
     /// sampling on, with the target as each pixel's threshold).
     #[arg(long, conflicts_with = "adaptive")]
@@ -104,7 +106,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     }
     let range = args.shard.range(settings.samples_per_pixel)?;
     if range.is_some() {
-        crate::shard::check_options(&args.output, open_ended, args.denoise)?;
+        crate::shard::check_options(&args.output, open_ended, args.denoise.is_some())?;
     }
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
@@ -280,7 +282,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
         let m = image.channel_means();
         eprintln!("channel means:  {:.6} {:.6} {:.6}", m[0], m[1], m[2]);
     }
-    if args.denoise {
+    if args.denoise.is_some() {
         let aovs = renderer.read_aovs()?;
         save_denoised(&args, &image, aovs.as_ref())?;
     }
@@ -397,7 +399,7 @@ fn render_in_tiles(
         estimator_summary(settings, gpu_scene)
     );
     eprintln!("render time:    {render_time:.2?}");
-    if args.denoise {
+    if args.denoise.is_some() {
         save_denoised(args, &image, aovs.as_ref())?;
     }
     eprintln!("saved:          {}", args.output.display());
@@ -408,7 +410,9 @@ fn render_in_tiles(
 fn shard_options(args: &RenderArgs, range: Option<[u32; 2]>) -> rt_gpu::RenderOptions {
     rt_gpu::RenderOptions {
         first_sample: range.map_or(0, |r| r[0]),
-        ..args.engine.render_options(args.denoise || range.is_some())
+        ..args
+            .engine
+            .render_options(args.denoise.is_some() || range.is_some())
     }
 }
 
@@ -478,7 +482,8 @@ fn save_denoised(
     aovs: Option<&rt_gpu::Aovs>,
 ) -> Result<()> {
     let aovs = aovs.context("the renderer did not keep albedo and normals")?;
-    save_denoised_image(&args.output, image, aovs, args.view())
+    let denoiser = args.denoise.unwrap_or_default();
+    save_denoised_image(&args.output, image, aovs, args.view(), denoiser)
 }
 
 /// Denoises `image` guided by `aovs` and saves it beside `output` (`denoised_path`).
@@ -487,15 +492,23 @@ pub fn save_denoised_image(
     image: &rt_gpu::Image,
     aovs: &rt_gpu::Aovs,
     view: rt_core::output::View,
+    denoiser: crate::options::DenoiseArg,
 ) -> Result<()> {
     let started = Instant::now();
     let path = denoised_path(output);
-    let denoised = image.denoised(aovs).map_err(anyhow::Error::msg)?;
-    rt_core::output::save_image(&path, image.width, image.height, &denoised, view)
+    let denoised = image
+        .denoised(aovs, denoiser.choice())
+        .map_err(anyhow::Error::msg)?;
+    if let Some(why) = &denoised.fallback {
+        eprintln!("denoiser:       À-Trous, since {why}");
+    }
+    rt_core::output::save_image(&path, image.width, image.height, &denoised.pixels, view)
         .with_context(|| format!("saving {}", path.display()))?;
     eprintln!(
-        "denoised:       {} ({:.2?}; biased: a preview of the converged image, not a measurement)",
+        "denoised:       {} ({}, {:.2?}; biased: a preview of the converged image, not a \
+         measurement)",
         path.display(),
+        denoised.denoiser.name(),
         started.elapsed()
     );
     Ok(())

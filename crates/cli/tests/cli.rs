@@ -447,6 +447,38 @@ fn denoise_writes_a_second_image_and_keeps_the_raw_one() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `--denoise` says which denoiser ran. With a corrupt OIDN library (`RT_OIDN_LIBRARY`), a bare
+/// `--denoise` falls back to À-Trous, naming the file and why, and still writes the image;
+/// `--denoise=oidn` fails with that message and writes no denoised image.
+#[test]
+fn a_corrupt_oidn_library_falls_back_or_fails_as_asked() {
+    if !has_gpu() {
+        return;
+    }
+    let dir = temp_dir("oidn-corrupt");
+    let library = dir.join("libOpenImageDenoise.so.1");
+    std::fs::write(&library, b"not a shared library").unwrap();
+    let library = library.to_str().unwrap();
+    let out = dir.join("img.png");
+    let env = [("RT_OIDN_LIBRARY", library)];
+    let (code, stderr) = render_cornell_with_env(16, 16, 2, &out, &["--denoise"], &env);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.contains("À-Trous, since") && stderr.contains(library),
+        "{stderr}"
+    );
+    assert!(dir.join("img.denoised.png").exists());
+    std::fs::remove_file(dir.join("img.denoised.png")).unwrap();
+    let (code, stderr) = render_cornell_with_env(16, 16, 2, &out, &["--denoise=oidn"], &env);
+    assert_ne!(code, 0);
+    assert!(stderr.contains(library), "{stderr}");
+    assert!(!dir.join("img.denoised.png").exists());
+    let (code, stderr) = render_cornell(16, 16, 2, &out, &["--denoise=atrous"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("(À-Trous,"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// Every render flag reaches both render paths (`render` builds their options in one place): the
 /// Cornell box rendered in tiles (the accumulation capped by `RT_MAX_ACCUMULATION_BYTES` to seven
 /// rows) writes the same files, raw and denoised, byte for byte, as the same render in one piece.

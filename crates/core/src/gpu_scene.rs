@@ -67,6 +67,85 @@ pub struct GpuScene {
     pub bvh_build_time: Duration,
 }
 
+/// An object's GPU material (texture slots resolved against `texture_offsets`) and, with a normal
+/// map, its MikkTSpace tangents (three per triangle, in the mesh's order); notes the features it
+/// uses in `features`.
+fn object_material(
+    scene: &Scene,
+    object: &crate::Object,
+    texture_offsets: &[u32],
+    features: &mut SceneFeatures,
+) -> Result<(gpu_types::Material, Option<Vec<[f32; 4]>>)> {
+    let mesh = &object.mesh;
+    let label = || format!("object '{}'", object.name);
+    object.material.validate(&label()).map_err(Error::Scene)?;
+    let mut material = gpu_material(&object.material);
+    let texture = match &object.material {
+        Material::Lambertian { texture, .. } => *texture,
+        Material::Pbr(p) => p.texture,
+        _ => None,
+    };
+    if let Some(t) = texture {
+        let texture = scene.textures.get(t).ok_or_else(|| {
+            Error::Scene(format!("{}: texture index {t} does not exist", label()))
+        })?;
+        if mesh.uvs.is_some() {
+            material.texture_offset = texture_offsets[t];
+            material.texture_width = texture.width;
+            material.texture_height = texture.height;
+            features.textures = true;
+        } else {
+            log::warn!("{} has a texture but no UVs: rendering it white", label());
+            material.albedo = [1.0; 3];
+        }
+    }
+    let mut tangents = None;
+    if let Material::Pbr(p) = &object.material {
+        let slot = |t: Option<usize>, name: &str| -> Result<Option<usize>> {
+            match t {
+                Some(t) if t >= scene.textures.len() => Err(Error::Scene(format!(
+                    "{}: {name} {t} does not exist",
+                    label()
+                ))),
+                Some(_) if mesh.uvs.is_none() => {
+                    log::warn!("{} has a {name} but no UVs: ignoring it", label());
+                    Ok(None)
+                }
+                other => Ok(other),
+            }
+        };
+        if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
+            material.mr_texture_offset = texture_offsets[t];
+            material.mr_texture_width = scene.textures[t].width;
+            material.mr_texture_height = scene.textures[t].height;
+            features.textures = true;
+        }
+        if let Some(t) = slot(p.normal_texture, "normal texture")? {
+            match crate::tangents::mikktspace_tangents(mesh) {
+                Some(t_corners) => {
+                    material.normal_texture_offset = texture_offsets[t];
+                    material.normal_texture_width = scene.textures[t].width;
+                    material.normal_texture_height = scene.textures[t].height;
+                    tangents = Some(t_corners);
+                    features.normal_maps = true;
+                    features.textures = true;
+                }
+                None => log::warn!(
+                    "{}: no tangents (it needs normals and UVs): ignoring its normal map",
+                    label()
+                ),
+            }
+        }
+    }
+    features.metal |= material.kind == material_kind::METAL;
+    features.dielectric |= material.kind == material_kind::DIELECTRIC;
+    features.pbr |= material.kind == material_kind::PBR;
+    features.metal |= material.kind == material_kind::METAL;
+    features.dielectric |= material.kind == material_kind::DIELECTRIC;
+    features.pbr |= material.kind == material_kind::PBR;
+    Ok((material, tangents))
+}
+
 fn triangle_extent(triangles: &[Triangle]) -> f32 {
     let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
     for t in triangles {
@@ -120,27 +199,8 @@ impl GpuScene {
         for (object_index, object) in scene.objects.iter().enumerate() {
             let mesh = &object.mesh;
             let label = || format!("object '{}'", object.name);
-            object.material.validate(&label()).map_err(Error::Scene)?;
-            let mut material = gpu_material(&object.material);
-            let texture = match &object.material {
-                Material::Lambertian { texture, .. } => *texture,
-                Material::Pbr(p) => p.texture,
-                _ => None,
-            };
-            if let Some(t) = texture {
-                let texture = scene.textures.get(t).ok_or_else(|| {
-                    Error::Scene(format!("{}: texture index {t} does not exist", label()))
-                })?;
-                if mesh.uvs.is_some() {
-                    material.texture_offset = texture_offsets[t];
-                    material.texture_width = texture.width;
-                    material.texture_height = texture.height;
-                    out.features.textures = true;
-                } else {
-                    log::warn!("{} has a texture but no UVs: rendering it white", label());
-                    material.albedo = [1.0; 3];
-                }
-            }
+            let (material, tangents) =
+                object_material(scene, object, &texture_offsets, &mut out.features)?;
             // Vertex colours tint diffuse and PBR materials (the others have no base colour).
             let colored = mesh
                 .colors
@@ -150,47 +210,6 @@ impl GpuScene {
                     object.material,
                     Material::Lambertian { .. } | Material::Pbr(_)
                 );
-            let mut tangents = None;
-            if let Material::Pbr(p) = &object.material {
-                let slot = |t: Option<usize>, name: &str| -> Result<Option<usize>> {
-                    match t {
-                        Some(t) if t >= scene.textures.len() => Err(Error::Scene(format!(
-                            "{}: {name} {t} does not exist",
-                            label()
-                        ))),
-                        Some(_) if mesh.uvs.is_none() => {
-                            log::warn!("{} has a {name} but no UVs: ignoring it", label());
-                            Ok(None)
-                        }
-                        other => Ok(other),
-                    }
-                };
-                if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
-                    material.mr_texture_offset = texture_offsets[t];
-                    material.mr_texture_width = scene.textures[t].width;
-                    material.mr_texture_height = scene.textures[t].height;
-                    out.features.textures = true;
-                }
-                if let Some(t) = slot(p.normal_texture, "normal texture")? {
-                    match crate::tangents::mikktspace_tangents(mesh) {
-                        Some(t_corners) => {
-                            material.normal_texture_offset = texture_offsets[t];
-                            material.normal_texture_width = scene.textures[t].width;
-                            material.normal_texture_height = scene.textures[t].height;
-                            tangents = Some(t_corners);
-                            out.features.normal_maps = true;
-                            out.features.textures = true;
-                        }
-                        None => log::warn!(
-                            "{}: no tangents (it needs normals and UVs): ignoring its normal map",
-                            label()
-                        ),
-                    }
-                }
-            }
-            out.features.metal |= material.kind == material_kind::METAL;
-            out.features.dielectric |= material.kind == material_kind::DIELECTRIC;
-            out.features.pbr |= material.kind == material_kind::PBR;
             out.materials.push(material);
 
             let m = object.transform.matrix();
@@ -314,8 +333,56 @@ impl GpuScene {
         {
             out.shading = Vec::new();
         }
-        out.features.thin_lens = scene.camera.aperture_radius > 0.0;
         out.extent = triangle_extent(&out.triangles);
+        out.light(scene)?;
+        out.ggx_energy = crate::math::microfacet::energy_table().to_vec();
+        Ok(out)
+    }
+
+    /// This scene's geometry (triangles, BVH, shading attributes, tangents) with `scene`'s
+    /// materials, emitters, lights and environment: what the interactive viewport does for an
+    /// edit that moves nothing, instead of rebuilding the BVH. `scene` must have the same objects
+    /// with the same meshes and transforms and the same textures as the scene this one was built
+    /// from; `None` when an object gains or loses a normal map (its tangents are built with the
+    /// geometry).
+    pub fn restyle(&self, scene: &Scene) -> Result<Option<GpuScene>> {
+        if scene.objects.len() != self.materials.len() {
+            return Ok(None);
+        }
+        let mut texture_offsets = Vec::with_capacity(scene.textures.len());
+        let mut offset = 0u32;
+        for texture in &scene.textures {
+            texture_offsets.push(offset);
+            offset += texture.width * texture.height;
+        }
+        if offset as usize != self.texels.len() {
+            return Ok(None);
+        }
+        let mut features = SceneFeatures::default();
+        let mut materials = Vec::with_capacity(self.materials.len());
+        for (object, old) in scene.objects.iter().zip(&self.materials) {
+            let (material, tangents) =
+                object_material(scene, object, &texture_offsets, &mut features)?;
+            let had_normal_map = old.normal_texture_width > 0;
+            if tangents.is_some() != had_normal_map {
+                return Ok(None);
+            }
+            materials.push(material);
+        }
+        let mut out = GpuScene {
+            materials,
+            features,
+            ..self.clone()
+        };
+        out.light(scene)?;
+        Ok(Some(out))
+    }
+
+    /// Emitters, delta lights, the environment and the features that follow from them and the
+    /// camera, from `scene` and this scene's triangles and materials.
+    fn light(&mut self, scene: &Scene) -> Result<()> {
+        let out = self;
+        out.features.thin_lens = scene.camera.aperture_radius > 0.0;
         (out.emitters, out.emitter_power) =
             crate::emitters::build_emitters(&out.triangles, &out.materials);
         out.features.nee = scene.settings.next_event_estimation && !out.emitters.is_empty();
@@ -329,6 +396,13 @@ impl GpuScene {
             .map(|l| l.gpu())
             .collect();
         out.features.delta_lights = !out.delta_lights.is_empty();
+        (
+            out.env_texels,
+            out.env_width,
+            out.env_height,
+            out.env_rotation,
+        ) = (Vec::new(), 0, 0, 0.0);
+        out.features.environment = false;
         if let Some(env) = &scene.environment {
             env.validate().map_err(Error::Scene)?;
             if let Some(texels) = crate::environment::build_env_texels(&env.map, env.strength) {
@@ -339,8 +413,7 @@ impl GpuScene {
                 out.features.environment = true;
             }
         }
-        out.ggx_energy = crate::math::microfacet::energy_table().to_vec();
-        Ok(out)
+        Ok(())
     }
 
     /// Checks every index the tracing kernels follow, the invariants the builder promises them

@@ -112,12 +112,30 @@ pub struct Aovs {
 }
 
 impl Image {
-    /// The image filtered by `rt_core::denoise` (edge-avoiding À-Trous) with `aovs` as guides and
-    /// the per-pixel luminance variance; biased, for previews: the raw image stays the measurement.
-    pub fn denoised(&self, aovs: &Aovs) -> Result<Vec<[f32; 3]>, String> {
+    /// The image denoised by `choice` (`rt_core::denoiser`: Open Image Denoise where it loads, or
+    /// the edge-avoiding À-Trous filter) with `aovs` as guides and, for À-Trous, the per-pixel
+    /// luminance variance; biased, for previews: the raw image stays the measurement.
+    pub fn denoised(
+        &self,
+        aovs: &Aovs,
+        choice: rt_core::denoiser::DenoiserChoice,
+    ) -> Result<rt_core::denoiser::Denoised, String> {
+        self.denoised_limited(aovs, choice, None, &|| true)
+    }
+
+    /// As `denoised`, with OIDN on at most `threads` threads, stopped once `keep_going` says no
+    /// (`rt_core::denoiser::denoise_limited`).
+    pub fn denoised_limited(
+        &self,
+        aovs: &Aovs,
+        choice: rt_core::denoiser::DenoiserChoice,
+        threads: Option<u32>,
+        keep_going: &(dyn Fn() -> bool + Sync),
+    ) -> Result<rt_core::denoiser::Denoised, String> {
         let color = self.rgb();
         let variance = rt_core::output::pixel_variance(&self.pixels, self.counts());
-        rt_core::denoise::denoise(
+        rt_core::denoiser::denoise_limited(
+            choice,
             &rt_core::denoise::DenoiseInput {
                 width: self.width,
                 height: self.height,
@@ -127,7 +145,8 @@ impl Image {
                 normal: &aovs.normal,
                 variance: &variance,
             },
-            &rt_core::denoise::DenoiseParams::default(),
+            threads,
+            keep_going,
         )
     }
 }

@@ -18,6 +18,7 @@ mod buffers;
 pub mod context;
 pub mod error;
 pub mod image;
+pub mod live;
 pub mod options;
 pub mod pipelines;
 pub mod renderer;

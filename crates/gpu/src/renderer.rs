@@ -30,6 +30,10 @@ pub struct BatchStats {
     /// With the wavefront kernels, path depths run over all of the batch's waves (each wave
     /// stops at its first empty queue); 0 with the megakernel.
     pub wave_depths: u32,
+    /// Whether the batch finished (`Renderer::render_slice` may stop one part-way).
+    pub complete: bool,
+    /// Wall time of the last dispatch (the slice clock's prediction of the next).
+    pub last_dispatch: Duration,
 }
 
 /// What one dispatch (or wave) covers.
@@ -84,6 +88,13 @@ pub struct Renderer<'a> {
     /// A batch that failed part-way: the first row it had not rendered, and its samples per pixel.
     /// The rows before already hold its samples, so the next batch finishes this one.
     unfinished: Option<(u32, u32)>,
+    /// The slowest rate (seconds per sample and row) the unfinished batch's dispatches so far ran
+    /// at, so a batch split over slices sizes the next as a whole one would.
+    unfinished_rate: f64,
+    /// Pixels the output buffers hold: `restart` may render any frame up to this size.
+    capacity_pixels: u64,
+    /// The last measured cost of one sample of one pixel, to size a restarted frame's dispatches.
+    seconds_per_sample_pixel: Option<f64>,
     loop_cap: u32,
     rays: u64,
     dropped_samples: u64,
@@ -369,6 +380,9 @@ impl<'a> Renderer<'a> {
             rows_per_dispatch: (16_384 / frame.width)
                 .clamp(1, frame.tile_row_end - frame.tile_row_begin),
             unfinished: None,
+            unfinished_rate: 0.0,
+            capacity_pixels: pixels,
+            seconds_per_sample_pixel: None,
             loop_cap,
             rays: 0,
             dropped_samples: 0,
@@ -460,6 +474,19 @@ impl<'a> Renderer<'a> {
     /// part-way through a batch (some bands of rows already hold its samples), the next call
     /// finishes that batch, with its sample count, instead of starting a new one.
     pub fn render_batch(&mut self, max_samples: u32) -> Result<BatchStats> {
+        self.render_slice(max_samples, |_| true)
+    }
+
+    /// As `render_batch`, but after each dispatch asks `another(time of that dispatch)` whether
+    /// one more fits (the interactive viewport's frame budget, or a cancel); when it says no, the
+    /// batch stops there and the next call goes on where it stopped (`BatchStats::complete` tells
+    /// which happened). The pixels a stopped batch reached already hold its samples
+    /// (`read_image` counts them).
+    pub fn render_slice(
+        &mut self,
+        max_samples: u32,
+        mut another: impl FnMut(Duration) -> bool,
+    ) -> Result<BatchStats> {
         if self.active_pixels() == 0 {
             // Adaptive sampling has stopped every pixel: nothing is left to sample.
             return Ok(BatchStats::default());
@@ -497,7 +524,8 @@ impl<'a> Renderer<'a> {
             samples,
             ..Default::default()
         };
-        let mut slowest_rate = 0.0f64; // seconds per (sample x row)
+        // Seconds per (sample x row), over the slices of this batch.
+        let mut slowest_rate = std::mem::take(&mut self.unfinished_rate);
         while at < end {
             let count = per_dispatch.min(end - at);
             let range = if compact {
@@ -505,6 +533,7 @@ impl<'a> Renderer<'a> {
             } else {
                 DispatchRange::Rows { begin: at, count }
             };
+            let dispatch_started = Instant::now();
             let (elapsed, depths) = match self.dispatch(range, samples) {
                 Ok(done) => done,
                 Err(e) => {
@@ -512,6 +541,8 @@ impl<'a> Renderer<'a> {
                     return Err(e);
                 }
             };
+            let wall = dispatch_started.elapsed();
+            stats.last_dispatch = wall;
             stats.dispatches += 1;
             stats.wave_depths += depths;
             stats.longest_dispatch = stats.longest_dispatch.max(elapsed);
@@ -522,7 +553,13 @@ impl<'a> Renderer<'a> {
             };
             slowest_rate = slowest_rate.max(elapsed.as_secs_f64() / (f64::from(samples) * rows));
             at += count;
+            if at < end && !another(wall) {
+                self.unfinished = Some((at, samples));
+                self.unfinished_rate = slowest_rate;
+                return Ok(stats);
+            }
         }
+        stats.complete = true;
         self.samples_done += samples;
         self.read_counters()?;
         let (ctx, accum) = (self.ctx, &self.accum);
@@ -561,6 +598,51 @@ impl<'a> Renderer<'a> {
         self.adaptive.enabled() && matches!(self.engine, Engine::Wavefront(_))
     }
 
+    /// Starts over on `frame` (another camera or image size of the same scene: the interactive
+    /// viewport's restarts), keeping the scene's buffers and the pipeline. Refused (the caller then
+    /// makes a new renderer) when the frame needs another pipeline (lens, light sampling,
+    /// sampler), more pixels than the buffers hold, or adaptive sampling is on.
+    pub fn restart(&mut self, scene: &GpuScene, frame: Frame) -> Result<()> {
+        let pixels = u64::from(frame.width) * u64::from(tile_rows(&frame));
+        let same_pipeline = (frame.lens_radius > 0.0) == (self.frame.lens_radius > 0.0)
+            && (frame.emitter_count > 0) == (self.frame.emitter_count > 0)
+            && frame.emitter_count as usize <= scene.emitters.len()
+            && frame.sampler == self.frame.sampler;
+        if !same_pipeline || pixels > self.capacity_pixels || self.adaptive.enabled() {
+            return Err(GpuError::Options(
+                "this frame needs a new renderer (another pipeline, more pixels or adaptive \
+                 sampling)"
+                    .into(),
+            ));
+        }
+        if !(frame.tile_row_begin < frame.tile_row_end && frame.tile_row_end <= frame.height) {
+            return Err(GpuError::Wgpu(
+                "restart: the tile is not inside the image".into(),
+            ));
+        }
+        self.ctx.scoped(|| {
+            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+            for buffer in self.accum.iter().chain([&self.aovs, &self.counters]) {
+                encoder.clear_buffer(buffer, 0, None);
+            }
+            self.ctx.queue.submit([encoder.finish()]);
+        })?;
+        self.frame = frame;
+        self.loop_cap = self
+            .options
+            .max_samples_per_dispatch
+            .map_or_else(|| sizing::loop_cap(scene, &frame), |m| m.max(1));
+        self.samples_done = 0;
+        self.unfinished = None;
+        self.unfinished_rate = 0.0;
+        self.samples_per_dispatch = 1;
+        self.rows_per_dispatch = (16_384 / frame.width.max(1)).clamp(1, tile_rows(&frame));
+        if let Some(rate) = self.seconds_per_sample_pixel {
+            self.adapt(rate * f64::from(frame.width));
+        }
+        Ok(())
+    }
+
     /// Pixels (of this renderer's tile) still taking samples: all of them without adaptive
     /// sampling; once none is, further batches add nothing.
     pub fn active_pixels(&self) -> usize {
@@ -569,6 +651,10 @@ impl<'a> Renderer<'a> {
 
     /// Chooses rows and samples per dispatch so one dispatch takes about the target time.
     fn adapt(&mut self, seconds_per_sample_row: f64) {
+        if seconds_per_sample_row.is_finite() && seconds_per_sample_row > 0.0 {
+            self.seconds_per_sample_pixel =
+                Some(seconds_per_sample_row / f64::from(self.frame.width.max(1)));
+        }
         let wave_capacity = match &self.engine {
             Engine::Wavefront(wave) => Some(wave.capacity),
             Engine::Megakernel { .. } => None,

@@ -203,7 +203,15 @@ fn edit_menu(app: &mut RtApp, ui: &mut egui::Ui) {
 
 fn view_menu(app: &mut RtApp, ui: &mut egui::Ui) {
     ui.checkbox(&mut app.live.enabled, "Path-traced viewport (P)")
-        .on_hover_text("Render the viewport progressively with the path tracer");
+        .on_hover_text(
+            "Render the viewport progressively with the path tracer: coarse pixels at once after \
+             a change, then finer, denoised",
+        );
+    ui.add_enabled(
+        app.live.enabled,
+        egui::Checkbox::new(&mut app.live.show_denoised, "Denoise the path-traced view"),
+    )
+    .on_hover_text("Show the denoised image (on) or the raw samples (off)");
     ui.checkbox(&mut app.ui.orbit_mode, "Orbit mode (O)")
         .on_hover_text("Right-drag orbits around the selection instead of turning the camera");
     if ui

@@ -58,7 +58,7 @@ impl RtApp {
         renders::render_windows(self, &ctx);
         dialogs::dialogs(self, &ctx);
 
-        if self.is_rendering() || self.live.job.as_ref().is_some_and(|j| j.is_running()) {
+        if self.is_rendering() || self.live.view.is_some() {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));
         }
     }

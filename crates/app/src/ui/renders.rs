@@ -32,8 +32,11 @@ pub fn tone_mapped_rgb(
 fn denoised(view: &mut RenderView) -> Option<&Vec<[f32; 3]>> {
     if view.denoised.is_none() {
         let (image, aovs) = (view.job.image.as_ref()?, view.job.aovs.as_ref()?);
-        let result = image.denoised(aovs).ok()?;
-        view.denoised = Some(result);
+        let result = image
+            .denoised(aovs, rt_core::denoiser::DenoiserChoice::Auto)
+            .ok()?;
+        view.denoiser = Some(result.denoiser.name());
+        view.denoised = Some(result.pixels);
     }
     view.denoised.as_ref()
 }
@@ -139,11 +142,15 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
         )
         .on_hover_text("Zoom; drag the scroll bars (or scroll) to pan");
         if view.job.aovs.is_some() {
-            ui.checkbox(&mut view.show_denoised, "denoised")
-                .on_hover_text(
-                    "Show and save the denoised image (smoother, slightly biased); the raw render \
-                     is kept",
-                );
+            let label = match view.denoiser.filter(|_| view.show_denoised) {
+                Some(name) => format!("denoised ({name})"),
+                None => "denoised".to_string(),
+            };
+            ui.checkbox(&mut view.show_denoised, label).on_hover_text(
+                "Show and save the denoised image (smoother, slightly biased): Open Image Denoise \
+                 where it is installed (scripts/ensure-oidn), else rt's À-Trous filter; the raw \
+                 render is kept",
+            );
         }
     });
     let mut error = None;

@@ -28,28 +28,60 @@ pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
         rect.width().round().max(1.0) as u32,
         rect.height().round().max(1.0) as u32,
     ];
-    app.update_live_view(live_size);
+    let interacting = response.dragged() || ui.ctx().input(|i| i.smooth_scroll_delta.y != 0.0);
+    app.update_live_view(live_size, interacting);
     let painter = ui.painter_at(rect);
     if app.live.enabled {
         update_live_texture(app, ui.ctx());
     }
     match (&app.live.texture, app.live.enabled) {
         (Some(texture), true) => {
+            let view = app.live.view.as_ref();
+            let current = view.and_then(|v| v.display());
+            let shown = current.or_else(|| view.and_then(|v| v.previous()));
+            // The rendered image is rounded up to whole big pixels: show the part the view covers.
+            let uv = shown.map_or(egui::vec2(1.0, 1.0), |f| {
+                egui::vec2(
+                    live_size[0] as f32 / (f.width * f.pixel_size) as f32,
+                    live_size[1] as f32 / (f.height * f.pixel_size) as f32,
+                )
+            });
+            let tint = if current.is_some() {
+                egui::Color32::WHITE
+            } else {
+                egui::Color32::from_gray(150)
+            };
             painter.image(
                 texture.id(),
                 rect,
-                egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                egui::Rect::from_min_max(egui::pos2(0.0, 0.0), uv.to_pos2()),
+                tint,
+            );
+            painter.text(
+                rect.left_top() + egui::vec2(8.0, 8.0),
+                egui::Align2::LEFT_TOP,
+                live_overlay(current),
+                egui::FontId::proportional(13.0),
                 egui::Color32::WHITE,
             );
-            if let Some(job) = &app.live.job {
-                painter.text(
-                    rect.left_top() + egui::vec2(8.0, 8.0),
-                    egui::Align2::LEFT_TOP,
-                    format!("path traced: {} spp", job.progress.samples_done),
-                    egui::FontId::proportional(13.0),
-                    egui::Color32::WHITE,
-                );
-            }
+            let toggle = egui::Rect::from_min_size(
+                rect.right_top() + egui::vec2(-110.0, 6.0),
+                egui::vec2(104.0, 20.0),
+            );
+            ui.put(
+                toggle,
+                egui::Checkbox::new(&mut app.live.show_denoised, "denoised"),
+            )
+            .on_hover_text("Show the denoised image (on) or the raw samples (off)");
+        }
+        (None, true) => {
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "Starting the path-traced view…",
+                egui::FontId::proportional(14.0),
+                egui::Color32::GRAY,
+            );
         }
         _ if app.preview_available => {
             let frame = build_frame(
@@ -169,19 +201,59 @@ fn orbit_pivot(app: &RtApp) -> Vec3 {
         .unwrap_or_else(|| Vec3::from(app.doc.scene.camera.to))
 }
 
+/// The path-traced view's status line: samples, time since the change, noise, resolution step and
+/// denoiser.
+fn live_overlay(frame: Option<&rt_gpu::live::LiveFrame>) -> String {
+    let Some(f) = frame else {
+        return "path traced: updating…".into();
+    };
+    let mut line = format!(
+        "path traced: {} spp, {:.1} s",
+        f.samples,
+        f.elapsed.as_secs_f64()
+    );
+    if let Some(noise) = f.noise {
+        line += &format!(", noise {:.1}%", noise * 100.0);
+    }
+    if f.pixel_size > 1 {
+        line += &format!(", 1/{} resolution", f.pixel_size);
+    }
+    match f.denoiser {
+        Some(d) => line += &format!(", denoised ({})", d.name()),
+        None => line += ", raw",
+    }
+    line
+}
+
 fn update_live_texture(app: &mut RtApp, ctx: &egui::Context) {
-    let Some(job) = &app.live.job else { return };
-    let Some(image) = &job.image else { return };
-    if app.live.texture.is_some() && app.live.texture_revision == job.image_revision {
+    let Some(view) = &app.live.view else { return };
+    let Some(frame) = view.display().or_else(|| view.previous()) else {
+        return;
+    };
+    let key = (
+        frame.generation,
+        frame.samples,
+        frame.pixel_size,
+        frame.denoiser.is_some(),
+    );
+    if app.live.texture.is_some() && app.live.texture_key == Some(key) {
         return;
     }
-    let color = super::tone_mapped(image, 0.0);
+    let color = egui::ColorImage::from_rgba_unmultiplied(
+        [frame.width as usize, frame.height as usize],
+        &frame.rgba8,
+    );
+    // Big pixels stay sharp squares; full resolution is filtered as usual.
+    let options = if frame.pixel_size > 1 {
+        egui::TextureOptions::NEAREST
+    } else {
+        egui::TextureOptions::LINEAR
+    };
     match &mut app.live.texture {
-        Some(texture) => texture.set(color, egui::TextureOptions::LINEAR),
+        Some(texture) => texture.set(color, options),
         None => {
-            app.live.texture =
-                Some(ctx.load_texture("path-traced view", color, egui::TextureOptions::LINEAR));
+            app.live.texture = Some(ctx.load_texture("path-traced view", color, options));
         }
     }
-    app.live.texture_revision = job.image_revision;
+    app.live.texture_key = Some(key);
 }

@@ -1,0 +1,346 @@
+//! `rt-cli bench --interactive`: the path-traced viewport's engine (`rt_gpu::live`, the code the
+//! editor runs) driven by a simulated 60 Hz UI, headless. Per scene it measures the time from a
+//! camera change to the first new image, the UI frame intervals while the view refines, the
+//! samples after 5 s and 30 s, and (with a reference) the relMSE of the denoised and raw view.
+//!
+//! The simulated UI does on its thread what the editor's does each frame for the view (take in the
+//! threads' images, copy the one to show into a texture image) and sleeps to the next 60 Hz
+//! deadline; a frame interval above 16.7 ms is time the UI thread did not get the CPU.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use rt_core::Scene;
+use rt_core::metrics::{RgbImage, compare};
+use rt_gpu::live::{LiveRequest, LiveSettings, LiveView};
+use rt_gpu::{GpuContext, RenderOptions, Renderer};
+
+const FRAME: Duration = Duration::from_nanos(16_666_667);
+
+/// What `--interactive` takes from `bench`'s arguments.
+pub struct InteractiveArgs {
+    pub size: [u32; 2],
+    pub seconds: f64,
+    pub reference_dir: Option<PathBuf>,
+    pub reference_spp: u32,
+    /// Run the view without its denoiser (to measure what denoising costs).
+    pub no_denoise: bool,
+    pub kernel: rt_gpu::Kernel,
+}
+
+/// A 60 Hz UI loop's record.
+#[derive(Default)]
+struct Frames {
+    intervals: Vec<Duration>,
+    work: Vec<Duration>,
+    last: Option<Instant>,
+}
+
+impl Frames {
+    /// One UI frame: tick the view, copy a changed image as a texture upload would, wait for the
+    /// next frame.
+    fn frame(&mut self, view: &mut LiveView) {
+        let started = Instant::now();
+        if let Some(last) = self.last {
+            self.intervals.push(started - last);
+        }
+        self.last = Some(started);
+        if view.tick()
+            && let Some(shown) = view.display()
+        {
+            // egui's ColorImage::from_rgba_unmultiplied: a pass over the pixels into Color32s.
+            let texture: Vec<[u8; 4]> = shown
+                .rgba8
+                .chunks_exact(4)
+                .map(|p| [p[0], p[1], p[2], p[3]])
+                .collect();
+            std::hint::black_box(texture);
+        }
+        let work = started.elapsed();
+        self.work.push(work);
+        if let Some(rest) = FRAME.checked_sub(work) {
+            std::thread::sleep(rest);
+        }
+    }
+
+    fn take(&mut self) -> Frames {
+        std::mem::take(self)
+    }
+}
+
+fn percentile(values: &[Duration], p: f64) -> Duration {
+    if values.is_empty() {
+        return Duration::ZERO;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort();
+    sorted[((sorted.len() - 1) as f64 * p).round() as usize]
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+/// The camera orbited by `degrees` about the vertical through its target.
+fn orbit(scene: &Scene, degrees: f32) -> Scene {
+    let mut scene = scene.clone();
+    let to = glam::Vec3::from(scene.camera.to);
+    let offset = glam::Vec3::from(scene.camera.from) - to;
+    let turned = glam::Quat::from_rotation_y(degrees.to_radians()) * offset;
+    scene.camera.from = (to + turned).to_array();
+    scene
+}
+
+fn request(view: &mut LiveView, scene: &Scene, size: [u32; 2], interacting: bool) {
+    let mut scene = scene.clone();
+    scene.settings.width = size[0];
+    scene.settings.height = size[1];
+    view.request(LiveRequest {
+        scene,
+        size,
+        interacting,
+    });
+}
+
+fn until(
+    view: &mut LiveView,
+    frames: &mut Frames,
+    limit: Duration,
+    mut done: impl FnMut(&LiveView) -> bool,
+) -> Result<bool> {
+    let started = Instant::now();
+    while started.elapsed() < limit {
+        frames.frame(view);
+        if let Some(e) = view.error() {
+            anyhow::bail!("the viewport failed: {e}");
+        }
+        if done(view) {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// The scene's reference at the view's size: read from the reference folder, or rendered there
+/// first with `reference_spp` samples.
+fn reference(
+    ctx: &GpuContext,
+    name: &str,
+    scene: &Scene,
+    args: &InteractiveArgs,
+) -> Result<Option<RgbImage>> {
+    let Some(dir) = &args.reference_dir else {
+        return Ok(None);
+    };
+    let path = reference_name(dir, name, args.size);
+    if !path.exists() {
+        if args.reference_spp == 0 {
+            eprintln!(
+                "{name}: no reference {} (pass --reference-spp N to render one)",
+                path.display()
+            );
+            return Ok(None);
+        }
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        let mut scene = scene.clone();
+        scene.settings.width = args.size[0];
+        scene.settings.height = args.size[1];
+        eprintln!(
+            "{name}: rendering the reference ({} spp) into {}",
+            args.reference_spp,
+            path.display()
+        );
+        let gpu_scene = rt_core::GpuScene::build(&scene)?;
+        let mut renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, RenderOptions::default())?;
+        renderer.render(args.reference_spp, |_| true)?;
+        let image = renderer.read_image()?;
+        rt_core::output::save_image(
+            &path,
+            image.width,
+            image.height,
+            &image.rgb(),
+            rt_core::output::View::default(),
+        )?;
+    }
+    Ok(Some(RgbImage::load(&path)?))
+}
+
+fn rel_mse(pixels: &[[f32; 3]], size: [u32; 2], reference: &RgbImage) -> Option<f64> {
+    let image = RgbImage {
+        width: size[0],
+        height: size[1],
+        pixels: pixels.to_vec(),
+    };
+    compare(&image, reference).ok().map(|e| e.rel_mse)
+}
+
+/// Runs the measurement on each scene and prints one block per scene.
+pub fn run(ctx: GpuContext, suite: Vec<(String, Scene)>, args: &InteractiveArgs) -> Result<()> {
+    let ctx = Arc::new(ctx);
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    println!(
+        "interactive viewport, {}x{}, adapter {}, {cores} cores, denoiser {}",
+        args.size[0],
+        args.size[1],
+        ctx.adapter_label(),
+        match rt_core::oidn::Oidn::get() {
+            Ok(o) => format!("Open Image Denoise ({})", o.path().display()),
+            Err(_) => "À-Trous (OIDN not installed)".into(),
+        }
+    );
+    for (name, scene) in suite {
+        let reference = reference(&ctx, &name, &scene, args)?;
+        measure(&ctx, &name, &scene, args, reference.as_ref())?;
+    }
+    Ok(())
+}
+
+fn measure(
+    ctx: &Arc<GpuContext>,
+    name: &str,
+    scene: &Scene,
+    args: &InteractiveArgs,
+    reference: Option<&RgbImage>,
+) -> Result<()> {
+    let size = args.size;
+    let shared = ctx.clone();
+    let settings = LiveSettings {
+        denoise: !args.no_denoise,
+        kernel: args.kernel,
+        ..Default::default()
+    };
+    let mut view = LiveView::start(move || Ok(shared), settings, || {});
+    let mut frames = Frames::default();
+
+    // Opening: builds the GPU scene and compiles the pipelines (lavapipe caches them on disk).
+    request(&mut view, scene, size, false);
+    until(&mut view, &mut frames, Duration::from_secs(600), |v| {
+        v.display().is_some_and(|f| f.pixel_size == 1)
+    })?;
+    let opened = view.first_image_after().unwrap_or_default();
+    frames.take();
+
+    // A drag: ten camera steps 100 ms apart, out and back to the start.
+    let mut drag = Vec::new();
+    let mut angle = 0.0;
+    for step in 0..10 {
+        angle += if step < 5 { 3.0 } else { -3.0 };
+        let last = step == 9;
+        request(&mut view, &orbit(scene, angle), size, !last);
+        let limit = if last {
+            FRAME
+        } else {
+            Duration::from_millis(100)
+        };
+        let started = Instant::now();
+        while started.elapsed() < limit {
+            frames.frame(&mut view);
+        }
+        if !last {
+            drag.push(view.first_image_after());
+        }
+    }
+    let drag_frames = frames.take();
+
+    // Release at the start's camera: refine for `seconds`.
+    let released = Instant::now();
+    let mut first_after_release = None;
+    let mut full_after = None;
+    let mut at_5s = None;
+    let limit = Duration::from_secs_f64(args.seconds);
+    until(&mut view, &mut frames, limit, |v| {
+        if first_after_release.is_none() {
+            first_after_release = v.first_image_after();
+        }
+        if full_after.is_none() && v.raw().is_some_and(|f| f.pixel_size == 1) {
+            full_after = Some(released.elapsed());
+        }
+        if at_5s.is_none() && released.elapsed() >= Duration::from_secs(5) {
+            at_5s = v.raw().map(|f| f.samples);
+        }
+        false
+    })?;
+    let refine = frames.take();
+    let raw = view.raw().context("no image after refining")?.clone();
+    let denoised = view.denoised().cloned();
+
+    let answered = drag.iter().flatten().copied().collect::<Vec<_>>();
+    println!("\n{name} ({} triangles)", triangle_count(scene));
+    println!(
+        "  opening (scene build + pipeline compile): {:.0} ms",
+        ms(opened)
+    );
+    println!(
+        "  drag, a change each 100 ms: {}/{} changes got an image within 100 ms; change -> first \
+         image median {:.0} ms, max {:.0} ms; UI frame median {:.1} ms, p95 {:.1} ms",
+        answered.len(),
+        drag.len(),
+        ms(percentile(&answered, 0.5)),
+        ms(percentile(&answered, 1.0)),
+        ms(percentile(&drag_frames.intervals, 0.5)),
+        ms(percentile(&drag_frames.intervals, 0.95)),
+    );
+    println!(
+        "  release -> first image {:.0} ms, full resolution after {:.2} s",
+        ms(first_after_release.unwrap_or_default()),
+        full_after.unwrap_or_default().as_secs_f64()
+    );
+    println!(
+        "  refining {:.0} s: UI frame median {:.1} ms, p95 {:.1} ms, max {:.1} ms (UI work p95 \
+         {:.2} ms); spp after 5 s {}, after {:.0} s {}",
+        args.seconds,
+        ms(percentile(&refine.intervals, 0.5)),
+        ms(percentile(&refine.intervals, 0.95)),
+        ms(percentile(&refine.intervals, 1.0)),
+        ms(percentile(&refine.work, 0.95)),
+        at_5s.map_or("-".into(), |n| n.to_string()),
+        args.seconds,
+        raw.samples
+    );
+    if let Some(reference) = reference {
+        let raw_error = rel_mse(&raw.pixels, size, reference);
+        let denoised_error = denoised
+            .as_ref()
+            .filter(|d| d.pixel_size == 1)
+            .and_then(|d| rel_mse(&d.pixels, size, reference));
+        println!(
+            "  relMSE at {:.0} s against the reference: raw {} ({} spp), denoised {} ({}, {} spp)",
+            args.seconds,
+            raw_error.map_or("-".into(), |e| format!("{e:.4}")),
+            raw.samples,
+            denoised_error.map_or("-".into(), |e| format!("{e:.4}")),
+            denoised
+                .as_ref()
+                .and_then(|d| d.denoiser)
+                .map_or("none", |d| d.name()),
+            denoised.as_ref().map_or(0, |d| d.samples),
+        );
+    }
+    if !view.shut_down(Duration::from_secs(30)) {
+        eprintln!("{name}: the viewport's threads did not stop within 30 s");
+    }
+    Ok(())
+}
+
+fn triangle_count(scene: &Scene) -> usize {
+    scene.triangle_count()
+}
+
+/// `WxH`.
+pub fn parse_size(s: &str) -> Result<[u32; 2], String> {
+    let (w, h) = s
+        .split_once('x')
+        .ok_or_else(|| format!("expected WxH like 1280x720, got '{s}'"))?;
+    let parse = |v: &str| match v.trim().parse::<u32>() {
+        Ok(n) if (1..=16384).contains(&n) => Ok(n),
+        _ => Err(format!("'{v}' is not a size in 1..=16384")),
+    };
+    Ok([parse(w)?, parse(h)?])
+}
+
+/// `DIR/NAME-WxH.exr`.
+fn reference_name(dir: &Path, name: &str, size: [u32; 2]) -> PathBuf {
+    dir.join(format!("{name}-{}x{}.exr", size[0], size[1]))
+}

@@ -1,0 +1,462 @@
+//! The viewport's render thread and denoise thread.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, Sender, TryRecvError};
+use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use rt_core::{GpuScene, Scene};
+
+use super::ladder::Ladder;
+use super::scenes::{Rebuild, SceneCache};
+use super::slicing::{SliceClock, dispatch_target};
+use super::{Event, LiveFrame, LiveRequest, LiveSettings, Message, Shared};
+use crate::{Aovs, GpuContext, Image, RenderOptions, Renderer};
+
+/// A denoise to run: the newest image of a step and its guides.
+struct DenoiseJob {
+    generation: u64,
+    pixel_size: u32,
+    image: Image,
+    aovs: Aovs,
+    elapsed: Duration,
+    rebuild: Rebuild,
+}
+
+/// The one-slot queue between the render and the denoise thread: a newer job replaces one not yet
+/// started, so the denoiser never falls behind.
+#[derive(Default)]
+struct DenoiseSlot {
+    job: Mutex<(Option<DenoiseJob>, bool)>,
+    ready: Condvar,
+    /// How long the last denoise took, in microseconds (paces the next).
+    last_micros: AtomicU64,
+}
+
+impl DenoiseSlot {
+    fn put(&self, job: DenoiseJob) {
+        if let Ok(mut slot) = self.job.lock() {
+            slot.0 = Some(job);
+        }
+        self.ready.notify_one();
+    }
+
+    fn close(&self) {
+        if let Ok(mut slot) = self.job.lock() {
+            slot.1 = true;
+        }
+        self.ready.notify_one();
+    }
+
+    /// The next job, or `None` once closed.
+    fn take(&self) -> Option<DenoiseJob> {
+        let mut slot = self.job.lock().ok()?;
+        loop {
+            if slot.1 {
+                return None;
+            }
+            if let Some(job) = slot.0.take() {
+                return Some(job);
+            }
+            slot = self.ready.wait(slot).ok()?;
+        }
+    }
+
+    fn last(&self) -> Duration {
+        Duration::from_micros(self.last_micros.load(Ordering::Relaxed))
+    }
+}
+
+pub(super) fn spawn(
+    open: impl FnOnce() -> Result<Arc<GpuContext>, String> + Send + 'static,
+    settings: LiveSettings,
+    inbox: Receiver<Message>,
+    outbox: Sender<Event>,
+    shared: Arc<Shared>,
+    wake: Arc<dyn Fn() + Send + Sync>,
+) -> std::io::Result<Vec<JoinHandle<()>>> {
+    let slot = Arc::new(DenoiseSlot::default());
+    let denoiser = {
+        let (slot, shared, outbox, wake) =
+            (slot.clone(), shared.clone(), outbox.clone(), wake.clone());
+        let settings = settings.clone();
+        std::thread::Builder::new()
+            .name("rt-live-denoise".into())
+            .spawn(move || denoise_loop(&settings, &slot, &shared, &outbox, &*wake))?
+    };
+    let render = std::thread::Builder::new()
+        .name("rt-live-render".into())
+        .spawn(move || {
+            let result = open().and_then(|ctx| {
+                let mut thread = RenderThread {
+                    ctx: &ctx,
+                    settings,
+                    shared: &shared,
+                    outbox: &outbox,
+                    slot: &slot,
+                    wake: &*wake,
+                    scenes: SceneCache::default(),
+                };
+                thread.run(&inbox)
+            });
+            if let Err(message) = result {
+                let _ = outbox.send(Event::Failed(message));
+            }
+            slot.close();
+            wake();
+        })?;
+    Ok(vec![render, denoiser])
+}
+
+fn denoise_loop(
+    settings: &LiveSettings,
+    slot: &DenoiseSlot,
+    shared: &Shared,
+    outbox: &Sender<Event>,
+    wake: &dyn Fn(),
+) {
+    let threads = settings.denoise_threads.unwrap_or_else(|| {
+        let cores = std::thread::available_parallelism().map_or(2, |n| n.get() as u32);
+        (cores / 2).max(1)
+    });
+    while let Some(job) = slot.take() {
+        if !shared.current(job.generation) {
+            continue;
+        }
+        let started = Instant::now();
+        let generation = job.generation;
+        let result =
+            job.image
+                .denoised_limited(&job.aovs, settings.denoiser, Some(threads), &|| {
+                    shared.current(generation)
+                });
+        slot.last_micros
+            .store(started.elapsed().as_micros() as u64, Ordering::Relaxed);
+        match result {
+            Ok(denoised) => {
+                log::debug!(
+                    "live: denoised {}x{} in {:.1?}",
+                    job.image.width,
+                    job.image.height,
+                    started.elapsed()
+                );
+                let mut frame = LiveFrame::new(
+                    job.generation,
+                    job.pixel_size,
+                    (job.image.width, job.image.height),
+                    denoised.pixels,
+                    job.image.samples_per_pixel,
+                    job.elapsed,
+                    job.rebuild,
+                );
+                frame.noise = noise_of(&job.image);
+                frame.denoiser = Some(denoised.denoiser);
+                frame.fallback = denoised.fallback;
+                if outbox.send(Event::Denoised(frame)).is_err() {
+                    return;
+                }
+            }
+            Err(e) if e == rt_core::oidn::CANCELLED => {
+                log::debug!(
+                    "live: a stale denoise stopped after {:.1?}",
+                    started.elapsed()
+                );
+            }
+            // The raw image stays on screen.
+            Err(e) => log::warn!("the viewport's denoiser failed: {e}"),
+        }
+        wake();
+    }
+}
+
+/// One change being rendered.
+struct Job {
+    generation: u64,
+    scene: Scene,
+    size: [u32; 2],
+    gpu_scene: Arc<GpuScene>,
+    rebuild: Rebuild,
+    ladder: Ladder,
+    started: Instant,
+    /// When this step's image was last sent, and its samples then.
+    last_shown: Option<(Instant, u32)>,
+    last_denoise: Option<Instant>,
+    done: bool,
+    /// Where the time went (for the debug log): path tracing, waiting for UI frames, reading back.
+    spent: [Duration; 3],
+    /// What the last image cost to read back and send.
+    show_cost: Duration,
+}
+
+struct RenderThread<'a> {
+    ctx: &'a GpuContext,
+    settings: super::LiveSettings,
+    shared: &'a Shared,
+    outbox: &'a Sender<Event>,
+    slot: &'a DenoiseSlot,
+    wake: &'a dyn Fn(),
+    scenes: SceneCache,
+}
+
+impl<'a> RenderThread<'a> {
+    fn run(&mut self, inbox: &Receiver<Message>) -> Result<(), String> {
+        let mut job: Option<Job> = None;
+        let mut renderer: Option<(Renderer<'a>, Arc<GpuScene>)> = None;
+        let mut interacting = false;
+        let mut seen_frames = 0u64;
+        loop {
+            // The newest request wins; block while there is nothing to render.
+            let mut newest = None;
+            let idle = job.as_ref().is_none_or(|j| j.done);
+            let mut first = if idle {
+                match inbox.recv() {
+                    Ok(m) => Some(m),
+                    Err(_) => return Ok(()),
+                }
+            } else {
+                None
+            };
+            loop {
+                let message = match first.take() {
+                    Some(m) => m,
+                    None => match inbox.try_recv() {
+                        Ok(m) => m,
+                        Err(TryRecvError::Empty) => break,
+                        Err(TryRecvError::Disconnected) => return Ok(()),
+                    },
+                };
+                match message {
+                    Message::Request(request, generation) => {
+                        interacting = request.interacting;
+                        newest = Some((request, generation));
+                    }
+                    Message::Interacting(now) => {
+                        interacting = now;
+                        // Letting go of the mouse lets a held ladder go on.
+                        if let Some(j) = job.as_mut() {
+                            j.done = false;
+                        }
+                    }
+                }
+            }
+            if self.shared.stop.load(Ordering::Relaxed) {
+                return Ok(());
+            }
+            if let Some((request, generation)) = newest {
+                if !self.shared.current(generation) {
+                    continue;
+                }
+                job = Some(self.start(*request, generation)?);
+                if let Some(j) = job.as_mut() {
+                    self.prepare(j, &mut renderer)?;
+                }
+            }
+            let Some(j) = job.as_mut() else { continue };
+            if j.done || !self.shared.current(j.generation) {
+                continue;
+            }
+            let Some((r, _)) = renderer.as_mut() else {
+                continue;
+            };
+            let waited = Instant::now();
+            self.shared
+                .wait_for_ui(&mut seen_frames, self.settings.frame_wait);
+            j.spent[1] += waited.elapsed();
+            if !self.shared.current(j.generation) {
+                continue;
+            }
+            if self.slice(j, r, interacting)? {
+                self.prepare(j, &mut renderer)?;
+            }
+            (self.wake)();
+        }
+    }
+
+    /// A job for `request`, its GPU scene rebuilt as little as the change allows.
+    fn start(&mut self, request: LiveRequest, generation: u64) -> Result<Job, String> {
+        let started = Instant::now();
+        let mut scene = request.scene;
+        // Restarts keep the renderer, which adaptive sampling's per-pixel state would not allow.
+        scene.settings.adaptive_threshold = None;
+        let (gpu_scene, rebuild) = self.scenes.get(&scene).map_err(|e| e.to_string())?;
+        Ok(Job {
+            generation,
+            scene,
+            size: [request.size[0].max(1), request.size[1].max(1)],
+            gpu_scene,
+            rebuild,
+            ladder: Ladder::new(&self.settings.pixel_sizes, request.size),
+            started,
+            last_shown: None,
+            last_denoise: None,
+            done: false,
+            spent: [Duration::ZERO; 3],
+            show_cost: Duration::ZERO,
+        })
+    }
+
+    /// Points the renderer at the job's current ladder step: a restart on a new frame where the
+    /// pipeline and buffers allow, else a new renderer.
+    fn prepare(
+        &self,
+        job: &mut Job,
+        renderer: &mut Option<(Renderer<'a>, Arc<GpuScene>)>,
+    ) -> Result<(), String> {
+        let [w, h] = job.ladder.resolution(job.size);
+        let mut step_scene = job.scene.clone();
+        step_scene.settings.width = w;
+        step_scene.settings.height = h;
+        let frame =
+            rt_core::frame::frame_for(&step_scene, &job.gpu_scene).map_err(|e| e.to_string())?;
+        job.last_shown = None;
+        if let Some((r, built)) = renderer.as_mut()
+            && Arc::ptr_eq(built, &job.gpu_scene)
+            && r.restart(&job.gpu_scene, frame).is_ok()
+        {
+            return Ok(());
+        }
+        // A new one holds the whole view's pixels, so every later step restarts it.
+        let mut full = step_scene;
+        full.settings.width = job.size[0];
+        full.settings.height = job.size[1];
+        let options = RenderOptions {
+            kernel: self.settings.kernel,
+            aovs: true,
+            target_dispatch: dispatch_target(self.settings.budget),
+            ..Default::default()
+        };
+        *renderer = None;
+        let mut r = Renderer::for_scene(self.ctx, &full, &job.gpu_scene, options)
+            .map_err(|e| e.to_string())?;
+        r.restart(&job.gpu_scene, frame)
+            .map_err(|e| e.to_string())?;
+        *renderer = Some((r, job.gpu_scene.clone()));
+        Ok(())
+    }
+
+    /// One UI frame's work; returns true when the ladder moved to a finer step.
+    fn slice(
+        &self,
+        job: &mut Job,
+        renderer: &mut Renderer<'a>,
+        interacting: bool,
+    ) -> Result<bool, String> {
+        let mut clock = SliceClock::new(self.settings.budget);
+        let generation = job.generation;
+        let shared = self.shared;
+        loop {
+            let left =
+                self.settings.max_samples - renderer.samples_done().min(self.settings.max_samples);
+            // A step shows as soon as it has one sample: its first batch takes just that.
+            let max = if renderer.samples_done() == 0 {
+                left.min(1)
+            } else {
+                left
+            };
+            if max == 0 {
+                job.done = true;
+                return Ok(false);
+            }
+            let traced = Instant::now();
+            let stats = renderer
+                .render_slice(max, |last| {
+                    clock.another(last) && shared.current(generation)
+                })
+                .map_err(|e| e.to_string())?;
+            job.spent[0] += traced.elapsed();
+            if !stats.complete || !shared.current(generation) {
+                return Ok(false);
+            }
+            let samples = renderer.samples_done();
+            let step_first = job.last_shown.is_none_or(|(_, n)| n == 0);
+            // Reading back costs 64 bytes a pixel: at most a fifth of the time goes to it.
+            let every = self.settings.show_every.max(job.show_cost * 4);
+            let due = job.last_shown.is_none_or(|(at, _)| at.elapsed() >= every);
+            if step_first || due {
+                let shown = Instant::now();
+                self.show(job, renderer, step_first, interacting)?;
+                job.show_cost = shown.elapsed();
+                job.spent[2] += job.show_cost;
+            }
+            if job.ladder.advance(samples, interacting) {
+                log::debug!(
+                    "live: step 1/{} after {:.2?}: tracing {:.2?}, waiting for the UI {:.2?}, \
+                     reading back {:.2?}",
+                    job.ladder.pixel_size(),
+                    job.started.elapsed(),
+                    job.spent[0],
+                    job.spent[1],
+                    job.spent[2]
+                );
+                return Ok(true);
+            }
+            if interacting && !job.ladder.is_final() {
+                // Held at the coarsest step while the user drags: one sample is enough to follow
+                // the mouse; wait for the next change or the end of the drag.
+                job.done = true;
+                return Ok(false);
+            }
+            if !clock.another(stats.last_dispatch) {
+                return Ok(false);
+            }
+        }
+    }
+
+    /// Sends the step's image (and queues it for the denoiser when due).
+    fn show(
+        &self,
+        job: &mut Job,
+        renderer: &Renderer<'a>,
+        step_first: bool,
+        interacting: bool,
+    ) -> Result<(), String> {
+        let read_started = Instant::now();
+        let image = renderer.read_image().map_err(|e| e.to_string())?;
+        log::debug!(
+            "live: {}x{} at {} spp read back in {:.1?}",
+            image.width,
+            image.height,
+            image.samples_per_pixel,
+            read_started.elapsed()
+        );
+        let elapsed = job.started.elapsed();
+        let mut frame = LiveFrame::new(
+            job.generation,
+            job.ladder.pixel_size(),
+            (image.width, image.height),
+            image.rgb(),
+            image.samples_per_pixel,
+            elapsed,
+            job.rebuild,
+        );
+        frame.noise = noise_of(&image);
+        job.last_shown = Some((Instant::now(), image.samples_per_pixel));
+        let _ = self.outbox.send(Event::Raw(frame));
+        let pace = self.settings.denoise_every.max(self.slot.last() * 2);
+        let denoise_due = step_first || job.last_denoise.is_none_or(|at| at.elapsed() >= pace);
+        // While the user drags, only the coarse step is denoised (cheap): a finer one would hold
+        // a core the next change needs.
+        let denoise_due = denoise_due && !(interacting && job.ladder.pixel_size() == 1);
+        if self.settings.denoise
+            && denoise_due
+            && let Some(aovs) = renderer.read_aovs().map_err(|e| e.to_string())?
+        {
+            self.slot.put(DenoiseJob {
+                generation: job.generation,
+                pixel_size: job.ladder.pixel_size(),
+                image,
+                aovs,
+                elapsed,
+                rebuild: job.rebuild,
+            });
+            job.last_denoise = Some(Instant::now());
+        }
+        Ok(())
+    }
+}
+
+fn noise_of(image: &Image) -> Option<f64> {
+    let noise = image.estimated_noise();
+    noise.is_finite().then_some(noise)
+}

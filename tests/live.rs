@@ -1,0 +1,213 @@
+//! The interactive viewport's engine (`rt_gpu::live`) on a real device: the resolution ladder, exact
+//! restarts, cancelling on a change, rebuilds per kind of change, the denoised view, and shutdown.
+
+mod common;
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use rt_gpu::live::{LiveFrame, LiveRequest, LiveSettings, LiveView, Rebuild};
+use rt_gpu::{GpuContext, RenderOptions, Renderer};
+
+fn start(settings: LiveSettings) -> Option<LiveView> {
+    let ctx = Arc::new(GpuContext::for_tests()?);
+    Some(LiveView::start(move || Ok(ctx), settings, || {}))
+}
+
+fn cornell(width: u32, height: u32) -> rt_core::Scene {
+    let mut scene = rt_core::assets::cornell_box().unwrap();
+    scene.settings.width = width;
+    scene.settings.height = height;
+    scene
+}
+
+fn request(view: &mut LiveView, scene: &rt_core::Scene) {
+    view.request(LiveRequest {
+        scene: scene.clone(),
+        size: [scene.settings.width, scene.settings.height],
+        interacting: false,
+    });
+}
+
+/// Ticks like a 60 Hz UI until `done`, recording every raw image shown; panics after a minute.
+fn tick_until(
+    view: &mut LiveView,
+    what: &str,
+    mut done: impl FnMut(&LiveView) -> bool,
+) -> Vec<(u32, u32)> {
+    let started = Instant::now();
+    let mut shown = Vec::new();
+    loop {
+        if view.tick()
+            && let Some(raw) = view.raw()
+            && shown.last() != Some(&(raw.pixel_size, raw.samples))
+        {
+            assert_eq!(
+                raw.generation,
+                view.generation(),
+                "only the newest change shows"
+            );
+            shown.push((raw.pixel_size, raw.samples));
+        }
+        assert!(view.error().is_none(), "{:?}", view.error());
+        if done(view) {
+            return shown;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "timed out waiting for {what}; shown so far: {shown:?}"
+        );
+        std::thread::sleep(Duration::from_millis(16));
+    }
+}
+
+fn raw_settings() -> LiveSettings {
+    LiveSettings {
+        denoise: false,
+        ..Default::default()
+    }
+}
+
+/// The first image after a change is the coarsest step, each step follows once it has a sample, and
+/// full resolution comes without input; the restarted renderer's full-resolution samples are
+/// exactly a fresh render's (same pixels, bit for bit).
+#[test]
+fn a_change_starts_coarse_refines_by_itself_and_restarts_exactly() {
+    let Some(mut view) = start(raw_settings()) else {
+        return;
+    };
+    let scene = cornell(96, 64);
+    request(&mut view, &scene);
+    let shown = tick_until(&mut view, "full resolution with 3 samples", |v| {
+        v.raw().is_some_and(|r| r.pixel_size == 1 && r.samples >= 3)
+    });
+    assert_eq!(
+        shown[0].0, 8,
+        "the first image is the coarsest step: {shown:?}"
+    );
+    assert!(
+        shown.windows(2).all(|w| w[1].0 <= w[0].0),
+        "steps only get finer: {shown:?}"
+    );
+    for size in [8, 4, 2] {
+        assert!(
+            shown.iter().any(|s| s.0 == size),
+            "step {size} was shown: {shown:?}"
+        );
+    }
+    let raw = view.raw().unwrap().clone();
+    assert_eq!((raw.width, raw.height), (96, 64));
+    assert_eq!(raw.rebuild, Rebuild::Geometry);
+
+    // A fresh renderer with the same samples gives the same image.
+    let ctx = common::gpu().unwrap();
+    let gpu_scene = rt_core::GpuScene::build(&scene).unwrap();
+    let options = RenderOptions {
+        aovs: true,
+        ..Default::default()
+    };
+    let mut fresh = Renderer::for_scene(ctx, &scene, &gpu_scene, options).unwrap();
+    fresh.render(raw.samples, |_| true).unwrap();
+    let reference = fresh.read_image().unwrap();
+    assert_eq!(reference.samples_per_pixel, raw.samples);
+    assert!(
+        reference.rgb() == raw.pixels,
+        "the restarted renderer's image differs from a fresh render's"
+    );
+    assert!(view.shut_down(Duration::from_secs(30)), "the threads end");
+}
+
+/// A camera move reuses the GPU scene, a material edit restyles it (no BVH build), a transform
+/// rebuilds it; each restarts at the coarsest step.
+#[test]
+fn each_kind_of_change_rebuilds_only_what_it_must() {
+    let Some(mut view) = start(raw_settings()) else {
+        return;
+    };
+    let mut scene = cornell(64, 64);
+    let first_of = |view: &mut LiveView, scene: &rt_core::Scene| -> LiveFrame {
+        request(view, scene);
+        tick_until(view, "the first image", |v| v.raw().is_some());
+        view.raw().unwrap().clone()
+    };
+    assert_eq!(first_of(&mut view, &scene).rebuild, Rebuild::Geometry);
+    scene.camera.vfov_deg = 30.0;
+    let moved = first_of(&mut view, &scene);
+    assert_eq!((moved.rebuild, moved.pixel_size), (Rebuild::Nothing, 8));
+    scene.objects[0].material = rt_core::Material::Metal {
+        albedo: [0.9, 0.9, 0.9],
+        fuzz: 0.2,
+    };
+    assert_eq!(first_of(&mut view, &scene).rebuild, Rebuild::Shading);
+    scene.objects[0].transform.scale = [0.9; 3];
+    assert_eq!(first_of(&mut view, &scene).rebuild, Rebuild::Geometry);
+}
+
+/// A change while a slice runs stops the old work: nothing of the old change is shown after it,
+/// and the new change's first image is the new scene's.
+#[test]
+fn a_change_during_a_slice_cancels_it_and_shows_nothing_stale() {
+    let Some(mut view) = start(raw_settings()) else {
+        return;
+    };
+    let mut scene = cornell(256, 256);
+    request(&mut view, &scene);
+    tick_until(&mut view, "full resolution", |v| {
+        v.raw().is_some_and(|r| r.pixel_size == 1)
+    });
+    let before = view.generation();
+    // Move the camera repeatedly, a frame apart, as a drag does.
+    for step in 0..5 {
+        scene.camera.from[0] += 0.05 * step as f32;
+        request(&mut view, &scene);
+        view.tick();
+        assert!(
+            view.raw().is_none_or(|r| r.generation == view.generation()),
+            "an image of an earlier change was shown"
+        );
+        std::thread::sleep(Duration::from_millis(16));
+    }
+    assert_eq!(view.generation(), before + 5);
+    assert!(
+        view.previous().is_some(),
+        "the old image stays up, marked as previous"
+    );
+    tick_until(&mut view, "the newest change's first image", |v| {
+        v.raw().is_some()
+    });
+    let first = view.raw().unwrap();
+    assert_eq!(first.generation, view.generation());
+    assert_eq!(first.pixel_size, 8);
+    assert!(view.previous().is_none());
+}
+
+/// The denoised view arrives for the newest change and names its denoiser: OIDN where it loads.
+#[test]
+fn the_denoised_view_arrives_and_names_its_denoiser() {
+    let Some(mut view) = start(LiveSettings::default()) else {
+        return;
+    };
+    let scene = cornell(64, 48);
+    request(&mut view, &scene);
+    tick_until(&mut view, "a denoised full-resolution image", |v| {
+        v.denoised().is_some_and(|d| d.pixel_size == 1)
+    });
+    let denoised = view.denoised().unwrap();
+    let expected = match rt_core::oidn::Oidn::get() {
+        Ok(_) => rt_core::denoiser::Denoiser::Oidn,
+        Err(_) => rt_core::denoiser::Denoiser::Atrous,
+    };
+    assert_eq!(denoised.denoiser, Some(expected));
+    assert_eq!(
+        view.display().map(|d| d.denoiser),
+        Some(Some(expected)),
+        "the view shows the denoised image by default"
+    );
+    view.show_denoised = false;
+    assert_eq!(
+        view.display().map(|d| d.denoiser),
+        Some(None),
+        "raw one click away"
+    );
+    assert!(view.shut_down(Duration::from_secs(30)));
+}
