@@ -61,10 +61,19 @@ fn tick_until(
     }
 }
 
+/// Small views for speed, with the whole ladder from 8 (the default would start them finer).
+fn small_view_settings() -> LiveSettings {
+    LiveSettings {
+        pixel_sizes: vec![8, 4, 2, 1],
+        first_step_pixels: 0,
+        ..Default::default()
+    }
+}
+
 fn raw_settings() -> LiveSettings {
     LiveSettings {
         denoise: false,
-        ..Default::default()
+        ..small_view_settings()
     }
 }
 
@@ -184,7 +193,7 @@ fn a_change_during_a_slice_cancels_it_and_shows_nothing_stale() {
 /// The denoised view arrives for the newest change and names its denoiser: OIDN where it loads.
 #[test]
 fn the_denoised_view_arrives_and_names_its_denoiser() {
-    let Some(mut view) = start(LiveSettings::default()) else {
+    let Some(mut view) = start(small_view_settings()) else {
         return;
     };
     let scene = cornell(64, 48);

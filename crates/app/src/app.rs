@@ -90,6 +90,10 @@ pub struct UiState {
     pub picking_focus: bool,
     pub status: String,
     pub last_render: Option<Duration>,
+    /// A scripted session (`rt --interactive-bench`) is dragging in the viewport.
+    pub scripted_drag: bool,
+    /// The window title last sent.
+    pub window_title: Option<String>,
 }
 
 pub struct RtApp {

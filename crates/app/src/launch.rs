@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+use crate::interactive_bench::InteractiveBench;
 use crate::smoke::{Outcome, SmokeTest};
 use crate::{AppOptions, RtApp};
 
@@ -26,6 +27,11 @@ struct Args {
     /// test of the real window).
     #[arg(long, value_name = "DIR")]
     smoke_test: Option<PathBuf>,
+    /// Measure the path-traced viewport while it answers a scripted orbit (change to first image,
+    /// UI frame times, samples after 5 s and 30 s), write the report to FILE and quit; the window
+    /// is 1920x1000 (under Xvfb: `xvfb-run -s "-screen 0 1920x1080x24"`).
+    #[arg(long, value_name = "FILE", conflicts_with = "smoke_test")]
+    interactive_bench: Option<PathBuf>,
 }
 
 fn has_display() -> bool {
@@ -49,7 +55,7 @@ pub fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     let options = AppOptions {
-        config_dir: if args.smoke_test.is_some() {
+        config_dir: if args.smoke_test.is_some() || args.interactive_bench.is_some() {
             None
         } else {
             crate::recent::default_config_dir()
@@ -60,13 +66,18 @@ pub fn main() -> ExitCode {
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("rt")
-            .with_inner_size([1280.0, 800.0])
+            .with_inner_size(if args.interactive_bench.is_some() {
+                [1920.0, 1000.0]
+            } else {
+                [1280.0, 800.0]
+            })
             .with_drag_and_drop(true),
         renderer: eframe::Renderer::Wgpu,
         ..Default::default()
     };
     let outcome: Outcome = Default::default();
     let smoke_dir = args.smoke_test.clone();
+    let bench_report = args.interactive_bench.clone();
     if let Some(dir) = &smoke_dir
         && let Err(e) = std::fs::create_dir_all(dir)
     {
@@ -80,9 +91,10 @@ pub fn main() -> ExitCode {
             native,
             Box::new(move |cc| {
                 let app = RtApp::from_creation_context(cc, &options);
-                Ok(match smoke_dir {
-                    Some(dir) => Box::new(SmokeTest::new(app, dir, outcome)),
-                    None => Box::new(app),
+                Ok(match (smoke_dir, bench_report) {
+                    (Some(dir), _) => Box::new(SmokeTest::new(app, dir, outcome)),
+                    (None, Some(report)) => Box::new(InteractiveBench::new(app, report, outcome)),
+                    (None, None) => Box::new(app),
                 })
             }),
         )
@@ -91,7 +103,7 @@ pub fn main() -> ExitCode {
         eprintln!("rt: could not open the window: {e}");
         return ExitCode::FAILURE;
     }
-    if args.smoke_test.is_some() {
+    if args.smoke_test.is_some() || args.interactive_bench.is_some() {
         let passed = outcome
             .lock()
             .ok()

@@ -24,10 +24,13 @@ impl RtApp {
         let ctx = ui.ctx().clone();
         self.poll_jobs();
         self.handle_input(&ctx);
-        ctx.send_viewport_cmd(egui::ViewportCommand::Title(format!(
-            "rt — {}",
-            self.doc.title()
-        )));
+        // Only on change: each viewport command makes the window draw another frame, so sending
+        // it every frame kept the editor redrawing continuously.
+        let title = format!("rt — {}", self.doc.title());
+        if self.ui.window_title.as_deref() != Some(title.as_str()) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.ui.window_title = Some(title);
+        }
 
         egui::Panel::top("menu").show(ui, |ui| menu::menu_bar(self, ui));
         egui::Panel::bottom("status").show(ui, |ui| panels::status_bar(self, ui));
@@ -58,7 +61,7 @@ impl RtApp {
         renders::render_windows(self, &ctx);
         dialogs::dialogs(self, &ctx);
 
-        if self.is_rendering() || self.live.view.is_some() {
+        if self.is_rendering() {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));
         }
     }

@@ -28,7 +28,9 @@ pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
         rect.width().round().max(1.0) as u32,
         rect.height().round().max(1.0) as u32,
     ];
-    let interacting = response.dragged() || ui.ctx().input(|i| i.smooth_scroll_delta.y != 0.0);
+    let interacting = response.dragged()
+        || app.ui.scripted_drag
+        || ui.ctx().input(|i| i.smooth_scroll_delta.y != 0.0);
     app.update_live_view(live_size, interacting);
     let painter = ui.painter_at(rect);
     if app.live.enabled {

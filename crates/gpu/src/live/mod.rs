@@ -32,11 +32,14 @@ pub struct LiveSettings {
     pub budget: Duration,
     /// The resolution ladder's pixel sizes (`ladder`).
     pub pixel_sizes: Vec<u32>,
+    /// The ladder starts at its finest step whose next one has more pixels than this.
+    pub first_step_pixels: u32,
     /// Denoise the view (the UI may still show the raw image).
     pub denoise: bool,
     pub denoiser: DenoiserChoice,
-    /// At full resolution, re-denoise at most this often (and never more than a third of the
-    /// time: each denoise waits at least twice as long as the last one took).
+    /// Re-denoise a step at most this often, once its samples have grown by half since the last
+    /// denoise, and never more than a third of the time (each denoise waits at least twice as
+    /// long as the last one took).
     pub denoise_every: Duration,
     /// Threads the denoiser may use (`None`: half the cores, leaving the rest to the UI and the
     /// renderer).
@@ -58,6 +61,7 @@ impl Default for LiveSettings {
         LiveSettings {
             budget: slicing::DEFAULT_BUDGET,
             pixel_sizes: ladder::DEFAULT_PIXEL_SIZES.to_vec(),
+            first_step_pixels: ladder::FIRST_STEP_PIXELS,
             denoise: true,
             denoiser: DenoiserChoice::Auto,
             denoise_every: Duration::from_millis(1000),
@@ -68,7 +72,7 @@ impl Default for LiveSettings {
             // 12 ms dispatches the slices need (measured on lavapipe: 160x90 at 1 spp took ~0.5 s
             // on the wavefront kernels and ~50 ms on the megakernel; docs/performance.md).
             kernel: Kernel::Megakernel,
-            frame_wait: Duration::from_millis(50),
+            frame_wait: Duration::from_millis(60),
         }
     }
 }
@@ -156,7 +160,10 @@ struct Shared {
     /// The newest change; work for an older one stops at its next dispatch.
     generation: AtomicU64,
     stop: AtomicBool,
-    ui_frames: Mutex<u64>,
+    /// The threads asked the UI for a frame it has not drawn yet.
+    repaint_pending: AtomicBool,
+    /// UI frames so far, and when the last two began.
+    ui_frames: Mutex<(u64, [Option<Instant>; 2])>,
     ui_frame: Condvar,
 }
 
@@ -165,19 +172,41 @@ impl Shared {
         self.generation.load(Ordering::Acquire) == generation && !self.stop.load(Ordering::Relaxed)
     }
 
-    /// Waits until the UI has drawn a frame since `seen` (or `timeout`), so render slices and UI
-    /// frames take turns on the CPU.
-    fn wait_for_ui(&self, seen: &mut u64, timeout: Duration) {
+    /// Asks the UI for a frame (to show a new image).
+    fn wake(&self, wake: &dyn Fn()) {
+        self.repaint_pending.store(true, Ordering::Release);
+        wake();
+    }
+
+    /// Waits (up to `timeout`) for the UI's next frame when it is drawing (it asked for frames
+    /// lately, or the threads asked it for one), so that render slices and UI frames take turns
+    /// on the CPU where the GPU is the CPU: one slice per UI frame. A UI with nothing to draw is
+    /// not waited for.
+    fn wait_for_ui(&self, timeout: Duration) {
         let Ok(frames) = self.ui_frames.lock() else {
             return;
         };
-        let (frames, _) = self
+        let (seen, [before, last]) = *frames;
+        // Drawing continuously: its last two frames came close together, and lately.
+        let continuous = match (before, last) {
+            (Some(a), Some(b)) => b - a < timeout && b.elapsed() < timeout,
+            _ => false,
+        };
+        let drawing = self.repaint_pending.load(Ordering::Acquire) || continuous;
+        if !drawing {
+            return;
+        }
+        let (_frames, waited) = self
             .ui_frame
             .wait_timeout_while(frames, timeout, |f| {
-                *f <= *seen && !self.stop.load(Ordering::Relaxed)
+                f.0 == seen && !self.stop.load(Ordering::Relaxed)
             })
             .unwrap_or_else(|e| e.into_inner());
-        *seen = *frames;
+        if waited.timed_out() {
+            // The UI did not draw the frame asked for in time (hidden, or idle): stop waiting for
+            // it, so a UI that is not drawing never slows the view.
+            self.repaint_pending.store(false, Ordering::Release);
+        }
     }
 }
 
@@ -214,7 +243,8 @@ impl LiveView {
         let shared = Arc::new(Shared {
             generation: AtomicU64::new(0),
             stop: AtomicBool::new(false),
-            ui_frames: Mutex::new(0),
+            repaint_pending: AtomicBool::new(false),
+            ui_frames: Mutex::new((0, [None; 2])),
             ui_frame: Condvar::new(),
         });
         let (messages, inbox) = channel();
@@ -278,7 +308,8 @@ impl LiveView {
     /// whether the image to show changed.
     pub fn tick(&mut self) -> bool {
         if let Ok(mut frames) = self.shared.ui_frames.lock() {
-            *frames += 1;
+            *frames = (frames.0 + 1, [frames.1[1], Some(Instant::now())]);
+            self.shared.repaint_pending.store(false, Ordering::Release);
         }
         self.shared.ui_frame.notify_all();
         let mut changed = false;

@@ -166,7 +166,7 @@ fn denoise_loop(
             // The raw image stays on screen.
             Err(e) => log::warn!("the viewport's denoiser failed: {e}"),
         }
-        wake();
+        shared.wake(wake);
     }
 }
 
@@ -181,12 +181,15 @@ struct Job {
     started: Instant,
     /// When this step's image was last sent, and its samples then.
     last_shown: Option<(Instant, u32)>,
-    last_denoise: Option<Instant>,
+    /// When this step was last queued for the denoiser, and its samples then.
+    last_denoise: Option<(Instant, u32)>,
     done: bool,
     /// Where the time went (for the debug log): path tracing, waiting for UI frames, reading back.
     spent: [Duration; 3],
     /// What the last image cost to read back and send.
     show_cost: Duration,
+    /// No slice has run yet.
+    fresh: bool,
 }
 
 struct RenderThread<'a> {
@@ -204,7 +207,6 @@ impl<'a> RenderThread<'a> {
         let mut job: Option<Job> = None;
         let mut renderer: Option<(Renderer<'a>, Arc<GpuScene>)> = None;
         let mut interacting = false;
-        let mut seen_frames = 0u64;
         loop {
             // The newest request wins; block while there is nothing to render.
             let mut newest = None;
@@ -259,17 +261,19 @@ impl<'a> RenderThread<'a> {
             let Some((r, _)) = renderer.as_mut() else {
                 continue;
             };
-            let waited = Instant::now();
-            self.shared
-                .wait_for_ui(&mut seen_frames, self.settings.frame_wait);
-            j.spent[1] += waited.elapsed();
+            // A new change's first slice does not wait: the UI has just drawn, and waits for it.
+            if !j.fresh {
+                let waited = Instant::now();
+                self.shared.wait_for_ui(self.settings.frame_wait);
+                j.spent[1] += waited.elapsed();
+            }
             if !self.shared.current(j.generation) {
                 continue;
             }
             if self.slice(j, r, interacting)? {
                 self.prepare(j, &mut renderer)?;
             }
-            (self.wake)();
+            j.fresh = false;
         }
     }
 
@@ -286,13 +290,18 @@ impl<'a> RenderThread<'a> {
             size: [request.size[0].max(1), request.size[1].max(1)],
             gpu_scene,
             rebuild,
-            ladder: Ladder::new(&self.settings.pixel_sizes, request.size),
+            ladder: Ladder::new(
+                &self.settings.pixel_sizes,
+                request.size,
+                self.settings.first_step_pixels,
+            ),
             started,
             last_shown: None,
             last_denoise: None,
             done: false,
             spent: [Duration::ZERO; 3],
             show_cost: Duration::ZERO,
+            fresh: true,
         })
     }
 
@@ -342,7 +351,14 @@ impl<'a> RenderThread<'a> {
         renderer: &mut Renderer<'a>,
         interacting: bool,
     ) -> Result<bool, String> {
-        let mut clock = SliceClock::new(self.settings.budget);
+        // The first slice after a change may run three budgets: the user is waiting for exactly
+        // that image (the coarsest step's sample), not for the UI's next frame.
+        let budget = if job.fresh {
+            self.settings.budget * 3
+        } else {
+            self.settings.budget
+        };
+        let mut clock = SliceClock::new(budget);
         let generation = job.generation;
         let shared = self.shared;
         loop {
@@ -369,6 +385,16 @@ impl<'a> RenderThread<'a> {
                 return Ok(false);
             }
             let samples = renderer.samples_done();
+            if job.ladder.is_final() && samples.is_power_of_two() {
+                log::debug!(
+                    "live: {samples} spp after {:.2?}: tracing {:.2?}, waiting for the UI {:.2?}, \
+                     reading back {:.2?}",
+                    job.started.elapsed(),
+                    job.spent[0],
+                    job.spent[1],
+                    job.spent[2]
+                );
+            }
             let step_first = job.last_shown.is_none_or(|(_, n)| n == 0);
             // Reading back costs 64 bytes a pixel: at most a fifth of the time goes to it.
             let every = self.settings.show_every.max(job.show_cost * 4);
@@ -433,8 +459,13 @@ impl<'a> RenderThread<'a> {
         frame.noise = noise_of(&image);
         job.last_shown = Some((Instant::now(), image.samples_per_pixel));
         let _ = self.outbox.send(Event::Raw(frame));
+        self.shared.wake(self.wake);
         let pace = self.settings.denoise_every.max(self.slot.last() * 2);
-        let denoise_due = step_first || job.last_denoise.is_none_or(|at| at.elapsed() >= pace);
+        let samples = image.samples_per_pixel;
+        let denoise_due = step_first
+            || job.last_denoise.is_none_or(|(at, n)| {
+                at.elapsed() >= pace && u64::from(samples) * 2 >= u64::from(n) * 3
+            });
         // While the user drags, only the coarse step is denoised (cheap): a finer one would hold
         // a core the next change needs.
         let denoise_due = denoise_due && !(interacting && job.ladder.pixel_size() == 1);
@@ -450,7 +481,7 @@ impl<'a> RenderThread<'a> {
                 elapsed,
                 rebuild: job.rebuild,
             });
-            job.last_denoise = Some(Instant::now());
+            job.last_denoise = Some((Instant::now(), samples));
         }
         Ok(())
     }
