@@ -242,18 +242,6 @@ pub fn run(args: BenchArgs) -> Result<()> {
             );
         }
     }
-    println!(
-        "{:<12} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9}",
-        "scene",
-        "triangles",
-        "BVH ms",
-        "build ms",
-        "depth",
-        "GPU MB",
-        "render s",
-        "Mpaths/s",
-        "Mrays/s"
-    );
     if args.interactive {
         let mut scenes = Vec::new();
         // A name that matches exactly selects that scene alone ("cornell", not its variants).
@@ -286,6 +274,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
         };
         return crate::interactive::run(ctx, scenes, &interactive);
     }
+    println!(
+        "{:<12} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9}",
+        "scene",
+        "triangles",
+        "BVH ms",
+        "build ms",
+        "depth",
+        "GPU MB",
+        "render s",
+        "Mpaths/s",
+        "Mrays/s"
+    );
     let mut records = Vec::new();
     for (name, scene) in suite {
         if args
