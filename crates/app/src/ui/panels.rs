@@ -452,7 +452,9 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
                         object.material = (preset.material)();
                     }
                 }
-            });
+            })
+            .response
+            .on_hover_text("Replace the material with a named one");
     });
 
     ui.add_space(4.0);
@@ -647,7 +649,9 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
                     for i in 0..textures {
                         ui.selectable_value(t, i, format!("texture {i}"));
                     }
-                });
+                })
+                .response
+                .on_hover_text("The base colour image");
         }
         if ui
             .button("Choose image…")
