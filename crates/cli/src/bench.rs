@@ -64,14 +64,7 @@ pub struct BenchArgs {
 }
 
 fn parse_workgroup(s: &str) -> Result<[u32; 2], String> {
-    let (x, y) = s
-        .split_once('x')
-        .ok_or_else(|| format!("expected WxH like 8x8, got '{s}'"))?;
-    let parse = |v: &str| match v.trim().parse::<u32>() {
-        Ok(n) if (1..=256).contains(&n) => Ok(n),
-        _ => Err(format!("'{v}' is not a work-group side in 1..=256")),
-    };
-    let (x, y) = (parse(x)?, parse(y)?);
+    let [x, y] = crate::options::parse_pair(s, "8x8", 256, "a work-group side")?;
     if x * y > 256 {
         return Err(format!(
             "{x}x{y} is more than 256 invocations per work group"

@@ -267,7 +267,7 @@ fn measure(
     let denoised = view.denoised().cloned();
 
     let answered = drag.iter().flatten().copied().collect::<Vec<_>>();
-    println!("\n{name} ({} triangles)", triangle_count(scene));
+    println!("\n{name} ({} triangles)", scene.triangle_count());
     println!(
         "  opening (scene build + pipeline compile): {:.0} ms",
         ms(opened)
@@ -324,20 +324,9 @@ fn measure(
     Ok(())
 }
 
-fn triangle_count(scene: &Scene) -> usize {
-    scene.triangle_count()
-}
-
-/// `WxH`.
+/// `WxH`: the interactive view's size.
 pub fn parse_size(s: &str) -> Result<[u32; 2], String> {
-    let (w, h) = s
-        .split_once('x')
-        .ok_or_else(|| format!("expected WxH like 1280x720, got '{s}'"))?;
-    let parse = |v: &str| match v.trim().parse::<u32>() {
-        Ok(n) if (1..=16384).contains(&n) => Ok(n),
-        _ => Err(format!("'{v}' is not a size in 1..=16384")),
-    };
-    Ok([parse(w)?, parse(h)?])
+    crate::options::parse_pair(s, "1280x720", 16384, "a size")
 }
 
 /// `DIR/NAME-WxH.exr`.

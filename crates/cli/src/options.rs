@@ -308,3 +308,15 @@ impl DenoiseArg {
         }
     }
 }
+
+/// `WxH` with each side in `1..=max`, e.g. `example`; errors name `what` a side is.
+pub fn parse_pair(s: &str, example: &str, max: u32, what: &str) -> Result<[u32; 2], String> {
+    let (a, b) = s
+        .split_once('x')
+        .ok_or_else(|| format!("expected WxH like {example}, got '{s}'"))?;
+    let parse = |v: &str| match v.trim().parse::<u32>() {
+        Ok(n) if (1..=max).contains(&n) => Ok(n),
+        _ => Err(format!("'{v}' is not {what} in 1..={max}")),
+    };
+    Ok([parse(a)?, parse(b)?])
+}

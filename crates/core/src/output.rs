@@ -105,6 +105,16 @@ pub fn khronos_pbr_neutral(rgb: [f32; 3]) -> [f32; 3] {
 }
 
 impl View {
+    /// `to_srgb8` of every pixel, as opaque RGBA bytes (what a texture upload takes).
+    pub fn to_rgba8(&self, rgb: &[[f32; 3]]) -> Vec<u8> {
+        let mut bytes = Vec::with_capacity(rgb.len() * 4);
+        for p in rgb {
+            bytes.extend(self.to_srgb8(*p));
+            bytes.push(255);
+        }
+        bytes
+    }
+
     /// 8-bit sRGB of one linear RGB pixel (NaN and negative values show black).
     pub fn to_srgb8(&self, rgb: [f32; 3]) -> [u8; 3] {
         let scale = self.exposure_stops.exp2();

@@ -376,9 +376,7 @@ impl<'a> Renderer<'a> {
             options,
             samples_done: 0,
             samples_per_dispatch: 1,
-            // Start with a band of about 16k pixels to measure the cost safely, then grow.
-            rows_per_dispatch: (16_384 / frame.width)
-                .clamp(1, frame.tile_row_end - frame.tile_row_begin),
+            rows_per_dispatch: first_band_rows(&frame),
             unfinished: None,
             unfinished_rate: 0.0,
             capacity_pixels: pixels,
@@ -636,7 +634,7 @@ impl<'a> Renderer<'a> {
         self.unfinished = None;
         self.unfinished_rate = 0.0;
         self.samples_per_dispatch = 1;
-        self.rows_per_dispatch = (16_384 / frame.width.max(1)).clamp(1, tile_rows(&frame));
+        self.rows_per_dispatch = first_band_rows(&frame);
         if let Some(rate) = self.seconds_per_sample_pixel {
             self.adapt(rate * f64::from(frame.width));
         }
@@ -851,6 +849,11 @@ impl<'a> Renderer<'a> {
             tile_rows(&self.frame),
         )
     }
+}
+
+/// A first dispatch's rows: a band of about 16k pixels, to measure the cost safely, then grow.
+fn first_band_rows(frame: &Frame) -> u32 {
+    (16_384 / frame.width.max(1)).clamp(1, tile_rows(frame))
 }
 
 fn tile_rows(frame: &Frame) -> u32 {

@@ -19,12 +19,7 @@ pub fn tone_mapped_rgb(
     height: u32,
     view: impl Into<View>,
 ) -> egui::ColorImage {
-    let view = view.into();
-    let mut bytes = Vec::with_capacity(rgb.len() * 4);
-    for p in rgb {
-        bytes.extend(view.to_srgb8(*p));
-        bytes.push(255);
-    }
+    let bytes = view.into().to_rgba8(rgb);
     egui::ColorImage::from_rgba_unmultiplied([width as usize, height as usize], &bytes)
 }
 

@@ -113,12 +113,7 @@ impl LiveFrame {
         elapsed: Duration,
         rebuild: Rebuild,
     ) -> Self {
-        let view = rt_core::output::View::default();
-        let mut rgba8 = Vec::with_capacity(pixels.len() * 4);
-        for p in &pixels {
-            rgba8.extend(view.to_srgb8(*p));
-            rgba8.push(255);
-        }
+        let rgba8 = rt_core::output::View::default().to_rgba8(&pixels);
         LiveFrame {
             generation,
             pixel_size,
