@@ -4,8 +4,9 @@ an environment EXR, a camera), renders Mitsuba's reference of it at high spp, an
 render: per-channel means and 32-px blocks.
 
 The scene: a grey diffuse floor, a white rough conductor (roughness 0.3), a gold metal (0.35), a
-rough glass sphere (0.2, IOR 1.5), a smooth glass sphere, a quad area light and an environment
-map. Mitsuba plugins and the parameters matched (α = roughness², GGX, visible-normal sampling):
+rough glass sphere (0.2, IOR 1.5), a smooth glass sphere, a red plastic sphere in front (0.3,
+IOR 1.5), a quad area light and an environment map. Mitsuba plugins and the parameters matched
+(α = roughness², GGX, visible-normal sampling):
   floor          rt Lambertian (Kd 0.5)            Mitsuba diffuse, reflectance 0.5
   white metal    rt Pbr metallic 1, roughness 0.3   roughconductor ggx, alpha 0.09, material none
                                                     (F = 1: rt's Schlick with F0 = 1 is 1 too)
@@ -13,12 +14,17 @@ map. Mitsuba plugins and the parameters matched (α = roughness², GGX, visible-
                                                     roughness 0.35 (Schlick with F0 = base colour)
   rough glass    rt Pbr transmission 1, 0.2, 1.5    roughdielectric ggx, alpha 0.04, int_ior 1.5
   smooth glass   rt Dielectric 1.5                  dielectric, int_ior 1.5
+  plastic        rt Pbr metallic 0, roughness 0.3,  principled, base_color, metallic 0,
+                 IOR 1.5                            roughness 0.3, eta 1.5, no sheen, clearcoat
+                                                    or specular tint
   light          Ke 6 (front face)                  area, radiance 6
   environment    --environment env.exr              envmap (same lat-long mapping, y up)
 Mitsuba's conductors scatter once; rt adds Turquin's multiple-scattering energy (about 1% at
 these roughnesses). rt looks the environment up at the nearest texel, Mitsuba bilinearly; the map
-is smooth. Mitsuba has no plugin for glTF's dielectric-over-diffuse layering (`roughplastic`
-models internal reflections, `principled` Disney's diffuse), so rt's plastic is not compared.
+is smooth. Mitsuba has no plugin for glTF's dielectric-over-diffuse layering: `principled`'s
+diffuse is Disney's (retro-reflective at grazing angles, not weighted by 1 − F) and
+`roughplastic` adds a coating's internal reflections, so the plastic is compared with
+`principled`, the nearer of the two, and its own region's difference is reported apart.
 
 Needs: `pip install mitsuba` (llvm_ad_rgb: `apt-get install libllvm19`) and a release rt-cli.
 
@@ -40,6 +46,8 @@ ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
 WIDTH, HEIGHT, DEPTH = 256, 192, 8
 CAMERA = {"from": [0.0, 1.6, 5.2], "to": [0.0, 0.55, 0.0], "vfov": 32.0}
+# The plastic sphere in front of the row (centre x, y, z and radius).
+PLASTIC = (0.0, 0.3, 1.2, 0.3)
 
 MTL = """newmtl floor
 Kd 0.5 0.5 0.5
@@ -57,6 +65,11 @@ Ni 1.5
 Pr 0.2
 newmtl smooth_glass
 illum 7
+Ni 1.5
+newmtl plastic
+Kd 0.6 0.15 0.1
+Pm 0
+Pr 0.3
 Ni 1.5
 newmtl light
 Ke 6 6 6
@@ -85,6 +98,8 @@ def objects():
     for k, material in enumerate(["white_metal", "gold", "rough_glass", "smooth_glass"]):
         v, f = sphere(-1.65 + 1.1 * k, 0.5, 0.0, 0.5)
         yield material, material, v, f
+    v, f = sphere(*PLASTIC)
+    yield "plastic", "plastic", v, f
     # Facing down (counter-clockwise seen from below).
     yield "light", "light", [(-0.6, 2.6, -0.6), (0.6, 2.6, -0.6), (0.6, 2.6, 0.6), (-0.6, 2.6, 0.6)], \
         [(0, 1, 2), (0, 2, 3)]
@@ -133,6 +148,10 @@ def mitsuba_scene(mi, out, tmp, spp):
         "rough_glass": {"type": "roughdielectric", "distribution": "ggx", "alpha": 0.04,
                         "int_ior": 1.5, "ext_ior": 1.0},
         "smooth_glass": {"type": "dielectric", "int_ior": 1.5, "ext_ior": 1.0},
+        "plastic": {"type": "principled",
+                    "base_color": {"type": "rgb", "value": [0.6, 0.15, 0.1]},
+                    "metallic": 0.0, "roughness": 0.3, "eta": 1.5, "spec_tint": 0.0,
+                    "sheen": 0.0, "clearcoat": 0.0, "spec_trans": 0.0},
         "light": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}},
     }
     scene = {

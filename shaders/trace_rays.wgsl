@@ -6,6 +6,13 @@
 @group(0) @binding(2) var<storage, read> nodes: array<BvhNodeRecord>;
 @group(0) @binding(3) var<storage, read_write> hits: array<Hit>;
 
+// The traversals' test kernel meets opaque triangles only (shared/ray_query.wgsl asks).
+const HAS_ALPHA: bool = false;
+
+fn stops_ray_at(ray: PreparedRay, i: u32, b1: f32, b2: f32) -> bool {
+    return true;
+}
+
 fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
     let tri = triangles[i];
     return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);

@@ -128,11 +128,18 @@ fn ray_queries_render_the_image_of_rts_bvh() {
     bulb.position = [150.0, 400.0, 250.0];
     bulb.intensity = 40_000.0;
     metal.lights.push(bulb);
-    let scenes: [(&str, Scene); 2] = [
+    let scenes: [(&str, Scene); 3] = [
         ("Cornell box with metal, glass and a point light", metal),
         (
             "textures, normals, thin lens",
             textured_scene_with_normals_metal_glass_and_lens(),
+        ),
+        // Holes: the driver hands every hit over as a candidate that rt's coverage test confirms.
+        // (Blending's coin hashes the ray's exact bits, so the driver's rounding of hit points
+        // sends later paths elsewhere: tests/analytic.rs checks it over ray queries statistically.)
+        (
+            "alpha mask, emission textures",
+            masked_only(alpha_and_emission_textures_scene(24, 24)),
         ),
     ];
     for (name, mut scene) in scenes {

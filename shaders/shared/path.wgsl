@@ -152,8 +152,15 @@ fn sample_light(p: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> Lig
     if (!(dot(dir, ng) > 0.0 && cos_l > 0.0)) {
         return none;
     }
-    let le = materials[tri.material].emission;
-    let p_light = (1.0 - frame.env_pick) * luminance(le) * frame.emitter_power_inv * distance * distance / cos_l;
+    // The table picks emitters by their emission factor; the point's own radiance is the factor
+    // times the emission image, and, on a surface with holes, times its coverage (the light that
+    // BSDF sampling finds there on average).
+    let material = materials[tri.material];
+    let p_light = (1.0 - frame.env_pick) * luminance(material.emission) * frame.emitter_power_inv * distance * distance / cos_l;
+    var le = surface_emission(material, tri, chosen, b.y, b.z);
+    if (HAS_ALPHA && (material.flags & (ALPHA_MASK | ALPHA_BLEND)) != 0u) {
+        le *= coverage(material, tri, chosen, b.y, b.z);
+    }
     return LightSample(origin, distance, dir, p_light, le / p_light);
 }
 
@@ -292,40 +299,6 @@ fn vertex_color(sh: Shading, b: vec3<f32>) -> vec3<f32> {
         + srgb_to_linear(unpack4x8unorm(sh.c2).rgb) * b.z;
 }
 
-fn albedo_factor(m: Material) -> vec3<f32> {
-    return select(vec3(1.0), m.albedo, m.kind == MAT_PBR);
-}
-
-fn texel(m: Material, x: i32, y: i32) -> vec3<f32> {
-    let w = i32(m.texture_width);
-    let h = i32(m.texture_height);
-    let xi = u32(((x % w) + w) % w);
-    let yi = u32(((y % h) + h) % h);
-    let p = unpack4x8unorm(texels[m.texture_offset + yi * m.texture_width + xi]);
-    return srgb_to_linear(p.rgb);
-}
-
-fn texel_linear(offset: u32, w: u32, h: u32, x: i32, y: i32) -> vec3<f32> {
-    let xi = u32(((x % i32(w)) + i32(w)) % i32(w));
-    let yi = u32(((y % i32(h)) + i32(h)) % i32(h));
-    return unpack4x8unorm(texels[offset + yi * w + xi]).rgb;
-}
-
-// `sample_texture` for data images (metallic-roughness, normals): bytes read linearly.
-fn sample_texture_linear(offset: u32, w: u32, h: u32, uv: vec2<f32>) -> vec3<f32> {
-    let x = uv.x * f32(w) - 0.5;
-    let y = (1.0 - uv.y) * f32(h) - 0.5;
-    let x0 = floor(x);
-    let y0 = floor(y);
-    let fx = x - x0;
-    let fy = y - y0;
-    let xi = i32(x0);
-    let yi = i32(y0);
-    let top = mix(texel_linear(offset, w, h, xi, yi), texel_linear(offset, w, h, xi + 1, yi), fx);
-    let bottom = mix(texel_linear(offset, w, h, xi, yi + 1), texel_linear(offset, w, h, xi + 1, yi + 1), fx);
-    return mix(top, bottom, fy);
-}
-
 // The shading normal a tangent-space normal map gives (reference/path.rs `normal_mapped`).
 fn normal_mapped(n: vec3<f32>, t0: vec4<f32>, t1: vec4<f32>, t2: vec4<f32>, b: vec3<f32>, t: vec3<f32>, scale: f32) -> vec3<f32> {
     let blended = t0.xyz * b.x + t1.xyz * b.y + t2.xyz * b.z;
@@ -340,21 +313,6 @@ fn normal_mapped(n: vec3<f32>, t0: vec4<f32>, t1: vec4<f32>, t2: vec4<f32>, b: v
     let mapped = tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
     let l = length(mapped);
     return select(n, mapped / l, l > 0.0);
-}
-
-// Bilinear, repeating; uv.y = 0 is the image's bottom row (OBJ convention).
-fn sample_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
-    let x = uv.x * f32(m.texture_width) - 0.5;
-    let y = (1.0 - uv.y) * f32(m.texture_height) - 0.5;
-    let x0 = floor(x);
-    let y0 = floor(y);
-    let fx = x - x0;
-    let fy = y - y0;
-    let xi = i32(x0);
-    let yi = i32(y0);
-    let top = mix(texel(m, xi, yi), texel(m, xi + 1, yi), fx);
-    let bottom = mix(texel(m, xi, yi + 1), texel(m, xi + 1, yi + 1), fx);
-    return mix(top, bottom, fy);
 }
 
 // The vertex where `path`'s ray found `hit`: adds the light it sees there, samples the next
@@ -395,7 +353,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
             if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
                 let s0 = shading[hit.triangle];
                 let c0 = 1.0 - hit.b1 - hit.b2;
-                a = sample_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2) * albedo_factor(material);
+                a = base_color_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2);
             }
             if ((tri.has_normals & HAS_COLORS) != 0u) {
                 a *= vertex_color(shading[hit.triangle], vec3(1.0 - hit.b1 - hit.b2, hit.b1, hit.b2));
@@ -410,7 +368,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
             let p_light = (1.0 - frame.env_pick) * luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
             weight = select(power_heuristic((*path).prev_bsdf_pdf, p_light), 0.0, frame.light_strategy == 1u);
         }
-        let emitted = (*path).beta * material.emission * weight;
+        let emitted = (*path).beta * surface_emission(material, tri, hit.triangle, hit.b1, hit.b2) * weight;
         (*path).radiance += select(clamp_bounced(emitted), emitted, depth == 0u);
         if (WRITE_AOVS && depth == 0u) {
             aov_emission = emitted;
@@ -436,7 +394,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     let uv = sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2;
     var albedo = material.albedo;
     if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
-        albedo = sample_texture(material, uv) * albedo_factor(material);
+        albedo = base_color_texture(material, uv);
     }
     if ((tri.has_normals & HAS_COLORS) != 0u) {
         albedo *= vertex_color(sh, vec3(b0, hit.b1, hit.b2));
@@ -445,12 +403,14 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     var roughness = material.roughness;
     if (HAS_PBR && HAS_TEXTURES && material.kind == MAT_PBR && tri.has_uvs != 0u) {
         if (material.mr_texture_offset != NO_TEXTURE) {
-            let t = sample_texture_linear(material.mr_texture_offset, material.mr_texture_width, material.mr_texture_height, uv);
+            let t = sample_slot(material.mr_texture_offset, material.mr_texture_width, material.mr_texture_height,
+                material.samplers >> SLOT_METALLIC_ROUGHNESS, uv, false);
             roughness *= t.y;
             metallic *= t.z;
         }
         if (HAS_NORMAL_MAPS && material.normal_texture_offset != NO_TEXTURE && (tri.has_normals & HAS_NORMALS) != 0u) {
-            let t = sample_texture_linear(material.normal_texture_offset, material.normal_texture_width, material.normal_texture_height, uv);
+            let t = sample_slot(material.normal_texture_offset, material.normal_texture_width, material.normal_texture_height,
+                material.samplers >> SLOT_NORMAL, uv, false).rgb;
             let i = 3u * hit.triangle;
             let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], vec3(b0, hit.b1, hit.b2), t, material.normal_scale);
             ns = select(mapped, -mapped, dot(mapped, ng) < 0.0);

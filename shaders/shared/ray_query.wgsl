@@ -16,7 +16,9 @@ var<private> stack_base: u32;
 @group(0) @binding(17) var scene_tlas: acceleration_structure;
 
 fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
-    var flags = RAY_FLAG_FORCE_OPAQUE;
+    // With alpha the geometry is built non-opaque (rt_gpu::accel), so the driver hands each hit
+    // over as a candidate that `stops_ray` confirms or lets pass.
+    var flags = select(RAY_FLAG_FORCE_OPAQUE, RAY_FLAG_NONE, HAS_ALPHA);
     if (any_hit) {
         flags |= RAY_FLAG_TERMINATE_ON_FIRST_HIT;
     }
@@ -24,7 +26,18 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
     // t_min 0: the estimator offsets ray origins off the surface (shared/intersect.wgsl), as the
     // software traversals need; the BVH code accepts any t > 0 likewise.
     rayQueryInitialize(&query, scene_tlas, RayDesc(flags, 0xffu, 0.0, t_max, origin, direction));
-    rayQueryProceed(&query);
+    if (HAS_ALPHA) {
+        let ray = prepare_ray(origin, direction);
+        while (rayQueryProceed(&query)) {
+            let c = rayQueryGetCandidateIntersection(&query);
+            let i = c.primitive_index;
+            if (c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && stops_ray_at(ray, i, c.barycentrics.x, c.barycentrics.y)) {
+                rayQueryConfirmIntersection(&query);
+            }
+        }
+    } else {
+        rayQueryProceed(&query);
+    }
     let found = rayQueryGetCommittedIntersection(&query);
     if (found.kind == RAY_QUERY_INTERSECTION_NONE) {
         return Hit(t_max, MISS, 0.0, 0.0);

@@ -27,8 +27,16 @@ fn pixel_stopped(slot: u32) -> bool {
     return ADAPTIVE && pixel_done[slot] != 0u;
 }
 
-// The triangle test BVH traversal (shared/bvh.wgsl, shared/cwbvh.wgsl) calls on leaf triangles.
+// Alpha-masked or blended surfaces: each hit reads its coverage (shared/texture.wgsl `stops_ray`).
+override HAS_ALPHA: bool = true;
+
+// The triangle test BVH traversal (shared/bvh.wgsl, shared/cwbvh.wgsl) calls on leaf triangles:
+// (t, b1, b2), t < 0 for a miss or a hole.
 fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
     let tri = triangles[i];
-    return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);
+    let h = intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);
+    if (HAS_ALPHA && h.x > 0.0 && !stops_ray(ray, tri, i, h.y, h.z)) {
+        return vec3(-1.0, 0.0, 0.0);
+    }
+    return h;
 }

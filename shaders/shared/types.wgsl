@@ -51,13 +51,23 @@ struct Material {
     normal_texture_offset: u32,  // 84: tangent-space normals, linear; NO_TEXTURE if none
     normal_texture_width: u32,   // 88
     normal_texture_height: u32,  // 92
-    flags: u32,              // 96: bit 0 THIN_WALLED
-    _pad_a: u32,             // 100
-    _pad_b: u32,             // 104
-    _pad_c: u32,             // 108
+    flags: u32,              // 96: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND
+    emission_texture_offset: u32,  // 100: multiplies emission, sRGB; NO_TEXTURE if none
+    emission_texture_width: u32,   // 104
+    emission_texture_height: u32,  // 108
+    samplers: u32,           // 112: 5 bits a slot (SLOT_*): wrap s, wrap t, nearest
+    alpha: f32,              // 116: base colour factor's alpha
+    alpha_cutoff: f32,       // 120
+    _pad: u32,               // 124
 }
 
 const THIN_WALLED: u32 = 1u;
+const ALPHA_MASK: u32 = 2u;
+const ALPHA_BLEND: u32 = 4u;
+const SLOT_BASE: u32 = 0u;
+const SLOT_METALLIC_ROUGHNESS: u32 = 5u;
+const SLOT_NORMAL: u32 = 10u;
+const SLOT_EMISSION: u32 = 15u;
 
 // An environment texel with its alias-table entry (core::gpu_types::EnvTexel).
 struct EnvTexel {

@@ -199,6 +199,7 @@ pub fn textured_scene_with_normals_metal_glass_and_lens() -> Scene {
     scene.objects[2].transform.translation = [0.8, 0.3, 0.5];
     scene.camera.aperture_radius = 0.05;
     scene.textures.push(Texture {
+        sampler: Default::default(),
         name: "checker".into(),
         width: 4,
         height: 4,
@@ -267,6 +268,7 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         .collect();
     for (name, rgba) in [("bumps", bumps), ("metal-rough", mr)] {
         scene.textures.push(rt_core::Texture {
+            sampler: Default::default(),
             name: name.into(),
             width: 4,
             height: 4,
@@ -398,4 +400,156 @@ pub fn assert_matches_reference(
         off.len(),
         block_tolerance * 100.0
     );
+}
+
+/// glTF's texture and alpha features: a fence quad masked by its base colour image's alpha
+/// (nearest, clamped), a curtain blended at α = 0.45 times its image's alpha, and an emissive
+/// panel whose emission image repeats mirrored and whose holes (a cutoff over the factor's alpha
+/// times the image) cut the light it gives, over a floor lit by an area light, a sun and the sky.
+pub fn alpha_and_emission_textures_scene(width: u32, height: u32) -> Scene {
+    use rt_core::material::{AlphaMode, Pbr};
+    use rt_core::shapes::quad;
+    use rt_core::{Filter, Texture, TextureSampler, Wrap};
+    let uv_quad = |center: Vec3, normal: Vec3, size: f32, repeat: f32| {
+        let mut q = quad(center, normal, size);
+        q.uvs = Some(
+            [(0.0, 0.0), (repeat, 0.0), (repeat, repeat), (0.0, repeat)]
+                .map(|(u, v)| glam::Vec2::new(u, v))
+                .to_vec(),
+        );
+        q
+    };
+    // 4x4 RGBA: a lattice of solid bars with holes; the curtain's stripes; the panel's pattern.
+    let fence: Vec<u8> = (0..16u32)
+        .flat_map(|i| {
+            let solid = i % 4 == 0 || i / 4 == 0;
+            [200, 150, 90, if solid { 255 } else { 0 }]
+        })
+        .collect();
+    let stripes: Vec<u8> = (0..16u32)
+        .flat_map(|i| [60, 90, 220, if i % 2 == 0 { 255 } else { 120 }])
+        .collect();
+    let pattern: Vec<u8> = (0..16u32)
+        .flat_map(|i| {
+            let lit = (i % 4 + i / 4) % 3 != 0;
+            [
+                255,
+                if lit { 230 } else { 40 },
+                120,
+                if lit { 255 } else { 60 },
+            ]
+        })
+        .collect();
+    let sampler = |wrap: Wrap, filter: Filter| TextureSampler {
+        wrap_s: wrap,
+        wrap_t: wrap,
+        filter,
+    };
+    let mut s = scene(
+        vec![
+            object(
+                "floor",
+                quad(Vec3::ZERO, Vec3::Y, 6.0),
+                Material::lambertian([0.7; 3]),
+            ),
+            object(
+                "fence",
+                uv_quad(
+                    Vec3::new(-0.6, 0.8, 0.3),
+                    Vec3::new(0.3, 0.0, 1.0).normalize(),
+                    1.4,
+                    1.3,
+                ),
+                pbr(Pbr {
+                    base_color: [1.0; 3],
+                    texture: Some(0),
+                    roughness: 0.7,
+                    alpha_mode: AlphaMode::Mask,
+                    ..Default::default()
+                }),
+            ),
+            object(
+                "curtain",
+                uv_quad(
+                    Vec3::new(0.7, 0.8, 0.0),
+                    Vec3::new(-0.2, 0.0, 1.0).normalize(),
+                    1.4,
+                    1.0,
+                ),
+                pbr(Pbr {
+                    base_color: [0.9; 3],
+                    texture: Some(1),
+                    roughness: 0.4,
+                    alpha_mode: AlphaMode::Blend,
+                    alpha: 0.45,
+                    ..Default::default()
+                }),
+            ),
+            object(
+                "panel",
+                uv_quad(
+                    Vec3::new(0.0, 1.2, -1.2),
+                    Vec3::new(0.0, -0.3, 1.0).normalize(),
+                    1.6,
+                    2.5,
+                ),
+                pbr(Pbr {
+                    base_color: [0.2; 3],
+                    texture: Some(2),
+                    emission: [2.0, 1.5, 1.0],
+                    emission_texture: Some(2),
+                    alpha_mode: AlphaMode::Mask,
+                    alpha: 0.9,
+                    alpha_cutoff: 0.3,
+                    ..Default::default()
+                }),
+            ),
+            object(
+                "light",
+                quad(Vec3::new(0.0, 3.0, 0.5), Vec3::NEG_Y, 1.0),
+                Material::Emissive {
+                    color: [1.0, 0.95, 0.9],
+                    intensity: 6.0,
+                },
+            ),
+        ],
+        camera(Vec3::new(0.3, 1.4, 3.2), Vec3::new(0.0, 0.7, 0.0), 50.0),
+        [0.25, 0.3, 0.4],
+        settings(width, height, 1, 5),
+    );
+    for (name, rgba, sampler) in [
+        ("fence", fence, sampler(Wrap::ClampToEdge, Filter::Nearest)),
+        ("stripes", stripes, sampler(Wrap::Repeat, Filter::Linear)),
+        (
+            "pattern",
+            pattern,
+            sampler(Wrap::MirroredRepeat, Filter::Linear),
+        ),
+    ] {
+        s.textures.push(Texture {
+            name: name.into(),
+            width: 4,
+            height: 4,
+            rgba8: rgba.into(),
+            sampler,
+        });
+    }
+    let mut sun = rt_core::Light::new(rt_core::LightKind::Directional, "sun");
+    sun.direction = [-0.3, -1.0, -0.4];
+    sun.intensity = 1.5;
+    s.lights.push(sun);
+    s
+}
+
+/// `scene` with its blended surfaces made opaque (masks kept): for comparisons in lockstep, which
+/// blending's coin, hashed from a ray's exact bits, does not survive rounding.
+pub fn masked_only(mut scene: Scene) -> Scene {
+    for o in &mut scene.objects {
+        if let Material::Pbr(p) = &mut o.material
+            && p.alpha_mode == rt_core::material::AlphaMode::Blend
+        {
+            p.alpha_mode = rt_core::material::AlphaMode::Opaque;
+        }
+    }
+    scene
 }

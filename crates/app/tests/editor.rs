@@ -581,3 +581,62 @@ fn a_merged_exr_opens_in_the_viewer() {
     harness.get_by_label_contains("Render 1").hover();
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A file dropped on the window, as the windowing layer hands it over (a path).
+#[derive(Debug)]
+struct DroppedPath(std::path::PathBuf);
+
+impl egui::DroppedFile for DroppedPath {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+/// Dropping a .glb on the window opens it (its objects and textures replace the scene) and puts
+/// it first among the recent files; dropping a broken file shows an error and keeps the scene.
+#[test]
+fn a_gltf_dropped_on_the_window_opens() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    let glb = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../cli/tests/data/BoxTextured.glb")
+        .canonicalize()
+        .unwrap();
+    harness
+        .input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(DroppedPath(glb.clone())));
+    harness.run_ok();
+    let app = harness.state();
+    assert!(app.ui.error.is_none(), "{:?}", app.ui.error);
+    let scene = &app.doc.scene;
+    assert!(
+        !scene.objects.is_empty() && scene.objects.iter().all(|o| o.name != "tall_block"),
+        "the box replaced the Cornell box: {:?}",
+        scene.objects.iter().map(|o| &o.name).collect::<Vec<_>>()
+    );
+    assert_eq!(scene.textures.len(), 1, "its base colour image");
+    assert_eq!(app.recent.paths.first(), Some(&glb));
+
+    let dir = std::env::temp_dir().join(format!("rt-editor-drop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let broken = dir.join("broken.glb");
+    std::fs::write(&broken, b"glTF\x02\0\0\0junk").unwrap();
+    let before = harness.state().doc.scene.clone();
+    harness
+        .input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(DroppedPath(broken)));
+    harness.run_ok();
+    let error = harness.state().ui.error.clone().expect("an error is shown");
+    assert!(error.contains("broken.glb"), "names the file: {error}");
+    assert_eq!(harness.state().doc.scene, before, "the scene is kept");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -127,6 +127,7 @@ fn material_scene(all: bool) -> Result<Scene> {
             })
             .collect();
         scene.textures.push(Texture {
+            sampler: Default::default(),
             name: "checker".into(),
             width: 8,
             height: 8,

@@ -196,9 +196,12 @@ pub fn decode_environment(bytes: &[u8], path: &Path) -> Result<EnvironmentMap> {
     let image = decoder
         .decode()
         .map_err(|e| file_error(format!("unreadable environment image: {e}")))?;
-    let rgb = image.to_rgb32f();
+    // Taken over without copies where possible: a 16k x 8k map is 1.5 GiB of f32 RGB
+    // (tests/big_environment.rs measures the peak).
+    let rgb = image.into_rgb32f();
     let (w, h) = rgb.dimensions();
-    let texels: Vec<[f32; 3]> = rgb.pixels().map(|p| p.0).collect();
+    let texels: Vec<[f32; 3]> = bytemuck::allocation::try_cast_vec(rgb.into_raw())
+        .unwrap_or_else(|(_, raw)| raw.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
     let (map, replaced) = EnvironmentMap::from_texels(w, h, texels);
     if replaced > 0 {
         log::warn!(

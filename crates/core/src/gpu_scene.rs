@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 use crate::bvh::{BvhLayout, BvhQuality, build_bvh, build_wide_bvh};
 use crate::error::{Error, Result};
 use crate::gpu_types::{self, BvhNode, NO_TEXTURE, Shading, Triangle, WideBvhNode, material_kind};
-use crate::material::Material;
+use crate::material::{AlphaMode, Material};
 use crate::scene::Scene;
 
 /// Which optional kernel features a scene needs; the pipeline compiles the others out.
@@ -28,6 +28,8 @@ pub struct SceneFeatures {
     pub normal_maps: bool,
     /// An environment map (sampled directly, and by MIS with the BSDF).
     pub environment: bool,
+    /// Alpha-masked or blended surfaces (the traversal reads their coverage at each hit).
+    pub alpha: bool,
 }
 
 /// Everything the GPU needs for a scene, as plain arrays.
@@ -93,6 +95,7 @@ fn object_material(
             material.texture_offset = texture_offsets[t];
             material.texture_width = texture.width;
             material.texture_height = texture.height;
+            material.samplers |= texture.sampler.bits() << gpu_types::SLOT_BASE;
             features.textures = true;
         } else {
             log::warn!("{} has a texture but no UVs: rendering it white", label());
@@ -114,21 +117,38 @@ fn object_material(
                 other => Ok(other),
             }
         };
-        if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
-            material.mr_texture_offset = texture_offsets[t];
-            material.mr_texture_width = scene.textures[t].width;
-            material.mr_texture_height = scene.textures[t].height;
+        // (offset, width, height) of a slot, its sampler in `samplers` at `shift`.
+        let mut bind = |t: usize, shift: u32, samplers: &mut u32| {
+            let texture = &scene.textures[t];
+            *samplers |= texture.sampler.bits() << shift;
             features.textures = true;
+            (texture_offsets[t], texture.width, texture.height)
+        };
+        let mut samplers = material.samplers;
+        if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
+            (
+                material.mr_texture_offset,
+                material.mr_texture_width,
+                material.mr_texture_height,
+            ) = bind(t, gpu_types::SLOT_METALLIC_ROUGHNESS, &mut samplers);
+        }
+        if let Some(t) = slot(p.emission_texture, "emission texture")? {
+            (
+                material.emission_texture_offset,
+                material.emission_texture_width,
+                material.emission_texture_height,
+            ) = bind(t, gpu_types::SLOT_EMISSION, &mut samplers);
         }
         if let Some(t) = slot(p.normal_texture, "normal texture")? {
             match crate::tangents::mikktspace_tangents(mesh) {
                 Some(t_corners) => {
-                    material.normal_texture_offset = texture_offsets[t];
-                    material.normal_texture_width = scene.textures[t].width;
-                    material.normal_texture_height = scene.textures[t].height;
+                    (
+                        material.normal_texture_offset,
+                        material.normal_texture_width,
+                        material.normal_texture_height,
+                    ) = bind(t, gpu_types::SLOT_NORMAL, &mut samplers);
                     tangents = Some(t_corners);
                     features.normal_maps = true;
-                    features.textures = true;
                 }
                 None => log::warn!(
                     "{}: no tangents (it needs normals and UVs): ignoring its normal map",
@@ -136,10 +156,21 @@ fn object_material(
                 ),
             }
         }
+        material.samplers = samplers;
+        // Coverage comes from the factor and the base colour texture: without UVs only the factor.
+        let cuts = match p.alpha_mode {
+            AlphaMode::Opaque => false,
+            AlphaMode::Mask => material.texture_offset != NO_TEXTURE || p.alpha < p.alpha_cutoff,
+            AlphaMode::Blend => material.texture_offset != NO_TEXTURE || p.alpha < 1.0,
+        };
+        if cuts {
+            material.flags |= match p.alpha_mode {
+                AlphaMode::Mask => gpu_types::ALPHA_MASK,
+                _ => gpu_types::ALPHA_BLEND,
+            };
+            features.alpha = true;
+        }
     }
-    features.metal |= material.kind == material_kind::METAL;
-    features.dielectric |= material.kind == material_kind::DIELECTRIC;
-    features.pbr |= material.kind == material_kind::PBR;
     features.metal |= material.kind == material_kind::METAL;
     features.dielectric |= material.kind == material_kind::DIELECTRIC;
     features.pbr |= material.kind == material_kind::PBR;
@@ -544,6 +575,12 @@ impl GpuScene {
                     m.normal_texture_width,
                     m.normal_texture_height,
                 ),
+                (
+                    "emission texture",
+                    m.emission_texture_offset,
+                    m.emission_texture_width,
+                    m.emission_texture_height,
+                ),
             ] {
                 if offset == NO_TEXTURE {
                     continue;
@@ -640,6 +677,8 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
         texture_offset: NO_TEXTURE,
         mr_texture_offset: NO_TEXTURE,
         normal_texture_offset: NO_TEXTURE,
+        emission_texture_offset: NO_TEXTURE,
+        alpha: 1.0,
         ..Default::default()
     };
     match *material {
@@ -675,6 +714,8 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
             metallic: p.metallic,
             roughness: p.roughness,
             transmission: p.transmission,
+            alpha: p.alpha,
+            alpha_cutoff: p.alpha_cutoff,
             flags: if p.thin_walled {
                 gpu_types::THIN_WALLED
             } else {

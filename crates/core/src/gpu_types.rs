@@ -93,15 +93,36 @@ pub struct Material {
     pub normal_texture_offset: u32, // 84
     pub normal_texture_width: u32, // 88
     pub normal_texture_height: u32, // 92
-    /// PBR: bit 0 (`THIN_WALLED`) thin-walled transmission.
+    /// PBR: bit 0 (`THIN_WALLED`) thin-walled transmission; bits 1–2 (`ALPHA_MASK`,
+    /// `ALPHA_BLEND`) the alpha mode.
     pub flags: u32, // 96
-    pub _pad_a: u32, // 100
-    pub _pad_b: u32, // 104
-    pub _pad_c: u32, // 108
+    /// PBR: the emission image (sRGB) multiplying `emission`, or `NO_TEXTURE`.
+    pub emission_texture_offset: u32, // 100
+    pub emission_texture_width: u32, // 104
+    pub emission_texture_height: u32, // 108
+    /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot from bit 0: base colour
+    /// (`SLOT_BASE`), metallic-roughness, normal, emission.
+    pub samplers: u32, // 112
+    /// PBR: the base colour factor's alpha (coverage, with the base colour texture's alpha).
+    pub alpha: f32, // 116
+    /// PBR with `ALPHA_MASK`: coverage below this is a hole.
+    pub alpha_cutoff: f32, // 120
+    pub _pad: u32, // 124
 }
 
 /// `Material.flags` bits.
 pub const THIN_WALLED: u32 = 1;
+/// The surface is a hole where its coverage is below `alpha_cutoff` (glTF's MASK).
+pub const ALPHA_MASK: u32 = 2;
+/// The surface stops a ray with probability equal to its coverage (glTF's BLEND, rendered as
+/// stochastic transparency: a hashed coin per ray and triangle).
+pub const ALPHA_BLEND: u32 = 4;
+
+/// Where each texture slot's sampler lies in `Material::samplers` (bit shift).
+pub const SLOT_BASE: u32 = 0;
+pub const SLOT_METALLIC_ROUGHNESS: u32 = 5;
+pub const SLOT_NORMAL: u32 = 10;
+pub const SLOT_EMISSION: u32 = 15;
 
 impl Material {
     /// What a texture lookup is multiplied by: PBR's base colour factor (a Lambertian texture
@@ -344,9 +365,13 @@ pub fn layouts() -> Vec<StructLayout> {
                 normal_texture_width,
                 normal_texture_height,
                 flags,
-                _pad_a,
-                _pad_b,
-                _pad_c
+                emission_texture_offset,
+                emission_texture_width,
+                emission_texture_height,
+                samplers,
+                alpha,
+                alpha_cutoff,
+                _pad
             ]
         ),
         layout!(

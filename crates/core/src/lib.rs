@@ -32,4 +32,6 @@ pub use error::{Error, Result};
 pub use gpu_scene::{GpuScene, SceneFeatures};
 pub use light::{Light, LightKind};
 pub use material::Material;
-pub use scene::{Mesh, Object, RenderSettings, Scene, Texture, Transform};
+pub use scene::{
+    Filter, Mesh, Object, RenderSettings, Scene, Texture, TextureSampler, Transform, Wrap,
+};

@@ -28,7 +28,8 @@ pub enum Material {
     /// `transmission`, a rough refracting interface into a medium absorbing per unit length
     /// σ = −ln(attenuation_color) / attenuation_distance (Beer–Lambert; none without a distance).
     /// `texture` multiplies `base_color`; `emission × emission_strength` is added on top from the
-    /// front face. Roughness, metallic and transmission must lie in [0, 1].
+    /// front face, times `emission_texture`. `alpha_mode` cuts holes by the base colour's alpha.
+    /// Roughness, metallic, transmission and alpha must lie in [0, 1].
     Pbr(Box<Pbr>),
 }
 
@@ -56,6 +57,28 @@ pub struct Pbr {
     pub attenuation_distance: Option<f32>,
     pub emission: Rgb,
     pub emission_strength: f32,
+    /// An sRGB image multiplying `emission` (glTF's emissive texture).
+    pub emission_texture: Option<usize>,
+    /// How the coverage α = `alpha` × the base colour texture's alpha cuts the surface.
+    pub alpha_mode: AlphaMode,
+    /// The base colour factor's alpha, in [0, 1].
+    pub alpha: f32,
+    /// `AlphaMode::Mask`: coverage below this is a hole (glTF's default 0.5).
+    pub alpha_cutoff: f32,
+}
+
+/// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AlphaMode {
+    /// α is ignored.
+    #[default]
+    Opaque,
+    /// A hole where α < `alpha_cutoff`, solid elsewhere (leaves, fences, decals).
+    Mask,
+    /// Partly transparent: a ray stops with probability α and passes straight through otherwise
+    /// (stochastic transparency; it converges to α-blending the surface over what lies behind).
+    Blend,
 }
 
 impl Default for Pbr {
@@ -75,13 +98,17 @@ impl Default for Pbr {
             attenuation_distance: None,
             emission: [0.0; 3],
             emission_strength: 1.0,
+            emission_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+            alpha: 1.0,
+            alpha_cutoff: 0.5,
         }
     }
 }
 
 impl Pbr {
     /// Every texture slot with its name, for index checks.
-    pub fn textures(&self) -> [(&'static str, Option<usize>); 3] {
+    pub fn textures(&self) -> [(&'static str, Option<usize>); 4] {
         [
             ("texture", self.texture),
             (
@@ -89,7 +116,17 @@ impl Pbr {
                 self.metallic_roughness_texture,
             ),
             ("normal_texture", self.normal_texture),
+            ("emission_texture", self.emission_texture),
         ]
+    }
+
+    /// Whether the surface can have holes (a mode other than opaque that can cut something).
+    pub fn has_alpha(&self) -> bool {
+        match self.alpha_mode {
+            AlphaMode::Opaque => false,
+            AlphaMode::Mask => self.texture.is_some() || self.alpha < self.alpha_cutoff,
+            AlphaMode::Blend => self.texture.is_some() || self.alpha < 1.0,
+        }
     }
 
     /// σ = −ln(c)/d per channel (0 without absorption).
@@ -171,6 +208,13 @@ impl Pbr {
         unit("metallic", self.metallic)?;
         unit("roughness", self.roughness)?;
         unit("transmission", self.transmission)?;
+        unit("alpha", self.alpha)?;
+        if !self.alpha_cutoff.is_finite() {
+            return Err(format!(
+                "{what}: pbr alpha_cutoff must be finite, got {}",
+                self.alpha_cutoff
+            ));
+        }
         colour("base_color", &self.base_color)?;
         colour("attenuation_color", &self.attenuation_color)?;
         colour("emission", &self.emission)?;

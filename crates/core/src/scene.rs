@@ -82,6 +82,56 @@ pub struct Texture {
     /// Shared like meshes; not serialised (project files store the image itself).
     #[serde(skip)]
     pub rgba8: Arc<[u8]>,
+    /// How lookups outside [0, 1] wrap and whether texels are blended (glTF's sampler).
+    #[serde(default)]
+    pub sampler: TextureSampler,
+}
+
+/// What a texture coordinate outside [0, 1] reads (glTF's `wrapS`/`wrapT`, OpenGL's modes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Wrap {
+    /// The image tiles the plane.
+    #[default]
+    Repeat,
+    /// The edge texels extend outwards.
+    ClampToEdge,
+    /// The image tiles the plane, every other copy mirrored.
+    MirroredRepeat,
+}
+
+/// How texels between sample points blend. rt has no mipmaps, so this is glTF's magnification
+/// filter: `Nearest` keeps pixel art's hard edges.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Filter {
+    /// Bilinear interpolation of the four nearest texels.
+    #[default]
+    Linear,
+    /// The texel the coordinate falls in.
+    Nearest,
+}
+
+/// A texture's sampling state; the default repeats and filters bilinearly (OBJ's behaviour).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(default)]
+pub struct TextureSampler {
+    pub wrap_s: Wrap,
+    pub wrap_t: Wrap,
+    pub filter: Filter,
+}
+
+impl TextureSampler {
+    /// The sampler packed as the kernels read it (`gpu_types::Material::samplers`): bits 0–1 the
+    /// s wrap, 2–3 the t wrap (0 repeat, 1 clamp, 2 mirror), bit 4 nearest filtering.
+    pub fn bits(&self) -> u32 {
+        let wrap = |w: Wrap| match w {
+            Wrap::Repeat => 0,
+            Wrap::ClampToEdge => 1,
+            Wrap::MirroredRepeat => 2,
+        };
+        wrap(self.wrap_s) | wrap(self.wrap_t) << 2 | u32::from(self.filter == Filter::Nearest) << 4
+    }
 }
 
 /// Image size, sample count and path length.

@@ -174,6 +174,7 @@ fn load_and_build(obj: &[u8], mtl: &[u8]) -> Result<(), Error> {
     let load_texture = |p: &Path| -> Result<Texture, Error> {
         if p.file_name().is_some_and(|n| n == "tex.png") {
             Ok(Texture {
+                sampler: Default::default(),
                 name: "tex".into(),
                 width: 2,
                 height: 1,
@@ -298,6 +299,7 @@ fn seed_project() -> (Vec<u8>, Vec<(String, Vec<u8>)>) {
     use rt_core::io::project::{PROJECT_FORMAT, encode_archive};
     let mut scene = rt_core::assets::cornell_box().expect("embedded scene");
     scene.textures.push(rt_core::Texture {
+        sampler: Default::default(),
         name: "t.png".into(),
         width: 2,
         height: 1,

@@ -595,3 +595,122 @@ fn textures_load_and_texture_transforms_bake_into_the_uvs() {
     assert!((uv - glam::Vec2::new(0.5, 0.0)).length() < 1e-6, "{uv}");
     rt_core::GpuScene::build(&scene).unwrap();
 }
+
+/// `document()` with a 2×1 data-URI PNG as image 0.
+fn document_with_image() -> Value {
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 0, 255, 0])
+        .unwrap()
+        .write_to(&mut png, image::ImageFormat::Png)
+        .unwrap();
+    let mut doc = document();
+    doc["images"] = json!([{"uri": format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png.get_ref())
+    )}]);
+    doc
+}
+
+/// Samplers' wrap modes and magnification filter reach the textures (one image read through two
+/// samplers is two textures; through the same sampler, one); the emissive texture is an emission
+/// image; MASK keeps its cutoff and BLEND the base colour factor's alpha; the occlusion texture
+/// is left out.
+#[test]
+fn samplers_emissive_textures_and_alpha_modes_map_onto_the_material() {
+    use rt_core::material::AlphaMode;
+    use rt_core::{Filter, Wrap};
+    let mut doc = document_with_image();
+    doc["samplers"] = json!([
+        {"wrapS": 33071, "wrapT": 33648, "magFilter": 9728},
+        {}
+    ]);
+    doc["textures"] = json!([
+        {"source": 0, "sampler": 0},
+        {"source": 0, "sampler": 1},
+        {"source": 0, "sampler": 0}
+    ]);
+    let m = &mut doc["materials"][0];
+    m["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
+    m["pbrMetallicRoughness"]["baseColorFactor"] = json!([1.0, 1.0, 1.0, 0.6]);
+    m["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({"index": 2});
+    m["emissiveTexture"] = json!({"index": 1});
+    m["occlusionTexture"] = json!({"index": 1});
+    m["alphaMode"] = json!("MASK");
+    m["alphaCutoff"] = json!(0.25);
+    let scene = load(&embedded(doc.clone()), None).unwrap();
+    assert_eq!(scene.textures.len(), 2, "one image through two samplers");
+    let s = scene.textures[0].sampler;
+    assert_eq!(
+        (s.wrap_s, s.wrap_t, s.filter),
+        (Wrap::ClampToEdge, Wrap::MirroredRepeat, Filter::Nearest)
+    );
+    assert_eq!(
+        scene.textures[1].sampler,
+        rt_core::TextureSampler::default()
+    );
+    let Material::Pbr(p) = &scene.objects[0].material else {
+        panic!()
+    };
+    assert_eq!(
+        (p.texture, p.metallic_roughness_texture, p.emission_texture),
+        (Some(0), Some(0), Some(1))
+    );
+    assert_eq!(
+        (p.alpha_mode, p.alpha, p.alpha_cutoff),
+        (AlphaMode::Mask, 0.6, 0.25)
+    );
+    let gpu = rt_core::GpuScene::build(&scene).unwrap();
+    assert!(gpu.features.alpha && gpu.features.textures);
+    let g = &gpu.materials[0];
+    assert_eq!(
+        g.flags & rt_core::gpu_types::ALPHA_MASK,
+        rt_core::gpu_types::ALPHA_MASK
+    );
+    // Clamp (1) on s, mirror (2) on t, nearest: 1 | 2 << 2 | 1 << 4 in the base and
+    // metallic-roughness slots; the emission slot's sampler is the default (0).
+    assert_eq!(
+        g.samplers,
+        0b11001 | 0b11001 << rt_core::gpu_types::SLOT_METALLIC_ROUGHNESS
+    );
+    assert_ne!(g.emission_texture_offset, rt_core::gpu_types::NO_TEXTURE);
+
+    doc["materials"][0]["alphaMode"] = json!("BLEND");
+    let scene = load(&embedded(doc.clone()), None).unwrap();
+    let Material::Pbr(p) = &scene.objects[0].material else {
+        panic!()
+    };
+    assert_eq!((p.alpha_mode, p.alpha), (AlphaMode::Blend, 0.6));
+    // A project keeps samplers, the emission image and the alpha mode.
+    let path = Path::new("scene.rtproj");
+    let bytes =
+        rt_core::io::project::encode_archive(&scene, rt_core::io::project::PROJECT_FORMAT, path)
+            .unwrap();
+    let back = rt_core::io::project::decode_archive(
+        &bytes,
+        path,
+        rt_core::io::project::PROJECT_FORMAT,
+        &Default::default(),
+    )
+    .unwrap();
+    assert_eq!(back, scene);
+}
+
+/// The spec requires POSITION's min and max, and the gltf crate refuses files without them, but
+/// exporters leave them out: rt computes its own bounds and opens such files (and ones whose
+/// bounds are malformed) with the same geometry.
+#[test]
+fn position_accessors_without_min_and_max_still_load() {
+    let full = load(&embedded(document()), None).unwrap();
+    for bounds in [json!(null), json!("nonsense"), json!([1, 2])] {
+        let mut doc = document();
+        let accessor = doc["accessors"][0].as_object_mut().unwrap();
+        if bounds.is_null() {
+            accessor.remove("min");
+            accessor.remove("max");
+        } else {
+            accessor.insert("min".into(), bounds.clone());
+        }
+        let scene = load(&embedded(doc), None).unwrap_or_else(|e| panic!("bounds {bounds}: {e}"));
+        assert_eq!(scene.objects[0].mesh, full.objects[0].mesh);
+    }
+}

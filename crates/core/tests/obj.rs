@@ -291,6 +291,7 @@ fn textures_load_relative_to_the_mtl_and_missing_ones_are_named() {
 fn a_texture_without_uvs_renders_white_with_a_warning() {
     let mut scene = Scene::default();
     scene.textures.push(rt_core::Texture {
+        sampler: Default::default(),
         name: "t".into(),
         width: 1,
         height: 1,

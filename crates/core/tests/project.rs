@@ -22,6 +22,11 @@ fn rich_scene() -> Scene {
     );
     let sphere = Arc::new(sphere);
     scene.textures.push(Texture {
+        sampler: rt_core::TextureSampler {
+            wrap_s: rt_core::Wrap::MirroredRepeat,
+            wrap_t: rt_core::Wrap::ClampToEdge,
+            filter: rt_core::Filter::Nearest,
+        },
         name: "checker.png".into(),
         width: 2,
         height: 2,
@@ -92,6 +97,10 @@ fn rich_scene() -> Scene {
         attenuation_distance: Some(3.0),
         emission: [0.1, 0.2, 0.3],
         emission_strength: 2.0,
+        emission_texture: Some(0),
+        alpha_mode: rt_core::material::AlphaMode::Mask,
+        alpha: 0.8,
+        alpha_cutoff: 0.3,
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,

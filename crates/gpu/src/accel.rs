@@ -59,7 +59,12 @@ pub(crate) fn build(ctx: &GpuContext, scene: &GpuScene) -> Result<SceneAccel> {
             vertex_count,
             index_format: None,
             index_count: None,
-            flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+            // Surfaces with holes need their hits handed to the shader as candidates.
+            flags: if scene.features.alpha {
+                wgpu::AccelerationStructureGeometryFlags::empty()
+            } else {
+                wgpu::AccelerationStructureGeometryFlags::OPAQUE
+            },
         };
         let blas = ctx.device.create_blas(
             &wgpu::CreateBlasDescriptor {

@@ -72,6 +72,7 @@ impl PipelineKey {
             ("HAS_PBR", flag(self.features.pbr)),
             ("HAS_ENVIRONMENT", flag(self.features.environment)),
             ("HAS_NORMAL_MAPS", flag(self.features.normal_maps)),
+            ("HAS_ALPHA", flag(self.features.alpha)),
             ("CLAMP_MAX", f64::from(f32::from_bits(self.clamp_bits))),
             ("SOBOL", flag(self.sobol)),
             ("WRITE_AOVS", flag(self.aovs)),

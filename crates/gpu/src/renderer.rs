@@ -167,6 +167,7 @@ impl<'a> Renderer<'a> {
             features.pbr = true;
             features.environment = true;
             features.normal_maps = true;
+            features.alpha = true;
         }
         let ray_query = ctx.resolve_trace(options.trace, scene) == Trace::Hardware;
         let accel = if ray_query {

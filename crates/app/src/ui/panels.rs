@@ -721,6 +721,44 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
         )
         .on_hover_text("Emission strength");
     });
+    texture_slot(
+        ui,
+        "Emission image",
+        "pbr emission image",
+        &mut p.emission_texture,
+        textures,
+        "An image (sRGB) multiplying the emission: a screen, a lamp's pattern",
+    );
+    alpha_fields(ui, p);
+}
+
+/// glTF's alpha mode: the base colour's alpha cutting holes (leaves, fences) or blending.
+fn alpha_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
+    use rt_core::material::AlphaMode;
+    ui.horizontal(|ui| {
+        ui.label("Alpha")
+            .on_hover_text("How the base colour's alpha (factor × image) cuts the surface");
+        egui::ComboBox::from_id_salt("pbr alpha mode")
+            .selected_text(format!("{:?}", p.alpha_mode).to_lowercase())
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut p.alpha_mode, AlphaMode::Opaque, "opaque")
+                    .on_hover_text("Alpha is ignored");
+                ui.selectable_value(&mut p.alpha_mode, AlphaMode::Mask, "mask")
+                    .on_hover_text("A hole where alpha is below the cutoff");
+                ui.selectable_value(&mut p.alpha_mode, AlphaMode::Blend, "blend")
+                    .on_hover_text("See-through in proportion to 1 − alpha");
+            })
+            .response
+            .on_hover_text("The alpha mode");
+    });
+    if p.alpha_mode != AlphaMode::Opaque {
+        ui.add(egui::Slider::new(&mut p.alpha, 0.0..=1.0).text("alpha"))
+            .on_hover_text("The base colour factor's alpha");
+    }
+    if p.alpha_mode == AlphaMode::Mask {
+        ui.add(egui::Slider::new(&mut p.alpha_cutoff, 0.0..=1.0).text("alpha cutoff"))
+            .on_hover_text("Alpha below this is a hole");
+    }
 }
 
 pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {

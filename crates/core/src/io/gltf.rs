@@ -5,15 +5,16 @@
 //!   vertex colours (COLOR_0, alpha dropped);
 //!   each primitive is one shared mesh, so instances cost no copies;
 //! - the node hierarchy (TRS or matrices) of the default scene or the one asked for;
-//! - materials onto `Material::Pbr` (metallic-roughness with its textures, normal maps, emission
-//!   with `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`;
-//!   the base colour texture's `KHR_texture_transform` baked into the UVs);
+//! - materials onto `Material::Pbr` (metallic-roughness with its textures and their samplers'
+//!   wrap modes and magnification filter, normal maps, emission with its texture and
+//!   `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`, alpha
+//!   MASK and BLEND; the base colour texture's `KHR_texture_transform` baked into the UVs);
 //! - `KHR_lights_punctual` (candela and lux divided by 683 lm/W, as Blender's importer; spots with
 //!   glTF's own falloff) and the first perspective camera.
 //!
 //! Files that require an extension rt does not support get an error naming it. What rt does not
-//! map (alpha modes, other textures' transforms, other UV sets, emissive and occlusion textures, skins,
-//! morph targets) is ignored with a warning. Every byte range is checked before it is read, so a
+//! map (other textures' transforms, other UV sets, `KHR_materials_specular`, skins, morph targets)
+//! is ignored with a warning; occlusion textures are not used (a path tracer computes occlusion). Every byte range is checked before it is read, so a
 //! broken file is an error naming the part at fault, never a panic.
 
 use std::collections::HashMap;
@@ -24,8 +25,9 @@ use glam::{Mat4, Vec2, Vec3};
 
 use crate::error::{Error, Result};
 use crate::light::{Light, LightKind, SpotFalloff};
+use crate::material::AlphaMode;
 use crate::material::{Material, Pbr};
-use crate::scene::{Mesh, Object, Scene, Texture, Transform};
+use crate::scene::{Filter, Mesh, Object, Scene, Texture, TextureSampler, Transform, Wrap};
 
 /// Extensions rt reads; a file may require only these.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
@@ -98,7 +100,7 @@ fn load_unguarded(
         }
     }
     let blob = unvalidated.blob;
-    let root = unvalidated.document.into_json();
+    let mut root = unvalidated.document.into_json();
     // gltf-json's validation reads primitives' accessors before checking their indices.
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
@@ -115,6 +117,7 @@ fn load_unguarded(
             }
         }
     }
+    fill_position_bounds(&mut root, path);
     let document =
         gltf::Document::from_json(root).map_err(|e| err(format!("not valid glTF: {e}")))?;
     let gltf = gltf::Gltf { document, blob };
@@ -176,6 +179,48 @@ fn load_unguarded(
         out.environment = Some(crate::assets::default_environment()?);
     }
     Ok(out)
+}
+
+/// The spec requires POSITION accessors to state their `min` and `max`, and the gltf crate's
+/// validation refuses files without them; some exporters leave them out. rt computes its own
+/// bounds and never reads them, so missing or malformed ones get a placeholder (with a warning)
+/// and the file opens.
+fn fill_position_bounds(root: &mut gltf::json::Root, path: &Path) {
+    let positions: Vec<usize> = root
+        .meshes
+        .iter()
+        .flat_map(|m| &m.primitives)
+        .filter_map(|p| {
+            p.attributes
+                .iter()
+                .find(|(semantic, _)| {
+                    matches!(
+                        semantic,
+                        gltf::json::validation::Checked::Valid(
+                            gltf::json::mesh::Semantic::Positions
+                        )
+                    )
+                })
+                .map(|(_, a)| a.value())
+        })
+        .collect();
+    let valid = |v: &Option<gltf::json::Value>| {
+        v.as_ref()
+            .is_some_and(|v| serde_json::from_value::<[f32; 3]>(v.clone()).is_ok())
+    };
+    for i in positions {
+        let Some(accessor) = root.accessors.get_mut(i) else {
+            continue;
+        };
+        if !(valid(&accessor.min) && valid(&accessor.max)) {
+            log::warn!(
+                "{}: accessor {i} (POSITION) lacks a valid min/max; rt computes its own bounds",
+                path.display()
+            );
+            accessor.min = Some(serde_json::json!([0.0, 0.0, 0.0]));
+            accessor.max = Some(serde_json::json!([0.0, 0.0, 0.0]));
+        }
+    }
 }
 
 fn has_pbr_emission(scene: &Scene) -> bool {
@@ -359,7 +404,7 @@ struct Loader<'a> {
     buffers: &'a [Vec<u8>],
     meshes: HashMap<(usize, usize), Arc<Mesh>>,
     textures: Vec<Texture>,
-    texture_of_image: HashMap<usize, usize>,
+    texture_of_image: HashMap<(usize, TextureSampler), usize>,
     objects: Vec<Object>,
     lights: Vec<Light>,
     camera: Option<(crate::camera::Camera, Option<f32>)>,
@@ -545,10 +590,11 @@ impl Loader<'_> {
         Ok(mesh)
     }
 
-    /// rt's texture for a glTF texture (its image decoded once).
+    /// rt's texture for a glTF texture: its image decoded once for each sampler that reads it.
     fn texture(&mut self, texture: &gltf::Texture) -> std::result::Result<usize, String> {
         let image = texture.source();
-        if let Some(&i) = self.texture_of_image.get(&image.index()) {
+        let sampler = sampler_of(&texture.sampler());
+        if let Some(&i) = self.texture_of_image.get(&(image.index(), sampler)) {
             return Ok(i);
         }
         let bytes = match image.source() {
@@ -574,12 +620,14 @@ impl Loader<'_> {
             decode_texture(&bytes).map_err(|e| format!("image {}: {e}", image.index()))?;
         let index = self.textures.len();
         self.textures.push(Texture {
+            sampler,
             name,
             width: decoded.width(),
             height: decoded.height(),
             rgba8: decoded.into_raw().into(),
         });
-        self.texture_of_image.insert(image.index(), index);
+        self.texture_of_image
+            .insert((image.index(), sampler), index);
         Ok(index)
     }
 
@@ -625,21 +673,21 @@ impl Loader<'_> {
             normal.map(|n| (n.texture(), n.tex_coord(), false)),
             "normal map",
         )?;
-        if m.emissive_texture().is_some() {
-            log::warn!(
-                "{}: material {}: emissive textures are not supported (its factor is used)",
+        let emission_texture = self.slot(info(m.emissive_texture()), "emissive texture")?;
+        if m.occlusion_texture().is_some() {
+            log::info!(
+                "{}: material {}: the occlusion texture is not used (the path tracer computes \
+                 occlusion itself, as Cycles does)",
                 self.path.display(),
                 m.index().map_or("default".into(), |i| i.to_string())
             );
         }
-        if m.alpha_mode() != gltf::material::AlphaMode::Opaque {
-            log::warn!(
-                "{}: material {}: alpha mode {:?} is rendered opaque",
-                self.path.display(),
-                m.index().map_or("default".into(), |i| i.to_string()),
-                m.alpha_mode()
-            );
-        }
+        let alpha_mode = match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask,
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        };
+        let cutoff = m.alpha_cutoff().unwrap_or(0.5);
         let transmission = m.transmission().map_or(0.0, |t| t.transmission_factor());
         let volume = m.volume();
         let (attenuation_color, attenuation_distance) =
@@ -685,7 +733,29 @@ impl Loader<'_> {
                 .emissive_strength()
                 .filter(|s| s.is_finite() && *s >= 0.0)
                 .unwrap_or(1.0),
+            emission_texture,
+            alpha_mode,
+            alpha: clamp01(base_color[3]),
+            alpha_cutoff: if cutoff.is_finite() { cutoff } else { 0.5 },
         })))
+    }
+}
+
+/// rt's sampler for a glTF sampler: its wraps and its magnification filter (rt has no mipmaps).
+fn sampler_of(sampler: &gltf::texture::Sampler) -> TextureSampler {
+    use gltf::texture::{MagFilter, WrappingMode};
+    let wrap = |w: WrappingMode| match w {
+        WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+        WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+        WrappingMode::Repeat => Wrap::Repeat,
+    };
+    TextureSampler {
+        wrap_s: wrap(sampler.wrap_s()),
+        wrap_t: wrap(sampler.wrap_t()),
+        filter: match sampler.mag_filter() {
+            Some(MagFilter::Nearest) => Filter::Nearest,
+            _ => Filter::Linear,
+        },
     }
 }
 

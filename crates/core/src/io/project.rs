@@ -1,10 +1,11 @@
 //! Project files: a whole scene in one zip archive, so that a project can be mailed or moved
 //! without breaking paths.
 //!
-//! Layout (format version 2; version 1 had no `lights`):
+//! Layout (format version 4; version 1 had no `lights`, versions before 3 no environment, before 4
+//! no texture samplers, PBR emission textures or alpha modes):
 //! - `project.json`: `{"format": "rt-project", "version": 1, ...}` with the camera, ambient light,
 //!   render settings, and per object its name, material, transform and the mesh entry it uses;
-//!   per texture its name, size and image entry.
+//!   per texture its name, size, sampler and image entry.
 //! - `meshes/N.bin`: one mesh each, in the little-endian layout of [`encode_mesh`]; objects that
 //!   share a mesh in memory share the entry.
 //! - `textures/N.png`: the RGBA8 texels, lossless.
@@ -35,7 +36,7 @@ use crate::scene::{Mesh, Object, RenderSettings, Scene, Texture, Transform};
 
 /// The format version this build writes; it reads this and every earlier one. Version 2 added
 /// point, spot and directional lights (`lights`); version 3 the PBR material and environment maps.
-pub const FORMAT_VERSION: u32 = 3;
+pub const FORMAT_VERSION: u32 = 4;
 pub const PROJECT_FORMAT: &str = "rt-project";
 pub const LIGHTING_FORMAT: &str = "rt-lighting";
 /// File extensions the editor offers.
@@ -114,6 +115,9 @@ struct TextureEntry {
     file: String,
     width: u32,
     height: u32,
+    /// Absent in files of earlier versions: repeat, bilinear.
+    #[serde(default)]
+    sampler: crate::scene::TextureSampler,
 }
 
 /// Just the version fields, read first so that a future file gets a version error rather than a
@@ -268,6 +272,7 @@ pub fn encode_archive(scene: &Scene, format: &str, path: &Path) -> Result<Vec<u8
             file,
             width: texture.width,
             height: texture.height,
+            sampler: texture.sampler,
         });
     }
     let environment = match &scene.environment {
@@ -379,6 +384,7 @@ pub fn decode_archive(
             )));
         }
         textures.push(Texture {
+            sampler: entry.sampler,
             name: entry.name,
             width: entry.width,
             height: entry.height,

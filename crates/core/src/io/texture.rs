@@ -44,6 +44,7 @@ pub fn load_texture(path: &Path) -> Result<Texture> {
         .map_err(|e| file_error(format!("unreadable image: {e}")))?;
     let rgba = image.to_rgba8();
     Ok(Texture {
+        sampler: Default::default(),
         name: path.display().to_string(),
         width: rgba.width(),
         height: rgba.height(),

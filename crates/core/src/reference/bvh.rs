@@ -26,6 +26,7 @@ pub(super) fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &m
     let tri = &scene.triangles[i as usize];
     if let Some((t, b1, b2)) =
         intersect_triangle(ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
+        && (!scene.features.alpha || super::texture::stops_ray(scene, ray, tri, i, b1, b2))
     {
         *hit = Hit {
             t,

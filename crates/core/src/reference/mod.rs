@@ -18,7 +18,7 @@
 //! with probability q = min(1, max component of β) and β is divided by q, so E[β'] = β (unbiased).
 //!
 //! Each file is the twin of one WGSL file, named after it: `bvh.rs` of `shared/bvh.wgsl`,
-//! `cwbvh.rs` of `shared/cwbvh.wgsl`, `path.rs` of `shared/path.wgsl`; the math they share with
+//! `cwbvh.rs` of `shared/cwbvh.wgsl`, `path.rs` of `shared/path.wgsl`, `texture.rs` of `shared/texture.wgsl`; the math they share with
 //! the rest of rt-core (random numbers, sampling, intersection) lives in `crate::math`, whose files
 //! are the twins of `shared/rng.wgsl`, `shared/sampling.wgsl` and `shared/intersect.wgsl`.
 //! `tests/reference.rs` checks the GPU against this reference per pixel, in lockstep at a few
@@ -27,12 +27,14 @@
 mod bvh;
 mod cwbvh;
 mod path;
+mod texture;
 
 pub use bvh::{occluded, trace, trace_brute_force};
 pub use path::{
     LightSample, Surface, camera_ray, delta_lights_at, direct_light, power_heuristic, radiance,
-    sample_light, sample_texture,
+    sample_light,
 };
+pub use texture::{Slot, alpha_coin, base_color_texture, coverage, stops_ray, wrap_index};
 
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;

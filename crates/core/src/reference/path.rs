@@ -5,8 +5,11 @@
 use glam::{Vec2, Vec3};
 
 use super::bvh::{MISS, occluded, trace};
+use super::texture::{Slot, base_color_texture, coverage, surface_emission};
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{Frame, NO_TEXTURE, material_kind};
+use crate::gpu_types::{
+    ALPHA_BLEND, ALPHA_MASK, Frame, NO_TEXTURE, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, material_kind,
+};
 use crate::math::bsdf::Pbr;
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::{self, Rng};
@@ -114,10 +117,19 @@ pub fn sample_light(
     if !(dir.dot(ng) > 0.0 && cos_l > 0.0) {
         return None;
     }
-    let le = Vec3::from(scene.materials[tri.material as usize].emission);
-    let p_light =
-        (1.0 - frame.env_pick) * luminance(le) * frame.emitter_power_inv * distance * distance
-            / cos_l;
+    // Picked by the emission factor; the point's radiance is the factor times the emission image,
+    // and times the coverage on a surface with holes.
+    let material = &scene.materials[tri.material as usize];
+    let p_light = (1.0 - frame.env_pick)
+        * luminance(Vec3::from(material.emission))
+        * frame.emitter_power_inv
+        * distance
+        * distance
+        / cos_l;
+    let mut le = surface_emission(scene, material, tri, chosen, b1, b2);
+    if material.flags & (ALPHA_MASK | ALPHA_BLEND) != 0 {
+        le *= coverage(scene, material, tri, chosen, b1, b2);
+    }
     Some(LightSample {
         origin,
         direction: dir,
@@ -224,17 +236,6 @@ pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) 
     (lens_origin, (focus - lens_origin).normalize())
 }
 
-fn texel(scene: &GpuScene, offset: u32, w: u32, h: u32, x: i32, y: i32) -> Vec3 {
-    let xi = x.rem_euclid(w as i32) as u32;
-    let yi = y.rem_euclid(h as i32) as u32;
-    let p = scene.texels[(offset + yi * w + xi) as usize].to_le_bytes();
-    Vec3::new(
-        srgb_to_linear(p[0] as f32 / 255.0),
-        srgb_to_linear(p[1] as f32 / 255.0),
-        srgb_to_linear(p[2] as f32 / 255.0),
-    )
-}
-
 /// The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
 pub fn vertex_color(shading: &crate::gpu_types::Shading, b: [f32; 3]) -> Vec3 {
     let decode = |c: u32| {
@@ -246,26 +247,6 @@ pub fn vertex_color(shading: &crate::gpu_types::Shading, b: [f32; 3]) -> Vec3 {
         )
     };
     decode(shading.c0) * b[0] + decode(shading.c1) * b[1] + decode(shading.c2) * b[2]
-}
-
-fn texel_linear(scene: &GpuScene, offset: u32, w: u32, h: u32, x: i32, y: i32) -> Vec3 {
-    let xi = x.rem_euclid(w as i32) as u32;
-    let yi = y.rem_euclid(h as i32) as u32;
-    let p = scene.texels[(offset + yi * w + xi) as usize].to_le_bytes();
-    Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / 255.0
-}
-
-/// `sample_texture` for data images (metallic-roughness, normals): the bytes read linearly.
-pub fn sample_texture_linear(scene: &GpuScene, offset: u32, w: u32, h: u32, uv: Vec2) -> Vec3 {
-    let x = uv.x * w as f32 - 0.5;
-    let y = (1.0 - uv.y) * h as f32 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = (x - x0, y - y0);
-    let (xi, yi) = (x0 as i32, y0 as i32);
-    let t = |dx: i32, dy: i32| texel_linear(scene, offset, w, h, xi + dx, yi + dy);
-    let top = t(0, 0).lerp(t(1, 0), fx);
-    let bottom = t(0, 1).lerp(t(1, 1), fx);
-    top.lerp(bottom, fy)
 }
 
 /// The shading normal a tangent-space normal map gives: texel t ∈ [0, 1]³ read as
@@ -284,19 +265,6 @@ pub fn normal_mapped(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], t: Vec3, scal
     let mapped = tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
     let len = mapped.length();
     if len > 0.0 { mapped / len } else { n }
-}
-
-/// Bilinear, repeating texture lookup; `uv.y` = 0 is the bottom row of the image (OBJ convention).
-pub fn sample_texture(scene: &GpuScene, offset: u32, w: u32, h: u32, uv: Vec2) -> Vec3 {
-    let x = uv.x * w as f32 - 0.5;
-    let y = (1.0 - uv.y) * h as f32 - 0.5;
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = (x - x0, y - y0);
-    let (xi, yi) = (x0 as i32, y0 as i32);
-    let top = texel(scene, offset, w, h, xi, yi).lerp(texel(scene, offset, w, h, xi + 1, yi), fx);
-    let bottom =
-        texel(scene, offset, w, h, xi, yi + 1).lerp(texel(scene, offset, w, h, xi + 1, yi + 1), fx);
-    top.lerp(bottom, fy)
 }
 
 /// The radiance a ray leaving the scene along `direction` finds, MIS-weighted against the
@@ -356,12 +324,13 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
             }
         }
         if front {
-            let le = Vec3::from(material.emission);
+            let le = surface_emission(scene, material, tri, hit.triangle, hit.b1, hit.b2);
             let mut weight = 1.0;
             if frame.emitter_count > 0 && prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
                 let cos_l = -direction.dot(ng_raw.normalize());
+                // The emitter table's pdf: by the emission factor, whatever the image.
                 let p_light = (1.0 - frame.env_pick)
-                    * luminance(le)
+                    * luminance(Vec3::from(material.emission))
                     * frame.emitter_power_inv
                     * hit.t
                     * hit.t
@@ -406,13 +375,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         });
         let albedo = match uv {
             Some(uv) if material.texture_offset != NO_TEXTURE => {
-                sample_texture(
-                    scene,
-                    material.texture_offset,
-                    material.texture_width,
-                    material.texture_height,
-                    uv,
-                ) * Vec3::from(material.albedo_factor())
+                base_color_texture(scene, material, uv)
             }
             _ => Vec3::from(material.albedo),
         };
@@ -424,26 +387,27 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
         let (mut metallic, mut roughness) = (material.metallic, material.roughness);
         if let (Some(uv), material_kind::PBR) = (uv, material.kind) {
             if material.mr_texture_offset != NO_TEXTURE {
-                let t = sample_texture_linear(
-                    scene,
-                    material.mr_texture_offset,
-                    material.mr_texture_width,
-                    material.mr_texture_height,
-                    uv,
-                );
+                let t = Slot {
+                    offset: material.mr_texture_offset,
+                    width: material.mr_texture_width,
+                    height: material.mr_texture_height,
+                    bits: material.samplers >> SLOT_METALLIC_ROUGHNESS,
+                }
+                .sample(scene, uv, false);
                 roughness *= t.y;
                 metallic *= t.z;
             }
             if material.normal_texture_offset != NO_TEXTURE
                 && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
             {
-                let t = sample_texture_linear(
-                    scene,
-                    material.normal_texture_offset,
-                    material.normal_texture_width,
-                    material.normal_texture_height,
-                    uv,
-                );
+                let t = Slot {
+                    offset: material.normal_texture_offset,
+                    width: material.normal_texture_width,
+                    height: material.normal_texture_height,
+                    bits: material.samplers >> SLOT_NORMAL,
+                }
+                .sample(scene, uv, false)
+                .truncate();
                 let i = 3 * hit.triangle as usize;
                 let mapped = normal_mapped(
                     n_interpolated,

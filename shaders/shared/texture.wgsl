@@ -1,0 +1,131 @@
+// Texture lookups and alpha coverage; mirrors crates/core/src/reference/texture.rs. Texels are RGBA8
+// words in `texels` (R in the low byte); a slot is (offset, width, height) and its sampler's 5 bits
+// (core::scene::TextureSampler::bits): wrap s, wrap t (0 repeat, 1 clamp, 2 mirror), nearest.
+
+const WRAP_CLAMP: u32 = 1u;
+const WRAP_MIRROR: u32 = 2u;
+const FILTER_NEAREST: u32 = 16u;
+
+// A texel index on an axis of n texels after the wrap mode.
+fn wrap_index(i: i32, n: i32, mode: u32) -> u32 {
+    if (mode == WRAP_CLAMP) {
+        return u32(clamp(i, 0, n - 1));
+    }
+    if (mode == WRAP_MIRROR) {
+        let period = 2 * n;
+        let m = ((i % period) + period) % period;
+        return u32(select(m, period - 1 - m, m >= n));
+    }
+    return u32(((i % n) + n) % n);
+}
+
+// One texel as RGBA in [0, 1]; `srgb` decodes the colour channels (alpha stays linear).
+fn slot_texel(offset: u32, w: u32, h: u32, bits: u32, x: i32, y: i32, srgb: bool) -> vec4<f32> {
+    let xi = wrap_index(x, i32(w), bits & 3u);
+    let yi = wrap_index(y, i32(h), (bits >> 2u) & 3u);
+    let p = unpack4x8unorm(texels[offset + yi * w + xi]);
+    if (srgb) {
+        return vec4(srgb_to_linear(p.rgb), p.a);
+    }
+    return p;
+}
+
+// A texture slot at `uv` (uv.y = 0 the image's bottom row, OBJ's convention): bilinear over decoded
+// texels, or the nearest texel.
+fn sample_slot(offset: u32, w: u32, h: u32, bits: u32, uv: vec2<f32>, srgb: bool) -> vec4<f32> {
+    let x = uv.x * f32(w);
+    let y = (1.0 - uv.y) * f32(h);
+    if ((bits & FILTER_NEAREST) != 0u) {
+        return slot_texel(offset, w, h, bits, i32(floor(x)), i32(floor(y)), srgb);
+    }
+    let x0 = floor(x - 0.5);
+    let y0 = floor(y - 0.5);
+    let fx = x - 0.5 - x0;
+    let fy = y - 0.5 - y0;
+    let xi = i32(x0);
+    let yi = i32(y0);
+    let top = mix(slot_texel(offset, w, h, bits, xi, yi, srgb), slot_texel(offset, w, h, bits, xi + 1, yi, srgb), fx);
+    let bottom = mix(slot_texel(offset, w, h, bits, xi, yi + 1, srgb), slot_texel(offset, w, h, bits, xi + 1, yi + 1, srgb), fx);
+    return mix(top, bottom, fy);
+}
+
+// The base colour image (sRGB), multiplied by the factor for PBR (a Lambertian texture replaces it).
+fn base_color_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
+    let t = sample_slot(m.texture_offset, m.texture_width, m.texture_height, m.samplers >> SLOT_BASE, uv, true).rgb;
+    return t * select(vec3(1.0), m.albedo, m.kind == MAT_PBR);
+}
+
+// The light a surface emits at the barycentrics (b1, b2) of triangle i: the material's emission
+// times its emission image.
+fn surface_emission(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32) -> vec3<f32> {
+    if (!HAS_TEXTURES || m.emission_texture_offset == NO_TEXTURE || tri.has_uvs == 0u) {
+        return m.emission;
+    }
+    let sh = shading[i];
+    let uv = sh.uv0 * (1.0 - b1 - b2) + sh.uv1 * b1 + sh.uv2 * b2;
+    let t = sample_slot(m.emission_texture_offset, m.emission_texture_width, m.emission_texture_height,
+        m.samplers >> SLOT_EMISSION, uv, true);
+    return m.emission * t.rgb;
+}
+
+// The coverage of triangle i's surface at (b1, b2): the alpha of the base colour factor times its
+// image; with ALPHA_MASK, 1 at or above the cutoff and 0 below.
+fn coverage(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32) -> f32 {
+    var a = m.alpha;
+    if (m.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
+        let sh = shading[i];
+        let uv = sh.uv0 * (1.0 - b1 - b2) + sh.uv1 * b1 + sh.uv2 * b2;
+        a *= sample_slot(m.texture_offset, m.texture_width, m.texture_height, m.samplers >> SLOT_BASE, uv, false).a;
+    }
+    if ((m.flags & ALPHA_MASK) != 0u) {
+        return select(0.0, 1.0, a >= m.alpha_cutoff);
+    }
+    return a;
+}
+
+// A 32-bit integer hash (Wellons' lowbias32).
+fn hash_u32(x: u32) -> u32 {
+    var h = x;
+    h ^= h >> 16u;
+    h *= 0x7feb352du;
+    h ^= h >> 15u;
+    h *= 0x846ca68bu;
+    h ^= h >> 16u;
+    return h;
+}
+
+// A uniform number in [0, 1) for one ray meeting one triangle: stochastic transparency's coin. It
+// hashes the ray's exact bits, so every sample's rays flip their own coins, even the camera rays
+// of one pixel of a 4K image (dropping low bits to survive rounding would make those share a
+// coin, and a pixel would then not converge to the blend).
+fn alpha_coin(ray: PreparedRay, i: u32) -> f32 {
+    let o = bitcast<vec3<u32>>(ray.origin);
+    let d = bitcast<vec3<u32>>(ray.inv_direction);
+    var h = hash_u32(i);
+    h = hash_u32(h ^ o.x);
+    h = hash_u32(h ^ o.y);
+    h = hash_u32(h ^ o.z);
+    h = hash_u32(h ^ d.x);
+    h = hash_u32(h ^ d.y);
+    h = hash_u32(h ^ d.z);
+    return f32(h >> 8u) * (1.0 / 16777216.0);
+}
+
+// `stops_ray` for triangle i (the ray-query traversal's candidates).
+fn stops_ray_at(ray: PreparedRay, i: u32, b1: f32, b2: f32) -> bool {
+    return stops_ray(ray, triangles[i], i, b1, b2);
+}
+
+// Whether the hit of `ray` on triangle i at (b1, b2) stops it: always for opaque materials; for
+// masked ones where the coverage is 1; for blended ones with probability equal to the coverage.
+fn stops_ray(ray: PreparedRay, tri: Triangle, i: u32, b1: f32, b2: f32) -> bool {
+    let m = materials[tri.material];
+    if ((m.flags & (ALPHA_MASK | ALPHA_BLEND)) == 0u) {
+        return true;
+    }
+    let a = coverage(m, tri, i, b1, b2);
+    if ((m.flags & ALPHA_MASK) != 0u) {
+        return a > 0.5;
+    }
+    return a > alpha_coin(ray, i);
+}
