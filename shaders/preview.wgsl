@@ -29,7 +29,8 @@ struct PreviewObject {
     model: mat4x4<f32>,
     // Columns 0..2: the inverse transpose of the model's linear part.
     normal_matrix: mat4x4<f32>,
-    // rgb: reflectance (albedo, metal colour, glass tint); a unused.
+    // rgb: reflectance (albedo, metal colour, glass tint); a: an alpha mask's threshold on the
+    // image's alpha (cutoff / alpha factor; 0 cuts nothing).
     color: vec4<f32>,
     // rgb: emitted radiance; black for non-emitters.
     emission: vec4<f32>,
@@ -85,8 +86,12 @@ fn display(radiance: vec3<f32>) -> vec4<f32> {
 fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
     // Derivatives and texture sampling need uniform control flow: take them first.
     let face = cross(dpdx(in.world), dpdy(in.world));
-    let texel = textureSample(albedo_texture, albedo_sampler, in.uv).rgb;
+    let sampled = textureSample(albedo_texture, albedo_sampler, in.uv);
+    let texel = sampled.rgb;
     let o = objects[in.object];
+    if sampled.a < o.color.a {
+        discard;
+    }
     let to_eye = normalize(view.eye.xyz - in.world);
     var n = normalize(face);
     if o.flags.z != 0u && dot(in.normal, in.normal) > 0.0 {

@@ -46,12 +46,15 @@ fn pbr_materials_and_an_environment_match_mitsuba() {
     let mut sums = vec![(0.0f64, 0.0f64, 0usize); scene.objects.len()];
     for y in 0..HEIGHT {
         for x in 0..WIDTH {
-            let sx = (2.0 * (x as f32 + 0.5) / WIDTH as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
+            let sx =
+                (2.0 * (x as f32 + 0.5) / WIDTH as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
             let sy = (1.0 - 2.0 * (y as f32 + 0.5) / HEIGHT as f32) * frame.tan_half_vfov;
-            let direction = (sx * glam::Vec3::from(frame.cam_u) + sy * glam::Vec3::from(frame.cam_v)
+            let direction = (sx * glam::Vec3::from(frame.cam_u)
+                + sy * glam::Vec3::from(frame.cam_v)
                 - glam::Vec3::from(frame.cam_w))
             .normalize();
-            let hit = rt_core::reference::trace(&gpu_scene, frame.cam_origin.into(), direction, f32::MAX);
+            let hit =
+                rt_core::reference::trace(&gpu_scene, frame.cam_origin.into(), direction, f32::MAX);
             if hit.triangle == u32::MAX {
                 continue;
             }
@@ -68,7 +71,11 @@ fn pbr_materials_and_an_environment_match_mitsuba() {
             continue;
         }
         let difference = ours / theirs - 1.0;
-        eprintln!("{}: {pixels} pixels, rt/Mitsuba {:+.2}%", object.name, 100.0 * difference);
+        eprintln!(
+            "{}: {pixels} pixels, rt/Mitsuba {:+.2}%",
+            object.name,
+            100.0 * difference
+        );
         // As the blocks: within 5% (measured: metals +2.5% to +3.7% from rt's multiple-scattering
         // compensation, the plastic −2.4% from Mitsuba's Disney diffuse; docs/quality.md).
         assert!(

@@ -30,7 +30,13 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
     }
     println!("textures: {}", scene.textures.len());
     for t in &scene.textures {
-        println!("  {} ({}x{})", t.name, t.width, t.height);
+        let s = t.sampler;
+        let sampler = if s == rt_core::TextureSampler::default() {
+            String::new()
+        } else {
+            format!(", wrap {:?}/{:?}, {:?}", s.wrap_s, s.wrap_t, s.filter)
+        };
+        println!("  {} ({}x{}{sampler})", t.name, t.width, t.height);
     }
     println!("triangles: {}", scene.triangle_count());
     match scene.bounds() {

@@ -172,6 +172,14 @@ pub fn build_frame(
             Material::Pbr(p) => p.roughness,
             _ => -1.0,
         };
+        // An alpha mask cuts its holes in the preview too: a fragment whose image alpha is below
+        // cutoff / alpha-factor is discarded (0: nothing is cut; blending is drawn opaque).
+        let mask = match &object.material {
+            Material::Pbr(p) if p.alpha_mode == rt_core::material::AlphaMode::Mask => {
+                p.alpha_cutoff / p.alpha.max(1e-6)
+            }
+            _ => 0.0,
+        };
         let (color, emission, material_kind, texture) = match &object.material {
             Material::Lambertian { albedo, texture } => (
                 *albedo,
@@ -203,7 +211,7 @@ pub fn build_frame(
         objects.push(PreviewObject {
             model: model.to_cols_array_2d(),
             normal_matrix: normal_matrix.to_cols_array_2d(),
-            color: Vec3::from(color).extend(1.0).to_array(),
+            color: Vec3::from(color).extend(mask).to_array(),
             emission: Vec3::from(emission).extend(roughness).to_array(),
             flags: [
                 u32::from(selection == Some(i)),

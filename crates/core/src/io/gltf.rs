@@ -631,12 +631,15 @@ impl Loader<'_> {
         Ok(index)
     }
 
+    /// The texture of one material slot; `transform` is the slot's `KHR_texture_transform` and
+    /// `baked` the one baked into the mesh's UVs (the base colour texture's).
     fn slot(
         &mut self,
-        info: Option<(gltf::Texture, u32, bool)>,
+        info: Option<(gltf::Texture, u32, Option<UvTransform>)>,
+        baked: Option<UvTransform>,
         what: &str,
     ) -> std::result::Result<Option<usize>, String> {
-        let Some((texture, tex_coord, transformed)) = info else {
+        let Some((texture, tex_coord, transform)) = info else {
             return Ok(None);
         };
         if tex_coord != 0 {
@@ -646,10 +649,11 @@ impl Loader<'_> {
             );
             return Ok(None);
         }
-        if transformed && what != "base colour texture" {
+        if transform.is_some() && transform != baked {
             log::warn!(
-                "{}: the {what}'s KHR_texture_transform is not applied (rt bakes only the base \
-                 colour texture's into the UVs, which every texture of the material then uses)",
+                "{}: the {what}'s KHR_texture_transform differs from the base colour texture's \
+                 and is not applied (rt bakes the base colour texture's into the UVs, which every \
+                 texture of the material then uses)",
                 self.path.display()
             );
         }
@@ -658,22 +662,35 @@ impl Loader<'_> {
 
     fn material(&mut self, m: &gltf::Material) -> std::result::Result<Material, String> {
         let pbr = m.pbr_metallic_roughness();
-        fn info<'a>(i: Option<gltf::texture::Info<'a>>) -> Option<(gltf::Texture<'a>, u32, bool)> {
-            i.map(|i| (i.texture(), i.tex_coord(), i.texture_transform().is_some()))
+        fn info<'a>(
+            i: Option<gltf::texture::Info<'a>>,
+        ) -> Option<(gltf::Texture<'a>, u32, Option<UvTransform>)> {
+            i.map(|i| {
+                let t = i.texture_transform().map(|t| UvTransform {
+                    offset: t.offset(),
+                    rotation: t.rotation(),
+                    scale: t.scale(),
+                });
+                (i.texture(), i.tex_coord(), t)
+            })
         }
         let base_color = pbr.base_color_factor();
-        let texture = self.slot(info(pbr.base_color_texture()), "base colour texture")?;
+        let base_info = info(pbr.base_color_texture());
+        let baked = base_info.as_ref().and_then(|i| i.2);
+        let texture = self.slot(base_info, baked, "base colour texture")?;
         let metallic_roughness_texture = self.slot(
             info(pbr.metallic_roughness_texture()),
+            baked,
             "metallic-roughness texture",
         )?;
         let normal = m.normal_texture();
         let normal_scale = normal.as_ref().map_or(1.0, |n| n.scale());
         let normal_texture = self.slot(
-            normal.map(|n| (n.texture(), n.tex_coord(), false)),
+            normal.map(|n| (n.texture(), n.tex_coord(), None)),
+            baked,
             "normal map",
         )?;
-        let emission_texture = self.slot(info(m.emissive_texture()), "emissive texture")?;
+        let emission_texture = self.slot(info(m.emissive_texture()), baked, "emissive texture")?;
         if m.occlusion_texture().is_some() {
             log::info!(
                 "{}: material {}: the occlusion texture is not used (the path tracer computes \
@@ -739,6 +756,14 @@ impl Loader<'_> {
             alpha_cutoff: if cutoff.is_finite() { cutoff } else { 0.5 },
         })))
     }
+}
+
+/// A `KHR_texture_transform`: offset, rotation (radians) and scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct UvTransform {
+    offset: [f32; 2],
+    rotation: f32,
+    scale: [f32; 2],
 }
 
 /// rt's sampler for a glTF sampler: its wraps and its magnification filter (rt has no mipmaps).
