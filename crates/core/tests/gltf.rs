@@ -515,22 +515,20 @@ fn the_assimp_gltf2_corpus_loads_or_fails_cleanly() {
     }
 }
 
+/// `scene` saved as a project and loaded back.
+fn through_a_project(scene: &Scene) -> Scene {
+    use rt_core::io::project::{PROJECT_FORMAT, decode_archive, encode_archive};
+    let path = Path::new("scene.rtproj");
+    let bytes = encode_archive(scene, PROJECT_FORMAT, path).unwrap();
+    decode_archive(&bytes, path, PROJECT_FORMAT, &Default::default()).unwrap()
+}
+
 /// A glTF scene saved as a project reloads as the same scene (materials, lights, camera, shared
 /// meshes).
 #[test]
 fn a_gltf_scene_round_trips_through_a_project() {
     let scene = load(&embedded(document()), None).unwrap();
-    let path = Path::new("scene.rtproj");
-    let bytes =
-        rt_core::io::project::encode_archive(&scene, rt_core::io::project::PROJECT_FORMAT, path)
-            .unwrap();
-    let back = rt_core::io::project::decode_archive(
-        &bytes,
-        path,
-        rt_core::io::project::PROJECT_FORMAT,
-        &Default::default(),
-    )
-    .unwrap();
+    let back = through_a_project(&scene);
     assert_eq!(back, scene);
     assert!(Arc::ptr_eq(&back.objects[0].mesh, &back.objects[1].mesh));
 }
@@ -681,17 +679,7 @@ fn samplers_emissive_textures_and_alpha_modes_map_onto_the_material() {
     };
     assert_eq!((p.alpha_mode, p.alpha), (AlphaMode::Blend, 0.6));
     // A project keeps samplers, the emission image and the alpha mode.
-    let path = Path::new("scene.rtproj");
-    let bytes =
-        rt_core::io::project::encode_archive(&scene, rt_core::io::project::PROJECT_FORMAT, path)
-            .unwrap();
-    let back = rt_core::io::project::decode_archive(
-        &bytes,
-        path,
-        rt_core::io::project::PROJECT_FORMAT,
-        &Default::default(),
-    )
-    .unwrap();
+    let back = through_a_project(&scene);
     assert_eq!(back, scene);
 }
 
