@@ -124,18 +124,6 @@ pub const SLOT_METALLIC_ROUGHNESS: u32 = 5;
 pub const SLOT_NORMAL: u32 = 10;
 pub const SLOT_EMISSION: u32 = 15;
 
-impl Material {
-    /// What a texture lookup is multiplied by: PBR's base colour factor (a Lambertian texture
-    /// replaces the albedo instead).
-    pub fn albedo_factor(&self) -> [f32; 3] {
-        if self.kind == material_kind::PBR {
-            self.albedo
-        } else {
-            [1.0; 3]
-        }
-    }
-}
-
 /// One texel of the environment map with its importance-sampling record (`crate::environment`).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]

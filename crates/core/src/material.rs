@@ -120,15 +120,6 @@ impl Pbr {
         ]
     }
 
-    /// Whether the surface can have holes (a mode other than opaque that can cut something).
-    pub fn has_alpha(&self) -> bool {
-        match self.alpha_mode {
-            AlphaMode::Opaque => false,
-            AlphaMode::Mask => self.texture.is_some() || self.alpha < self.alpha_cutoff,
-            AlphaMode::Blend => self.texture.is_some() || self.alpha < 1.0,
-        }
-    }
-
     /// σ = −ln(c)/d per channel (0 without absorption).
     pub fn absorption(&self) -> Rgb {
         match self.attenuation_distance {
