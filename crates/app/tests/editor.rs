@@ -497,6 +497,11 @@ fn a_physically_based_material_and_the_studio_environment_from_the_panels() {
         harness.state().doc.scene.environment.is_some(),
         "removing the environment undoes"
     );
+    harness.get_by_label("Sun and sky").click();
+    harness.run_ok();
+    let env = harness.state().doc.scene.environment.as_ref().unwrap();
+    assert!(env.source.starts_with("sun and sky"), "{}", env.source);
+    assert_eq!(env.strength, rt_core::sky::DAYLIGHT_STRENGTH);
 }
 
 #[test]

@@ -49,8 +49,11 @@ pub struct SceneArgs {
     #[arg(long)]
     pub seed: Option<u32>,
     /// Equirectangular environment map (.hdr, .exr, or any image) lighting the scene in place of
-    /// the ambient colour; `default` is the studio environment rt ships, `none` removes one.
-    #[arg(long, value_name = "FILE|default|none")]
+    /// the ambient colour; `default` is the studio environment rt ships, `none` removes one;
+    /// `sky[:ELEVATION[,TURBIDITY]]` a physical sun and clear sky (Preetham; defaults 35° and 3;
+    /// the sun stands at −z, turned by --env-rotation; strength 1/32, −5 stops, unless
+    /// --env-strength says otherwise: 1 is physical).
+    #[arg(long, value_name = "FILE|default|none|sky[:ELEV[,TURB]]")]
     pub environment: Option<String>,
     /// Rotation of the environment about the up axis, in degrees.
     #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
@@ -90,10 +93,16 @@ impl SceneArgs {
             None => {}
             Some("none") => scene.environment = None,
             Some("default") => scene.environment = Some(rt_core::assets::default_environment()?),
-            Some(path) => {
-                let map = rt_core::environment::load_environment(std::path::Path::new(path))?;
-                scene.environment = Some(rt_core::Environment::new(path, map));
-            }
+            Some(spec) => match rt_core::sky::SunSky::parse(spec) {
+                Some(sky) => {
+                    let sky = sky.map_err(|e| anyhow::anyhow!("--environment {e}"))?;
+                    scene.environment = Some(sky.environment());
+                }
+                None => {
+                    let map = rt_core::environment::load_environment(std::path::Path::new(spec))?;
+                    scene.environment = Some(rt_core::Environment::new(spec, map));
+                }
+            },
         }
         if let Some(env) = scene.environment.as_mut() {
             env.rotation_deg = self.env_rotation.unwrap_or(env.rotation_deg);

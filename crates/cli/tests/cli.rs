@@ -556,9 +556,10 @@ fn tracing_with_ray_queries_without_them_is_a_clear_error() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// `--environment` (the built-in studio or a file), its rotation and strength, and `--view`: an
-/// environment brightens an open scene, strength 0 removes its light, the neutral view transform
-/// changes 8-bit outputs only; bad environment input is a one-line error with exit code 2.
+/// `--environment` (the built-in studio, a file, or the sun and sky), its rotation and strength,
+/// and `--view`: an environment brightens an open scene, strength 0 removes its light, a high sun
+/// more than a low one, the neutral view transform changes 8-bit outputs only; bad environment
+/// input is a one-line error with exit code 2.
 #[test]
 fn environments_and_view_transforms_from_the_command_line() {
     let dir = temp_dir("environment");
@@ -587,6 +588,8 @@ fn environments_and_view_transforms_from_the_command_line() {
             vec!["--environment", "default", "--env-rotation", "nan"],
             "rotation",
         ),
+        (vec!["--environment", "sky:95"], "sun elevation"),
+        (vec!["--environment", "sky:30,x"], "turbidity"),
     ] {
         let mut all = vec!["render", bunny, "--spp", "1", "-o"];
         let out = dir.join("bad.png");
@@ -670,6 +673,16 @@ fn environments_and_view_transforms_from_the_command_line() {
         standard.as_raw(),
         neutral.as_raw(),
         "the view transform changes PNGs"
+    );
+    // The sun and sky: a high sun lights the bunny more than a low one.
+    let noon = render("noon.exr", &["--environment", "sky:70"]);
+    let evening = render("evening.exr", &["--environment", "sky:5"]);
+    assert!(mean(&evening) > 0.0, "a low sun still lights it");
+    assert!(
+        mean(&noon) > 2.0 * mean(&evening),
+        "noon {} against evening {}",
+        mean(&noon),
+        mean(&evening)
     );
     let exr_a = render("a.exr", &["--environment", "default", "--view", "neutral"]);
     let exr_b = render("b.exr", &["--environment", "default"]);

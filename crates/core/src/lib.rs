@@ -24,6 +24,7 @@ pub mod part;
 pub mod reference;
 pub mod scene;
 pub mod shapes;
+pub mod sky;
 pub mod tangents;
 
 pub use camera::Camera;

@@ -41,6 +41,7 @@ pub fn objects_panel(app: &mut RtApp, ui: &mut Ui) {
 fn environment_rows(app: &mut RtApp, ui: &mut Ui) {
     let mut choose = false;
     let mut builtin = false;
+    let mut sky = false;
     let mut remove = false;
     ui.horizontal(|ui| {
         ui.label("Environment").on_hover_text(
@@ -62,6 +63,13 @@ fn environment_rows(app: &mut RtApp, ui: &mut Ui) {
         builtin = ui
             .button("Studio")
             .on_hover_text("The built-in studio environment (Poly Haven, CC0)")
+            .clicked();
+        sky = ui
+            .button("Sun and sky")
+            .on_hover_text(
+                "A clear sky with the sun 35° up (Preetham's model); the rotation turns the sun \
+                 around, the strength starts at 1/32 (daylight is bright)",
+            )
             .clicked();
         remove = app.doc.scene.environment.is_some()
             && ui
@@ -107,6 +115,17 @@ fn environment_rows(app: &mut RtApp, ui: &mut Ui) {
             }
             Err(e) => app.show_error(format!("The built-in environment did not load:\n{e}")),
         }
+    }
+    if sky {
+        let env = rt_core::sky::SunSky {
+            elevation_deg: 35.0,
+            turbidity: 3.0,
+        }
+        .environment();
+        app.doc.edit("set environment", "set environment", |s| {
+            s.environment = Some(env)
+        });
+        app.doc.seal();
     }
     if choose
         && let Some(path) = rfd::FileDialog::new()
