@@ -13,9 +13,10 @@
 //!   glTF's own falloff) and the first perspective camera.
 //!
 //! Files that require an extension rt does not support get an error naming it. What rt does not
-//! map (other textures' transforms, other UV sets, `KHR_materials_specular`, skins, morph targets)
-//! is ignored with a warning; occlusion textures are not used (a path tracer computes occlusion). Every byte range is checked before it is read, so a
-//! broken file is an error naming the part at fault, never a panic.
+//! map (texture transforms that differ from the base colour texture's, other UV sets,
+//! `KHR_materials_specular`, skins, morph targets) is ignored with a warning; occlusion textures
+//! are not used (a path tracer computes occlusion). Every byte range is checked before it is
+//! read, so a broken file is an error naming the part at fault, never a panic.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -25,8 +26,7 @@ use glam::{Mat4, Vec2, Vec3};
 
 use crate::error::{Error, Result};
 use crate::light::{Light, LightKind, SpotFalloff};
-use crate::material::AlphaMode;
-use crate::material::{Material, Pbr};
+use crate::material::{AlphaMode, Material, Pbr};
 use crate::scene::{Filter, Mesh, Object, Scene, Texture, TextureSampler, Transform, Wrap};
 
 /// Extensions rt reads; a file may require only these.
