@@ -22,7 +22,7 @@
 
 use glam::Vec3;
 
-use crate::environment::EnvironmentMap;
+use crate::environment::{EnvironmentMap, env_direction, env_uv};
 use crate::math::sampling::luminance;
 
 /// The sun's angular radius (radians).
@@ -161,15 +161,12 @@ impl SunSky {
     /// The sun, sky and ground as a `width` × `height` environment map.
     pub fn map(&self, width: u32, height: u32) -> EnvironmentMap {
         let (w, h) = (width as usize, height as usize);
-        let direction = |x: f32, y: f32| {
-            let (phi, theta) = (
-                std::f32::consts::TAU * x / w as f32,
-                std::f32::consts::PI * y / h as f32,
-            );
-            Vec3::new(
-                theta.sin() * phi.sin(),
-                theta.cos(),
-                -theta.sin() * phi.cos(),
+        // The centre of texel (col, row), as the environment lookup maps it (no rotation).
+        let direction = |col: usize, row: usize| {
+            env_direction(
+                (col as f32 + 0.5) / w as f32,
+                (row as f32 + 0.5) / h as f32,
+                0.0,
             )
         };
         // A texel's solid angle: (2π / W)(π / H) sin θ at its centre.
@@ -181,7 +178,7 @@ impl SunSky {
         let mut horizontal = 0.0f64;
         for row in 0..h / 2 {
             for col in 0..w {
-                let d = direction(col as f32 + 0.5, row as f32 + 0.5);
+                let d = direction(col, row);
                 let l = self.sky_radiance(d);
                 texels[row * w + col] = l.to_array();
                 horizontal += f64::from(luminance(l) * d.y * texel_solid_angle(row));
@@ -195,20 +192,20 @@ impl SunSky {
         let cos_disk = SUN_ANGULAR_RADIUS.cos();
         let mut disk: Vec<(usize, f32)> = Vec::new();
         let rows = (SUN_ANGULAR_RADIUS / std::f32::consts::PI * h as f32).ceil() as usize + 1;
-        let sun_row = ((sun.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI) * h as f32) as usize;
+        let (sun_u, sun_v) = env_uv(sun, 0.0);
+        let sun_row = (sun_v * h as f32) as usize;
         for row in sun_row.saturating_sub(rows)..(sun_row + rows + 1).min(h) {
             for col in 0..w {
-                let d = direction(col as f32 + 0.5, row as f32 + 0.5);
+                let d = direction(col, row);
                 if d.dot(sun) >= cos_disk {
                     disk.push((row * w + col, texel_solid_angle(row) * d.dot(sun)));
                 }
             }
         }
         if disk.is_empty() {
-            let u = sun.x.atan2(-sun.z).rem_euclid(std::f32::consts::TAU) / std::f32::consts::TAU;
-            let col = ((u * w as f32) as usize).min(w - 1);
+            let col = ((sun_u * w as f32) as usize).min(w - 1);
             let row = sun_row.min(h - 1);
-            let d = direction(col as f32 + 0.5, row as f32 + 0.5);
+            let d = direction(col, row);
             disk.push((row * w + col, texel_solid_angle(row) * d.dot(sun).max(1e-6)));
         }
         // Σ L · Ω · cos over the disk's texels equals the sun's illuminance.
@@ -341,18 +338,11 @@ mod tests {
             let s = sky();
             let map = s.map(w, h);
             let sky_only = |i: usize, row: usize| {
-                let d = {
-                    let (x, y) = ((i % w as usize) as f32 + 0.5, row as f32 + 0.5);
-                    let (phi, theta) = (
-                        std::f32::consts::TAU * x / w as f32,
-                        std::f32::consts::PI * y / h as f32,
-                    );
-                    Vec3::new(
-                        theta.sin() * phi.sin(),
-                        theta.cos(),
-                        -theta.sin() * phi.cos(),
-                    )
-                };
+                let d = env_direction(
+                    ((i % w as usize) as f32 + 0.5) / w as f32,
+                    (row as f32 + 0.5) / h as f32,
+                    0.0,
+                );
                 (d, s.sky_radiance(d))
             };
             let sun = s.sun_direction();
