@@ -254,10 +254,20 @@ fn the_binding_table_matches_every_tracing_kernel() {
 }
 
 /// The constants the CPU and the kernels share (material and light kinds, the no-texture
-/// sentinel) have the same values in `rt_core::gpu_types` and in `shaders/shared/types.wgsl`.
+/// sentinel, material flags, texture slots and sampler bits) have the same values in `rt_core::gpu_types` and in `shaders/shared/types.wgsl`.
 #[test]
 fn shared_constants_match_wgsl() {
-    use rt_core::gpu_types::{NO_TEXTURE, light_kind, material_kind};
+    use rt_core::gpu_types::{self, NO_TEXTURE, light_kind, material_kind};
+    use rt_core::{Filter, TextureSampler, Wrap};
+    // The s-wrap bits of a sampler (t repeats), or its filter bit.
+    let sampler_bits = |wrap: Wrap, filter: Filter| {
+        TextureSampler {
+            wrap_s: wrap,
+            wrap_t: Wrap::Repeat,
+            filter,
+        }
+        .bits()
+    };
     let module = &rt_gpu::shaders::TRACE;
     let parsed = parse(module.name, &module.source());
     let value = |name: &str| -> u32 {
@@ -283,6 +293,29 @@ fn shared_constants_match_wgsl() {
         ("LIGHT_SPOT", light_kind::SPOT),
         ("LIGHT_DIRECTIONAL", light_kind::DIRECTIONAL),
         ("LIGHT_SPOT_GLTF", light_kind::SPOT_GLTF),
+        ("THIN_WALLED", gpu_types::THIN_WALLED),
+        ("ALPHA_MASK", gpu_types::ALPHA_MASK),
+        ("ALPHA_BLEND", gpu_types::ALPHA_BLEND),
+        ("SLOT_BASE", gpu_types::SLOT_BASE),
+        (
+            "SLOT_METALLIC_ROUGHNESS",
+            gpu_types::SLOT_METALLIC_ROUGHNESS,
+        ),
+        ("SLOT_NORMAL", gpu_types::SLOT_NORMAL),
+        ("SLOT_EMISSION", gpu_types::SLOT_EMISSION),
+        // The sampler bits shared/texture.wgsl decodes, as `TextureSampler::bits` packs them.
+        (
+            "WRAP_CLAMP",
+            sampler_bits(Wrap::ClampToEdge, Filter::Linear),
+        ),
+        (
+            "WRAP_MIRROR",
+            sampler_bits(Wrap::MirroredRepeat, Filter::Linear),
+        ),
+        (
+            "FILTER_NEAREST",
+            sampler_bits(Wrap::Repeat, Filter::Nearest),
+        ),
     ] {
         assert_eq!(value(wgsl), rust, "{wgsl}");
     }

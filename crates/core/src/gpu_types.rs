@@ -123,6 +123,11 @@ pub const SLOT_BASE: u32 = 0;
 pub const SLOT_METALLIC_ROUGHNESS: u32 = 5;
 pub const SLOT_NORMAL: u32 = 10;
 pub const SLOT_EMISSION: u32 = 15;
+/// A slot's sampler bits (`scene::TextureSampler::bits`): wrap s in bits 0–1 and t in 2–3
+/// (0 repeat, these two otherwise), bit 4 nearest filtering.
+pub const WRAP_CLAMP: u32 = 1;
+pub const WRAP_MIRROR: u32 = 2;
+pub const FILTER_NEAREST: u32 = 16;
 
 /// One texel of the environment map with its importance-sampling record (`crate::environment`).
 #[repr(C, align(16))]

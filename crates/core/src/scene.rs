@@ -125,12 +125,18 @@ impl TextureSampler {
     /// The sampler packed as the kernels read it (`gpu_types::Material::samplers`): bits 0–1 the
     /// s wrap, 2–3 the t wrap (0 repeat, 1 clamp, 2 mirror), bit 4 nearest filtering.
     pub fn bits(&self) -> u32 {
+        use crate::gpu_types::{FILTER_NEAREST, WRAP_CLAMP, WRAP_MIRROR};
         let wrap = |w: Wrap| match w {
             Wrap::Repeat => 0,
-            Wrap::ClampToEdge => 1,
-            Wrap::MirroredRepeat => 2,
+            Wrap::ClampToEdge => WRAP_CLAMP,
+            Wrap::MirroredRepeat => WRAP_MIRROR,
         };
-        wrap(self.wrap_s) | wrap(self.wrap_t) << 2 | u32::from(self.filter == Filter::Nearest) << 4
+        let nearest = if self.filter == Filter::Nearest {
+            FILTER_NEAREST
+        } else {
+            0
+        };
+        wrap(self.wrap_s) | wrap(self.wrap_t) << 2 | nearest
     }
 }
 

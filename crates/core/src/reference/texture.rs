@@ -6,15 +6,11 @@ use glam::{Vec2, Vec3, Vec4};
 
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{
-    ALPHA_BLEND, ALPHA_MASK, Material, NO_TEXTURE, SLOT_BASE, SLOT_EMISSION, Triangle,
-    material_kind,
+    ALPHA_BLEND, ALPHA_MASK, FILTER_NEAREST, Material, NO_TEXTURE, SLOT_BASE, SLOT_EMISSION,
+    Triangle, WRAP_CLAMP, WRAP_MIRROR, material_kind,
 };
 use crate::math::intersect::PreparedRay;
 use crate::math::sampling::srgb_to_linear;
-
-const WRAP_CLAMP: u32 = 1;
-const WRAP_MIRROR: u32 = 2;
-const FILTER_NEAREST: u32 = 16;
 
 /// A texel index on an axis of `n` texels after the wrap mode (repeat, clamp or mirror).
 pub fn wrap_index(i: i32, n: i32, mode: u32) -> u32 {
