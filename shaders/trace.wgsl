@@ -1,7 +1,8 @@
 // The path-tracing megakernel: one invocation per pixel, `frame.samples_this_dispatch` whole paths
-// each (shared/path.wgsl's vertices in a loop), added to the pixel's exact sums (shared/accumulate.wgsl) so any number
-// of dispatches can be stopped after any one. Composed with shared/{types,rng,sampling,intersect,
-// bvh or cwbvh,scene_bindings,path}.wgsl (see crates/gpu/src/shaders.rs).
+// each (path.wgsl's vertices in a loop), added to the pixel's exact sums (accumulation.wgsl) so any number
+// of dispatches can be stopped after any one. Composed with the estimator's files in
+// crates/core/src (gpu_types, rng, sampling, intersect, bvh or cwbvh, gpu_scene, path, …: see
+// crates/gpu/src/shaders.rs).
 
 // [0]: rays traced; [1]: samples dropped as NaN/Inf.
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;

@@ -1,12 +1,12 @@
 // Test kernel: the nearest hit of each ray through the same BVH traversal as trace.wgsl.
-// Composed with shared/{types,intersect,bvh}.wgsl.
+// Composed with gpu_types.wgsl, intersect.wgsl and bvh.wgsl (crates/core/src, beside their twins).
 
 @group(0) @binding(0) var<storage, read> rays_in: array<Ray>;
 @group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(2) var<storage, read> nodes: array<BvhNodeRecord>;
 @group(0) @binding(3) var<storage, read_write> hits: array<Hit>;
 
-// The traversals' test kernel meets opaque triangles only (shared/ray_query.wgsl asks).
+// The traversals' test kernel meets opaque triangles only (ray_query.wgsl asks).
 const HAS_ALPHA: bool = false;
 
 fn stops_ray_at(ray: PreparedRay, i: u32, b1: f32, b2: f32) -> bool {

@@ -1,5 +1,5 @@
 // The wavefront variant of trace.wgsl (the default; docs/performance.md): the same estimator
-// (shared/path.wgsl), but each stage of a path is its own kernel over a queue of paths, so every
+// (path.wgsl), but each stage of a path is its own kernel over a queue of paths, so every
 // invocation of a dispatch runs the same code:
 //   generate: one path per (pixel, sample) of the wave, its camera ray queued (with adaptive
 //     sampling a wave's pixels are a run of the list of those still sampling: `wave_slot`);
@@ -9,9 +9,9 @@
 //              for next-event estimation, the path re-queued if it goes on;
 //     connect: each shadow ray traced, its contribution added to its path if unoccluded;
 //     advance: (one invocation) the next queue becomes current;
-//   finish: each pixel's samples added to its exact sums (shared/accumulate.wgsl), as the megakernel
+//   finish: each pixel's samples added to its exact sums (accumulation.wgsl), as the megakernel
 //           does, so the two give the same image.
-// Composed with shared/{types,rng,sampling,intersect,bvh or cwbvh,scene_bindings,path}.wgsl.
+// Composed with the estimator's files in crates/core/src (see crates/gpu/src/shaders.rs).
 
 // [0]: rays traced; [1]: samples dropped as NaN/Inf.
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>, 2>;

@@ -610,7 +610,7 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
             frame,
             options,
             3,
-            Some(u64::from(rows) * 37 * rt_core::accumulation::CHANNEL_SUM_BYTES),
+            Some(u64::from(rows) * 37 * rt_gpu::pixel_binding_bytes(&options)),
             |_| true,
         )
         .unwrap();
@@ -628,7 +628,18 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
             "tiles of {rows} rows: the stitched AOVs differ from the untiled ones"
         );
     }
-    assert_eq!(rt_gpu::tile_rows(16384, 16384, 128 << 20), 512);
+    // Tiles are sized by the largest per-pixel binding: the guides when the denoiser keeps them.
+    assert_eq!(rt_gpu::pixel_binding_bytes(&options), 48);
+    assert_eq!(rt_gpu::pixel_binding_bytes(&RenderOptions::default()), 16);
+    assert_eq!(rt_gpu::tile_rows(16384, 16384, 16, 128 << 20), 512);
+    assert_eq!(rt_gpu::tile_rows(2560, 1440, 48, 128 << 20), 1092);
+    assert!(rt_gpu::needs_tiles(2560, 1440, &options, 128 << 20));
+    assert!(!rt_gpu::needs_tiles(
+        2560,
+        1440,
+        &RenderOptions::default(),
+        128 << 20
+    ));
 }
 
 /// The firefly clamp scales down light that has bounced (never a directly seen emitter), so with

@@ -22,24 +22,29 @@ fn every_module_parses_and_validates() {
     }
 }
 
-#[test]
-fn every_wgsl_file_is_compiled_into_some_module() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
-    let mut on_disk = Vec::new();
-    for entry in std::fs::read_dir(&dir)
-        .unwrap()
-        .chain(std::fs::read_dir(dir.join("shared")).unwrap())
-    {
-        let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "wgsl") {
-            on_disk.push(
-                path.strip_prefix(&dir)
-                    .unwrap()
-                    .to_string_lossy()
-                    .replace('\\', "/"),
-            );
+/// Every `.wgsl` file under `dir` (recursively), by path from the workspace root.
+fn wgsl_files_under(root: &std::path::Path, dir: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    let mut pending = vec![root.join(dir)];
+    while let Some(folder) = pending.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                pending.push(path);
+            } else if path.extension().is_some_and(|e| e == "wgsl") {
+                let relative = path.strip_prefix(root).unwrap().to_string_lossy();
+                found.push(relative.replace('\\', "/"));
+            }
         }
     }
+    found
+}
+
+#[test]
+fn every_wgsl_file_is_compiled_into_some_module() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut on_disk = wgsl_files_under(root, "shaders");
+    on_disk.extend(wgsl_files_under(root, "crates/core/src"));
     for file in &on_disk {
         assert!(
             FILES.iter().any(|(name, _)| name == file),
@@ -57,14 +62,55 @@ fn every_wgsl_file_is_compiled_into_some_module() {
     );
 }
 
+/// The estimator's WGSL lives beside its Rust twin: every WGSL file in rt-core has a Rust file of
+/// the same stem in the same folder, and that file exports exactly this text as its `WGSL` (the
+/// text the kernels are composed of).
+#[test]
+fn every_estimator_wgsl_file_has_its_rust_twin_beside_it() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let twins = wgsl_files_under(root, "crates/core/src");
+    assert!(twins.len() >= 13, "only {twins:?}");
+    for file in &twins {
+        let rust = root.join(file).with_extension("rs");
+        let text = std::fs::read_to_string(&rust)
+            .unwrap_or_else(|e| panic!("{file} has no Rust twin {}: {e}", rust.display()));
+        let stem = std::path::Path::new(file)
+            .file_name()
+            .unwrap()
+            .to_string_lossy();
+        assert!(
+            text.contains(&format!("pub const WGSL: &str = include_str!(\"{stem}\");")),
+            "{} does not export {stem} as its WGSL",
+            rust.display()
+        );
+        let on_disk = std::fs::read_to_string(root.join(file)).unwrap();
+        let (_, composed) = FILES.iter().find(|(name, _)| name == file).unwrap();
+        assert_eq!(*composed, on_disk, "{file}: FILES holds other text");
+    }
+    // Only the entry points and what has no CPU twin stay in shaders/.
+    let mut entry_files = wgsl_files_under(root, "shaders");
+    entry_files.sort();
+    assert_eq!(
+        entry_files,
+        [
+            "shaders/preview.wgsl",
+            "shaders/preview_blit.wgsl",
+            "shaders/ray_query.wgsl",
+            "shaders/trace.wgsl",
+            "shaders/trace_rays.wgsl",
+            "shaders/wavefront.wgsl",
+        ]
+    );
+}
+
 #[test]
 fn gpu_struct_layouts_match_wgsl() {
     let source = rt_gpu::shaders::FILES[0].1;
     assert!(
         source.contains("struct Triangle"),
-        "FILES[0] should be shared/types.wgsl"
+        "FILES[0] should be crates/core/src/gpu_types.wgsl"
     );
-    let module = parse("shared/types.wgsl", source);
+    let module = parse("gpu_types.wgsl", source);
     let mut layouter = Layouter::default();
     layouter.update(module.to_ctx()).unwrap();
     for rt_core::gpu_types::StructLayout {
@@ -254,7 +300,7 @@ fn the_binding_table_matches_every_tracing_kernel() {
 }
 
 /// The constants the CPU and the kernels share (material and light kinds, the no-texture
-/// sentinel, material flags, texture slots and sampler bits) have the same values in `rt_core::gpu_types` and in `shaders/shared/types.wgsl`.
+/// sentinel, material flags, texture slots and sampler bits) have the same values in `rt_core::gpu_types` and in `crates/core/src/gpu_types.wgsl`.
 #[test]
 fn shared_constants_match_wgsl() {
     use rt_core::gpu_types::{self, NO_TEXTURE, light_kind, material_kind};
@@ -303,7 +349,7 @@ fn shared_constants_match_wgsl() {
         ),
         ("SLOT_NORMAL", gpu_types::SLOT_NORMAL),
         ("SLOT_EMISSION", gpu_types::SLOT_EMISSION),
-        // The sampler bits shared/texture.wgsl decodes, as `TextureSampler::bits` packs them.
+        // The sampler bits texture.wgsl decodes, as `TextureSampler::bits` packs them.
         (
             "WRAP_CLAMP",
             sampler_bits(Wrap::ClampToEdge, Filter::Linear),

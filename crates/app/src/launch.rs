@@ -62,6 +62,10 @@ pub fn main() -> ExitCode {
         },
         open: args.path.clone(),
         adapter: args.adapter.parse().unwrap_or_default(),
+        // The binary reads the environment; the libraries take the value.
+        device: rt_gpu::DeviceOptions::from_no_ray_query_var(
+            std::env::var_os("RT_NO_RAY_QUERY").as_deref(),
+        ),
     };
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()

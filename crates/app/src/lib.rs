@@ -3,14 +3,17 @@
 
 pub mod app;
 pub mod document;
-pub mod interactive_bench;
 pub mod launch;
 pub mod navigation;
 pub mod presets;
 pub mod preview;
 pub mod recent;
 pub mod render_job;
-pub mod smoke;
 pub mod ui;
+
+// The `rt` binary's `--smoke-test` and `--interactive-bench` sessions, driven from `launch`: not
+// part of the library's API.
+mod interactive_bench;
+mod smoke;
 
 pub use app::{AppOptions, RtApp};

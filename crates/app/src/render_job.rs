@@ -8,7 +8,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use rt_core::{GpuScene, Scene};
-use rt_gpu::context::{AdapterChoice, GpuContext};
+use rt_gpu::context::{AdapterChoice, DeviceOptions, GpuContext};
 use rt_gpu::{Image, RenderOptions, Renderer};
 
 /// The render device, opened on first use and shared by every job (opening one takes a while, and
@@ -17,13 +17,15 @@ use rt_gpu::{Image, RenderOptions, Renderer};
 pub struct RenderDevice {
     inner: Arc<Mutex<Option<Arc<GpuContext>>>>,
     choice: AdapterChoice,
+    options: DeviceOptions,
 }
 
 impl RenderDevice {
-    pub fn new(choice: AdapterChoice) -> Self {
+    pub fn new(choice: AdapterChoice, options: DeviceOptions) -> Self {
         RenderDevice {
             inner: Arc::default(),
             choice,
+            options,
         }
     }
 
@@ -35,7 +37,7 @@ impl RenderDevice {
         if let Some(ctx) = slot.as_ref() {
             return Ok(ctx.clone());
         }
-        let ctx = Arc::new(GpuContext::new(&self.choice)?);
+        let ctx = Arc::new(GpuContext::with_options(&self.choice, self.options)?);
         *slot = Some(ctx.clone());
         Ok(ctx)
     }

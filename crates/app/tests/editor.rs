@@ -517,6 +517,28 @@ fn a_bare_model_is_lit_by_the_default_environment() {
     );
 }
 
+/// The editor's own defaults, on top of the loader all callers share, apply to models only: an OBJ
+/// without light gets the studio and a max depth from its materials, a glTF (whose loader decides
+/// its light) only the depth, and a project stays exactly as saved.
+#[test]
+fn editor_defaults_apply_to_models_not_projects() {
+    use rt_app::app::apply_editor_defaults;
+    use rt_core::io::SceneFormat;
+    let bare = rt_core::Scene::default();
+    assert_eq!(bare.settings.max_depth, 8);
+    let mut obj = bare.clone();
+    apply_editor_defaults(&mut obj, SceneFormat::Obj);
+    assert!(obj.environment.is_some());
+    assert_eq!(obj.settings.max_depth, 5, "diffuse (here: nothing) needs 5");
+    let mut gltf = bare.clone();
+    apply_editor_defaults(&mut gltf, SceneFormat::Gltf);
+    assert!(gltf.environment.is_none());
+    assert_eq!(gltf.settings.max_depth, 5);
+    let mut project = bare.clone();
+    apply_editor_defaults(&mut project, SceneFormat::Project);
+    assert_eq!(project, bare);
+}
+
 /// A merged frame from the cluster (`rt-cli merge -o frame.exr`) opens in a viewer window with its
 /// samples and guides, so it can be denoised, tone-mapped and saved there; a plain EXR opens as
 /// colour.

@@ -4,19 +4,19 @@
 //! Time is what a user waits for that image: BVH build plus GPU render time, without the readbacks
 //! and comparisons the measurement itself adds.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use clap::Args;
 use rt_core::GpuScene;
 use rt_core::metrics::{RgbImage, compare};
-use rt_gpu::{GpuContext, Renderer};
+use rt_gpu::Renderer;
 
-use crate::options::{BvhArgs, EngineArgs, EstimatorArgs};
+use crate::options::{BvhArgs, EngineArgs, EstimatorArgs, open_device};
 use crate::plot;
 use crate::scene_args::SceneArgs;
+use crate::series::{Row, append_csv, read_csv};
 
 #[derive(Args, Debug)]
 pub struct ConvergeArgs {
@@ -47,54 +47,6 @@ pub struct ConvergeArgs {
     /// Write an SVG plot of relMSE against time of every series in the CSV.
     #[arg(long)]
     plot: Option<PathBuf>,
-}
-
-/// One measured step.
-#[derive(Clone, Debug)]
-pub struct Row {
-    pub label: String,
-    pub spp: u32,
-    pub seconds: f64,
-    pub rel_mse: f64,
-    pub rmse: f64,
-    pub mean_ratio: [f64; 3],
-    pub bvh_ms: f64,
-}
-
-pub const CSV_HEADER: &str =
-    "label,spp,seconds,rel_mse,rmse,mean_ratio_r,mean_ratio_g,mean_ratio_b,bvh_build_ms";
-
-impl Row {
-    pub fn csv(&self) -> String {
-        format!(
-            "{},{},{:.6},{:.6e},{:.6e},{:.6},{:.6},{:.6},{:.3}",
-            self.label.replace(',', ";"),
-            self.spp,
-            self.seconds,
-            self.rel_mse,
-            self.rmse,
-            self.mean_ratio[0],
-            self.mean_ratio[1],
-            self.mean_ratio[2],
-            self.bvh_ms
-        )
-    }
-
-    pub fn parse(line: &str) -> Option<Row> {
-        let f: Vec<&str> = line.split(',').collect();
-        if f.len() != 9 {
-            return None;
-        }
-        Some(Row {
-            label: f[0].to_string(),
-            spp: f[1].parse().ok()?,
-            seconds: f[2].parse().ok()?,
-            rel_mse: f[3].parse().ok()?,
-            rmse: f[4].parse().ok()?,
-            mean_ratio: [f[5].parse().ok()?, f[6].parse().ok()?, f[7].parse().ok()?],
-            bvh_ms: f[8].parse().ok()?,
-        })
-    }
 }
 
 pub fn run(args: ConvergeArgs) -> Result<()> {
@@ -135,7 +87,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         )
     });
 
-    let ctx = GpuContext::new(&args.engine.adapter)?;
+    let ctx = open_device(&args.engine.adapter)?;
     let start = Instant::now();
     let gpu_scene =
         GpuScene::build_with_layout(&scene, args.bvh.bvh_quality.into(), args.bvh.bvh.into())?;
@@ -230,40 +182,4 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         eprintln!("plot: {}", out.display());
     }
     Ok(())
-}
-
-fn append_csv(path: &Path, rows: &[Row]) -> Result<()> {
-    let exists = path.exists();
-    let mut file = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(path)
-        .with_context(|| format!("opening {}", path.display()))?;
-    let mut text = String::new();
-    if !exists {
-        text.push_str(CSV_HEADER);
-        text.push('\n');
-    }
-    for row in rows {
-        text.push_str(&row.csv());
-        text.push('\n');
-    }
-    file.write_all(text.as_bytes())
-        .with_context(|| format!("writing {}", path.display()))
-}
-
-pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut rows = Vec::new();
-    for (i, line) in text.lines().enumerate().skip(1) {
-        if line.trim().is_empty() {
-            continue;
-        }
-        rows.push(
-            Row::parse(line)
-                .with_context(|| format!("{}:{}: not a converge row", path.display(), i + 1))?,
-        );
-    }
-    Ok(rows)
 }

@@ -67,7 +67,7 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
             gpu_scene.bvh_build_time
         );
         // The adapter is opened only on request: it takes a second on lavapipe.
-        match rt_gpu::GpuContext::new(&args.adapter) {
+        match crate::options::open_device(&args.adapter) {
             Ok(ctx) => println!("adapter: {}", ctx.adapter_label()),
             Err(e) => println!("adapter: none ({e})"),
         }

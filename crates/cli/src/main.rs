@@ -10,7 +10,9 @@ mod options;
 mod plot;
 mod render;
 mod scene_args;
+mod series;
 mod shard;
+mod summary;
 
 use std::process::ExitCode;
 

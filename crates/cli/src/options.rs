@@ -5,7 +5,7 @@ use clap::Args;
 use rt_core::RenderSettings;
 use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::math::rng::SamplerKind;
-use rt_gpu::{AdapterChoice, Kernel, RenderOptions, Trace};
+use rt_gpu::{AdapterChoice, DeviceOptions, GpuContext, Kernel, RenderOptions, Trace};
 
 /// Image size and estimator (render, converge).
 #[derive(Args, Debug, Clone, Default)]
@@ -88,9 +88,29 @@ impl EngineArgs {
             aovs: denoise,
             // Bounds lavapipe's memory growth over long megakernel renders (docs/performance.md).
             rebuild_on_cpu: true,
+            cpu_pipeline_lifetime: pipeline_lifetime_from_env(),
             ..Default::default()
         }
     }
+}
+
+/// `RT_PIPELINE_LIFETIME_S` (seconds, finite and not negative): the exact pipeline lifetime of
+/// the CPU memory workaround (`RenderOptions::cpu_pipeline_lifetime`). The binary reads the
+/// environment; the library takes the value.
+fn pipeline_lifetime_from_env() -> Option<std::time::Duration> {
+    std::env::var("RT_PIPELINE_LIFETIME_S")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|s| s.is_finite() && *s >= 0.0)
+        .map(std::time::Duration::from_secs_f64)
+}
+
+/// Opens `adapter`'s device as the environment asks: `RT_NO_RAY_QUERY` (set, and not `0`) leaves
+/// ray queries off, should a driver misbehave with them (every subcommand opens it here).
+pub fn open_device(adapter: &AdapterChoice) -> rt_gpu::Result<GpuContext> {
+    let no_ray_query = std::env::var_os("RT_NO_RAY_QUERY");
+    let options = DeviceOptions::from_no_ray_query_var(no_ray_query.as_deref());
+    GpuContext::with_options(adapter, options)
 }
 
 /// The BVH (converge, bench).

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::Args;
 
-use crate::converge::{Row, read_csv};
+use crate::series::{Row, read_csv};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum XAxis {
@@ -233,13 +233,5 @@ mod tests {
         assert_eq!(svg.matches("<polyline").count(), 2);
         assert!(svg.contains("a&lt;b") && !svg.contains("a<b"));
         assert!(render_svg(&[], XAxis::Spp, "").is_err());
-    }
-
-    #[test]
-    fn csv_rows_round_trip() {
-        let r = row("x", 4, 1.5, 0.25);
-        let parsed = Row::parse(&r.csv()).expect("parses");
-        assert_eq!((parsed.label, parsed.spp), ("x".to_string(), 4));
-        assert!((parsed.rel_mse - 0.25).abs() < 1e-9);
     }
 }

@@ -6,12 +6,13 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use rt_core::GpuScene;
-use rt_gpu::{GpuContext, Renderer};
+use rt_core::{GpuScene, Scene};
+use rt_gpu::{GpuContext, GpuError, Renderer};
 
-use crate::options::{EngineArgs, EstimatorArgs};
+use crate::options::{EngineArgs, EstimatorArgs, open_device};
 use crate::scene_args::SceneArgs;
 use crate::shard::ShardArgs;
+use crate::summary::{Finish, estimator_summary, print_render_summary, print_scene_summary};
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -80,14 +81,60 @@ impl RenderArgs {
     fn view(&self) -> rt_core::output::View {
         self.view.with_exposure(self.exposure)
     }
+
+    /// With --time-limit or --noise-target, the samples per pixel are only the most to take.
+    fn open_ended(&self) -> bool {
+        self.time_limit.is_some() || self.noise_target.is_some()
+    }
 }
 
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
+    let (scene, range) = prepare_scene(&args)?;
+    let ctx = open_device(&args.engine.adapter)?;
+    let gpu_scene = GpuScene::build(&scene)?;
+    let max_buffer = max_accumulation_bytes(&ctx);
+    let options = shard_options(&args, range);
+    let (width, height) = (scene.settings.width, scene.settings.height);
+    if rt_gpu::needs_tiles(width, height, &options, max_buffer) {
+        if args.open_ended() {
+            let bytes =
+                u64::from(width) * u64::from(height) * rt_gpu::pixel_binding_bytes(&options);
+            anyhow::bail!(
+                "a {width}x{height} image needs a {bytes}-byte buffer (accumulation or denoiser \
+                 guides), more than this adapter's {max_buffer} per buffer: it renders in tiles, \
+                 one after another, which needs a fixed --spp rather than --time-limit or \
+                 --noise-target"
+            );
+        }
+        return render_in_tiles(&args, &scene, &ctx, &gpu_scene, max_buffer, range);
+    }
+    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
+    let finish = render_progressively(&args, &ctx, &mut renderer, &scene, range)?;
+    let image = renderer.read_image()?;
+    let aovs = match range {
+        Some(_) => renderer.read_aovs()?,
+        None => None,
+    };
+    let (kernel, scenes) = (renderer.kernel(), (&scene, &gpu_scene));
+    save_output(&args, range, &ctx, kernel, scenes, &image, aovs.as_ref())?;
+    print_render_summary(&ctx, &renderer, scenes, &image, range, &finish, verbose);
+    if args.denoise.is_some() {
+        let aovs = renderer.read_aovs()?;
+        save_denoised(&args, &image, aovs.as_ref())?;
+    }
+    eprintln!("saved:          {}", args.output.display());
+    Ok(())
+}
+
+/// Loads the scene and applies the arguments to its settings (samples per pixel, adaptive
+/// sampling), checking them, the shard's options and the camera before the GPU is opened, so
+/// mistakes are reported at once. Returns the scene and the shard's samples (`--shard`).
+fn prepare_scene(args: &RenderArgs) -> Result<(Scene, Option<[u32; 2]>)> {
     rt_core::output::ImageFormat::from_path(&args.output)?;
     let mut scene = args.scene.load()?;
     args.estimator.apply(&mut scene.settings);
     let settings = &mut scene.settings;
-    let open_ended = args.time_limit.is_some() || args.noise_target.is_some();
+    let open_ended = args.open_ended();
     settings.samples_per_pixel = args.spp.unwrap_or(if open_ended {
         1 << 20
     } else {
@@ -110,30 +157,72 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     }
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
+    Ok((scene, range))
+}
 
-    let ctx = GpuContext::new(&args.engine.adapter)?;
-    let gpu_scene = GpuScene::build(&scene)?;
-    let max_buffer = max_accumulation_bytes(&ctx);
-    let accum_bytes = u64::from(scene.settings.width)
-        * u64::from(scene.settings.height)
-        * rt_core::accumulation::CHANNEL_SUM_BYTES;
-    if accum_bytes > max_buffer {
-        if open_ended {
-            anyhow::bail!(
-                "a {}x{} image needs {accum_bytes} bytes of accumulation, more than this adapter's \
-                 {max_buffer} per buffer: it renders in tiles, one after another, which needs a \
-                 fixed --spp rather than --time-limit or --noise-target",
-                scene.settings.width,
-                scene.settings.height
-            );
-        }
-        return render_in_tiles(&args, &scene, &ctx, &gpu_scene, max_buffer, range);
-    }
-    let options = shard_options(&args, range);
-    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
-
+/// Renders batch after batch, with a progress bar, until every pixel has its samples (a shard's
+/// own, or the frame's), the noise target or the time limit is met, or adaptive sampling has
+/// stopped every pixel. If the GPU fails, saves what was last read back (not for a shard) and
+/// returns the error.
+fn render_progressively(
+    args: &RenderArgs,
+    ctx: &GpuContext,
+    renderer: &mut Renderer,
+    scene: &Scene,
+    range: Option<[u32; 2]>,
+) -> Result<Finish> {
     // A shard's own samples; the frame's otherwise.
     let spp = range.map_or(scene.settings.samples_per_pixel, |[a, b]| b - a);
+    let bar = progress_bar(args.open_ended(), spp);
+    let started = Instant::now();
+    let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
+    let mut checkpoint = Checkpoint::default();
+    let mut stopped_by = "samples per pixel";
+    let faults = Faults::from_env();
+    let mut batches = 0u32;
+    while renderer.samples_done() < spp && renderer.active_pixels() > 0 {
+        let done = renderer.samples_done();
+        // With a noise target, grow batches geometrically so the stop overshoots by at most 1/8.
+        let batch = if args.noise_target.is_some() {
+            (done / 8).max(1)
+        } else {
+            spp - done
+        };
+        faults.before_batch(ctx, batches);
+        batches += 1;
+        let step = renderer
+            .render_batch(batch.min(spp - done))
+            .map(|_| ())
+            .and_then(|()| checkpoint.update(renderer, args.noise_target.is_some()));
+        if let Err(e) = step {
+            bar.finish_and_clear();
+            return Err(render_failed(args, range, checkpoint.image, e));
+        }
+        let done = renderer.samples_done();
+        let secs = started.elapsed().as_secs_f64().max(1e-9);
+        bar.set_position(u64::from(done));
+        bar.set_message(format!(
+            "{:.2} Mpaths/s  noise ≈ {:.4}",
+            pixels as f64 * f64::from(done) / secs / 1e6,
+            checkpoint.noise
+        ));
+        if let Some(rule) = stop_rule(args, checkpoint.noise, secs) {
+            stopped_by = rule;
+            break;
+        }
+    }
+    if renderer.active_pixels() == 0 {
+        stopped_by = "adaptive sampling: every pixel converged";
+    }
+    bar.finish_and_clear();
+    Ok(Finish {
+        render_time: started.elapsed(),
+        stopped_by,
+    })
+}
+
+/// A bar of `spp` samples, or a spinner when the render is open-ended.
+fn progress_bar(open_ended: bool, spp: u32) -> ProgressBar {
     let bar = if open_ended {
         ProgressBar::new_spinner()
     } else {
@@ -147,187 +236,95 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     bar.set_style(
         ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let started = Instant::now();
-    let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
-    let mut noise = f64::INFINITY;
-    let mut last_estimate: Option<Instant> = None;
-    let mut stopped_by = "samples per pixel";
-    // The image as last read back: if the GPU fails mid-render, this is what can still be saved.
-    let mut last_image: Option<rt_gpu::Image> = None;
-    // Fault injection for the tests: lose the device after this many batches.
-    let lose_device_after: Option<u32> = std::env::var("RT_FAULT_LOSE_DEVICE_AFTER_BATCHES")
-        .ok()
-        .and_then(|v| v.parse().ok());
-    // And run out of memory (the next GPU operation fails) after this many.
-    let out_of_memory_after: Option<u32> = std::env::var("RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES")
-        .ok()
-        .and_then(|v| v.parse().ok());
-    let mut batches = 0u32;
-    while renderer.samples_done() < spp && renderer.active_pixels() > 0 {
-        let done = renderer.samples_done();
-        // With a noise target, grow batches geometrically so the stop overshoots by at most 1/8.
-        let batch = if args.noise_target.is_some() {
-            (done / 8).max(1)
-        } else {
-            spp - done
-        };
-        if lose_device_after == Some(batches) {
+    bar
+}
+
+/// Which rule stops the render after a batch, if one does: the noise target, then the time limit
+/// (`secs` into the render).
+fn stop_rule(args: &RenderArgs, noise: f64, secs: f64) -> Option<&'static str> {
+    if args.noise_target.is_some_and(|target| noise <= target) {
+        Some("noise target")
+    } else if args.time_limit.is_some_and(|limit| secs >= limit) {
+        Some("time limit")
+    } else {
+        None
+    }
+}
+
+/// The image as last read back, and its estimated noise.
+struct Checkpoint {
+    noise: f64,
+    at: Option<Instant>,
+    /// If the GPU fails mid-render, this is what can still be saved.
+    image: Option<rt_gpu::Image>,
+}
+
+impl Default for Checkpoint {
+    fn default() -> Self {
+        Checkpoint {
+            noise: f64::INFINITY,
+            at: None,
+            image: None,
+        }
+    }
+}
+
+impl Checkpoint {
+    /// Reads back (for the noise estimate, and as a checkpoint) when the noise decides the stop,
+    /// else about once a second.
+    fn update(&mut self, renderer: &Renderer, noise_decides: bool) -> rt_gpu::Result<()> {
+        let due = noise_decides || self.at.is_none_or(|t| t.elapsed().as_secs_f64() >= 1.0);
+        if due {
+            let image = renderer.read_image()?;
+            self.noise = image.estimated_noise();
+            self.at = Some(Instant::now());
+            self.image = Some(image);
+        }
+        Ok(())
+    }
+}
+
+/// Fault injection for the tests: lose the device (`RT_FAULT_LOSE_DEVICE_AFTER_BATCHES`), or run
+/// out of memory, the next GPU operation failing (`RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES`), after
+/// this many batches.
+struct Faults {
+    lose_device_after: Option<u32>,
+    out_of_memory_after: Option<u32>,
+}
+
+impl Faults {
+    fn from_env() -> Self {
+        let batches = |name: &str| std::env::var(name).ok().and_then(|v| v.parse().ok());
+        Faults {
+            lose_device_after: batches("RT_FAULT_LOSE_DEVICE_AFTER_BATCHES"),
+            out_of_memory_after: batches("RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES"),
+        }
+    }
+
+    /// Injects what is due before the batch after `batches` batches.
+    fn before_batch(&self, ctx: &GpuContext, batches: u32) {
+        if self.lose_device_after == Some(batches) {
             ctx.device.destroy();
         }
-        if out_of_memory_after == Some(batches) {
+        if self.out_of_memory_after == Some(batches) {
             ctx.inject_out_of_memory(1);
         }
-        batches += 1;
-        let step = renderer
-            .render_batch(batch.min(spp - done))
-            .map(|_| ())
-            .and_then(|()| {
-                // Read back (for the noise estimate, and as a checkpoint) when the noise decides
-                // the stop, else about once a second.
-                let due = args.noise_target.is_some()
-                    || last_estimate.is_none_or(|t| t.elapsed().as_secs_f64() >= 1.0);
-                if due {
-                    let image = renderer.read_image()?;
-                    noise = image.estimated_noise();
-                    last_estimate = Some(Instant::now());
-                    last_image = Some(image);
-                }
-                Ok(())
-            });
-        if let Err(e) = step {
-            bar.finish_and_clear();
-            if range.is_some() {
-                return Err(anyhow::Error::from(e)
-                    .context("the shard's render failed; no part was written (render it again)"));
-            }
-            return Err(save_after_failure(&args, last_image, e.into()));
-        }
-        let done = renderer.samples_done();
-        let secs = started.elapsed().as_secs_f64().max(1e-9);
-        bar.set_position(u64::from(done));
-        bar.set_message(format!(
-            "{:.2} Mpaths/s  noise ≈ {noise:.4}",
-            pixels as f64 * f64::from(done) / secs / 1e6
-        ));
-        if args.noise_target.is_some_and(|target| noise <= target) {
-            stopped_by = "noise target";
-            break;
-        }
-        if args.time_limit.is_some_and(|limit| secs >= limit) {
-            stopped_by = "time limit";
-            break;
-        }
-    }
-    if renderer.active_pixels() == 0 {
-        stopped_by = "adaptive sampling: every pixel converged";
-    }
-    bar.finish_and_clear();
-    let render_time = started.elapsed();
-    let image = renderer.read_image()?;
-    let noise = image.estimated_noise();
-    match range {
-        Some(range) => {
-            let aovs = renderer.read_aovs()?;
-            let note = shard_note(range, &ctx, renderer.kernel());
-            let scenes = (&scene, &gpu_scene);
-            crate::shard::save(&args.output, range, scenes, &image, aovs.as_ref(), note)?;
-        }
-        None => save(&args, &image)?,
-    }
-
-    let secs = render_time.as_secs_f64().max(1e-9);
-    let paths = pixels as f64 * image.mean_samples();
-    print_scene_summary(&ctx, renderer.kernel(), renderer.trace(), &gpu_scene);
-    eprintln!(
-        "image:          {}x{}, {} spp, {}",
-        image.width,
-        image.height,
-        image.samples_per_pixel,
-        estimator_summary(&scene.settings, &gpu_scene)
-    );
-    if let (Some(threshold), Some(counts)) =
-        (scene.settings.adaptive_threshold, &image.sample_counts)
-    {
-        let stopped = counts
-            .iter()
-            .filter(|&&c| c < image.samples_per_pixel)
-            .count();
-        eprintln!(
-            "adaptive:       threshold {threshold}, mean {:.1} spp, {:.1}% of pixels stopped before the last batch",
-            image.mean_samples(),
-            100.0 * stopped as f64 / counts.len().max(1) as f64
-        );
-    }
-    if let Some([a, b]) = range {
-        eprintln!(
-            "shard:          samples {a}..{b} of {}, saved as a part for `rt-cli merge`",
-            scene.settings.samples_per_pixel
-        );
-    }
-    eprintln!("render time:    {render_time:.2?} (stopped by {stopped_by})");
-    eprintln!("noise:          {noise:.5} (estimated sqrt(relMSE) against the converged image)");
-    eprintln!(
-        "samples/s:      {:.1} spp/s",
-        f64::from(image.samples_per_pixel) / secs
-    );
-    eprintln!("paths/s:        {:.3} M", paths / secs / 1e6);
-    if renderer.dropped_samples() > 0 {
-        eprintln!(
-            "dropped:        {} NaN/Inf samples (counted as black)",
-            renderer.dropped_samples()
-        );
-    }
-    if verbose {
-        eprintln!("longest dispatch: {:.2?}", renderer.longest_dispatch());
-        let m = image.channel_means();
-        eprintln!("channel means:  {:.6} {:.6} {:.6}", m[0], m[1], m[2]);
-    }
-    if args.denoise.is_some() {
-        let aovs = renderer.read_aovs()?;
-        save_denoised(&args, &image, aovs.as_ref())?;
-    }
-    eprintln!("saved:          {}", args.output.display());
-    Ok(())
-}
-
-/// The adapter, kernel, tracing, triangles and BVH build, as both render paths print them.
-fn print_scene_summary(
-    ctx: &GpuContext,
-    kernel: rt_gpu::Kernel,
-    trace: rt_gpu::Trace,
-    gpu_scene: &GpuScene,
-) {
-    eprintln!("adapter:        {}", ctx.adapter_label());
-    eprintln!(
-        "kernel:         {}, tracing {}",
-        kernel.name(),
-        trace_name(trace)
-    );
-    eprintln!("triangles:      {}", gpu_scene.triangles.len());
-    eprintln!(
-        "BVH build:      {:.2?} (depth {})",
-        gpu_scene.bvh_build_time, gpu_scene.bvh_depth
-    );
-}
-
-fn trace_name(trace: rt_gpu::Trace) -> &'static str {
-    match trace {
-        rt_gpu::Trace::Hardware => "with ray queries",
-        rt_gpu::Trace::Bvh | rt_gpu::Trace::Auto => "rt's BVH",
     }
 }
 
-/// "max depth D, next-event estimation on|off, S sampler".
-fn estimator_summary(settings: &rt_core::RenderSettings, gpu_scene: &GpuScene) -> String {
-    format!(
-        "max depth {}, next-event estimation {}, {} sampler",
-        settings.max_depth,
-        if gpu_scene.features.nee { "on" } else { "off" },
-        match settings.sampler {
-            rt_core::math::rng::SamplerKind::Sobol => "Sobol",
-            rt_core::math::rng::SamplerKind::Independent => "independent",
-        }
-    )
+/// The error of a render that failed mid-way: a shard writes nothing; a frame saves the image
+/// last read back, if any (`save_after_failure`).
+fn render_failed(
+    args: &RenderArgs,
+    range: Option<[u32; 2]>,
+    last_image: Option<rt_gpu::Image>,
+    error: GpuError,
+) -> anyhow::Error {
+    if range.is_some() {
+        return anyhow::Error::from(error)
+            .context("the shard's render failed; no part was written (render it again)");
+    }
+    save_after_failure(args, last_image, error.into())
 }
 
 /// The largest accumulation buffer this adapter allows: the adapter's limit, or less when
@@ -347,14 +344,16 @@ fn max_accumulation_bytes(ctx: &GpuContext) -> u64 {
 /// `rt_gpu::render_tiled`), with the same options; the result is the same as an untiled render.
 fn render_in_tiles(
     args: &RenderArgs,
-    scene: &rt_core::Scene,
+    scene: &Scene,
     ctx: &GpuContext,
     gpu_scene: &GpuScene,
     max_buffer: u64,
     range: Option<[u32; 2]>,
 ) -> Result<()> {
     let settings = &scene.settings;
-    let rows = rt_gpu::tile_rows(settings.width, settings.height, max_buffer);
+    let options = shard_options(args, range).with_scene_settings(settings);
+    let pixel_bytes = rt_gpu::pixel_binding_bytes(&options);
+    let rows = rt_gpu::tile_rows(settings.width, settings.height, pixel_bytes, max_buffer);
     let tiles = settings.height.div_ceil(rows);
     let bar = ProgressBar::new(1000);
     bar.set_style(
@@ -370,7 +369,7 @@ fn render_in_tiles(
         ctx,
         gpu_scene,
         frame,
-        shard_options(args, range).with_scene_settings(settings),
+        options,
         range.map_or(settings.samples_per_pixel, |[a, b]| b - a),
         Some(max_buffer),
         |fraction| {
@@ -380,19 +379,13 @@ fn render_in_tiles(
     )?;
     bar.finish_and_clear();
     let render_time = started.elapsed();
-    match range {
-        Some(range) => {
-            let note = shard_note(range, ctx, args.engine.kernel());
-            let scenes = (scene, gpu_scene);
-            crate::shard::save(&args.output, range, scenes, &image, aovs.as_ref(), note)?;
-        }
-        None => save(args, &image)?,
-    }
+    let (kernel, scenes) = (args.engine.kernel(), (scene, gpu_scene));
+    save_output(args, range, ctx, kernel, scenes, &image, aovs.as_ref())?;
     let trace = ctx.resolve_trace(args.engine.trace.into(), gpu_scene);
-    print_scene_summary(ctx, args.engine.kernel(), trace, gpu_scene);
+    print_scene_summary(ctx, kernel, trace, gpu_scene);
     eprintln!(
-        "image:          {}x{}, {} spp, {}, in {tiles} tiles of {rows} rows (the accumulation \
-         buffer would exceed the adapter's {max_buffer} bytes)",
+        "image:          {}x{}, {} spp, {}, in {tiles} tiles of {rows} rows (a whole-image \
+         buffer of {pixel_bytes} bytes a pixel would exceed the adapter's {max_buffer} bytes)",
         image.width,
         image.height,
         image.samples_per_pixel,
@@ -413,6 +406,26 @@ fn shard_options(args: &RenderArgs, range: Option<[u32; 2]>) -> rt_gpu::RenderOp
         ..args
             .engine
             .render_options(args.denoise.is_some() || range.is_some())
+    }
+}
+
+/// Saves `image` as the output, or for a shard (`range`) as a part for `rt-cli merge`, with its
+/// `aovs` and a note of where its samples were rendered (by `kernel`).
+fn save_output(
+    args: &RenderArgs,
+    range: Option<[u32; 2]>,
+    ctx: &GpuContext,
+    kernel: rt_gpu::Kernel,
+    scenes: (&Scene, &GpuScene),
+    image: &rt_gpu::Image,
+    aovs: Option<&rt_gpu::Aovs>,
+) -> Result<()> {
+    match range {
+        Some(range) => {
+            let note = shard_note(range, ctx, kernel);
+            crate::shard::save(&args.output, range, scenes, image, aovs, note)
+        }
+        None => save(args, image),
     }
 }
 

@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use rt_core::Scene;
 use rt_core::io::camera_json::CameraFile;
+use rt_core::io::{LoadOptions, SceneFormat};
 
 /// Parses "x,y,z" into three finite floats.
 pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
@@ -70,13 +71,7 @@ impl SceneArgs {
             anyhow::bail!("--gltf-scene needs a .gltf or .glb scene");
         }
         let mut scene = match &self.scene {
-            Some(path) if is_project(path) => rt_core::io::project::load_project(path)?,
-            Some(path) if is_gltf(path) => rt_core::io::gltf::load_gltf(path, self.gltf_scene)?,
-            Some(path) => {
-                let mut scene = rt_core::io::obj::load_obj(path, self.seed.unwrap_or(0))?;
-                scene.frame_for_viewing();
-                scene
-            }
+            Some(path) => rt_core::io::load(path, &self.load_options())?,
             None => rt_core::assets::cornell_box().context("loading the embedded Cornell box")?,
         };
         if let Some(path) = &self.camera {
@@ -113,15 +108,17 @@ impl SceneArgs {
         }
         Ok(scene)
     }
+
+    /// What the flags choose about reading the file; the rest is `rt_core::io::load`'s policy,
+    /// the editor's too.
+    fn load_options(&self) -> LoadOptions {
+        LoadOptions {
+            seed: self.seed.unwrap_or(0),
+            gltf_scene: self.gltf_scene,
+        }
+    }
 }
 
 fn is_gltf(path: &std::path::Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
-}
-
-fn is_project(path: &std::path::Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case(rt_core::io::project::PROJECT_EXTENSION))
+    matches!(SceneFormat::of(path), Ok(SceneFormat::Gltf))
 }

@@ -92,6 +92,14 @@ fn bad_arguments_and_files_exit_2_with_one_line() {
             "bad.obj:2:",
         ),
         (
+            vec!["render", "scene.xyz", "-o", "x.png"],
+            "scene.xyz: unknown scene type '.xyz': rt reads .obj, .gltf, .glb, .rtproj",
+        ),
+        (
+            vec!["info", "scene.obj", "--gltf-scene", "0"],
+            "--gltf-scene needs a .gltf or .glb scene",
+        ),
+        (
             vec![
                 "render",
                 "--camera-from",
@@ -480,8 +488,7 @@ fn a_corrupt_oidn_library_falls_back_or_fails_as_asked() {
 }
 
 /// Every render flag reaches both render paths (`render` builds their options in one place): the
-/// Cornell box rendered in tiles (the accumulation capped by `RT_MAX_ACCUMULATION_BYTES` to seven
-/// rows) writes the same files, raw and denoised, byte for byte, as the same render in one piece.
+/// Cornell box rendered in tiles (buffers capped by `RT_MAX_ACCUMULATION_BYTES` to seven rows) writes the same files, raw and denoised, byte for byte, as the same render in one piece.
 #[test]
 fn tiled_renders_honour_every_flag() {
     if !has_gpu() {
@@ -511,7 +518,8 @@ fn tiled_renders_honour_every_flag() {
             (out, stderr)
         };
         let (whole, whole_log) = render("whole", &[]);
-        let seven_rows = (24 * 16 * 7).to_string();
+        // Seven rows of the largest per-pixel buffer: the denoiser's guides, 48 bytes a pixel.
+        let seven_rows = (24 * 48 * 7).to_string();
         let (tiled, tiled_log) = render("tiled", &[("RT_MAX_ACCUMULATION_BYTES", &seven_rows)]);
         assert!(!whole_log.contains("tiles of"), "{whole_log}");
         assert!(tiled_log.contains("3 tiles of 7 rows"), "{tiled_log}");
@@ -528,7 +536,46 @@ fn tiled_renders_honour_every_flag() {
         };
         assert!(
             denoised(&whole) == denoised(&tiled),
-            "{flags:?}: the tiled render's denoised image differs from the whole one's"
+            "{flags:?}: the tiled render's denoised image differs from the whole one's\n\
+             whole:\n{whole_log}\ntiled:\n{tiled_log}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--denoise` at 2560x1440: the accumulation (16 bytes a pixel) fits one binding on lavapipe but
+/// the denoiser's guides (48 bytes a pixel, 177 MB) do not, so the render must be tiled by the
+/// guides' size (it once failed with "the albedo, normal, emission buffer needs 176947200 bytes").
+/// The tiled render is the untiled one (rendered without the guides) bit for bit, and its denoised
+/// copy covers the whole frame.
+#[test]
+fn denoising_works_where_the_guides_exceed_one_binding() {
+    if !has_gpu() {
+        return;
+    }
+    let dir = temp_dir("denoise-big");
+    let (denoised_out, plain_out) = (dir.join("denoised.png"), dir.join("plain.png"));
+    let flags = ["--max-depth", "2", "--denoise=atrous"];
+    let (code, stderr) = render_cornell(2560, 1440, 1, &denoised_out, &flags);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, plain_log) = render_cornell(2560, 1440, 1, &plain_out, &flags[..2]);
+    assert_eq!(code, 0, "{plain_log}");
+    assert!(
+        std::fs::read(&denoised_out).unwrap() == std::fs::read(&plain_out).unwrap(),
+        "the render kept for denoising differs from the plain one:\n{stderr}\n{plain_log}"
+    );
+    let denoised = image::open(dir.join("denoised.denoised.png")).unwrap();
+    assert_eq!((denoised.width(), denoised.height()), (2560, 1440));
+    // The lit box fills the frame's middle: every band of rows there has lit pixels.
+    let rgb = denoised.to_rgb8();
+    for band in 1..7 {
+        let lit = (band * 180..(band + 1) * 180)
+            .flat_map(|y| (0..2560).map(move |x| (x, y)))
+            .filter(|&(x, y)| rgb.get_pixel(x, y).0.iter().any(|&c| c > 16))
+            .count();
+        assert!(
+            lit > 180 * 256,
+            "rows of band {band}: {lit} lit pixels\n{stderr}"
         );
     }
     std::fs::remove_dir_all(&dir).unwrap();

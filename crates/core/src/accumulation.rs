@@ -1,4 +1,4 @@
-//! Exact per-pixel sums of samples, the CPU twin of `shaders/shared/accumulate.wgsl`.
+//! Exact per-pixel sums of samples, the CPU twin of `accumulation.wgsl` beside it.
 //!
 //! Each pixel accumulates four channels (red, green, blue and squared luminance), each a 128-bit
 //! two's-complement fixed-point number with 64 fraction bits, stored as four `u32` words, least
@@ -8,6 +8,10 @@
 //! significant bits above the 2^-64 step), and smaller ones are truncated at 2^-64 ≈ 5.4e-20.
 //! The sums hold up to 2^63 ≈ 9.2e18 per channel: with `MAX_SAMPLE` per sample that is 2^19
 //! samples of the brightest value a sample may have, and far more of real ones.
+
+/// The WGSL twin of this module, `accumulation.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("accumulation.wgsl");
 
 /// One channel's sum: 128-bit two's complement, 64 fraction bits, least significant word first.
 pub type FixedSum = [u32; 4];

@@ -1,5 +1,5 @@
 //! Environment lighting: an equirectangular (latitude–longitude) HDR image around the scene,
-//! importance-sampled. The twin of `shaders/shared/environment.wgsl`.
+//! importance-sampled. The twin of `environment.wgsl` beside it.
 //!
 //! Mapping (Mitsuba 3's `envmap`, y up): a direction d, turned by −rotation about +y, has
 //! u = atan2(d.x, −d.z) / 2π (wrapped to [0, 1)) and v = acos(d.y) / π, v = 0 the top row.
@@ -9,6 +9,10 @@
 //! through an alias table, then a point uniform in (u, v) inside it. Since dω = 2π² sin θ du dv, the
 //! solid-angle density is p(d) = P_i · W H / (2π² sin θ(d)), P_i = w_i / Σ w; each texel record
 //! stores P_i · W H / (2π²).
+
+/// The WGSL twin of this module, `environment.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("environment.wgsl");
 
 use std::path::Path;
 use std::sync::Arc;

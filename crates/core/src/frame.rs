@@ -82,7 +82,10 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
             (true, true) => 0.5,
         },
         sample_offset: 0,
-        _pad_d: 0,
+        clamp_max: settings
+            .clamp
+            .filter(|c| c.is_finite() && *c > 0.0)
+            .unwrap_or(0.0),
         _pad_e: 0,
     })
 }

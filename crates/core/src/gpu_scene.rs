@@ -1,5 +1,12 @@
 //! Flattens a `Scene` into the arrays the kernel reads: world-space triangles in BVH order, their
 //! shading attributes, one material per object, texels and BVH nodes.
+//!
+//! Material packing is in `gpu_material`, the feature flags in `scene_features` and the kernels'
+//! index checks (`GpuScene::check_kernel_indices`) in `kernel_indices`.
+
+/// The WGSL twin of this module, `gpu_scene.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("gpu_scene.wgsl");
 
 use std::time::Duration;
 
@@ -7,30 +14,11 @@ use glam::{Vec2, Vec3};
 
 use crate::bvh::{BvhLayout, BvhQuality, build_bvh, build_wide_bvh};
 use crate::error::{Error, Result};
-use crate::gpu_types::{self, BvhNode, NO_TEXTURE, Shading, Triangle, WideBvhNode, material_kind};
-use crate::material::{AlphaMode, Material};
+use crate::gpu_material::object_material;
+use crate::gpu_types::{self, BvhNode, Shading, Triangle, WideBvhNode};
+use crate::material::Material;
 use crate::scene::Scene;
-
-/// Which optional kernel features a scene needs; the pipeline compiles the others out.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct SceneFeatures {
-    pub textures: bool,
-    pub metal: bool,
-    pub dielectric: bool,
-    pub thin_lens: bool,
-    /// Next-event estimation (the scene has emitters and the settings ask for it).
-    pub nee: bool,
-    /// Point, spot or directional lights (always sampled directly).
-    pub delta_lights: bool,
-    /// The PBR material.
-    pub pbr: bool,
-    /// PBR normal maps (the kernel reads `GpuScene::tangents`).
-    pub normal_maps: bool,
-    /// An environment map (sampled directly, and by MIS with the BSDF).
-    pub environment: bool,
-    /// Alpha-masked or blended surfaces (the traversal reads their coverage at each hit).
-    pub alpha: bool,
-}
+pub use crate::scene_features::SceneFeatures;
 
 /// Everything the GPU needs for a scene, as plain arrays.
 #[derive(Clone, Debug, Default)]
@@ -67,114 +55,6 @@ pub struct GpuScene {
     pub extent: f32,
     pub bvh_depth: usize,
     pub bvh_build_time: Duration,
-}
-
-/// An object's GPU material (texture slots resolved against `texture_offsets`) and, with a normal
-/// map, its MikkTSpace tangents (three per triangle, in the mesh's order); notes the features it
-/// uses in `features`.
-fn object_material(
-    scene: &Scene,
-    object: &crate::Object,
-    texture_offsets: &[u32],
-    features: &mut SceneFeatures,
-) -> Result<(gpu_types::Material, Option<Vec<[f32; 4]>>)> {
-    let mesh = &object.mesh;
-    let label = || format!("object '{}'", object.name);
-    object.material.validate(&label()).map_err(Error::Scene)?;
-    let mut material = gpu_material(&object.material);
-    let texture = match &object.material {
-        Material::Lambertian { texture, .. } => *texture,
-        Material::Pbr(p) => p.texture,
-        _ => None,
-    };
-    if let Some(t) = texture {
-        let texture = scene.textures.get(t).ok_or_else(|| {
-            Error::Scene(format!("{}: texture index {t} does not exist", label()))
-        })?;
-        if mesh.uvs.is_some() {
-            material.texture_offset = texture_offsets[t];
-            material.texture_width = texture.width;
-            material.texture_height = texture.height;
-            material.samplers |= texture.sampler.bits() << gpu_types::SLOT_BASE;
-            features.textures = true;
-        } else {
-            log::warn!("{} has a texture but no UVs: rendering it white", label());
-            material.albedo = [1.0; 3];
-        }
-    }
-    let mut tangents = None;
-    if let Material::Pbr(p) = &object.material {
-        let slot = |t: Option<usize>, name: &str| -> Result<Option<usize>> {
-            match t {
-                Some(t) if t >= scene.textures.len() => Err(Error::Scene(format!(
-                    "{}: {name} {t} does not exist",
-                    label()
-                ))),
-                Some(_) if mesh.uvs.is_none() => {
-                    log::warn!("{} has a {name} but no UVs: ignoring it", label());
-                    Ok(None)
-                }
-                other => Ok(other),
-            }
-        };
-        // (offset, width, height) of a slot, its sampler in `samplers` at `shift`.
-        let mut bind = |t: usize, shift: u32, samplers: &mut u32| {
-            let texture = &scene.textures[t];
-            *samplers |= texture.sampler.bits() << shift;
-            features.textures = true;
-            (texture_offsets[t], texture.width, texture.height)
-        };
-        let mut samplers = material.samplers;
-        if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
-            (
-                material.mr_texture_offset,
-                material.mr_texture_width,
-                material.mr_texture_height,
-            ) = bind(t, gpu_types::SLOT_METALLIC_ROUGHNESS, &mut samplers);
-        }
-        if let Some(t) = slot(p.emission_texture, "emission texture")? {
-            (
-                material.emission_texture_offset,
-                material.emission_texture_width,
-                material.emission_texture_height,
-            ) = bind(t, gpu_types::SLOT_EMISSION, &mut samplers);
-        }
-        if let Some(t) = slot(p.normal_texture, "normal texture")? {
-            match crate::tangents::mikktspace_tangents(mesh) {
-                Some(t_corners) => {
-                    (
-                        material.normal_texture_offset,
-                        material.normal_texture_width,
-                        material.normal_texture_height,
-                    ) = bind(t, gpu_types::SLOT_NORMAL, &mut samplers);
-                    tangents = Some(t_corners);
-                    features.normal_maps = true;
-                }
-                None => log::warn!(
-                    "{}: no tangents (it needs normals and UVs): ignoring its normal map",
-                    label()
-                ),
-            }
-        }
-        material.samplers = samplers;
-        // Coverage comes from the factor and the base colour texture: without UVs only the factor.
-        let cuts = match p.alpha_mode {
-            AlphaMode::Opaque => false,
-            AlphaMode::Mask => material.texture_offset != NO_TEXTURE || p.alpha < p.alpha_cutoff,
-            AlphaMode::Blend => material.texture_offset != NO_TEXTURE || p.alpha < 1.0,
-        };
-        if cuts {
-            material.flags |= match p.alpha_mode {
-                AlphaMode::Mask => gpu_types::ALPHA_MASK,
-                _ => gpu_types::ALPHA_BLEND,
-            };
-            features.alpha = true;
-        }
-    }
-    features.metal |= material.kind == material_kind::METAL;
-    features.dielectric |= material.kind == material_kind::DIELECTRIC;
-    features.pbr |= material.kind == material_kind::PBR;
-    Ok((material, tangents))
 }
 
 fn triangle_extent(triangles: &[Triangle]) -> f32 {
@@ -447,191 +327,6 @@ impl GpuScene {
         Ok(())
     }
 
-    /// Checks every index the tracing kernels follow, the invariants the builder promises them
-    /// (wgpu's injected bounds checks keep a broken one from reading outside an array, but it
-    /// would give a wrong image): BVH children point forwards (so traversal ends, and `bvh_depth`
-    /// is found in one pass) and inside the node array, leaves' triangle ranges, triangles'
-    /// materials and shading records, textures' texel ranges and the emitter table all lie inside
-    /// their arrays. The error names the first bad record.
-    pub fn check_kernel_indices(&self) -> std::result::Result<(), String> {
-        match self.layout {
-            BvhLayout::Bvh2 => self.check_bvh2_indices()?,
-            BvhLayout::Cwbvh => self.check_wide_indices()?,
-        }
-        self.check_record_indices()
-    }
-
-    /// The wide BVH's inner children are later nodes, its leaves' triangle ranges lie inside the
-    /// triangles, and each slot's byte is one the kernel decodes as intended: a leaf's bits stay below
-    /// bit 24, where the kernel keeps inner children.
-    fn check_wide_indices(&self) -> std::result::Result<(), String> {
-        let (nodes, triangles) = (self.wide_nodes.len(), self.triangles.len());
-        if nodes == 0 {
-            return Err("the wide BVH has no root node".into());
-        }
-        for (i, node) in self.wide_nodes.iter().enumerate() {
-            let imask = node.exponents_imask >> 24;
-            let inner = imask.count_ones();
-            if inner > 0
-                && !(node.child_base as usize > i
-                    && node.child_base as usize + inner as usize <= nodes)
-            {
-                return Err(format!(
-                    "wide BVH node {i}: inner children {}..{} are not later nodes of the {nodes}",
-                    node.child_base,
-                    u64::from(node.child_base) + u64::from(inner)
-                ));
-            }
-            for slot in 0..8u32 {
-                let meta = (node.slots[(slot / 4) as usize] >> (slot % 4 * 8)) & 0xff;
-                let is_inner = imask & (1 << slot) != 0;
-                let ok = if is_inner {
-                    meta == 0b0010_0000 | (24 + slot)
-                } else if meta == 0 {
-                    true
-                } else {
-                    let (count, offset) = ((meta >> 5).count_ones(), meta & 31);
-                    let end = u64::from(node.primitive_base) + u64::from(offset + count);
-                    matches!(meta >> 5, 1 | 3 | 7)
-                        && offset + count <= 24
-                        && end <= triangles as u64
-                };
-                if !ok {
-                    return Err(format!(
-                        "wide BVH node {i}: slot {slot} ({}) has meta {meta:#010b} (primitive base {} of {triangles} triangles)",
-                        if is_inner { "inner" } else { "leaf" },
-                        node.primitive_base
-                    ));
-                }
-            }
-        }
-        Ok(())
-    }
-
-    fn check_bvh2_indices(&self) -> std::result::Result<(), String> {
-        let (nodes, triangles) = (self.nodes.len(), self.triangles.len());
-        if nodes == 0 {
-            return Err("the BVH has no root node".into());
-        }
-        for (i, node) in self.nodes.iter().enumerate() {
-            // Child 0 with no triangles is no child (traversals skip it).
-            for (side, index, count) in [
-                ("left", node.left, node.left_count),
-                ("right", node.right, node.right_count),
-            ] {
-                if count > 0 {
-                    if u64::from(index) + u64::from(count) > triangles as u64 {
-                        return Err(format!(
-                            "BVH node {i}: {side} leaf triangles {index}..{} past the {triangles} triangles",
-                            u64::from(index) + u64::from(count)
-                        ));
-                    }
-                } else if index != 0 && !(index as usize > i && (index as usize) < nodes) {
-                    return Err(format!(
-                        "BVH node {i}: {side} child {index} is not a later node of the {nodes}"
-                    ));
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// Triangles' materials and shading records, textures' texels and the emitter table.
-    fn check_record_indices(&self) -> std::result::Result<(), String> {
-        let triangles = self.triangles.len();
-        let needs_shading = |t: &Triangle| t.has_normals != 0 || t.has_uvs != 0;
-        for (i, t) in self.triangles.iter().enumerate() {
-            if t.material as usize >= self.materials.len() {
-                return Err(format!(
-                    "triangle {i}: material {} of {}",
-                    t.material,
-                    self.materials.len()
-                ));
-            }
-            if needs_shading(t) && i >= self.shading.len() {
-                return Err(format!(
-                    "triangle {i}: no shading record ({} records)",
-                    self.shading.len()
-                ));
-            }
-        }
-        for (i, m) in self.materials.iter().enumerate() {
-            for (what, offset, w, h) in [
-                (
-                    "texture",
-                    m.texture_offset,
-                    m.texture_width,
-                    m.texture_height,
-                ),
-                (
-                    "metallic-roughness texture",
-                    m.mr_texture_offset,
-                    m.mr_texture_width,
-                    m.mr_texture_height,
-                ),
-                (
-                    "normal texture",
-                    m.normal_texture_offset,
-                    m.normal_texture_width,
-                    m.normal_texture_height,
-                ),
-                (
-                    "emission texture",
-                    m.emission_texture_offset,
-                    m.emission_texture_width,
-                    m.emission_texture_height,
-                ),
-            ] {
-                if offset == NO_TEXTURE {
-                    continue;
-                }
-                let end = u64::from(offset) + u64::from(w) * u64::from(h);
-                if w == 0 || h == 0 || end > self.texels.len() as u64 {
-                    return Err(format!(
-                        "material {i}: {what} texels {offset}..{end} ({w}x{h}) outside the {} texels",
-                        self.texels.len()
-                    ));
-                }
-            }
-            if m.normal_texture_offset != NO_TEXTURE && self.tangents.len() != 3 * triangles {
-                return Err(format!(
-                    "material {i} is normal-mapped but there are {} tangents for {triangles} triangles",
-                    self.tangents.len()
-                ));
-            }
-        }
-        if self.env_texels.len() != (self.env_width as usize) * (self.env_height as usize) {
-            return Err(format!(
-                "environment: {} texels for {}x{}",
-                self.env_texels.len(),
-                self.env_width,
-                self.env_height
-            ));
-        }
-        if let Some(i) = self
-            .env_texels
-            .iter()
-            .position(|t| t.alias_index as usize >= self.env_texels.len())
-        {
-            return Err(format!(
-                "environment texel {i}: alias {} of {}",
-                self.env_texels[i].alias_index,
-                self.env_texels.len()
-            ));
-        }
-        for (i, e) in self.emitters.iter().enumerate() {
-            if e.triangle as usize >= triangles || e.alias_index as usize >= self.emitters.len() {
-                return Err(format!(
-                    "emitter {i}: triangle {} of {triangles}, alias {} of {}",
-                    e.triangle,
-                    e.alias_index,
-                    self.emitters.len()
-                ));
-            }
-        }
-        Ok(())
-    }
-
     /// The node array of `layout`, as uploaded.
     pub fn node_bytes(&self) -> &[u8] {
         match self.layout {
@@ -669,59 +364,5 @@ impl GpuScene {
             ),
             ("tangents", bytes(self.tangents.len(), 16)),
         ]
-    }
-}
-
-fn gpu_material(material: &Material) -> gpu_types::Material {
-    let base = gpu_types::Material {
-        texture_offset: NO_TEXTURE,
-        mr_texture_offset: NO_TEXTURE,
-        normal_texture_offset: NO_TEXTURE,
-        emission_texture_offset: NO_TEXTURE,
-        alpha: 1.0,
-        ..Default::default()
-    };
-    match *material {
-        Material::Lambertian { albedo, .. } => gpu_types::Material {
-            albedo,
-            kind: material_kind::LAMBERTIAN,
-            ..base
-        },
-        Material::Metal { albedo, fuzz } => gpu_types::Material {
-            albedo,
-            kind: material_kind::METAL,
-            param: fuzz,
-            ..base
-        },
-        Material::Dielectric { ior, tint } => gpu_types::Material {
-            albedo: tint,
-            kind: material_kind::DIELECTRIC,
-            param: ior,
-            ..base
-        },
-        Material::Emissive { color, intensity } => gpu_types::Material {
-            kind: material_kind::EMISSIVE,
-            emission: color.map(|c| c * intensity),
-            ..base
-        },
-        Material::Pbr(ref p) => gpu_types::Material {
-            normal_scale: p.normal_scale,
-            albedo: p.base_color,
-            kind: material_kind::PBR,
-            emission: p.emission.map(|c| c * p.emission_strength),
-            param: p.ior,
-            absorption: p.absorption(),
-            metallic: p.metallic,
-            roughness: p.roughness,
-            transmission: p.transmission,
-            alpha: p.alpha,
-            alpha_cutoff: p.alpha_cutoff,
-            flags: if p.thin_walled {
-                gpu_types::THIN_WALLED
-            } else {
-                0
-            },
-            ..base
-        },
     }
 }

@@ -1,7 +1,11 @@
-//! Plain-old-data mirrors of the WGSL structs in `shaders/shared/types.wgsl`.
+//! Plain-old-data mirrors of the WGSL structs in `gpu_types.wgsl` beside it.
 //!
 //! Every type here is uploaded byte-for-byte, so each field carries its byte offset as a comment and
 //! `tests/shaders.rs` checks size, alignment, member names and offsets against what naga reports.
+
+/// The WGSL twin of this module, `gpu_types.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("gpu_types.wgsl");
 
 use bytemuck::{Pod, Zeroable};
 
@@ -242,7 +246,9 @@ pub struct Frame {
     /// The render's first sample index: a shard of a larger render starts past zero (the random
     /// numbers of sample k are those of sample `sample_offset + k` of the whole image).
     pub sample_offset: u32, // 164
-    pub _pad_d: u32,          // 168
+    /// The firefly clamp: the most a contribution of bounced light may add per channel (0: off).
+    /// A value, not a pipeline constant, so one pipeline serves every clamp.
+    pub clamp_max: f32, // 168
     pub _pad_e: u32,          // 172
 }
 
@@ -439,7 +445,7 @@ pub fn layouts() -> Vec<StructLayout> {
                 env_rotation,
                 env_pick,
                 sample_offset,
-                _pad_d,
+                clamp_max,
                 _pad_e
             ]
         ),

@@ -220,6 +220,35 @@ fn a_project_round_trips_every_field_through_a_file() {
     );
 }
 
+/// `nee_only` is a diagnostic estimator (tests, `rt-cli --nee-only`), not part of a scene: a project
+/// leaves it out and loads with it off, and a file written when projects still held it loads.
+#[test]
+fn projects_leave_out_the_diagnostic_nee_only() {
+    let mut scene = rich_scene();
+    scene.settings.nee_only = true;
+    scene.settings.clamp = Some(0.1);
+    let bytes = encode_archive(&scene, PROJECT_FORMAT, path()).unwrap();
+    let (_, manifest) = entries_of(&bytes)
+        .into_iter()
+        .find(|(name, _)| name == "project.json")
+        .unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&manifest).unwrap();
+    let settings = &json["settings"];
+    assert!(settings.get("nee_only").is_none(), "{settings}");
+    assert_eq!(settings["max_depth"], 11, "the other settings are saved");
+    assert_eq!(settings["clamp"], 0.1, "as set, not widened: {settings}");
+    let loaded = decode(&bytes).unwrap();
+    let expected = rt_core::RenderSettings {
+        nee_only: false,
+        ..scene.settings.clone()
+    };
+    assert_eq!(loaded.settings, expected);
+
+    let old = with_manifest(&bytes, |j| j["settings"]["nee_only"] = true.into());
+    let old = decode(&old).expect("a file that holds nee_only still loads");
+    assert_eq!(old.settings, expected, "with nee_only off");
+}
+
 /// An environment entry whose size disagrees with its texels is named.
 #[test]
 fn a_truncated_environment_entry_is_named() {

@@ -65,7 +65,7 @@ const fn wavefront(number: u32, name: &'static str) -> Binding {
     }
 }
 
-// The scene (shaders/shared/scene_bindings.wgsl).
+// The scene (crates/core/src/gpu_scene.wgsl).
 pub const FRAME: Binding = shared(0, "frame", Access::Uniform);
 pub const TRIANGLES: Binding = shared(1, "triangles", Access::Read);
 pub const SHADING: Binding = shared(2, "shading", Access::Read);
@@ -80,7 +80,7 @@ pub const TANGENTS: Binding = shared(22, "tangents", Access::Read);
 /// Adaptive sampling's per-pixel stop marks (written by the CPU between batches).
 pub const PIXEL_DONE: Binding = shared(18, "pixel_done", Access::Read);
 // The outputs, declared by each kernel's own file.
-/// The exact sums, a channel per buffer (`shaders/shared/accumulate.wgsl`).
+/// The exact sums, a channel per buffer (`crates/core/src/accumulation.wgsl`).
 pub const ACCUM: [Binding; 4] = [
     shared(6, "accum_red", Access::ReadWrite),
     shared(23, "accum_green", Access::ReadWrite),
@@ -95,7 +95,7 @@ pub const RAY_QUEUES: Binding = wavefront(13, "ray_queues");
 pub const SHADOW_RAYS: Binding = wavefront(14, "shadow_rays");
 pub const QUEUES: Binding = wavefront(15, "queues");
 pub const PATH_AOVS: Binding = wavefront(16, "path_aovs");
-// The scene's acceleration structure (shaders/shared/ray_query.wgsl).
+// The scene's acceleration structure (shaders/ray_query.wgsl).
 pub const SCENE_TLAS: Binding = Binding {
     number: 17,
     name: "scene_tlas",

@@ -1,9 +1,61 @@
 //! Storage buffers for a `GpuScene`, checked against the adapter's limits, and readback.
 
+use rt_core::GpuScene;
 use wgpu::util::DeviceExt;
 
+use crate::bindings::{self, Binding};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
+
+/// Uploads `scene`'s ten storage buffers (in this order), each with the binding the tracing
+/// kernels read it at.
+pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wgpu::Buffer); 10]> {
+    Ok([
+        (
+            bindings::TRIANGLES,
+            upload(ctx, "triangles", &scene.triangles)?,
+        ),
+        (bindings::SHADING, upload(ctx, "shading", &scene.shading)?),
+        (
+            bindings::MATERIALS,
+            upload(ctx, "materials", &scene.materials)?,
+        ),
+        (
+            bindings::NODES,
+            upload(ctx, "bvh nodes", scene.node_bytes())?,
+        ),
+        (bindings::TEXELS, upload(ctx, "texels", &scene.texels)?),
+        (
+            bindings::EMITTERS,
+            upload(ctx, "emitters", &scene.emitters)?,
+        ),
+        (
+            bindings::DELTA_LIGHTS,
+            upload(ctx, "delta lights", &scene.delta_lights)?,
+        ),
+        (
+            bindings::ENVIRONMENT,
+            upload(ctx, "environment", &scene.env_texels)?,
+        ),
+        (
+            bindings::GGX_ENERGY,
+            upload(ctx, "ggx energy", &scene.ggx_energy)?,
+        ),
+        (
+            bindings::TANGENTS,
+            upload(ctx, "tangents", &scene.tangents)?,
+        ),
+    ])
+}
+
+/// One of the scene's buffers: read-only storage.
+fn upload<T: bytemuck::Pod>(
+    ctx: &GpuContext,
+    name: &'static str,
+    data: &[T],
+) -> Result<wgpu::Buffer> {
+    storage_buffer(ctx, name, data, wgpu::BufferUsages::empty())
+}
 
 /// Creates a storage buffer from `data`, padded to at least 16 bytes (wgpu rejects empty bindings).
 pub fn storage_buffer<T: bytemuck::Pod>(

@@ -1,10 +1,10 @@
 //! Adapter and device selection.
 
-use std::collections::HashMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::error::{GpuError, Result};
+use crate::pipeline_cache::PipelineCache;
 
 /// Which adapter to use.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -29,14 +29,33 @@ impl std::str::FromStr for AdapterChoice {
     }
 }
 
+/// How to open the device, beyond which adapter. rt-gpu reads no environment variables: the
+/// binaries (`rt-cli`, `rt`) read `RT_NO_RAY_QUERY` and pass it here.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DeviceOptions {
+    /// Leave ray queries off even where the adapter has them, should a driver misbehave with them
+    /// enabled (`Trace::Auto` then traces with rt's BVH, and `Trace::Hardware` is an error).
+    pub no_ray_queries: bool,
+}
+
+impl DeviceOptions {
+    /// What `RT_NO_RAY_QUERY` asks, given its value as a binary read it: set to anything but
+    /// empty or `0`, ray queries stay off. (The variable's meaning in one place, for both
+    /// binaries.)
+    pub fn from_no_ray_query_var(value: Option<&std::ffi::OsStr>) -> Self {
+        DeviceOptions {
+            no_ray_queries: value.is_some_and(|v| !v.is_empty() && v != "0"),
+        }
+    }
+}
+
 /// An open device with its queue, and the pipelines built on it so far.
 pub struct GpuContext {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
-    pub(crate) pipelines:
-        Mutex<HashMap<crate::pipelines::PipelineKey, Arc<crate::pipelines::KernelPipelines>>>,
+    pub(crate) pipelines: PipelineCache,
     /// Why the device was lost, once it has been.
     lost: Arc<Mutex<Option<String>>>,
     /// Fault injection (`inject_out_of_memory`): the scoped operation this many calls on fails as
@@ -82,11 +101,17 @@ fn experimental_features_enabled() -> wgpu::ExperimentalFeatures {
 }
 
 impl GpuContext {
+    /// Opens `choice`'s device with the default `DeviceOptions` (ray queries where it has them).
     pub fn new(choice: &AdapterChoice) -> Result<Self> {
-        pollster::block_on(Self::new_async(choice))
+        Self::with_options(choice, DeviceOptions::default())
     }
 
-    async fn new_async(choice: &AdapterChoice) -> Result<Self> {
+    /// Opens `choice`'s device as `options` ask.
+    pub fn with_options(choice: &AdapterChoice, options: DeviceOptions) -> Result<Self> {
+        pollster::block_on(Self::new_async(choice, options))
+    }
+
+    async fn new_async(choice: &AdapterChoice, options: DeviceOptions) -> Result<Self> {
         // GL only as a fallback, in an instance of its own: creating its EGL display is slow and
         // logs errors on machines where Vulkan works (Mesa 25's EGL without a DRI driver).
         let described = || wgpu::InstanceDescriptor::new_without_display_handle_from_env();
@@ -150,12 +175,12 @@ impl GpuContext {
             )));
         };
         let info = adapter.get_info();
-        // Ray queries where the adapter has them (`Trace::Hardware`); RT_NO_RAY_QUERY=1 leaves
-        // them off, should a driver misbehave with them enabled.
+        // Ray queries where the adapter has them (`Trace::Hardware`), unless the options leave
+        // them off.
         let ray_query = adapter
             .features()
             .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
-            && std::env::var_os("RT_NO_RAY_QUERY").is_none_or(|v| v.is_empty() || v == "0");
+            && !options.no_ray_queries;
         let (required_features, experimental_features) = if ray_query {
             (
                 wgpu::Features::EXPERIMENTAL_RAY_QUERY,
@@ -198,7 +223,7 @@ impl GpuContext {
             device,
             queue,
             info,
-            pipelines: Mutex::new(HashMap::new()),
+            pipelines: PipelineCache::default(),
             lost,
             out_of_memory_in: AtomicU32::new(0),
         })
@@ -244,7 +269,9 @@ impl GpuContext {
     /// The test suites' policy for a machine without a GPU adapter, in one place: the test context
     /// prefers a CPU adapter (lavapipe) so results are repeatable; without any adapter a test fails
     /// when `CI` is set (it never passes silently there) and otherwise prints why and returns
-    /// `None`, for the test to return early.
+    /// `None`, for the test to return early. Test code, so behind the `testing` feature (the
+    /// suites' dev-dependencies turn it on): the shipping library reads no `CI`.
+    #[cfg(feature = "testing")]
     pub fn for_tests() -> Option<GpuContext> {
         let found =
             GpuContext::new(&AdapterChoice::Cpu).or_else(|_| GpuContext::new(&AdapterChoice::Auto));
@@ -300,6 +327,10 @@ impl GpuContext {
     /// counting from 1) fails with `GpuError::OutOfMemory` without running, as one whose
     /// allocation failed. Real out-of-memory errors cannot be provoked on demand (lavapipe takes
     /// host memory until the system's runs out); this drives the same error path.
+    ///
+    /// Not behind the `testing` feature: `rt-cli render` calls it for its tests
+    /// (`RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES`), and Cargo cannot turn a feature on for the binary
+    /// that a bin-only package's own integration tests run.
     pub fn inject_out_of_memory(&self, operations: u32) {
         self.out_of_memory_in.store(operations, Ordering::SeqCst);
     }

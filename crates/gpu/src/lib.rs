@@ -3,8 +3,13 @@
 //!
 //! - `options`: what a caller may ask (`RenderOptions`, `Kernel`, `Experiments`).
 //! - `bindings`: the tracing kernels' bind group, declared once.
-//! - `pipelines`: both kernels' pipelines, specialised per feature set, in one cache.
-//! - `renderer`: progressive batches of short dispatches; `sizing` chooses their size.
+//! - `pipelines`: both kernels' pipelines, specialised per feature set, in one cache (the key,
+//!   the compiled stages and the cache the context holds are in `pipeline_cache`, below both).
+//! - `renderer`: progressive batches of short dispatches; `sizing` chooses their size. What a
+//!   renderer is made of: the scene's buffers (`buffers`), the output buffers and what is read
+//!   back from them (`outputs`), what traces the paths (`engine`: the megakernel or the wavefront
+//!   kernels, and the key that specialises them) and when its pipeline is rebuilt
+//!   (`pipeline_lifetime`).
 //! - `wavefront`: the wavefront kernels' queues and waves.
 //! - `accel`: the driver's acceleration structure, for tracing with ray queries.
 //! - `adaptive`: adaptive sampling's stop marks and the pixels still sampling.
@@ -16,10 +21,14 @@ mod adaptive;
 pub mod bindings;
 mod buffers;
 pub mod context;
+mod engine;
 pub mod error;
 pub mod image;
 pub mod live;
 pub mod options;
+mod outputs;
+mod pipeline_cache;
+mod pipeline_lifetime;
 pub mod pipelines;
 pub mod renderer;
 pub mod shaders;
@@ -28,9 +37,9 @@ pub mod tiling;
 pub mod trace_rays;
 pub mod wavefront;
 
-pub use context::{AdapterChoice, GpuContext};
+pub use context::{AdapterChoice, DeviceOptions, GpuContext};
 pub use error::{GpuError, Result};
 pub use image::{Aovs, Image};
 pub use options::{Adaptive, Experiments, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace};
 pub use renderer::{BatchStats, Renderer};
-pub use tiling::{TiledRender, render_tiled, tile_rows};
+pub use tiling::{TiledRender, needs_tiles, pixel_binding_bytes, render_tiled, tile_rows};

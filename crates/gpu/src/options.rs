@@ -6,7 +6,7 @@ use std::time::Duration;
 use crate::error::{GpuError, Result};
 
 /// The most invocations a work group of the megakernel may have: each holds a 64-entry BVH
-/// traversal stack in work-group memory (`shaders/shared/bvh.wgsl`), 16 KiB in all.
+/// traversal stack in work-group memory (`crates/core/src/reference/bvh.wgsl`), 16 KiB in all.
 pub const MAX_WORKGROUP_INVOCATIONS: u32 = 64;
 
 /// The megakernel's work group unless an experiment asks for another (measured in
@@ -21,7 +21,7 @@ pub const CPU_PIPELINE_LIFETIME: Duration = Duration::from_secs(5);
 /// batch took, which holds the JIT compile: rebuilds cost under 1/this of the render time.
 pub const REBUILD_AMORTISATION: u32 = 10;
 
-/// What traces the paths. Both run the one estimator of `shaders/shared/path.wgsl` and give the
+/// What traces the paths. Both run the one estimator of `crates/core/src/reference/path.wgsl` and give the
 /// same samples (bit for bit on lavapipe without delta lights; `tests/wavefront.rs`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Kernel {
@@ -49,10 +49,10 @@ pub enum Trace {
     /// are software too, rt's own traversal measured faster (docs/performance.md).
     #[default]
     Auto,
-    /// rt's traversal of the obvhs BVH (`shaders/shared/cwbvh.wgsl` or `bvh.wgsl`).
+    /// rt's traversal of the obvhs BVH (`crates/core/src/reference/cwbvh.wgsl` or `bvh.wgsl`).
     Bvh,
     /// The driver's ray queries over an acceleration structure it builds
-    /// (`shaders/shared/ray_query.wgsl`): ray-tracing hardware where the GPU has it. An error
+    /// (`shaders/ray_query.wgsl`): ray-tracing hardware where the GPU has it. An error
     /// where the adapter has no ray queries.
     Hardware,
 }
@@ -97,10 +97,13 @@ pub struct RenderOptions {
     /// Mesa 25.0 does not grow (docs/performance-log.md), so this applies on CPU adapters other
     /// than Mesa 25 or newer, with the megakernel only: after `CPU_PIPELINE_LIFETIME` or
     /// `REBUILD_AMORTISATION` times the last build's first batch (its JIT compile), whichever is
-    /// longer (`RT_PIPELINE_LIFETIME_S` in the environment sets the lifetime exactly). Off by
-    /// default, for renderers that share a device with others (the tests): a CI run of the suite
-    /// with it on stalled inside lavapipe. `rt-cli render` and `converge` turn it on.
+    /// longer (`cpu_pipeline_lifetime` sets the lifetime exactly). Off by default, for renderers
+    /// that share a device with others (the tests): a CI run of the suite with it on stalled
+    /// inside lavapipe. `rt-cli render` and `converge` turn it on.
     pub rebuild_on_cpu: bool,
+    /// Where `rebuild_on_cpu` applies, rebuild after exactly this long instead (no amortisation).
+    /// `rt-cli` sets it from `RT_PIPELINE_LIFETIME_S` (seconds): rt-gpu reads no environment.
+    pub cpu_pipeline_lifetime: Option<Duration>,
     /// The index of the render's first sample: a shard of a larger render (`rt-cli render
     /// --shard`) takes samples `first_sample..first_sample + spp` of the whole image's, with the
     /// same random numbers a one-machine render gives them.
@@ -120,6 +123,7 @@ impl Default for RenderOptions {
             adaptive: None,
             clamp: None,
             rebuild_on_cpu: false,
+            cpu_pipeline_lifetime: None,
             first_sample: 0,
             experiments: Experiments::default(),
         }

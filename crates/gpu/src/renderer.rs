@@ -1,25 +1,32 @@
 //! Progressive rendering: each `render_batch` adds samples to every pixel through one or more short
 //! dispatches, so a render can be stopped, cancelled or read back after any batch.
+//!
+//! What it is made of lives beside it: the scene's buffers (`buffers::scene_buffers`), the output
+//! buffers and their read-back (`outputs`), what traces the paths (`engine`) and when its pipeline
+//! is rebuilt (`pipeline_lifetime`).
 
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use rt_core::accumulation::{self, CHANNEL_SUM_BYTES, PixelSums};
+use rt_core::accumulation::{self, PixelSums};
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
-use wgpu::util::DeviceExt;
 
 use crate::accel::{self, SceneAccel};
 use crate::adaptive::AdaptiveState;
-use crate::bindings::{self, Binding};
-use crate::buffers::{output_buffer, read_buffer, storage_buffer};
+use crate::bindings::Binding;
+use crate::buffers::scene_buffers;
 use crate::context::GpuContext;
+use crate::engine::{self, Engine, tlas};
 use crate::error::{GpuError, Result};
 use crate::image::{Aovs, Image};
-use crate::options::{CPU_PIPELINE_LIFETIME, Kernel, REBUILD_AMORTISATION, RenderOptions, Trace};
-use crate::pipelines::{KernelPipelines, PipelineKey, forget, kernel_pipelines};
+use crate::options::{Kernel, RenderOptions, Trace};
+use crate::outputs::{self, Outputs};
+use crate::pipeline_cache::PipelineKey;
+use crate::pipeline_lifetime::PipelineLifetime;
 use crate::sizing;
-use crate::wavefront::{MAX_WAVE_PATHS, Wavefront};
+use crate::wavefront::Wavefront;
+
+pub use crate::outputs::AOV_BYTES_PER_PIXEL;
 
 /// What one batch did.
 #[derive(Clone, Copy, Debug, Default)]
@@ -46,38 +53,18 @@ enum DispatchRange {
     Active { begin: u32, count: u32 },
 }
 
-/// What traces the paths.
-enum Engine {
-    /// trace.wgsl: one invocation per pixel runs whole paths.
-    Megakernel {
-        pipelines: Arc<KernelPipelines>,
-        bind_group: wgpu::BindGroup,
-    },
-    /// wavefront.wgsl: a kernel per path stage.
-    Wavefront(Wavefront),
-}
-
 pub struct Renderer<'a> {
     ctx: &'a GpuContext,
     engine: Engine,
     pipeline_key: PipelineKey,
-    /// Kernel time since `pipeline` was built, not counting its first batch (see
-    /// `RenderOptions::pipeline_lifetime`), and that first batch's time (its compile).
-    pipeline_ran: Duration,
-    pipeline_first_batch: Option<Duration>,
-    pipeline_lifetime: Option<Duration>,
-    /// Scale `pipeline_first_batch` by this for the least kernel time between rebuilds.
-    rebuild_amortisation: u32,
-    pipeline_rebuilds: u32,
+    /// When the pipeline is due for a rebuild (see `RenderOptions::pipeline_lifetime`).
+    lifetime: PipelineLifetime,
     /// The scene's buffers and the outputs, to bind them to a rebuilt pipeline.
     bound: Vec<(Binding, wgpu::Buffer)>,
     /// The driver's acceleration structure, when tracing with ray queries.
     accel: Option<SceneAccel>,
-    frame_buffer: wgpu::Buffer,
-    /// The exact sums: red, green, blue, squared luminance.
-    accum: [wgpu::Buffer; 4],
-    aovs: wgpu::Buffer,
-    counters: wgpu::Buffer,
+    /// The frame's uniform, the exact sums, the AOVs and the counters.
+    outputs: Outputs,
     /// Adaptive sampling's stop marks and pixels still sampling.
     adaptive: AdaptiveState,
     frame: Frame,
@@ -127,251 +114,52 @@ impl<'a> Renderer<'a> {
         frame: Frame,
         options: RenderOptions,
     ) -> Result<Self> {
-        if !(frame.tile_row_begin < frame.tile_row_end && frame.tile_row_end <= frame.height) {
-            return Err(GpuError::Wgpu(format!(
-                "tile rows {}..{} are not inside the image's {} rows",
-                frame.tile_row_begin, frame.tile_row_end, frame.height
-            )));
-        }
-        let pixels = u64::from(frame.width) * u64::from(frame.tile_row_end - frame.tile_row_begin);
-        let accum_size = pixels * CHANNEL_SUM_BYTES;
-        ctx.check_buffer(
-            "accumulation (width x height x 16 bytes, one per channel)",
-            accum_size,
-        )?;
-        // Albedo and normal, or a placeholder the kernel never touches.
-        let aov_size = if options.aovs { pixels * 48 } else { 48 };
-        ctx.check_buffer(
-            "albedo, normal, emission (width x height x 48 bytes)",
-            aov_size,
-        )?;
-        options.validate()?;
-        if frame.emitter_count as usize > scene.emitters.len() {
-            return Err(GpuError::Wgpu(format!(
-                "the frame samples {} emitters of {}",
-                frame.emitter_count,
-                scene.emitters.len()
-            )));
-        }
-        let mut features = scene.features;
-        features.thin_lens = frame.lens_radius > 0.0;
-        features.nee = frame.emitter_count > 0;
-        if options.experiments.generic_kernel {
-            // Every branch compiled in; each still checks its data at run time. (NEE stays as the
-            // scene needs: the emitter table must not be empty.)
-            features.textures = true;
-            features.metal = true;
-            features.dielectric = true;
-            features.thin_lens = true;
-            features.delta_lights = true;
-            features.pbr = true;
-            features.environment = true;
-            features.normal_maps = true;
-            features.alpha = true;
-        }
+        validate_frame(ctx, scene, &frame, &options)?;
+        let frame = with_clamp(frame, &options);
+        let pixels = u64::from(frame.width) * u64::from(tile_rows(&frame));
         let ray_query = ctx.resolve_trace(options.trace, scene) == Trace::Hardware;
         let accel = if ray_query {
             Some(accel::build(ctx, scene)?)
         } else {
             None
         };
-        let pipeline_key = PipelineKey {
-            kernel: options.kernel,
-            features,
-            layout: scene.layout,
-            ray_query,
-            count_rays: options.count_rays,
-            clamp_bits: options
-                .clamp
-                .filter(|c| c.is_finite() && *c > 0.0)
-                .map_or(0, f32::to_bits),
-            workgroup: options.experiments.workgroup,
-            sobol: frame.sampler == 1,
-            aovs: options.aovs,
-            adaptive: options.adaptive.is_some(),
-        };
-        let megakernel = match options.kernel {
-            Kernel::Megakernel => Some(kernel_pipelines(ctx, pipeline_key)?),
-            Kernel::Wavefront => None,
-        };
-        let scene_buffers = [
-            (
-                bindings::TRIANGLES,
-                storage_buffer(
-                    ctx,
-                    "triangles",
-                    &scene.triangles,
-                    wgpu::BufferUsages::empty(),
-                )?,
-            ),
-            (
-                bindings::SHADING,
-                storage_buffer(ctx, "shading", &scene.shading, wgpu::BufferUsages::empty())?,
-            ),
-            (
-                bindings::MATERIALS,
-                storage_buffer(
-                    ctx,
-                    "materials",
-                    &scene.materials,
-                    wgpu::BufferUsages::empty(),
-                )?,
-            ),
-            (
-                bindings::NODES,
-                storage_buffer(
-                    ctx,
-                    "bvh nodes",
-                    scene.node_bytes(),
-                    wgpu::BufferUsages::empty(),
-                )?,
-            ),
-            (
-                bindings::TEXELS,
-                storage_buffer(ctx, "texels", &scene.texels, wgpu::BufferUsages::empty())?,
-            ),
-            (
-                bindings::EMITTERS,
-                storage_buffer(
-                    ctx,
-                    "emitters",
-                    &scene.emitters,
-                    wgpu::BufferUsages::empty(),
-                )?,
-            ),
-            (
-                bindings::DELTA_LIGHTS,
-                storage_buffer(
-                    ctx,
-                    "delta lights",
-                    &scene.delta_lights,
-                    wgpu::BufferUsages::empty(),
-                )?,
-            ),
-            (
-                bindings::ENVIRONMENT,
-                storage_buffer(
-                    ctx,
-                    "environment",
-                    &scene.env_texels,
-                    wgpu::BufferUsages::empty(),
-                )?,
-            ),
-            (
-                bindings::GGX_ENERGY,
-                storage_buffer(
-                    ctx,
-                    "ggx energy",
-                    &scene.ggx_energy,
-                    wgpu::BufferUsages::empty(),
-                )?,
-            ),
-            (
-                bindings::TANGENTS,
-                storage_buffer(
-                    ctx,
-                    "tangents",
-                    &scene.tangents,
-                    wgpu::BufferUsages::empty(),
-                )?,
-            ),
-        ];
+        let pipeline_key = engine::pipeline_key(scene, &frame, &options, ray_query);
+        let megakernel = engine::megakernel_pipelines(ctx, pipeline_key)?;
+        let scene_buffers = scene_buffers(ctx, scene)?;
         ctx.check_buffer(
             "adaptive sampling stops (width x height x 4 bytes)",
             AdaptiveState::buffer_bytes(options.adaptive, pixels),
         )?;
-        let rows_in_tile = frame.tile_row_end - frame.tile_row_begin;
-        let (frame_buffer, accum, aovs, counters, adaptive) = ctx.scoped(|| {
-            let frame_buffer = ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("frame"),
-                    contents: bytemuck::bytes_of(&frame),
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                });
-            let output = |label: &str, size: u64| output_buffer(ctx, label, size);
+        let (outputs, adaptive) = ctx.scoped(|| {
             (
-                frame_buffer,
-                ["red", "green", "blue", "squared luminance"]
-                    .map(|c| output(&format!("accumulation: {c}"), accum_size)),
-                output("albedo and normal", aov_size),
-                output("counters", 8),
-                AdaptiveState::new(ctx, options.adaptive, frame.width, rows_in_tile),
+                Outputs::new(ctx, &frame, pixels, options.aovs),
+                AdaptiveState::new(ctx, options.adaptive, frame.width, tile_rows(&frame)),
             )
         })?;
-        let bound: Vec<(Binding, wgpu::Buffer)> = [
-            (bindings::FRAME, frame_buffer.clone()),
-            (bindings::COUNTERS, counters.clone()),
-            (bindings::AOVS, aovs.clone()),
-        ]
-        .into_iter()
-        .chain(bindings::ACCUM.into_iter().zip(accum.iter().cloned()))
-        .chain(adaptive.bound())
-        .chain(scene_buffers)
-        .collect();
-        let loop_cap = sizing::loop_cap(scene, &frame);
-        let loop_cap = options
-            .max_samples_per_dispatch
-            .map_or(loop_cap, |m| m.max(1));
+        let bound: Vec<(Binding, wgpu::Buffer)> = outputs
+            .bound()
+            .chain(adaptive.bound())
+            .chain(scene_buffers)
+            .collect();
+        let loop_cap = loop_cap(scene, &frame, &options);
         let engine = match megakernel {
-            Some(pipelines) => Engine::Megakernel {
-                bind_group: ctx
-                    .scoped(|| megakernel_bind_group(ctx, &pipelines, &bound, tlas(&accel)))?,
-                pipelines,
-            },
-            None => {
-                // Room for the whole tile at the most samples a wave may take, within the cap (but
-                // always a row).
-                let capacity = pixels
-                    .saturating_mul(u64::from(loop_cap))
-                    .min(u64::from(MAX_WAVE_PATHS))
-                    .max(u64::from(frame.width)) as u32;
-                Engine::Wavefront(Wavefront::new(
-                    ctx,
-                    pipeline_key,
-                    &bound,
-                    tlas(&accel),
-                    capacity,
-                )?)
-            }
-        };
-        // RT_PIPELINE_LIFETIME_S (seconds) overrides the CPU default.
-        let from_env = std::env::var("RT_PIPELINE_LIFETIME_S")
-            .ok()
-            .and_then(|v| v.trim().parse::<f64>().ok())
-            .filter(|s| s.is_finite() && *s >= 0.0)
-            .map(Duration::from_secs_f64);
-        // Only the megakernel's pipelines grow (tests/memory.rs).
-        // Mesa 25.0's megakernel stays flat (performance-log.md); other CPU drivers may not.
-        let auto = options.rebuild_on_cpu
-            && options.kernel == Kernel::Megakernel
-            && ctx.info.device_type == wgpu::DeviceType::Cpu
-            && ctx.mesa_version().is_none_or(|v| v < (25, 0));
-        let explicit = options
-            .experiments
-            .pipeline_lifetime
-            .or(from_env.filter(|_| auto));
-        let pipeline_lifetime = explicit.or(auto.then_some(CPU_PIPELINE_LIFETIME));
-        let rebuild_amortisation = if explicit.is_some() {
-            0
-        } else {
-            REBUILD_AMORTISATION
+            Some(pipelines) => Engine::megakernel(ctx, pipelines, &bound, tlas(&accel))?,
+            None => Engine::Wavefront(Wavefront::new(
+                ctx,
+                pipeline_key,
+                &bound,
+                tlas(&accel),
+                engine::wave_capacity(pixels, loop_cap, frame.width),
+            )?),
         };
         Ok(Renderer {
             ctx,
             engine,
             pipeline_key,
             accel,
-            pipeline_ran: Duration::ZERO,
-            pipeline_first_batch: None,
-            pipeline_lifetime,
-            rebuild_amortisation,
-            pipeline_rebuilds: 0,
+            lifetime: PipelineLifetime::new(ctx, &options),
             bound,
-            frame_buffer,
-            accum,
-            aovs,
-            counters,
+            outputs,
             adaptive,
             frame,
             options,
@@ -432,39 +220,19 @@ impl<'a> Renderer<'a> {
 
     /// How often the pipeline was rebuilt (see `RenderOptions::pipeline_lifetime`).
     pub fn pipeline_rebuilds(&self) -> u32 {
-        self.pipeline_rebuilds
+        self.lifetime.rebuilds()
     }
 
     /// Replaces the pipeline with a freshly built one (dropping this renderer's and the context's
     /// handles to the old one, so the driver can free what it holds for it) and rebinds the buffers.
     fn rebuild_pipeline(&mut self) -> Result<()> {
-        if let Engine::Wavefront(wave) = &mut self.engine {
-            wave.rebuild(self.ctx, self.pipeline_key, &self.bound, tlas(&self.accel))?;
-        } else {
-            self.rebuild_megakernel()?;
-        }
-        self.pipeline_ran = Duration::ZERO;
-        self.pipeline_first_batch = None;
-        self.pipeline_rebuilds += 1;
+        self.engine
+            .rebuild(self.ctx, self.pipeline_key, &self.bound, tlas(&self.accel))?;
+        self.lifetime.rebuilt();
         log::debug!(
             "rebuilt the trace pipeline ({} so far)",
-            self.pipeline_rebuilds
+            self.lifetime.rebuilds()
         );
-        Ok(())
-    }
-
-    fn rebuild_megakernel(&mut self) -> Result<()> {
-        if let Engine::Megakernel { pipelines, .. } = &self.engine {
-            forget(self.ctx, pipelines);
-        }
-        let pipelines = kernel_pipelines(self.ctx, self.pipeline_key)?;
-        let bind_group = self.ctx.scoped(|| {
-            megakernel_bind_group(self.ctx, &pipelines, &self.bound, tlas(&self.accel))
-        })?;
-        self.engine = Engine::Megakernel {
-            pipelines,
-            bind_group,
-        };
         Ok(())
     }
 
@@ -490,14 +258,12 @@ impl<'a> Renderer<'a> {
             // Adaptive sampling has stopped every pixel: nothing is left to sample.
             return Ok(BatchStats::default());
         }
-        if let (Some(life), Some(first)) = (self.pipeline_lifetime, self.pipeline_first_batch)
-            && self.pipeline_ran >= life.max(first * self.rebuild_amortisation)
-        {
+        if self.lifetime.due() {
             self.rebuild_pipeline()?;
         }
         let started = Instant::now();
         // On lavapipe the first batch after a pipeline is built holds its JIT compile (seconds).
-        let first_after_build = self.pipeline_first_batch.is_none();
+        let first_after_build = self.lifetime.fresh();
         // A batch walks the tile's rows, or with adaptive sampling on the wavefront kernels the
         // list of pixels still sampling (in pixels): waves then hold only paths that count.
         let compact = self.compacts();
@@ -561,12 +327,12 @@ impl<'a> Renderer<'a> {
         stats.complete = true;
         self.samples_done += samples;
         self.read_counters()?;
-        let (ctx, accum) = (self.ctx, &self.accum);
+        let (ctx, outputs) = (self.ctx, &self.outputs);
         let (width, rows) = (self.frame.width, tile_rows(&self.frame));
         let samples_done = self.samples_done;
         self.adaptive.update(ctx, samples_done, || {
             // Only pixels still sampling are judged, and they all hold `samples_done` samples.
-            let sums = read_accumulation(ctx, accum, width, rows)?;
+            let sums = outputs.read_accumulation(ctx, width, rows)?;
             Ok(sums
                 .iter()
                 .map(|s| accumulation::pixel_mean(s, samples_done))
@@ -582,13 +348,7 @@ impl<'a> Renderer<'a> {
             self.longest_dispatch = self.longest_dispatch.max(stats.longest_dispatch);
             self.adapt(slowest_rate);
         }
-        match self.pipeline_first_batch {
-            None => {
-                self.pipeline_first_batch = Some(started.elapsed());
-                log::debug!("first batch of this pipeline: {:.2?}", started.elapsed());
-            }
-            Some(_) => self.pipeline_ran += started.elapsed(),
-        }
+        self.lifetime.batch_done(started);
         Ok(stats)
     }
 
@@ -619,18 +379,9 @@ impl<'a> Renderer<'a> {
                 "restart: the tile is not inside the image".into(),
             ));
         }
-        self.ctx.scoped(|| {
-            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-            for buffer in self.accum.iter().chain([&self.aovs, &self.counters]) {
-                encoder.clear_buffer(buffer, 0, None);
-            }
-            self.ctx.queue.submit([encoder.finish()]);
-        })?;
-        self.frame = frame;
-        self.loop_cap = self
-            .options
-            .max_samples_per_dispatch
-            .map_or_else(|| sizing::loop_cap(scene, &frame), |m| m.max(1));
+        self.outputs.clear(self.ctx)?;
+        self.frame = with_clamp(frame, &self.options);
+        self.loop_cap = loop_cap(scene, &frame, &self.options);
         self.samples_done = 0;
         self.unfinished = None;
         self.unfinished_rate = 0.0;
@@ -654,10 +405,7 @@ impl<'a> Renderer<'a> {
             self.seconds_per_sample_pixel =
                 Some(seconds_per_sample_row / f64::from(self.frame.width.max(1)));
         }
-        let wave_capacity = match &self.engine {
-            Engine::Wavefront(wave) => Some(wave.capacity),
-            Engine::Megakernel { .. } => None,
-        };
+        let wave_capacity = self.engine.wave_capacity();
         // In rows, or in rows' worth of the pixels still sampling.
         let rows = if self.compacts() {
             (self.active_pixels() as u32)
@@ -706,47 +454,19 @@ impl<'a> Renderer<'a> {
                 0,
             ),
         };
-        let (pipeline, bind_group) = match &self.engine {
-            Engine::Megakernel {
-                pipelines,
-                bind_group,
-            } => (pipelines.stage("main"), bind_group),
-            // A wave is a submission per path depth; the longest one's time bounds each dispatch's.
-            Engine::Wavefront(wave) => {
-                let run = wave.run(self.ctx, &self.frame_buffer, &frame)?;
-                return Ok((run.longest, run.depths));
-            }
-        };
-        let started = Instant::now();
-        self.ctx.scoped(|| {
-            self.ctx
-                .queue
-                .write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
-            let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, bind_group, &[]);
-                let [wx, wy] = self.options.experiments.workgroup;
-                pass.dispatch_workgroups(self.frame.width.div_ceil(wx), rows.div_ceil(wy), 1);
-            }
-            self.ctx.queue.submit([encoder.finish()]);
-        })?;
-        self.ctx
-            .device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Wgpu(e.to_string()))?;
-        Ok((started.elapsed(), 0))
+        self.engine.run(
+            self.ctx,
+            &self.outputs.frame,
+            &frame,
+            rows,
+            self.options.experiments.workgroup,
+        )
     }
 
     fn read_counters(&mut self) -> Result<()> {
-        let bytes = read_buffer(self.ctx, &self.counters, 8)?;
-        let counts: [u32; 2] = bytemuck::pod_read_unaligned(&bytes);
-        self.rays += u64::from(counts[0]);
-        self.dropped_samples += u64::from(counts[1]);
-        let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-        encoder.clear_buffer(&self.counters, 0, None);
-        self.ctx.queue.submit([encoder.finish()]);
+        let [rays, dropped] = self.outputs.take_counters(self.ctx)?;
+        self.rays += u64::from(rays);
+        self.dropped_samples += u64::from(dropped);
         Ok(())
     }
 
@@ -769,54 +489,30 @@ impl<'a> Renderer<'a> {
         if !self.options.aovs {
             return Ok(None);
         }
-        let rows = self.frame.tile_row_end - self.frame.tile_row_begin;
-        let size = u64::from(self.frame.width) * u64::from(rows) * 48;
-        let bytes = read_buffer(self.ctx, &self.aovs, size)?;
-        let values: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
-        let take = |k: usize| {
-            values
-                .iter()
-                .skip(k)
-                .step_by(3)
-                .map(|v| [v[0], v[1], v[2]])
-                .collect()
-        };
-        Ok(Some(Aovs {
-            albedo: take(0),
-            normal: take(1),
-            emission: take(2),
-        }))
+        let aovs = self
+            .outputs
+            .read_aovs(self.ctx, self.frame.width, tile_rows(&self.frame))?;
+        Ok(Some(aovs))
     }
 
     /// The accumulated image so far (of this renderer's tile: `height` is the tile's rows). After a
     /// batch failed part-way, its finished rows hold one batch more than `samples_per_pixel` says
     /// until the next batch completes it (keep the last image read before the failure to save).
     pub fn read_image(&self) -> Result<Image> {
+        let (width, rows) = (self.frame.width, tile_rows(&self.frame));
         let sums = if self.samples_done == 0 && self.unfinished.is_none() {
             vec![PixelSums::default(); tile_pixels(&self.frame)]
         } else {
-            self.read_accumulation()?
+            self.outputs.read_accumulation(self.ctx, width, rows)?
         };
-        let sample_counts = self.sample_counts();
-        let pixels = match &sample_counts {
-            Some(counts) => sums
-                .iter()
-                .zip(counts)
-                .map(|(s, &n)| accumulation::pixel_mean(s, n))
-                .collect(),
-            None => sums
-                .iter()
-                .map(|s| accumulation::pixel_mean(s, self.samples_done))
-                .collect(),
-        };
-        Ok(Image {
-            width: self.frame.width,
-            height: tile_rows(&self.frame),
-            samples_per_pixel: self.samples_done,
-            sample_counts,
-            pixels,
+        let counts = self.sample_counts();
+        Ok(outputs::mean_image(
+            width,
+            rows,
+            self.samples_done,
             sums,
-        })
+            counts,
+        ))
     }
 
     /// Each pixel's count where they differ: with adaptive sampling, or after a batch failed
@@ -841,15 +537,6 @@ impl<'a> Renderer<'a> {
         }
         Some(counts)
     }
-
-    fn read_accumulation(&self) -> Result<Vec<PixelSums>> {
-        read_accumulation(
-            self.ctx,
-            &self.accum,
-            self.frame.width,
-            tile_rows(&self.frame),
-        )
-    }
 }
 
 /// A first dispatch's rows: a band of about 16k pixels, to measure the cost safely, then grow.
@@ -865,36 +552,48 @@ fn tile_pixels(frame: &Frame) -> usize {
     frame.width as usize * tile_rows(frame) as usize
 }
 
-/// The accumulation buffer as it is: per pixel of the tile, the exact sums of radiance and squared
-/// luminance (`rt_core::accumulation`).
-fn read_accumulation(
+/// Checks `frame`'s tile, the output buffers' sizes for it, `options` and the emitters `frame`
+/// samples (in that order: the first problem is the one reported).
+fn validate_frame(
     ctx: &GpuContext,
-    accum: &[wgpu::Buffer; 4],
-    width: u32,
-    rows: u32,
-) -> Result<Vec<PixelSums>> {
-    let size = u64::from(width) * u64::from(rows) * CHANNEL_SUM_BYTES;
-    let mut sums = vec![PixelSums::default(); width as usize * rows as usize];
-    for (c, buffer) in accum.iter().enumerate() {
-        let words: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(&read_buffer(ctx, buffer, size)?);
-        for (s, w) in sums.iter_mut().zip(words) {
-            s[c] = w;
-        }
+    scene: &GpuScene,
+    frame: &Frame,
+    options: &RenderOptions,
+) -> Result<()> {
+    if !(frame.tile_row_begin < frame.tile_row_end && frame.tile_row_end <= frame.height) {
+        return Err(GpuError::Wgpu(format!(
+            "tile rows {}..{} are not inside the image's {} rows",
+            frame.tile_row_begin, frame.tile_row_end, frame.height
+        )));
     }
-    Ok(sums)
+    let pixels = u64::from(frame.width) * u64::from(tile_rows(frame));
+    outputs::check_sizes(ctx, pixels, options.aovs)?;
+    options.validate()?;
+    if frame.emitter_count as usize > scene.emitters.len() {
+        return Err(GpuError::Wgpu(format!(
+            "the frame samples {} emitters of {}",
+            frame.emitter_count,
+            scene.emitters.len()
+        )));
+    }
+    Ok(())
 }
 
-/// The megakernel's bind group over `bound`.
-fn megakernel_bind_group(
-    ctx: &GpuContext,
-    pipelines: &KernelPipelines,
-    bound: &[(Binding, wgpu::Buffer)],
-    tlas: Option<&wgpu::Tlas>,
-) -> wgpu::BindGroup {
-    let buffers: Vec<(Binding, &wgpu::Buffer)> = bound.iter().map(|(b, buf)| (*b, buf)).collect();
-    bindings::bind_group(ctx, Kernel::Megakernel, &pipelines.layout, &buffers, tlas)
+/// The most samples one dispatch may take: `sizing::loop_cap`, or the options' cap.
+fn loop_cap(scene: &GpuScene, frame: &Frame, options: &RenderOptions) -> u32 {
+    options
+        .max_samples_per_dispatch
+        .map_or_else(|| sizing::loop_cap(scene, frame), |m| m.max(1))
 }
 
-fn tlas(accel: &Option<SceneAccel>) -> Option<&wgpu::Tlas> {
-    accel.as_ref().map(|a| &a.tlas)
+/// `frame` with the firefly clamp the options ask for (a frame value, so one pipeline serves every
+/// clamp; `RenderOptions::clamp` decides, as `Renderer::for_scene` merges the scene's into it).
+fn with_clamp(frame: Frame, options: &RenderOptions) -> Frame {
+    Frame {
+        clamp_max: options
+            .clamp
+            .filter(|c| c.is_finite() && *c > 0.0)
+            .unwrap_or(0.0),
+        ..frame
+    }
 }

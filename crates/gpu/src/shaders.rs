@@ -1,30 +1,65 @@
-//! WGSL sources, composed from `shaders/` at compile time. WGSL has no includes, so each entry
+//! WGSL sources, composed at compile time from `shaders/` and the estimator's files beside their
+//! Rust twins in `rt-core`. WGSL has no includes, so each entry
 //! point is its shared files followed by its own file.
 
 use rt_core::bvh::BvhLayout;
 
 macro_rules! shader_file {
     ($name:literal) => {
-        ($name, include_str!(concat!("../../../shaders/", $name)))
+        (
+            concat!("shaders/", $name),
+            include_str!(concat!("../../../shaders/", $name)),
+        )
     };
 }
 
-/// Every WGSL file under `shaders/`, by path relative to that folder.
+/// Every WGSL file of the kernels and the preview, by path from the workspace root. The
+/// estimator's files live beside their Rust twins in `rt-core` (same folder, same stem), which
+/// exports each as `WGSL`; `shaders/` keeps the entry points and what has no CPU twin (the
+/// driver's ray queries, the raster preview). `tests/shaders.rs` checks this list against the
+/// files on disk.
 pub const FILES: &[(&str, &str)] = &[
-    shader_file!("shared/types.wgsl"),
-    shader_file!("shared/rng.wgsl"),
-    shader_file!("shared/sampling.wgsl"),
-    shader_file!("shared/microfacet.wgsl"),
-    shader_file!("shared/bsdf.wgsl"),
-    shader_file!("shared/environment.wgsl"),
-    shader_file!("shared/intersect.wgsl"),
-    shader_file!("shared/bvh.wgsl"),
-    shader_file!("shared/cwbvh.wgsl"),
-    shader_file!("shared/ray_query.wgsl"),
-    shader_file!("shared/scene_bindings.wgsl"),
-    shader_file!("shared/texture.wgsl"),
-    shader_file!("shared/path.wgsl"),
-    shader_file!("shared/accumulate.wgsl"),
+    ("crates/core/src/gpu_types.wgsl", rt_core::gpu_types::WGSL),
+    ("crates/core/src/math/rng.wgsl", rt_core::math::rng::WGSL),
+    (
+        "crates/core/src/math/sampling.wgsl",
+        rt_core::math::sampling::WGSL,
+    ),
+    (
+        "crates/core/src/math/microfacet.wgsl",
+        rt_core::math::microfacet::WGSL,
+    ),
+    ("crates/core/src/math/bsdf.wgsl", rt_core::math::bsdf::WGSL),
+    (
+        "crates/core/src/environment.wgsl",
+        rt_core::environment::WGSL,
+    ),
+    (
+        "crates/core/src/math/intersect.wgsl",
+        rt_core::math::intersect::WGSL,
+    ),
+    (
+        "crates/core/src/reference/bvh.wgsl",
+        rt_core::reference::bvh::WGSL,
+    ),
+    (
+        "crates/core/src/reference/cwbvh.wgsl",
+        rt_core::reference::cwbvh::WGSL,
+    ),
+    shader_file!("ray_query.wgsl"),
+    ("crates/core/src/gpu_scene.wgsl", rt_core::gpu_scene::WGSL),
+    (
+        "crates/core/src/reference/texture.wgsl",
+        rt_core::reference::texture::WGSL,
+    ),
+    (
+        "crates/core/src/reference/path.wgsl",
+        rt_core::reference::path::WGSL,
+    ),
+    (
+        "crates/core/src/accumulation.wgsl",
+        rt_core::accumulation::WGSL,
+    ),
     shader_file!("trace.wgsl"),
     shader_file!("wavefront.wgsl"),
     shader_file!("trace_rays.wgsl"),
@@ -47,17 +82,17 @@ macro_rules! tracing_module {
             name: $name,
             files: &[
                 $traversal,
-                "shared/types.wgsl",
-                "shared/rng.wgsl",
-                "shared/sampling.wgsl",
-                "shared/intersect.wgsl",
-                "shared/scene_bindings.wgsl",
-                "shared/texture.wgsl",
-                "shared/microfacet.wgsl",
-                "shared/bsdf.wgsl",
-                "shared/environment.wgsl",
-                "shared/path.wgsl",
-                "shared/accumulate.wgsl",
+                "crates/core/src/gpu_types.wgsl",
+                "crates/core/src/math/rng.wgsl",
+                "crates/core/src/math/sampling.wgsl",
+                "crates/core/src/math/intersect.wgsl",
+                "crates/core/src/gpu_scene.wgsl",
+                "crates/core/src/reference/texture.wgsl",
+                "crates/core/src/math/microfacet.wgsl",
+                "crates/core/src/math/bsdf.wgsl",
+                "crates/core/src/environment.wgsl",
+                "crates/core/src/reference/path.wgsl",
+                "crates/core/src/accumulation.wgsl",
                 $entry,
             ],
         }
@@ -65,40 +100,56 @@ macro_rules! tracing_module {
 }
 
 /// The megakernel over the BVH2.
-pub const TRACE: ShaderModule = tracing_module!("trace", "shared/bvh.wgsl", "trace.wgsl");
+pub const TRACE: ShaderModule = tracing_module!(
+    "trace",
+    "crates/core/src/reference/bvh.wgsl",
+    "shaders/trace.wgsl"
+);
 /// `TRACE` over the compressed wide BVH.
-pub const TRACE_WIDE: ShaderModule =
-    tracing_module!("trace_wide", "shared/cwbvh.wgsl", "trace.wgsl");
+pub const TRACE_WIDE: ShaderModule = tracing_module!(
+    "trace_wide",
+    "crates/core/src/reference/cwbvh.wgsl",
+    "shaders/trace.wgsl"
+);
 /// `TRACE` over the driver's ray queries (`Trace::Hardware`).
 pub const TRACE_HW: ShaderModule =
-    tracing_module!("trace_hw", "shared/ray_query.wgsl", "trace.wgsl");
+    tracing_module!("trace_hw", "shaders/ray_query.wgsl", "shaders/trace.wgsl");
 /// The wavefront kernels (the default: `Kernel::Wavefront`), over the BVH2.
-pub const WAVEFRONT: ShaderModule =
-    tracing_module!("wavefront", "shared/bvh.wgsl", "wavefront.wgsl");
+pub const WAVEFRONT: ShaderModule = tracing_module!(
+    "wavefront",
+    "crates/core/src/reference/bvh.wgsl",
+    "shaders/wavefront.wgsl"
+);
 /// `WAVEFRONT` over the compressed wide BVH.
-pub const WAVEFRONT_WIDE: ShaderModule =
-    tracing_module!("wavefront_wide", "shared/cwbvh.wgsl", "wavefront.wgsl");
+pub const WAVEFRONT_WIDE: ShaderModule = tracing_module!(
+    "wavefront_wide",
+    "crates/core/src/reference/cwbvh.wgsl",
+    "shaders/wavefront.wgsl"
+);
 /// `WAVEFRONT` over the driver's ray queries (`Trace::Hardware`).
-pub const WAVEFRONT_HW: ShaderModule =
-    tracing_module!("wavefront_hw", "shared/ray_query.wgsl", "wavefront.wgsl");
+pub const WAVEFRONT_HW: ShaderModule = tracing_module!(
+    "wavefront_hw",
+    "shaders/ray_query.wgsl",
+    "shaders/wavefront.wgsl"
+);
 
 pub const TRACE_RAYS: ShaderModule = ShaderModule {
     name: "trace_rays",
     files: &[
-        "shared/types.wgsl",
-        "shared/intersect.wgsl",
-        "shared/bvh.wgsl",
-        "trace_rays.wgsl",
+        "crates/core/src/gpu_types.wgsl",
+        "crates/core/src/math/intersect.wgsl",
+        "crates/core/src/reference/bvh.wgsl",
+        "shaders/trace_rays.wgsl",
     ],
 };
 
 pub const TRACE_RAYS_WIDE: ShaderModule = ShaderModule {
     name: "trace_rays_wide",
     files: &[
-        "shared/types.wgsl",
-        "shared/intersect.wgsl",
-        "shared/cwbvh.wgsl",
-        "trace_rays.wgsl",
+        "crates/core/src/gpu_types.wgsl",
+        "crates/core/src/math/intersect.wgsl",
+        "crates/core/src/reference/cwbvh.wgsl",
+        "shaders/trace_rays.wgsl",
     ],
 };
 
@@ -133,22 +184,22 @@ pub fn trace_rays_module(layout: BvhLayout, hardware: bool) -> &'static ShaderMo
 pub const TRACE_RAYS_HW: ShaderModule = ShaderModule {
     name: "trace_rays_hw",
     files: &[
-        "shared/ray_query.wgsl",
-        "shared/types.wgsl",
-        "shared/intersect.wgsl",
-        "trace_rays.wgsl",
+        "shaders/ray_query.wgsl",
+        "crates/core/src/gpu_types.wgsl",
+        "crates/core/src/math/intersect.wgsl",
+        "shaders/trace_rays.wgsl",
     ],
 };
 
 /// The editor's raster preview (used by `rt-app`; validated here with the others).
 pub const PREVIEW: ShaderModule = ShaderModule {
     name: "preview",
-    files: &["preview.wgsl"],
+    files: &["shaders/preview.wgsl"],
 };
 
 pub const PREVIEW_BLIT: ShaderModule = ShaderModule {
     name: "preview_blit",
-    files: &["preview_blit.wgsl"],
+    files: &["shaders/preview_blit.wgsl"],
 };
 
 pub const MODULES: &[ShaderModule] = &[

@@ -8,13 +8,27 @@ use crate::context::GpuContext;
 use crate::error::Result;
 use crate::image::{Aovs, Image};
 use crate::options::RenderOptions;
-use crate::renderer::Renderer;
+use crate::renderer::{AOV_BYTES_PER_PIXEL, Renderer};
 
-/// Rows per tile so that each of a tile's accumulation buffers (`CHANNEL_SUM_BYTES` per pixel)
-/// fits in `max_bytes`.
-pub fn tile_rows(width: u32, height: u32, max_bytes: u64) -> u32 {
-    let row_bytes = u64::from(width.max(1)) * CHANNEL_SUM_BYTES;
+/// Bytes per pixel of the largest per-pixel binding a render with `options` allocates: one
+/// accumulation channel (`CHANNEL_SUM_BYTES`), or the denoiser's guides when it keeps them. Tiles
+/// are sized by this, so every per-pixel buffer of a tile fits in one binding.
+pub fn pixel_binding_bytes(options: &RenderOptions) -> u64 {
+    let guides = if options.aovs { AOV_BYTES_PER_PIXEL } else { 0 };
+    CHANNEL_SUM_BYTES.max(guides)
+}
+
+/// Rows per tile so that each of a tile's per-pixel buffers (`pixel_bytes` per pixel, see
+/// `pixel_binding_bytes`) fits in `max_bytes`.
+pub fn tile_rows(width: u32, height: u32, pixel_bytes: u64, max_bytes: u64) -> u32 {
+    let row_bytes = u64::from(width.max(1)) * pixel_bytes.max(1);
     ((max_bytes / row_bytes).max(1) as u32).min(height.max(1))
+}
+
+/// Whether a `width` x `height` render with `options` needs tiles: some per-pixel buffer of the
+/// whole image would exceed `max_bytes`.
+pub fn needs_tiles(width: u32, height: u32, options: &RenderOptions, max_bytes: u64) -> bool {
+    u64::from(width) * u64::from(height) * pixel_binding_bytes(options) > max_bytes
 }
 
 /// A tiled render's result: the image and, with `RenderOptions::aovs`, the denoiser's guides.
@@ -46,7 +60,12 @@ pub fn render_tiled(
             .max_storage_buffer_binding_size
             .min(limits.max_buffer_size),
     );
-    let rows_per_tile = tile_rows(frame.width, frame.height, max_bytes);
+    let rows_per_tile = tile_rows(
+        frame.width,
+        frame.height,
+        pixel_binding_bytes(&options),
+        max_bytes,
+    );
     let pixel_count = frame.width as usize * frame.height as usize;
     let mut pixels = vec![[0.0f32; 4]; pixel_count];
     let mut sums = vec![PixelSums::default(); pixel_count];

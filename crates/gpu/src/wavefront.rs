@@ -14,7 +14,8 @@ use crate::buffers::output_buffer;
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 use crate::options::Kernel;
-use crate::pipelines::{KernelPipelines, PipelineKey, forget, kernel_pipelines};
+use crate::pipeline_cache::{KernelPipelines, PipelineKey};
+use crate::pipelines::{forget, kernel_pipelines};
 
 /// Invocations per work group of every wavefront kernel (`WAVE_GROUP` in the shader).
 pub const WAVE_GROUP: u32 = 64;
@@ -25,7 +26,7 @@ pub const MAX_WAVE_PATHS: u32 = 1 << 18;
 /// Size of `WavePath` in `shaders/wavefront.wgsl` (checked against naga in tests/shaders.rs).
 pub const WAVE_PATH_BYTES: u64 = 96;
 
-/// Size of `ShadowRay` in `shaders/shared/path.wgsl` (checked against naga in tests/shaders.rs).
+/// Size of `ShadowRay` in `crates/core/src/reference/path.wgsl` (checked against naga in tests/shaders.rs).
 pub const SHADOW_RAY_BYTES: u64 = 48;
 
 /// Mirror of `WaveQueues` in `shaders/wavefront.wgsl`; its first three words are the indirect

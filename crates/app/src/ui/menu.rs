@@ -1,5 +1,6 @@
 //! The menu bar and the file dialogs it opens.
 
+use rt_core::io::SCENE_EXTENSIONS;
 use rt_core::io::project::{LIGHTING_EXTENSION, PROJECT_EXTENSION};
 
 use crate::app::RtApp;
@@ -8,7 +9,7 @@ fn scene_dialog() -> rfd::FileDialog {
     rfd::FileDialog::new()
         .add_filter(
             "Scenes and projects",
-            &["obj", "gltf", "glb", PROJECT_EXTENSION, LIGHTING_EXTENSION],
+            &[SCENE_EXTENSIONS, &[LIGHTING_EXTENSION]].concat(),
         )
         .add_filter("rt project", &[PROJECT_EXTENSION])
         .add_filter("Wavefront OBJ", &["obj"])

@@ -1,5 +1,5 @@
 //! The `Pbr` material's BSDF (glTF 2.0 metallic-roughness, Appendix B, with exact dielectric
-//! Fresnel and real refraction), mirrored one-to-one in `shaders/shared/bsdf.wgsl`. Directions are
+//! Fresnel and real refraction), mirrored one-to-one in `bsdf.wgsl` beside it. Directions are
 //! in the shading frame (normal +z) and point away from the surface; `wo.z > 0`.
 //!
 //! f = m · F_schlick(c, ωo·h) · k_ms · f_spec                      (metal)
@@ -23,6 +23,10 @@
 //!   q_g = (1 − m) t                    visible normal, then reflect with F(ωo·m) or refract,
 //!   q_d = (1 − m)(1 − t)(1 − F(cosθo)) cosine-weighted diffuse,
 //! and the weight is f cosθi / Σ q_k p_k(ωi) (these sum to 1).
+
+/// The WGSL twin of this module, `bsdf.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("bsdf.wgsl");
 
 use glam::Vec3;
 

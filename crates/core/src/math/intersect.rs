@@ -1,5 +1,9 @@
 //! Ray–triangle and ray–box tests and the self-intersection offset, mirrored in
-//! `shaders/shared/intersect.wgsl`.
+//! `intersect.wgsl` beside it.
+
+/// The WGSL twin of this module, `intersect.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("intersect.wgsl");
 
 use glam::Vec3;
 

@@ -1,11 +1,15 @@
 //! The GGX (Trowbridge–Reitz) microfacet distribution, mirrored one-to-one in
-//! `shaders/shared/microfacet.wgsl`. Directions are in the shading frame (normal = +z), α is the
+//! `microfacet.wgsl` beside it. Directions are in the shading frame (normal = +z), α is the
 //! width (glTF: roughness²).
 //!
 //! - D(m) = α² / (π (cos²θ_m (α² − 1) + 1)²)
 //! - Λ(ω) = (√(1 + α² tan²θ) − 1) / 2, G1(ω) = 1 / (1 + Λ(ω)), and the height-correlated
 //!   G2(ωo, ωi) = 1 / (1 + Λ(ωo) + Λ(ωi)) (Heitz 2014).
 //! - Visible normals D_ωo(m) = G1(ωo) max(0, ωo·m) D(m) / cosθ_o, sampled exactly (Heitz 2018).
+
+/// The WGSL twin of this module, `microfacet.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("microfacet.wgsl");
 
 use glam::Vec3;
 

@@ -1,5 +1,6 @@
-//! The math the CPU side shares with the kernels, each file the twin of a WGSL file: `rng.rs` of
-//! `shaders/shared/rng.wgsl` (PCG and Owen-scrambled Sobol samplers), `sampling.rs` of
+//! The math the CPU side shares with the kernels, each file the twin of the WGSL file of its stem
+//! beside it (exported as its `WGSL`): `rng.rs` of
+//! `rng.wgsl` (PCG and Owen-scrambled Sobol samplers), `sampling.rs` of
 //! `sampling.wgsl` (directions, Fresnel, colour), `intersect.rs` of `intersect.wgsl` (watertight
 //! triangle and slab tests, ray offsets), `microfacet.rs` of `microfacet.wgsl` (GGX) and `bsdf.rs` of
 //! `bsdf.wgsl` (the PBR material). The CPU reference (`crate::reference`), emitters, the

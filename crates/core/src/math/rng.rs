@@ -1,4 +1,4 @@
-//! The random numbers shared by the kernel (`shaders/shared/rng.wgsl`) and the CPU reference.
+//! The random numbers shared by the kernel (`rng.wgsl` beside it) and the CPU reference.
 //! Two samplers:
 //! - **independent**: one PCG stream per (pixel, sample, seed);
 //! - **Sobol**: Owen-scrambled Sobol points (Burley 2020, "Practical Hash-based Owen Scrambling").
@@ -10,6 +10,10 @@
 //!
 //! Either way any sample can be regenerated on its own, so the image does not depend on how samples
 //! are split into dispatches.
+
+/// The WGSL twin of this module, `rng.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("rng.wgsl");
 
 /// PCG-RXS-M-XS hash of one 32-bit word (Jarzynski & Olano 2020).
 pub fn pcg_hash(input: u32) -> u32 {

@@ -1,4 +1,8 @@
-//! Sampling and shading formulas, mirrored one-to-one in `shaders/shared/sampling.wgsl`.
+//! Sampling and shading formulas, mirrored one-to-one in `sampling.wgsl` beside it.
+
+/// The WGSL twin of this module, `sampling.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("sampling.wgsl");
 
 use glam::Vec3;
 

@@ -9,9 +9,13 @@
 //! such groups. Triangles of entered leaves are tested before descending, so the nearest hit found
 //! so far culls the boxes below.
 
+/// The WGSL twin of this module, `cwbvh.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("cwbvh.wgsl");
+
 use glam::{BVec3, Vec3};
 
-use super::bvh::{miss, test_triangle};
+use super::hit::{miss, test_triangle};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Hit, WideBvhNode};
 use crate::math::intersect::PreparedRay;
@@ -60,7 +64,7 @@ fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, 
 }
 
 /// Nearest hit through `scene.wide_nodes`.
-pub fn trace_wide(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+pub(super) fn trace_wide(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let mut hit = miss(t_max);
     let oct_inv = (u32::from(direction.x >= 0.0) << 2)

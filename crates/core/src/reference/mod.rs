@@ -17,27 +17,47 @@
 //! Russian roulette (from segment `frame.roulette_from_depth` on): after scattering, the path goes on
 //! with probability q = min(1, max component of β) and β is divided by q, so E[β'] = β (unbiased).
 //!
-//! Each file is the twin of one WGSL file, named after it: `bvh.rs` of `shared/bvh.wgsl`,
-//! `cwbvh.rs` of `shared/cwbvh.wgsl`, `path.rs` of `shared/path.wgsl`, `texture.rs` of `shared/texture.wgsl`; the math they share with
-//! the rest of rt-core (random numbers, sampling, intersection) lives in `crate::math`, whose files
-//! are the twins of `shared/rng.wgsl`, `shared/sampling.wgsl` and `shared/intersect.wgsl`.
+//! Each file is the twin of the WGSL file of its stem beside it (`bvh.rs` of `bvh.wgsl`,
+//! `cwbvh.rs` of `cwbvh.wgsl`, `path.rs` of `path.wgsl`, `texture.rs` of `texture.wgsl`), exported
+//! as its `WGSL` for `rt_gpu::shaders` to compose; the math they share with the rest of rt-core
+//! (random numbers, sampling, intersection, microfacets, the PBR BSDF) lives in `crate::math`, each
+//! file likewise beside its WGSL twin.
 //! `tests/reference.rs` checks the GPU against this reference per pixel, in lockstep at a few
 //! samples and statistically at many.
 
-mod bvh;
-mod cwbvh;
-mod path;
-mod texture;
+pub mod bvh;
+pub mod cwbvh;
+mod hit;
+pub mod path;
+pub mod texture;
 
-pub use bvh::{occluded, trace, trace_brute_force};
+pub use hit::trace_brute_force;
 pub use path::{
     LightSample, Surface, camera_ray, delta_lights_at, direct_light, power_heuristic, radiance,
     sample_light,
 };
 pub use texture::{Slot, alpha_coin, base_color_texture, coverage, stops_ray, wrap_index};
 
+use glam::Vec3;
+
+use crate::bvh::BvhLayout;
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::Frame;
+use crate::gpu_types::{Frame, Hit};
+
+/// Nearest hit through the scene's BVH, as `intersect_scene` computes it in the kernel: the
+/// traversal of the scene's layout, as `rt_gpu::shaders` composes `bvh.wgsl` or `cwbvh.wgsl`. It
+/// sits here, above both traversals, so that they depend only on `hit.rs` and not on each other.
+pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+    match scene.layout {
+        BvhLayout::Bvh2 => bvh::trace_bvh2(scene, origin, direction, t_max),
+        BvhLayout::Cwbvh => cwbvh::trace_wide(scene, origin, direction, t_max),
+    }
+}
+
+/// Whether anything lies on the segment from `origin` along unit `direction` up to `distance`.
+pub fn occluded(scene: &GpuScene, origin: Vec3, direction: Vec3, distance: f32) -> bool {
+    trace(scene, origin, direction, distance).triangle != hit::MISS
+}
 
 /// Per-pixel mean and unbiased sample variance of each channel.
 pub struct ReferenceImage {

@@ -1,11 +1,16 @@
-//! One path's radiance, vertex by vertex, as `shaders/shared/path.wgsl` computes it (its twin):
+//! One path's radiance, vertex by vertex, as `path.wgsl` beside it computes it (its twin):
 //! camera rays, texture lookups, next-event estimation with MIS, delta lights, BSDF sampling and
 //! Russian roulette, drawing the same random numbers in the same order.
 
+/// The WGSL twin of this module, `path.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("path.wgsl");
+
 use glam::{Vec2, Vec3};
 
-use super::bvh::{MISS, occluded, trace};
+use super::hit::MISS;
 use super::texture::{Slot, base_color_texture, coverage, surface_emission};
+use super::{occluded, trace};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{
     ALPHA_BLEND, ALPHA_MASK, Frame, NO_TEXTURE, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, material_kind,
@@ -292,6 +297,18 @@ fn escaped(scene: &GpuScene, frame: &Frame, direction: Vec3, prev_bsdf_pdf: f32)
 }
 
 /// One path's radiance estimate for pixel (x, y), sample `sample`.
+/// The firefly clamp (`frame.clamp_max`, 0 off): light reaching the camera after `bounces`
+/// scatterings, if any, is scaled down so that its largest channel is at most the clamp; light
+/// seen directly (no bounce) stays exact. Biased: it removes energy.
+fn clamp_bounced(c: Vec3, frame: &Frame, bounces: u32) -> Vec3 {
+    let peak = c.x.max(c.y.max(c.z));
+    if bounces > 0 && frame.clamp_max > 0.0 && peak > frame.clamp_max {
+        c * (frame.clamp_max / peak)
+    } else {
+        c
+    }
+}
+
 pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
     let kind = if frame.sampler == 1 {
         rng::SamplerKind::Sobol
@@ -308,7 +325,8 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
     for depth in 0..frame.max_depth {
         let hit = trace(scene, origin, direction, f32::MAX);
         if hit.triangle == MISS {
-            radiance += beta * escaped(scene, frame, direction, prev_bsdf_pdf);
+            let sky = beta * escaped(scene, frame, direction, prev_bsdf_pdf);
+            radiance += clamp_bounced(sky, frame, depth);
             break;
         }
         let tri = &scene.triangles[hit.triangle as usize];
@@ -341,7 +359,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                     power_heuristic(prev_bsdf_pdf, p_light)
                 };
             }
-            radiance += beta * le * weight;
+            radiance += clamp_bounced(beta * le * weight, frame, depth);
         }
         if material.kind == material_kind::EMISSIVE || depth + 1 >= frame.max_depth {
             break;
@@ -460,9 +478,11 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
                     Surface::Lambert { albedo, ns }
                 };
                 if lights_sampled {
-                    radiance += beta * direct_light(scene, frame, p, ng, &surface, &mut rng);
+                    let direct = beta * direct_light(scene, frame, p, ng, &surface, &mut rng);
+                    radiance += clamp_bounced(direct, frame, depth + 1);
                 }
-                radiance += beta * delta_lights_at(scene, frame, p, ng, &surface);
+                let delta = beta * delta_lights_at(scene, frame, p, ng, &surface);
+                radiance += clamp_bounced(delta, frame, depth + 1);
                 match surface {
                     Surface::Lambert { .. } => {
                         beta *= albedo;

@@ -1,6 +1,10 @@
-//! Texture lookups and alpha coverage, the twin of `shaders/shared/texture.wgsl`: each texture slot
+//! Texture lookups and alpha coverage, the twin of `texture.wgsl` beside it: each texture slot
 //! is (offset, width, height) in `GpuScene::texels` with its sampler's bits
 //! (`scene::TextureSampler::bits`).
+
+/// The WGSL twin of this module, `texture.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("texture.wgsl");
 
 use glam::{Vec2, Vec3, Vec4};
 

@@ -1,6 +1,6 @@
 // One path vertex at a time: the estimator shared by the megakernel (trace.wgsl, which loops over
 // a path's vertices in one invocation) and the wavefront kernels (wavefront.wgsl, which run each
-// stage for a queue of paths). Needs shared/scene_bindings.wgsl and a BVH traversal.
+// stage for a queue of paths). Needs gpu_scene.wgsl and a BVH traversal.
 //
 // Estimator: see crates/core/src/reference/ (path.rs, the twin of this file), which implements the same one on the CPU.
 //   L = sum_{k < max_depth} beta_k Le(x_k),  beta_{k+1} = beta_k f cos / pdf = beta_k * albedo
@@ -23,10 +23,6 @@ override HAS_ENVIRONMENT: bool = true;
 override HAS_NORMAL_MAPS: bool = true;
 // Also record the first hit's albedo, normal and directly seen light (for the denoiser).
 override WRITE_AOVS: bool = false;
-// Firefly clamp: each contribution of light that has bounced at least once (next-event estimates,
-// emitters and sky reached after a bounce) is scaled down so its largest channel is at most this;
-// emitters and sky seen directly stay exact. 0 is off. Biased (it removes energy); off by default.
-override CLAMP_MAX: f32 = 0.0;
 
 // A path between vertices: the ray to trace next and what the path carries.
 struct PathState {
@@ -83,11 +79,16 @@ fn store_aov_means(slot: u32, m: AovMeans) {
     aovs[3u * slot + 2u] = m.emission;
 }
 
+// Firefly clamp (`frame.clamp_max`, 0 off): each contribution of light that has bounced at least
+// once (next-event estimates, emitters and sky reached after a bounce) is scaled down so its largest
+// channel is at most the clamp; emitters and sky seen directly stay exact. Biased (it removes
+// energy); off by default.
 fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
-    if (CLAMP_MAX > 0.0) {
+    let clamp_max = frame.clamp_max;
+    if (clamp_max > 0.0) {
         let peak = max(c.x, max(c.y, c.z));
-        if (peak > CLAMP_MAX) {
-            return c * (CLAMP_MAX / peak);
+        if (peak > clamp_max) {
+            return c * (clamp_max / peak);
         }
     }
     return c;
@@ -419,17 +420,14 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     var next: vec3<f32>;
     (*path).prev_bsdf_pdf = 0.0;
     if (HAS_METAL && material.kind == MAT_METAL) {
-        let fuzz = sample_unit_ball(rng) * material.param;
-        next = normalize(reflect_dir(direction, ns) + fuzz);
+        next = sample_metal(direction, ns, material.param, rng);
         (*path).beta *= albedo;
     } else if (HAS_DIELECTRIC && material.kind == MAT_DIELECTRIC) {
         let eta = select(1.0 / material.param, material.param, front);
-        let f = fresnel_dielectric(-dot(direction, ns), eta);
-        if (rng_next(rng) < f) {
-            next = reflect_dir(direction, ns);
-        } else {
+        let sample = sample_dielectric(direction, ns, eta, rng);
+        next = sample.direction;
+        if (sample.refracted) {
             (*path).beta *= albedo / (eta * eta);
-            next = refract_dir(direction, ns, eta);
         }
     } else {
         var surface: Surface;

@@ -139,7 +139,7 @@ struct Frame {
     env_rotation: f32,           // 156: turns about +y
     env_pick: f32,               // 160: probability that next-event estimation samples the environment
     sample_offset: u32,          // 164: the render's first sample index (a shard's range start)
-    _pad_d: u32,                 // 168
+    clamp_max: f32,              // 168: the firefly clamp on bounced light (0: off)
     _pad_e: u32,                 // 172
 }
 

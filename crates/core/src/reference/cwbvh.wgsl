@@ -1,6 +1,6 @@
 // Compressed wide BVH8 traversal (Ylitie, Karras and Laine, HPG 2017): the nearest hit, or with
 // `any_hit` the first found (shadow rays). Needs storage bindings `nodes: array<BvhNodeRecord>` and
-// `intersect_triangle_at(ray, index, t_max)` (shared/scene_bindings.wgsl). Mirrors core::reference::cwbvh, whose
+// `intersect_triangle_at(ray, index, t_max)` (gpu_scene.wgsl). Mirrors core::reference::cwbvh, whose
 // module doc explains the hit masks and groups.
 
 alias BvhNodeRecord = WideBvhNode;

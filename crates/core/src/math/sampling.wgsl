@@ -67,6 +67,28 @@ fn reflect_dir(d: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     return d - 2.0 * dot(d, n) * n;
 }
 
+// Fuzzy metal: the mirror direction plus `fuzz` times a uniform point in the unit ball, normalised
+// (sampling.rs's `sample_metal` states its pdf).
+fn sample_metal(d: vec3<f32>, n: vec3<f32>, fuzz: f32, rng: ptr<function, Sampler>) -> vec3<f32> {
+    let ball = sample_unit_ball(rng) * fuzz;
+    return normalize(reflect_dir(d, n) + ball);
+}
+
+struct DielectricSample {
+    direction: vec3<f32>,
+    refracted: bool,
+}
+
+// Smooth dielectric: reflection with probability F (exact Fresnel), else refraction; eta =
+// n_transmitted / n_incident, and n faces -d.
+fn sample_dielectric(d: vec3<f32>, n: vec3<f32>, eta: f32, rng: ptr<function, Sampler>) -> DielectricSample {
+    let f = fresnel_dielectric(-dot(d, n), eta);
+    if (rng_next(rng) < f) {
+        return DielectricSample(reflect_dir(d, n), false);
+    }
+    return DielectricSample(refract_dir(d, n, eta), true);
+}
+
 fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
     return select(pow((c + 0.055) / 1.055, vec3(2.4)), c / 12.92, c <= vec3(0.04045));
 }

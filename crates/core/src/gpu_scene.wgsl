@@ -27,10 +27,10 @@ fn pixel_stopped(slot: u32) -> bool {
     return ADAPTIVE && pixel_done[slot] != 0u;
 }
 
-// Alpha-masked or blended surfaces: each hit reads its coverage (shared/texture.wgsl `stops_ray`).
+// Alpha-masked or blended surfaces: each hit reads its coverage (texture.wgsl `stops_ray`).
 override HAS_ALPHA: bool = true;
 
-// The triangle test BVH traversal (shared/bvh.wgsl, shared/cwbvh.wgsl) calls on leaf triangles:
+// The triangle test BVH traversal (bvh.wgsl, cwbvh.wgsl) calls on leaf triangles:
 // (t, b1, b2), t < 0 for a miss or a hole.
 fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
     let tri = triangles[i];

@@ -3,8 +3,8 @@ enable wgpu_ray_query;
 // Traversal by the driver's ray queries (Vulkan VK_KHR_ray_query, DX12 DXR 1.1, Metal; lavapipe
 // >= 24.1 in software) over one bottom-level structure of every scene triangle, in the order of
 // `triangles`, so a hit's primitive index is the triangle index the estimator expects. Stands in
-// for shared/bvh.wgsl or shared/cwbvh.wgsl (the same `intersect_scene`); the `nodes` binding stays
-// declared (shared/scene_bindings.wgsl) but is not read, and there is no traversal stack.
+// for bvh.wgsl or cwbvh.wgsl (the same `intersect_scene`); the `nodes` binding stays
+// declared (gpu_scene.wgsl) but is not read, and there is no traversal stack.
 // This file is first in its modules: WGSL wants the `enable` before any declaration.
 
 alias BvhNodeRecord = BvhNode;
@@ -23,7 +23,7 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
         flags |= RAY_FLAG_TERMINATE_ON_FIRST_HIT;
     }
     var query: ray_query;
-    // t_min 0: the estimator offsets ray origins off the surface (shared/intersect.wgsl), as the
+    // t_min 0: the estimator offsets ray origins off the surface (intersect.wgsl), as the
     // software traversals need; the BVH code accepts any t > 0 likewise.
     rayQueryInitialize(&query, scene_tlas, RayDesc(flags, 0xffu, 0.0, t_max, origin, direction));
     if (HAS_ALPHA) {

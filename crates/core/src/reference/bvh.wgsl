@@ -1,5 +1,5 @@
 // BVH2 traversal: the nearest hit, or with `any_hit` the first found (shadow rays). Needs storage
-// bindings `nodes: array<BvhNode>` and `intersect_triangle_at(ray, index, t_max)` (shared/scene_bindings.wgsl).
+// bindings `nodes: array<BvhNode>` and `intersect_triangle_at(ray, index, t_max)` (gpu_scene.wgsl).
 // Mirrors crates/core/src/reference/bvh.rs: each node holds both children's boxes; leaves are tested at once and
 // inner children visited near first.
 

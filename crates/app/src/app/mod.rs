@@ -1,0 +1,191 @@
+//! The editor's state and the actions on it. The panels in `ui/` draw this state and call these
+//! actions; nothing here draws. The state is here; the actions on it are grouped by what they do:
+//! `files.rs` (open, save, load), `edit.rs` (undoable edits and selection) and `rendering.rs`
+//! (render jobs and the path-traced viewport).
+
+mod edit;
+mod files;
+mod rendering;
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use crate::document::{Document, Origin};
+use crate::recent::RecentFiles;
+use crate::render_job::{RenderDevice, RenderJob};
+
+pub use files::{apply_editor_defaults, light_with_the_default_environment};
+
+/// Settings fixed when the editor starts.
+#[derive(Clone, Debug, Default)]
+pub struct AppOptions {
+    /// Where the recent-files list lives; `None` keeps it in memory.
+    pub config_dir: Option<PathBuf>,
+    /// A file to open at start (OBJ, project or lighting).
+    pub open: Option<PathBuf>,
+    pub adapter: rt_gpu::AdapterChoice,
+    /// How to open the render device (`launch` fills it from `RT_NO_RAY_QUERY`).
+    pub device: rt_gpu::DeviceOptions,
+}
+
+/// A finished or running render with its viewer's settings.
+pub struct RenderView {
+    pub id: u64,
+    pub job: RenderJob,
+    pub open: bool,
+    pub exposure: f32,
+    pub transform: rt_core::output::ViewTransform,
+    pub zoom: f32,
+    pub texture: Option<egui::TextureHandle>,
+    /// (image revision, exposure, view transform, denoised) the texture was made from.
+    pub texture_key: Option<(u64, f32, rt_core::output::ViewTransform, bool)>,
+    /// Show (and save) the denoised image instead of the raw one.
+    pub show_denoised: bool,
+    /// The denoised image, computed on first use.
+    pub denoised: Option<Vec<[f32; 3]>>,
+    /// Which denoiser made `denoised`.
+    pub denoiser: Option<&'static str>,
+}
+
+/// The path-traced viewport: its engine, what it was last asked for, and the texture it shows.
+pub struct LiveViewport {
+    pub enabled: bool,
+    /// The engine's threads while the view is on (`rt_gpu::live`); dropped when it is turned off,
+    /// which stops its work and frees its buffers.
+    pub view: Option<rt_gpu::live::LiveView>,
+    /// (document revision, viewport size) last sent to the view.
+    pub key: Option<(u64, [u32; 2])>,
+    /// Whether the user was dragging in the viewport at the last frame.
+    pub interacting: bool,
+    /// Show the denoised image (on by default); the raw one is a click away.
+    pub show_denoised: bool,
+    pub texture: Option<egui::TextureHandle>,
+    /// (change, samples, pixel size, denoised) the texture was made from.
+    pub texture_key: Option<(u64, u32, u32, bool)>,
+}
+
+impl Default for LiveViewport {
+    fn default() -> Self {
+        LiveViewport {
+            enabled: false,
+            view: None,
+            key: None,
+            interacting: false,
+            show_denoised: true,
+            texture: None,
+            texture_key: None,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightShape {
+    Box,
+    Quad,
+}
+
+/// Dialog and interaction state of the UI.
+#[derive(Default)]
+pub struct UiState {
+    pub error: Option<String>,
+    pub pending_delete: Option<usize>,
+    /// Right-drag orbits around the selection instead of turning the camera in place.
+    pub orbit_mode: bool,
+    /// The next click in the viewport sets the focus distance.
+    pub picking_focus: bool,
+    pub status: String,
+    pub last_render: Option<Duration>,
+    /// A scripted session (`rt --interactive-bench`) is dragging in the viewport.
+    pub scripted_drag: bool,
+    /// The window title last sent.
+    pub window_title: Option<String>,
+}
+
+pub struct RtApp {
+    pub doc: Document,
+    /// The selected object.
+    pub selection: Option<usize>,
+    /// The selected point, spot or directional light (exclusive with `selection`).
+    pub selected_light: Option<usize>,
+    pub device: RenderDevice,
+    pub renders: Vec<RenderView>,
+    pub live: LiveViewport,
+    pub ui: UiState,
+    pub recent: RecentFiles,
+    /// Whether the raster preview's GPU resources exist (egui runs on wgpu).
+    pub preview_available: bool,
+    /// egui's own adapter, for the status bar until a render opens the render device.
+    pub display_adapter: Option<String>,
+    next_render_id: u64,
+    repaint: Option<egui::Context>,
+}
+
+impl RtApp {
+    /// An editor on the embedded Cornell box (or on `options.open`), without a window: the state
+    /// the UI draws. `egui_ctx` lets render threads wake the UI.
+    pub fn new(options: &AppOptions, egui_ctx: Option<egui::Context>) -> Self {
+        let scene = rt_core::assets::cornell_box().unwrap_or_default();
+        let mut app = RtApp {
+            doc: Document::new(scene, Origin::Embedded),
+            selection: None,
+            selected_light: None,
+            device: RenderDevice::new(options.adapter.clone(), options.device),
+            renders: Vec::new(),
+            live: LiveViewport::default(),
+            ui: UiState::default(),
+            recent: RecentFiles::load(options.config_dir.as_deref()),
+            preview_available: false,
+            display_adapter: None,
+            next_render_id: 1,
+            repaint: egui_ctx,
+        };
+        if let Some(path) = &options.open {
+            app.open_path(path);
+        }
+        app
+    }
+
+    /// Creates the app inside eframe, installing the preview's GPU resources.
+    pub fn from_creation_context(cc: &eframe::CreationContext<'_>, options: &AppOptions) -> Self {
+        let mut app = RtApp::new(options, Some(cc.egui_ctx.clone()));
+        if let Some(render_state) = &cc.wgpu_render_state {
+            crate::preview::gpu::install(render_state);
+            app.preview_available = true;
+            let info = render_state.adapter.get_info();
+            app.display_adapter = Some(rt_gpu::context::adapter_label(&info));
+        }
+        app
+    }
+
+    fn waker(&self) -> impl Fn() + Send + Sync + 'static {
+        let ctx = self.repaint.clone();
+        move || {
+            if let Some(ctx) = &ctx {
+                ctx.request_repaint();
+            }
+        }
+    }
+
+    pub fn show_error(&mut self, message: impl Into<String>) {
+        let message = message.into();
+        log::error!("{message}");
+        self.ui.error = Some(message);
+    }
+
+    pub fn adapter_label(&self) -> String {
+        self.device
+            .adapter_label()
+            .or_else(|| self.display_adapter.clone())
+            .unwrap_or_else(|| "no adapter yet".into())
+    }
+}
+
+impl RenderView {
+    /// The exposure and view transform the viewer shows and saves with.
+    pub fn view(&self) -> rt_core::output::View {
+        rt_core::output::View {
+            transform: self.transform,
+            exposure_stops: self.exposure,
+        }
+    }
+}

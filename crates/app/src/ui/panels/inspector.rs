@@ -1,0 +1,248 @@
+//! The Inspector: the selected object's name, material (kind, fields, preset) and transform, or
+//! the selected point, spot or directional light.
+
+use egui::{DragValue, Ui};
+
+use super::material::{Kind, kind_of, material_fields, with_kind};
+use super::vec3_row;
+use crate::app::RtApp;
+use crate::presets::PRESETS;
+
+/// Edits the selected point, spot or directional light.
+fn light_inspector(app: &mut RtApp, ui: &mut Ui, index: usize) {
+    let mut light = app.doc.scene.lights[index].clone();
+    ui.horizontal(|ui| {
+        ui.label("Name");
+        ui.text_edit_singleline(&mut light.name)
+            .on_hover_text("The light's name");
+    });
+    ui.horizontal_wrapped(|ui| {
+        for (kind, label, tip) in [
+            (
+                rt_core::LightKind::Point,
+                "Point",
+                "Light from a point, in every direction",
+            ),
+            (
+                rt_core::LightKind::Spot,
+                "Spot",
+                "Light from a point, in a cone",
+            ),
+            (
+                rt_core::LightKind::Directional,
+                "Sun",
+                "Parallel light from far away",
+            ),
+        ] {
+            ui.selectable_value(&mut light.kind, kind, label)
+                .on_hover_text(tip);
+        }
+    });
+    let size = app
+        .doc
+        .bounds()
+        .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-3));
+    if light.kind != rt_core::LightKind::Directional {
+        vec3_row(
+            ui,
+            "Position",
+            &mut light.position,
+            size * 0.005,
+            "Where the light is",
+        );
+    }
+    if light.kind != rt_core::LightKind::Point {
+        vec3_row(
+            ui,
+            "Direction",
+            &mut light.direction,
+            0.01,
+            "The way the light travels (need not be normalised)",
+        );
+    }
+    ui.horizontal(|ui| {
+        ui.label("Colour");
+        ui.color_edit_button_rgb(&mut light.color)
+            .on_hover_text("Colour of the light");
+    });
+    let unit = if light.kind == rt_core::LightKind::Directional {
+        "W/m² (irradiance facing it)"
+    } else {
+        "W/sr (radiant intensity)"
+    };
+    ui.horizontal(|ui| {
+        ui.label("Intensity");
+        ui.add(
+            DragValue::new(&mut light.intensity)
+                .speed(0.1)
+                .range(0.0..=1e12),
+        )
+        .on_hover_text(format!("Colour × intensity, in {unit}"));
+        ui.weak(unit);
+    });
+    if light.kind == rt_core::LightKind::Spot {
+        ui.add(egui::Slider::new(&mut light.inner_angle_deg, 0.0..=180.0).text("inner angle °"))
+            .on_hover_text("Full intensity within this angle of the direction");
+        ui.add(egui::Slider::new(&mut light.outer_angle_deg, 0.0..=180.0).text("outer angle °"))
+            .on_hover_text("No light beyond this angle; a smooth falloff in between");
+        light.outer_angle_deg = light.outer_angle_deg.max(light.inner_angle_deg);
+    }
+    if ui
+        .button("Delete light")
+        .on_hover_text("Remove this light (undo brings it back)")
+        .clicked()
+    {
+        app.delete_delta_light(index);
+        return;
+    }
+    if light != app.doc.scene.lights[index] {
+        app.doc.edit(
+            &format!("edit {}", light.name),
+            &format!("light#{index}"),
+            |s| s.lights[index] = light,
+        );
+    }
+}
+
+pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
+    ui.heading("Inspector");
+    if let Some(index) = app
+        .selected_light
+        .filter(|&i| i < app.doc.scene.lights.len())
+    {
+        light_inspector(app, ui, index);
+        return;
+    }
+    let Some(index) = app.selection.filter(|&i| i < app.doc.scene.objects.len()) else {
+        ui.weak("Select an object in the list or click it in the viewport.");
+        return;
+    };
+    let mut object = app.doc.scene.objects[index].clone();
+    let texture_count = app.doc.scene.textures.len();
+    let mut choose_texture = false;
+
+    ui.horizontal(|ui| {
+        ui.label("Name");
+        ui.text_edit_singleline(&mut object.name)
+            .on_hover_text("The object's name");
+    });
+    ui.label(format!("{} triangles", object.mesh.indices.len()));
+
+    ui.add_space(4.0);
+    ui.strong("Material");
+    let current = kind_of(&object.material);
+    ui.horizontal_wrapped(|ui| {
+        for (kind, label, tip) in [
+            (Kind::Diffuse, "Diffuse", "Lambertian: matte, one colour"),
+            (
+                Kind::Textured,
+                "Texture",
+                "Lambertian with an image as its colour",
+            ),
+            (Kind::Metal, "Metal", "A mirror, blurred by fuzz"),
+            (Kind::Glass, "Glass", "A smooth dielectric that refracts"),
+            (
+                Kind::Emissive,
+                "Emissive",
+                "A light source (emits from its front faces)",
+            ),
+            (
+                Kind::Pbr,
+                "Physically based",
+                "glTF metallic-roughness: metal or dielectric, rough or polished, opaque or clear",
+            ),
+        ] {
+            if ui
+                .selectable_label(current == kind, label)
+                .on_hover_text(tip)
+                .clicked()
+                && current != kind
+            {
+                object.material = with_kind(&object.material, kind, texture_count);
+            }
+        }
+    });
+    material_fields(ui, &mut object.material, texture_count, &mut choose_texture);
+    ui.horizontal(|ui| {
+        ui.label("Preset")
+            .on_hover_text("Replace the material with a named one");
+        egui::ComboBox::from_id_salt("preset")
+            .selected_text("choose…")
+            .show_ui(ui, |ui| {
+                for preset in PRESETS {
+                    if ui
+                        .selectable_label(false, preset.name)
+                        .on_hover_text(preset.tip)
+                        .clicked()
+                    {
+                        object.material = (preset.material)();
+                    }
+                }
+            })
+            .response
+            .on_hover_text("Replace the material with a named one");
+    });
+
+    ui.add_space(4.0);
+    ui.strong("Transform").on_hover_text(
+        "Scale, then rotate (X, Y, Z in degrees), then translate; drag or type, arrow keys nudge",
+    );
+    let size = app
+        .doc
+        .bounds()
+        .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-3));
+    let t = &mut object.transform;
+    vec3_row(
+        ui,
+        "Position",
+        &mut t.translation,
+        size * 0.005,
+        "Where the object is",
+    );
+    vec3_row(
+        ui,
+        "Rotation °",
+        &mut t.rotation_deg,
+        0.5,
+        "Rotation about X, Y, Z in degrees",
+    );
+    vec3_row(
+        ui,
+        "Scale",
+        &mut t.scale,
+        0.005,
+        "Size along each axis (negative mirrors)",
+    );
+
+    ui.horizontal(|ui| {
+        if ui
+            .button("Frame")
+            .on_hover_text("Point the camera at this object (F)")
+            .clicked()
+        {
+            app.frame_selection();
+        }
+        if ui
+            .button("Delete…")
+            .on_hover_text("Delete this object (asks first; undo brings it back)")
+            .clicked()
+        {
+            app.ui.pending_delete = Some(index);
+        }
+    });
+
+    if object != app.doc.scene.objects[index] {
+        app.doc.edit(
+            &format!("edit {}", object.name),
+            &format!("object#{index}"),
+            |s| s.objects[index] = object,
+        );
+    }
+    if choose_texture
+        && let Some(path) = rfd::FileDialog::new()
+            .add_filter("Images", &["png", "jpg", "jpeg", "ppm", "exr"])
+            .pick_file()
+    {
+        app.set_texture_from_file(index, &path);
+    }
+}

@@ -1,0 +1,300 @@
+//! Material editing for the Inspector: the material kinds, switching between them, and the fields
+//! of each kind (the physically based material's textures and alpha included).
+
+use egui::{DragValue, Ui};
+use rt_core::Material;
+
+/// The material kinds offered in the inspector.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Kind {
+    Diffuse,
+    Textured,
+    Metal,
+    Glass,
+    Emissive,
+    Pbr,
+}
+
+pub(super) fn kind_of(m: &Material) -> Kind {
+    match m {
+        Material::Lambertian { texture: None, .. } => Kind::Diffuse,
+        Material::Lambertian { .. } => Kind::Textured,
+        Material::Metal { .. } => Kind::Metal,
+        Material::Dielectric { .. } => Kind::Glass,
+        Material::Emissive { .. } => Kind::Emissive,
+        Material::Pbr(_) => Kind::Pbr,
+    }
+}
+
+/// The main colour of a material, carried over when its kind changes.
+fn color_of(m: &Material) -> [f32; 3] {
+    match m {
+        Material::Lambertian { albedo, .. } | Material::Metal { albedo, .. } => *albedo,
+        Material::Dielectric { tint, .. } => *tint,
+        Material::Emissive { color, .. } => *color,
+        Material::Pbr(p) => p.base_color,
+    }
+}
+
+pub(super) fn with_kind(m: &Material, kind: Kind, textures: usize) -> Material {
+    let color = color_of(m);
+    match kind {
+        Kind::Diffuse => Material::lambertian(color),
+        // A texture slot without an image renders white until an image is chosen.
+        Kind::Textured => Material::Lambertian {
+            albedo: [1.0; 3],
+            texture: (textures > 0).then_some(0),
+        },
+        Kind::Metal => Material::Metal {
+            albedo: color,
+            fuzz: 0.1,
+        },
+        Kind::Glass => Material::Dielectric {
+            ior: 1.5,
+            tint: [1.0; 3],
+        },
+        Kind::Emissive => Material::Emissive {
+            color,
+            intensity: 10.0,
+        },
+        Kind::Pbr => Material::Pbr(Box::new(rt_core::material::Pbr {
+            base_color: color,
+            ..Default::default()
+        })),
+    }
+}
+
+pub(super) fn material_fields(
+    ui: &mut Ui,
+    material: &mut Material,
+    textures: usize,
+    choose: &mut bool,
+) {
+    match material {
+        Material::Lambertian {
+            albedo,
+            texture: None,
+        } => {
+            ui.horizontal(|ui| {
+                ui.label("Colour");
+                ui.color_edit_button_rgb(albedo)
+                    .on_hover_text("Diffuse reflectance (albedo)");
+            });
+        }
+        Material::Lambertian {
+            texture: Some(t), ..
+        } => {
+            ui.horizontal(|ui| {
+                ui.label("Image");
+                egui::ComboBox::from_id_salt("texture")
+                    .selected_text(format!("texture {t}"))
+                    .show_ui(ui, |ui| {
+                        for i in 0..textures {
+                            ui.selectable_value(t, i, format!("texture {i}"));
+                        }
+                    })
+                    .response
+                    .on_hover_text("Which of the scene's images colours this object");
+                if ui
+                    .button("Choose image…")
+                    .on_hover_text("Load a PNG, JPEG, PPM or EXR image as this object's colour")
+                    .clicked()
+                {
+                    *choose = true;
+                }
+            });
+        }
+        Material::Metal { albedo, fuzz } => {
+            ui.horizontal(|ui| {
+                ui.label("Colour");
+                ui.color_edit_button_rgb(albedo)
+                    .on_hover_text("Reflectance at normal incidence");
+            });
+            ui.add(egui::Slider::new(fuzz, 0.0..=1.0).text("fuzz"))
+                .on_hover_text("0 is a perfect mirror; 1 is very rough");
+        }
+        Material::Dielectric { ior, tint } => {
+            ui.add(egui::Slider::new(ior, 1.0..=4.0).text("IOR"))
+                .on_hover_text("Index of refraction: water 1.333, glass 1.5, diamond 2.417");
+            ui.horizontal(|ui| {
+                ui.label("Tint");
+                ui.color_edit_button_rgb(tint)
+                    .on_hover_text("Colour of light passing through");
+            });
+        }
+        Material::Emissive { color, intensity } => {
+            ui.horizontal(|ui| {
+                ui.label("Colour");
+                ui.color_edit_button_rgb(color)
+                    .on_hover_text("Colour of the emitted light");
+            });
+            ui.horizontal(|ui| {
+                ui.label("Intensity");
+                ui.add(DragValue::new(intensity).speed(0.1).range(0.0..=1e9))
+                    .on_hover_text("Emitted radiance = colour × intensity (W/(sr m²) per unit)");
+            });
+        }
+        Material::Pbr(p) => pbr_fields(ui, p, textures, choose),
+    }
+}
+
+/// A combo choosing one of the scene's images (or none) for a texture slot.
+fn texture_slot(
+    ui: &mut Ui,
+    label: &str,
+    id: &str,
+    slot: &mut Option<usize>,
+    textures: usize,
+    tip: &str,
+) {
+    ui.horizontal(|ui| {
+        ui.label(label).on_hover_text(tip);
+        egui::ComboBox::from_id_salt(id)
+            .selected_text(slot.map_or("none".to_string(), |t| format!("texture {t}")))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(slot, None, "none");
+                for i in 0..textures {
+                    ui.selectable_value(slot, Some(i), format!("texture {i}"));
+                }
+            })
+            .response
+            .on_hover_text(
+                "Images load through \"Choose image…\" (base colour) and then can be reused here",
+            );
+    });
+}
+
+/// Every parameter of the physically based material (glTF metallic-roughness).
+fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choose: &mut bool) {
+    ui.horizontal(|ui| {
+        ui.label("Base colour");
+        ui.color_edit_button_rgb(&mut p.base_color)
+            .on_hover_text("Diffuse colour of a dielectric, reflectance of a metal");
+    });
+    ui.horizontal(|ui| {
+        let mut textured = p.texture.is_some();
+        ui.checkbox(&mut textured, "Image")
+            .on_hover_text("Multiply the base colour by one of the scene's images");
+        if !textured {
+            p.texture = None;
+        } else if p.texture.is_none() && textures > 0 {
+            p.texture = Some(0);
+        }
+        if let Some(t) = p.texture.as_mut() {
+            egui::ComboBox::from_id_salt("pbr texture")
+                .selected_text(format!("texture {t}"))
+                .show_ui(ui, |ui| {
+                    for i in 0..textures {
+                        ui.selectable_value(t, i, format!("texture {i}"));
+                    }
+                })
+                .response
+                .on_hover_text("The base colour image");
+        }
+        if ui
+            .button("Choose image…")
+            .on_hover_text("Load a PNG, JPEG, PPM or EXR image as the base colour")
+            .clicked()
+        {
+            *choose = true;
+        }
+    });
+    texture_slot(
+        ui,
+        "Metal/rough image",
+        "pbr metallic roughness",
+        &mut p.metallic_roughness_texture,
+        textures,
+        "glTF's packed image: blue scales metallic, green scales roughness (read linearly)",
+    );
+    texture_slot(
+        ui,
+        "Normal map",
+        "pbr normal map",
+        &mut p.normal_texture,
+        textures,
+        "A tangent-space normal map (+Y up, as glTF); needs vertex normals and UVs",
+    );
+    if p.normal_texture.is_some() {
+        ui.add(egui::Slider::new(&mut p.normal_scale, 0.0..=2.0).text("normal strength"))
+            .on_hover_text("Scales the normal map's tilt");
+    }
+    ui.add(egui::Slider::new(&mut p.metallic, 0.0..=1.0).text("metallic"))
+        .on_hover_text("0: plastic, wood, stone; 1: metal");
+    ui.add(egui::Slider::new(&mut p.roughness, 0.0..=1.0).text("roughness"))
+        .on_hover_text("0 is a mirror; 1 is matte");
+    ui.add(egui::Slider::new(&mut p.ior, 1.0..=3.0).text("IOR"))
+        .on_hover_text("Index of refraction: water 1.333, glass 1.5, diamond 2.417");
+    ui.add(egui::Slider::new(&mut p.transmission, 0.0..=1.0).text("transmission"))
+        .on_hover_text("How much light passes through (glass 1)");
+    if p.transmission > 0.0 {
+        ui.checkbox(&mut p.thin_walled, "thin-walled")
+            .on_hover_text("A sheet (a window pane, a leaf): light passes through without bending");
+        ui.horizontal(|ui| {
+            ui.label("Absorption colour");
+            ui.color_edit_button_rgb(&mut p.attenuation_color)
+                .on_hover_text(
+                    "The colour white light takes after travelling the distance below inside",
+                );
+        });
+        ui.horizontal(|ui| {
+            let mut on = p.attenuation_distance.is_some();
+            ui.checkbox(&mut on, "at distance")
+                .on_hover_text("Without a distance the medium absorbs nothing");
+            let mut d = p.attenuation_distance.unwrap_or(1.0);
+            if on {
+                ui.add(DragValue::new(&mut d).speed(0.01).range(1e-4..=1e6));
+            }
+            p.attenuation_distance = on.then_some(d);
+        });
+    }
+    ui.horizontal(|ui| {
+        ui.label("Emission");
+        ui.color_edit_button_rgb(&mut p.emission)
+            .on_hover_text("Light the surface gives off, on top of what it reflects");
+        ui.add(
+            DragValue::new(&mut p.emission_strength)
+                .speed(0.1)
+                .range(0.0..=1e9),
+        )
+        .on_hover_text("Emission strength");
+    });
+    texture_slot(
+        ui,
+        "Emission image",
+        "pbr emission image",
+        &mut p.emission_texture,
+        textures,
+        "An image (sRGB) multiplying the emission: a screen, a lamp's pattern",
+    );
+    alpha_fields(ui, p);
+}
+
+/// glTF's alpha mode: the base colour's alpha cutting holes (leaves, fences) or blending.
+fn alpha_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
+    use rt_core::material::AlphaMode;
+    ui.horizontal(|ui| {
+        ui.label("Alpha")
+            .on_hover_text("How the base colour's alpha (factor × image) cuts the surface");
+        egui::ComboBox::from_id_salt("pbr alpha mode")
+            .selected_text(format!("{:?}", p.alpha_mode).to_lowercase())
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut p.alpha_mode, AlphaMode::Opaque, "opaque")
+                    .on_hover_text("Alpha is ignored");
+                ui.selectable_value(&mut p.alpha_mode, AlphaMode::Mask, "mask")
+                    .on_hover_text("A hole where alpha is below the cutoff");
+                ui.selectable_value(&mut p.alpha_mode, AlphaMode::Blend, "blend")
+                    .on_hover_text("See-through in proportion to 1 − alpha");
+            })
+            .response
+            .on_hover_text("The alpha mode");
+    });
+    if p.alpha_mode != AlphaMode::Opaque {
+        ui.add(egui::Slider::new(&mut p.alpha, 0.0..=1.0).text("alpha"))
+            .on_hover_text("The base colour factor's alpha");
+    }
+    if p.alpha_mode == AlphaMode::Mask {
+        ui.add(egui::Slider::new(&mut p.alpha_cutoff, 0.0..=1.0).text("alpha cutoff"))
+            .on_hover_text("Alpha below this is a hole");
+    }
+}

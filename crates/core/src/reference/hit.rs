@@ -1,0 +1,48 @@
+//! What both BVH traversals (`bvh.rs`, `cwbvh.rs`) share, below both: the miss value (`MISS` of
+//! `gpu_types.wgsl`) and the leaf-triangle test (`intersect_triangle_at` of `gpu_scene.wgsl`,
+//! alpha included), and brute force over every triangle, which checks them.
+
+use glam::Vec3;
+
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::Hit;
+use crate::math::intersect::{PreparedRay, intersect_triangle};
+
+/// The `triangle` of a hit that found none.
+pub(super) const MISS: u32 = u32::MAX;
+
+/// No hit closer than `t_max` (yet).
+pub(super) fn miss(t_max: f32) -> Hit {
+    Hit {
+        t: t_max,
+        triangle: MISS,
+        b1: 0.0,
+        b2: 0.0,
+    }
+}
+
+/// Tests triangle `i`, keeping its hit in `hit` when nearer (both traversals' leaf test).
+pub(super) fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &mut Hit) {
+    let tri = &scene.triangles[i as usize];
+    if let Some((t, b1, b2)) =
+        intersect_triangle(ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
+        && (!scene.features.alpha || super::texture::stops_ray(scene, ray, tri, i, b1, b2))
+    {
+        *hit = Hit {
+            t,
+            triangle: i,
+            b1,
+            b2,
+        };
+    }
+}
+
+/// Nearest hit by testing every triangle (for checking `trace`).
+pub fn trace_brute_force(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+    let ray = PreparedRay::new(origin, direction);
+    let mut hit = miss(t_max);
+    for i in 0..scene.triangles.len() as u32 {
+        test_triangle(scene, &ray, i, &mut hit);
+    }
+    hit
+}
