@@ -13,7 +13,8 @@ use super::texture::{Slot, base_color_texture, coverage, surface_emission};
 use super::{occluded, trace};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{
-    ALPHA_BLEND, ALPHA_MASK, Frame, NO_TEXTURE, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, material_kind,
+    ALPHA_BLEND, ALPHA_MASK, Frame, Hit, NO_TEXTURE, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL,
+    material_kind,
 };
 use crate::math::bsdf::Pbr;
 use crate::math::intersect::offset_ray_origin;
@@ -310,224 +311,266 @@ fn clamp_bounced(c: Vec3, frame: &Frame, bounces: u32) -> Vec3 {
 }
 
 pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
+    let mut path = start_path(frame, x, y, sample);
+    while path.depth < frame.max_depth {
+        let hit = trace(scene, path.origin, path.direction, f32::MAX);
+        if !shade_vertex(scene, frame, &mut path, hit) {
+            break;
+        }
+    }
+    path.radiance
+}
+
+/// A path between two vertices: what `shade_vertex` reads and updates (the WGSL `PathState`,
+/// with the path's random numbers).
+#[derive(Clone, Copy, Debug)]
+pub struct PathState {
+    pub origin: Vec3,
+    pub direction: Vec3,
+    /// The throughput: the product of f·cosθ/p over the vertices so far.
+    pub beta: Vec3,
+    pub radiance: Vec3,
+    /// Density of the BSDF sample that led here, 0 after the camera or a specular bounce.
+    pub prev_bsdf_pdf: f32,
+    /// Segments traced so far (0: the camera ray).
+    pub depth: u32,
+    pub rng: Rng,
+}
+
+/// The camera ray of pixel (x, y), sample `sample` (the WGSL `start_path`).
+pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
     let kind = if frame.sampler == 1 {
         rng::SamplerKind::Sobol
     } else {
         rng::SamplerKind::Independent
     };
     let mut rng = Rng::with_sampler(y * frame.width + x, sample, frame.seed, kind);
-    let (mut origin, mut direction) = camera_ray(frame, x, y, &mut rng);
-    let mut beta = Vec3::ONE;
-    let mut radiance = Vec3::ZERO;
+    let (origin, direction) = camera_ray(frame, x, y, &mut rng);
+    PathState {
+        origin,
+        direction,
+        beta: Vec3::ONE,
+        radiance: Vec3::ZERO,
+        prev_bsdf_pdf: 0.0,
+        depth: 0,
+        rng,
+    }
+}
+
+/// One path vertex at `hit` (the WGSL `shade_vertex`): the light reaching the camera from there
+/// (emission, or the sky on a miss; next-event estimation and the delta lights at a scattering
+/// vertex) added to `path.radiance`, then the next direction sampled, the throughput updated and
+/// Russian roulette played. Returns whether the path goes on.
+pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit) -> bool {
     let lights_sampled = frame.emitter_count > 0 || frame.env_pick > 0.0;
-    // Density of the BSDF sample that led here, 0 after the camera or a specular bounce.
-    let mut prev_bsdf_pdf = 0.0f32;
-    for depth in 0..frame.max_depth {
-        let hit = trace(scene, origin, direction, f32::MAX);
-        if hit.triangle == MISS {
-            let sky = beta * escaped(scene, frame, direction, prev_bsdf_pdf);
-            radiance += clamp_bounced(sky, frame, depth);
-            break;
+    if hit.triangle == MISS {
+        let sky = path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf);
+        path.radiance += clamp_bounced(sky, frame, path.depth);
+        return false;
+    }
+    let tri = &scene.triangles[hit.triangle as usize];
+    let material = &scene.materials[tri.material as usize];
+    let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+    let ng_raw = (v1 - v0).cross(v2 - v0);
+    let front = path.direction.dot(ng_raw) < 0.0;
+    if !front && material.kind == material_kind::PBR {
+        // The segment ran inside the object: Beer–Lambert absorption over its length.
+        let sigma = Vec3::from(material.absorption);
+        if sigma != Vec3::ZERO {
+            path.beta *= (-sigma * hit.t).exp();
         }
-        let tri = &scene.triangles[hit.triangle as usize];
-        let material = &scene.materials[tri.material as usize];
-        let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
-        let ng_raw = (v1 - v0).cross(v2 - v0);
-        let front = direction.dot(ng_raw) < 0.0;
-        if !front && material.kind == material_kind::PBR {
-            // The segment ran inside the object: Beer–Lambert absorption over its length.
-            let sigma = Vec3::from(material.absorption);
-            if sigma != Vec3::ZERO {
-                beta *= (-sigma * hit.t).exp();
-            }
-        }
-        if front {
-            let le = surface_emission(scene, material, tri, hit.triangle, hit.b1, hit.b2);
-            let mut weight = 1.0;
-            if frame.emitter_count > 0 && prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
-                let cos_l = -direction.dot(ng_raw.normalize());
-                // The emitter table's pdf: by the emission factor, whatever the image.
-                let p_light = (1.0 - frame.env_pick)
-                    * luminance(Vec3::from(material.emission))
-                    * frame.emitter_power_inv
-                    * hit.t
-                    * hit.t
-                    / cos_l;
-                weight = if frame.light_strategy == 1 {
-                    0.0
-                } else {
-                    power_heuristic(prev_bsdf_pdf, p_light)
-                };
-            }
-            radiance += clamp_bounced(beta * le * weight, frame, depth);
-        }
-        if material.kind == material_kind::EMISSIVE || depth + 1 >= frame.max_depth {
-            break;
-        }
-        let b0 = 1.0 - hit.b1 - hit.b2;
-        let p = v0 * b0 + v1 * hit.b1 + v2 * hit.b2;
-        let ng = if front {
-            ng_raw.normalize()
-        } else {
-            -ng_raw.normalize()
-        };
-        let mut ns = ng;
-        let mut n_interpolated = ng;
-        if tri.has_normals & crate::gpu_types::HAS_NORMALS != 0 {
-            let shading = &scene.shading[hit.triangle as usize];
-            let n = Vec3::from(shading.n0) * b0
-                + Vec3::from(shading.n1) * hit.b1
-                + Vec3::from(shading.n2) * hit.b2;
-            n_interpolated = n.normalize();
-            ns = if n_interpolated.dot(ng) < 0.0 {
-                -n_interpolated
+    }
+    if front {
+        let le = surface_emission(scene, material, tri, hit.triangle, hit.b1, hit.b2);
+        let mut weight = 1.0;
+        if frame.emitter_count > 0 && path.prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
+            let cos_l = -path.direction.dot(ng_raw.normalize());
+            // The emitter table's pdf: by the emission factor, whatever the image.
+            let p_light = (1.0 - frame.env_pick)
+                * luminance(Vec3::from(material.emission))
+                * frame.emitter_power_inv
+                * hit.t
+                * hit.t
+                / cos_l;
+            weight = if frame.light_strategy == 1 {
+                0.0
             } else {
-                n_interpolated
+                power_heuristic(path.prev_bsdf_pdf, p_light)
             };
         }
-        let uv = (tri.has_uvs != 0).then(|| {
-            let shading = &scene.shading[hit.triangle as usize];
-            Vec2::from(shading.uv0) * b0
-                + Vec2::from(shading.uv1) * hit.b1
-                + Vec2::from(shading.uv2) * hit.b2
-        });
-        let albedo = match uv {
-            Some(uv) if material.texture_offset != NO_TEXTURE => {
-                base_color_texture(scene, material, uv)
-            }
-            _ => Vec3::from(material.albedo),
-        };
-        let albedo = if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
-            albedo * vertex_color(&scene.shading[hit.triangle as usize], [b0, hit.b1, hit.b2])
-        } else {
-            albedo
-        };
-        let (mut metallic, mut roughness) = (material.metallic, material.roughness);
-        if let (Some(uv), material_kind::PBR) = (uv, material.kind) {
-            if material.mr_texture_offset != NO_TEXTURE {
-                let t = Slot {
-                    offset: material.mr_texture_offset,
-                    width: material.mr_texture_width,
-                    height: material.mr_texture_height,
-                    bits: material.samplers >> SLOT_METALLIC_ROUGHNESS,
-                }
-                .sample(scene, uv, false);
-                roughness *= t.y;
-                metallic *= t.z;
-            }
-            if material.normal_texture_offset != NO_TEXTURE
-                && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
-            {
-                let t = Slot {
-                    offset: material.normal_texture_offset,
-                    width: material.normal_texture_width,
-                    height: material.normal_texture_height,
-                    bits: material.samplers >> SLOT_NORMAL,
-                }
-                .sample(scene, uv, false)
-                .truncate();
-                let i = 3 * hit.triangle as usize;
-                let mapped = normal_mapped(
-                    n_interpolated,
-                    [
-                        scene.tangents[i],
-                        scene.tangents[i + 1],
-                        scene.tangents[i + 2],
-                    ],
-                    [b0, hit.b1, hit.b2],
-                    t,
-                    material.normal_scale,
-                );
-                ns = if mapped.dot(ng) < 0.0 {
-                    -mapped
-                } else {
-                    mapped
-                };
-            }
-        }
-        prev_bsdf_pdf = 0.0;
-        let next = match material.kind {
-            material_kind::METAL => {
-                beta *= albedo;
-                sample_metal(direction, ns, material.param, &mut rng)
-            }
-            material_kind::DIELECTRIC => {
-                let eta = if front {
-                    material.param
-                } else {
-                    1.0 / material.param
-                };
-                let (d, refracted) = sample_dielectric(direction, ns, eta, &mut rng);
-                if refracted {
-                    beta *= albedo / (eta * eta);
-                }
-                d
-            }
-            _ => {
-                let surface = if material.kind == material_kind::PBR {
-                    pbr_surface(
-                        scene,
-                        material,
-                        (albedo, metallic, roughness),
-                        -direction,
-                        ng,
-                        ns,
-                        front,
-                    )
-                } else {
-                    Surface::Lambert { albedo, ns }
-                };
-                if lights_sampled {
-                    let direct = beta * direct_light(scene, frame, p, ng, &surface, &mut rng);
-                    radiance += clamp_bounced(direct, frame, depth + 1);
-                }
-                let delta = beta * delta_lights_at(scene, frame, p, ng, &surface);
-                radiance += clamp_bounced(delta, frame, depth + 1);
-                match surface {
-                    Surface::Lambert { .. } => {
-                        beta *= albedo;
-                        let d = sample_cosine_hemisphere(ns, &mut rng);
-                        prev_bsdf_pdf = d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI;
-                        d
-                    }
-                    Surface::Pbr { bsdf, frame: f, wo } => {
-                        let (u_lobe, u1, u2) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
-                        let Some(sample) = bsdf.sample(wo, u_lobe, u1, u2) else {
-                            break;
-                        };
-                        beta *= sample.weight;
-                        let d = (f[0] * sample.wi.x + f[1] * sample.wi.y + f[2] * sample.wi.z)
-                            .normalize();
-                        if d.dot(ng) > 0.0 {
-                            prev_bsdf_pdf = sample.pdf;
-                        }
-                        d
-                    }
-                }
-            }
-        };
-        let side = next.dot(ng);
-        if side == 0.0 || !next.is_finite() {
-            break;
-        }
-        // Transmission continues below the surface, reflection above it.
-        let transmitted = side < 0.0;
-        let transmits = material.kind == material_kind::DIELECTRIC
-            || (material.kind == material_kind::PBR && material.transmission > 0.0);
-        if transmitted && !transmits {
-            break;
-        }
-        if frame.roulette_from_depth > 0 && depth >= frame.roulette_from_depth {
-            let survive = beta.max_element().min(1.0);
-            if rng.next_f32() >= survive {
-                break;
-            }
-            beta /= survive;
-        }
-        origin = offset_ray_origin(p, if transmitted { -ng } else { ng }, frame.offset_scale);
-        direction = next;
+        path.radiance += clamp_bounced(path.beta * le * weight, frame, path.depth);
     }
-    radiance
+    if material.kind == material_kind::EMISSIVE || path.depth + 1 >= frame.max_depth {
+        return false;
+    }
+    let b0 = 1.0 - hit.b1 - hit.b2;
+    let p = v0 * b0 + v1 * hit.b1 + v2 * hit.b2;
+    let ng = if front {
+        ng_raw.normalize()
+    } else {
+        -ng_raw.normalize()
+    };
+    let mut ns = ng;
+    let mut n_interpolated = ng;
+    if tri.has_normals & crate::gpu_types::HAS_NORMALS != 0 {
+        let shading = &scene.shading[hit.triangle as usize];
+        let n = Vec3::from(shading.n0) * b0
+            + Vec3::from(shading.n1) * hit.b1
+            + Vec3::from(shading.n2) * hit.b2;
+        n_interpolated = n.normalize();
+        ns = if n_interpolated.dot(ng) < 0.0 {
+            -n_interpolated
+        } else {
+            n_interpolated
+        };
+    }
+    let uv = (tri.has_uvs != 0).then(|| {
+        let shading = &scene.shading[hit.triangle as usize];
+        Vec2::from(shading.uv0) * b0
+            + Vec2::from(shading.uv1) * hit.b1
+            + Vec2::from(shading.uv2) * hit.b2
+    });
+    let albedo = match uv {
+        Some(uv) if material.texture_offset != NO_TEXTURE => {
+            base_color_texture(scene, material, uv)
+        }
+        _ => Vec3::from(material.albedo),
+    };
+    let albedo = if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
+        albedo * vertex_color(&scene.shading[hit.triangle as usize], [b0, hit.b1, hit.b2])
+    } else {
+        albedo
+    };
+    let (mut metallic, mut roughness) = (material.metallic, material.roughness);
+    if let (Some(uv), material_kind::PBR) = (uv, material.kind) {
+        if material.mr_texture_offset != NO_TEXTURE {
+            let t = Slot {
+                offset: material.mr_texture_offset,
+                width: material.mr_texture_width,
+                height: material.mr_texture_height,
+                bits: material.samplers >> SLOT_METALLIC_ROUGHNESS,
+            }
+            .sample(scene, uv, false);
+            roughness *= t.y;
+            metallic *= t.z;
+        }
+        if material.normal_texture_offset != NO_TEXTURE
+            && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
+        {
+            let t = Slot {
+                offset: material.normal_texture_offset,
+                width: material.normal_texture_width,
+                height: material.normal_texture_height,
+                bits: material.samplers >> SLOT_NORMAL,
+            }
+            .sample(scene, uv, false)
+            .truncate();
+            let i = 3 * hit.triangle as usize;
+            let mapped = normal_mapped(
+                n_interpolated,
+                [
+                    scene.tangents[i],
+                    scene.tangents[i + 1],
+                    scene.tangents[i + 2],
+                ],
+                [b0, hit.b1, hit.b2],
+                t,
+                material.normal_scale,
+            );
+            ns = if mapped.dot(ng) < 0.0 {
+                -mapped
+            } else {
+                mapped
+            };
+        }
+    }
+    path.prev_bsdf_pdf = 0.0;
+    let next = match material.kind {
+        material_kind::METAL => {
+            path.beta *= albedo;
+            sample_metal(path.direction, ns, material.param, &mut path.rng)
+        }
+        material_kind::DIELECTRIC => {
+            let eta = if front {
+                material.param
+            } else {
+                1.0 / material.param
+            };
+            let (d, refracted) = sample_dielectric(path.direction, ns, eta, &mut path.rng);
+            if refracted {
+                path.beta *= albedo / (eta * eta);
+            }
+            d
+        }
+        _ => {
+            let surface = if material.kind == material_kind::PBR {
+                pbr_surface(
+                    scene,
+                    material,
+                    (albedo, metallic, roughness),
+                    -path.direction,
+                    ng,
+                    ns,
+                    front,
+                )
+            } else {
+                Surface::Lambert { albedo, ns }
+            };
+            if lights_sampled {
+                let direct = path.beta * direct_light(scene, frame, p, ng, &surface, &mut path.rng);
+                path.radiance += clamp_bounced(direct, frame, path.depth + 1);
+            }
+            let delta = path.beta * delta_lights_at(scene, frame, p, ng, &surface);
+            path.radiance += clamp_bounced(delta, frame, path.depth + 1);
+            match surface {
+                Surface::Lambert { .. } => {
+                    path.beta *= albedo;
+                    let d = sample_cosine_hemisphere(ns, &mut path.rng);
+                    path.prev_bsdf_pdf = d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI;
+                    d
+                }
+                Surface::Pbr { bsdf, frame: f, wo } => {
+                    let (u_lobe, u1, u2) = (
+                        path.rng.next_f32(),
+                        path.rng.next_f32(),
+                        path.rng.next_f32(),
+                    );
+                    let Some(sample) = bsdf.sample(wo, u_lobe, u1, u2) else {
+                        return false;
+                    };
+                    path.beta *= sample.weight;
+                    let d =
+                        (f[0] * sample.wi.x + f[1] * sample.wi.y + f[2] * sample.wi.z).normalize();
+                    if d.dot(ng) > 0.0 {
+                        path.prev_bsdf_pdf = sample.pdf;
+                    }
+                    d
+                }
+            }
+        }
+    };
+    let side = next.dot(ng);
+    if side == 0.0 || !next.is_finite() {
+        return false;
+    }
+    // Transmission continues below the surface, reflection above it.
+    let transmitted = side < 0.0;
+    let transmits = material.kind == material_kind::DIELECTRIC
+        || (material.kind == material_kind::PBR && material.transmission > 0.0);
+    if transmitted && !transmits {
+        return false;
+    }
+    if frame.roulette_from_depth > 0 && path.depth >= frame.roulette_from_depth {
+        let survive = path.beta.max_element().min(1.0);
+        if path.rng.next_f32() >= survive {
+            return false;
+        }
+        path.beta /= survive;
+    }
+    path.origin = offset_ray_origin(p, if transmitted { -ng } else { ng }, frame.offset_scale);
+    path.direction = next;
+    path.depth += 1;
+    true
 }
 
 /// The PBR surface at a hit seen from `wo` (world, pointing away): its shading frame is `ns`

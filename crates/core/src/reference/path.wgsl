@@ -470,7 +470,9 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     let side = dot(next, ng);
     let transmitted = side < 0.0;
     let transmits = material.kind == MAT_DIELECTRIC || (HAS_PBR && material.kind == MAT_PBR && material.transmission > 0.0);
-    if (side == 0.0 || (transmitted && !transmits)) {
+    // A direction that is not finite (a degenerate normal or sample) ends the path, as in the Rust
+    // twin, rather than sending NaN into the traversal and the sums.
+    if (side == 0.0 || !is_finite3(next) || (transmitted && !transmits)) {
         return false;
     }
     // Russian roulette: continue with probability q = min(1, max(beta)), re-weighted by 1/q.
