@@ -178,7 +178,7 @@ fn render_progressively(
     let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
     let mut checkpoint = Checkpoint::default();
     let mut stopped_by = "samples per pixel";
-    let faults = Faults::from_env();
+    let faults = rt_gpu::faults::Faults::from_test_env();
     let mut batches = 0u32;
     while renderer.samples_done() < spp && renderer.active_pixels() > 0 {
         let done = renderer.samples_done();
@@ -281,34 +281,6 @@ impl Checkpoint {
             self.image = Some(image);
         }
         Ok(())
-    }
-}
-
-/// Fault injection for the tests: lose the device (`RT_FAULT_LOSE_DEVICE_AFTER_BATCHES`), or run
-/// out of memory, the next GPU operation failing (`RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES`), after
-/// this many batches.
-struct Faults {
-    lose_device_after: Option<u32>,
-    out_of_memory_after: Option<u32>,
-}
-
-impl Faults {
-    fn from_env() -> Self {
-        let batches = |name: &str| std::env::var(name).ok().and_then(|v| v.parse().ok());
-        Faults {
-            lose_device_after: batches("RT_FAULT_LOSE_DEVICE_AFTER_BATCHES"),
-            out_of_memory_after: batches("RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES"),
-        }
-    }
-
-    /// Injects what is due before the batch after `batches` batches.
-    fn before_batch(&self, ctx: &GpuContext, batches: u32) {
-        if self.lose_device_after == Some(batches) {
-            ctx.device.destroy();
-        }
-        if self.out_of_memory_after == Some(batches) {
-            ctx.inject_out_of_memory(1);
-        }
     }
 }
 

@@ -326,12 +326,15 @@ impl GpuContext {
     /// Fault injection for tests: the `operations`-th GPU operation from now (each `scoped` call,
     /// counting from 1) fails with `GpuError::OutOfMemory` without running, as one whose
     /// allocation failed. Real out-of-memory errors cannot be provoked on demand (lavapipe takes
-    /// host memory until the system's runs out); this drives the same error path.
-    ///
-    /// Not behind the `testing` feature: `rt-cli render` calls it for its tests
-    /// (`RT_FAULT_OUT_OF_MEMORY_AFTER_BATCHES`), and Cargo cannot turn a feature on for the binary
-    /// that a bin-only package's own integration tests run.
+    /// host memory until the system's runs out); this drives the same error path. Behind the
+    /// `testing` feature, as `crate::faults` is.
+    #[cfg(feature = "testing")]
     pub fn inject_out_of_memory(&self, operations: u32) {
+        self.fail_as_out_of_memory_in(operations);
+    }
+
+    /// `inject_out_of_memory` for `crate::faults`, which only injects with `testing`.
+    pub(crate) fn fail_as_out_of_memory_in(&self, operations: u32) {
         self.out_of_memory_in.store(operations, Ordering::SeqCst);
     }
 

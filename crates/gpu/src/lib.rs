@@ -15,6 +15,7 @@
 //! - `adaptive`: adaptive sampling's stop marks and the pixels still sampling.
 //! - `tiling`: images larger than one buffer, in bands of rows.
 //! - `image`: what is read back, and the one denoise helper.
+//! - `faults`: the faults the test suites inject (only with the `testing` feature).
 
 mod accel;
 mod adaptive;
@@ -23,6 +24,7 @@ mod buffers;
 pub mod context;
 mod engine;
 pub mod error;
+pub mod faults;
 pub mod image;
 pub mod live;
 pub mod options;
