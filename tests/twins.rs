@@ -3,10 +3,10 @@
 //! inputs as its Rust twin beside it in `rt-core`, and the outputs are compared: integer functions
 //! (random numbers, hashes, fixed-point sums, ray offsets) bit for bit, floating-point ones within
 //! a few float roundings (the drivers' `sqrt`, `pow`, `acos`, `sin` … may differ from Rust's libm
-//! in the last bits). The harness binds the frame and an environment map, so the environment's
-//! functions are compared too; the image-level lockstep and Z-tests (`tests/reference.rs`) and the
-//! traversal against brute force cover the functions that read the rest of the scene (traversal,
-//! texture images, lights, the path vertex).
+//! in the last bits). The harness binds the frame, an environment map and texture images, so the
+//! environment's functions and texture lookups are compared too; the image-level lockstep and
+//! Z-tests (`tests/reference.rs`) and the traversal against brute force cover the functions that
+//! read the rest of the scene (traversal, emitters and lights, the path vertex).
 
 mod common;
 
@@ -27,10 +27,12 @@ use wgpu::util::DeviceExt;
 /// Items per test: enough inputs to reach the branches, small enough for lavapipe.
 const ITEMS: usize = 4096;
 
-/// The scene bindings a test's functions read: the frame (uniform) and the environment's texels.
+/// The scene bindings a test's functions read: the frame (uniform), the environment's texels and
+/// the texture images' texels.
 struct TwinScene {
     frame: Frame,
     environment: Vec<EnvTexel>,
+    texels: Vec<u32>,
 }
 
 impl Default for TwinScene {
@@ -38,6 +40,7 @@ impl Default for TwinScene {
         TwinScene {
             frame: Frame::zeroed(),
             environment: vec![EnvTexel::zeroed()],
+            texels: vec![0],
         }
     }
 }
@@ -136,7 +139,12 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
         };
         let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: None,
-            entries: &[uniform, storage(20, true), storage(21, true)],
+            entries: &[
+                uniform,
+                storage(5, true),
+                storage(20, true),
+                storage(21, true),
+            ],
         });
         let twin_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: None,
@@ -179,6 +187,10 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
             bytemuck::cast_slice(&scene.environment),
             wgpu::BufferUsages::STORAGE,
         );
+        let texels = buffer(
+            bytemuck::cast_slice(&scene.texels),
+            wgpu::BufferUsages::STORAGE,
+        );
         let out_bytes = (ITEMS * self.words_out * 4) as u64;
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: None,
@@ -208,7 +220,7 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
         };
         let scene_group = bind(
             &scene_layout,
-            &[(0, &frame), (20, &environment), (21, &energy)],
+            &[(0, &frame), (5, &texels), (20, &environment), (21, &energy)],
         );
         let twin_group = bind(&twin_layout, &[(0, &input), (1, &output)]);
         let mut encoder = device.create_command_encoder(&Default::default());
@@ -808,6 +820,7 @@ fn environment_functions_match_their_twin() {
     let scene = TwinScene {
         frame,
         environment: texels.clone(),
+        ..Default::default()
     };
     let input = inputs(9, |rng| {
         let d = unit(rng);
@@ -865,4 +878,66 @@ fn environment_functions_match_their_twin() {
         exact_words: &[],
     }
     .check_rows(&gpu_kept, 16, &rust_kept);
+}
+
+/// Texture lookups (`sample_slot` in `texture.wgsl` ⇄ `Slot::sample` in `texture.rs`): bilinear and
+/// nearest, sRGB-decoded or linear, every wrap mode on each axis, over two random images of odd
+/// sizes, at coordinates well outside [0, 1].
+#[test]
+fn texture_lookups_match_their_twin() {
+    let Some(ctx) = gpu() else { return };
+    let mut rng = Rng::new(0, 0, 0x7e8);
+    let images = [(0u32, 7u32, 5u32), (35, 4, 9)];
+    let texels: Vec<u32> = (0..35 + 36)
+        .map(|_| (rng.next_f32() * 4_294_967_296.0) as u32)
+        .collect();
+    let scene = TwinScene {
+        texels: texels.clone(),
+        ..Default::default()
+    };
+    let input = inputs(6, |rng| {
+        let (offset, w, h) = images[usize::from(rng.next_f32() < 0.5)];
+        // Wrap s and t (0 repeat, 1 clamp, 2 mirror) and the nearest filter, as `TextureSampler::bits`.
+        let wrap = |rng: &mut Rng| ((rng.next_f32() * 3.0) as u32).min(2);
+        let nearest = if rng.next_f32() < 0.3 { 16 } else { 0 };
+        let sampler = wrap(rng) | (wrap(rng) << 2) | nearest;
+        let uv = [6.0 * rng.next_f32() - 3.0, 6.0 * rng.next_f32() - 3.0];
+        let srgb = u32::from(rng.next_f32() < 0.5);
+        let mut words = vec![offset | (w << 8) | (h << 16), sampler, srgb];
+        words.extend(bits(&uv));
+        words.push(0);
+        words
+    });
+    let kernel = TwinKernel {
+        words_in: 6,
+        words_out: 4,
+        body: "let slot = u_in(item, 0u);
+    let t = sample_slot(slot & 0xffu, (slot >> 8u) & 0xffu, slot >> 16u, u_in(item, 1u),
+                        vec2(f_in(item, 3u), f_in(item, 4u)), u_in(item, 2u) == 1u);
+    put3(item, 0u, t.xyz); put(item, 3u, t.w);",
+        sobol: false,
+    };
+    let gpu_out = kernel.run_in(ctx, &scene, &input);
+    let gpu_scene = rt_core::GpuScene {
+        texels,
+        ..Default::default()
+    };
+    Comparison {
+        name: "texture lookups",
+        rel: 1e-5,
+        abs: 1e-6,
+        exact_words: &[],
+    }
+    .check(&gpu_out, 4, |item| {
+        let w = |k: usize| input[item * 6 + k];
+        let slot = rt_core::reference::Slot {
+            offset: w(0) & 0xff,
+            width: (w(0) >> 8) & 0xff,
+            height: w(0) >> 16,
+            bits: w(1),
+        };
+        let uv = glam::Vec2::new(f32::from_bits(w(3)), f32::from_bits(w(4)));
+        let t = slot.sample(&gpu_scene, uv, w(2) == 1);
+        bits(&[t.x, t.y, t.z, t.w])
+    });
 }
