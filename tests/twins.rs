@@ -941,3 +941,79 @@ fn texture_lookups_match_their_twin() {
         bits(&[t.x, t.y, t.z, t.w])
     });
 }
+
+/// Where each kind of delta light lies from a point and the irradiance it gives there
+/// (`delta_light_incidence` in `path.wgsl` ⇄ `path.rs`): point, spot (smoothstep falloff), glTF
+/// spot (quadratic falloff) and sun, from points inside and outside the cones.
+#[test]
+fn delta_light_incidence_matches_its_twin() {
+    use rt_core::gpu_types::{DeltaLight, light_kind};
+    let Some(ctx) = gpu() else { return };
+    let kinds = [
+        light_kind::POINT,
+        light_kind::SPOT,
+        light_kind::SPOT_GLTF,
+        light_kind::DIRECTIONAL,
+    ];
+    let light_of = |w: &[u32]| {
+        let f = |k: usize| f32::from_bits(w[k]);
+        DeltaLight {
+            position: [f(0), f(1), f(2)],
+            kind: w[3],
+            direction: [f(4), f(5), f(6)],
+            cos_inner: f(7),
+            power: [f(8), f(9), f(10)],
+            cos_outer: f(11),
+        }
+    };
+    let input = inputs(15, |rng| {
+        let position = (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * 8.0;
+        let direction = unit(rng);
+        let kind = kinds[((rng.next_f32() * 4.0) as usize).min(3)];
+        let outer = 0.3 + 0.6 * rng.next_f32();
+        let inner = outer + (1.0 - outer) * rng.next_f32();
+        let power = [
+            rng.next_f32() * 100.0,
+            rng.next_f32() * 10.0,
+            rng.next_f32(),
+        ];
+        let origin = (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5) * 8.0;
+        let mut words = bits(&position.to_array());
+        words.push(kind);
+        words.extend(bits(&direction.to_array()));
+        words.push(inner.to_bits());
+        words.extend(bits(&power));
+        words.push(outer.to_bits());
+        words.extend(bits(&origin.to_array()));
+        words
+    });
+    let kernel = TwinKernel {
+        words_in: 15,
+        words_out: 7,
+        body: "let light = DeltaLight(v3_in(item, 0u), u_in(item, 3u), v3_in(item, 4u), f_in(item, 7u),
+                           v3_in(item, 8u), f_in(item, 11u));
+    let incidence = delta_light_incidence(light, v3_in(item, 12u));
+    put3(item, 0u, incidence.dir); put(item, 3u, incidence.distance);
+    put3(item, 4u, incidence.irradiance);",
+        sobol: false,
+    };
+    let gpu_out = kernel.run(ctx, &input);
+    // The spots' falloff is steep at their cone's edge: bound it by a few roundings of the cosine.
+    Comparison {
+        name: "delta light incidence",
+        rel: 1e-4,
+        abs: 1e-6,
+        exact_words: &[],
+    }
+    .check(&gpu_out, 7, |item| {
+        let w = &input[item * 15..(item + 1) * 15];
+        let light = light_of(w);
+        let origin = Vec3::new(
+            f32::from_bits(w[12]),
+            f32::from_bits(w[13]),
+            f32::from_bits(w[14]),
+        );
+        let (dir, distance, e) = rt_core::reference::path::delta_light_incidence(&light, origin);
+        bits(&[dir.x, dir.y, dir.z, distance, e.x, e.y, e.z])
+    });
+}

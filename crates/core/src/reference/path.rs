@@ -13,8 +13,8 @@ use super::texture::{Slot, base_color_texture, coverage, surface_emission};
 use super::{occluded, trace};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{
-    ALPHA_BLEND, ALPHA_MASK, Frame, Hit, NO_TEXTURE, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL,
-    material_kind,
+    ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame, Hit, NO_TEXTURE, SLOT_METALLIC_ROUGHNESS,
+    SLOT_NORMAL, material_kind,
 };
 use crate::math::bsdf::Pbr;
 use crate::math::intersect::offset_ray_origin;
@@ -172,6 +172,32 @@ pub fn direct_light(
 
 /// Point, spot and directional lights at `p`: Σ E f cosθ over the unoccluded lights (β applied by
 /// the caller), E = I/d² (times the spot falloff) or the sun's E.
+/// Where a point, spot or sun light lies from `origin` (unit direction, distance) and the
+/// irradiance it gives there, normal to that direction (before the surface's cosine): each light
+/// type is one case here (`crate::light` has the units and the spots' falloffs).
+pub fn delta_light_incidence(light: &DeltaLight, origin: Vec3) -> (Vec3, f32, Vec3) {
+    use crate::gpu_types::light_kind;
+    if light.kind == light_kind::DIRECTIONAL {
+        return (
+            -Vec3::from(light.direction),
+            3.0e38,
+            Vec3::from(light.power),
+        );
+    }
+    let to = Vec3::from(light.position) - origin;
+    let d2 = to.length_squared();
+    let distance = d2.sqrt();
+    let dir = to / distance;
+    let mut e = Vec3::from(light.power) / d2;
+    let cos = (-dir).dot(Vec3::from(light.direction));
+    if light.kind == light_kind::SPOT {
+        e *= crate::light::spot_falloff(cos, light.cos_inner, light.cos_outer);
+    } else if light.kind == light_kind::SPOT_GLTF {
+        e *= crate::light::spot_falloff_gltf(cos, light.cos_inner, light.cos_outer);
+    }
+    (dir, distance, e)
+}
+
 pub fn delta_lights_at(
     scene: &GpuScene,
     frame: &Frame,
@@ -179,33 +205,13 @@ pub fn delta_lights_at(
     ng: Vec3,
     surface: &Surface,
 ) -> Vec3 {
-    use crate::gpu_types::light_kind;
     let origin = offset_ray_origin(p, ng, frame.offset_scale);
     let mut sum = Vec3::ZERO;
     for light in &scene.delta_lights {
         if light.kind == 0 {
             continue;
         }
-        let (dir, distance, irradiance) = if light.kind == light_kind::DIRECTIONAL {
-            (
-                -Vec3::from(light.direction),
-                3.0e38,
-                Vec3::from(light.power),
-            )
-        } else {
-            let to = Vec3::from(light.position) - origin;
-            let d2 = to.length_squared();
-            let distance = d2.sqrt();
-            let dir = to / distance;
-            let mut e = Vec3::from(light.power) / d2;
-            let cos = (-dir).dot(Vec3::from(light.direction));
-            if light.kind == light_kind::SPOT {
-                e *= crate::light::spot_falloff(cos, light.cos_inner, light.cos_outer);
-            } else if light.kind == light_kind::SPOT_GLTF {
-                e *= crate::light::spot_falloff_gltf(cos, light.cos_inner, light.cos_outer);
-            }
-            (dir, distance, e)
-        };
+        let (dir, distance, irradiance) = delta_light_incidence(light, origin);
         if dir.dot(ng) <= 0.0 || dir.dot(ng).is_nan() || irradiance == Vec3::ZERO {
             continue;
         }

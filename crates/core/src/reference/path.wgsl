@@ -198,6 +198,34 @@ fn direct_light(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<function
 // Point, spot and directional lights at p: sum over lights of E f cos, E the irradiance from the
 // light (I/d^2, falloff for spots; E for the sun), if unoccluded (beta applied by the caller).
 // Deterministic: draws no random numbers.
+// Where a point, spot or sun light lies from `origin` and the irradiance it gives there (normal to
+// `dir`, before the surface's cosine): each light type is one case here (path.rs
+// `delta_light_incidence`; light.rs has the units and the spots' falloffs).
+struct DeltaIncidence {
+    dir: vec3<f32>,
+    distance: f32,
+    irradiance: vec3<f32>,
+}
+
+fn delta_light_incidence(light: DeltaLight, origin: vec3<f32>) -> DeltaIncidence {
+    if (light.kind == LIGHT_DIRECTIONAL) {
+        return DeltaIncidence(-light.direction, 3.0e38, light.power);
+    }
+    let to = light.position - origin;
+    let d2 = dot(to, to);
+    let distance = sqrt(d2);
+    let dir = to / distance;
+    var irradiance = light.power / d2;
+    if (light.kind == LIGHT_SPOT) {
+        let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-6), 0.0, 1.0);
+        irradiance *= t * t * (3.0 - 2.0 * t);
+    } else if (light.kind == LIGHT_SPOT_GLTF) {
+        let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-3), 0.0, 1.0);
+        irradiance *= t * t;
+    }
+    return DeltaIncidence(dir, distance, irradiance);
+}
+
 fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<function, u32>) -> vec3<f32> {
     var sum = vec3(0.0);
     let origin = offset_ray_origin(p, ng, frame.offset_scale);
@@ -206,23 +234,10 @@ fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<func
         if (light.kind == 0u) {
             continue;
         }
-        var dir = -light.direction;
-        var distance = 3.0e38;
-        var irradiance = light.power;
-        if (light.kind != LIGHT_DIRECTIONAL) {
-            let to = light.position - origin;
-            let d2 = dot(to, to);
-            distance = sqrt(d2);
-            dir = to / distance;
-            irradiance = light.power / d2;
-            if (light.kind == LIGHT_SPOT) {
-                let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-6), 0.0, 1.0);
-                irradiance *= t * t * (3.0 - 2.0 * t);
-            } else if (light.kind == LIGHT_SPOT_GLTF) {
-                let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-3), 0.0, 1.0);
-                irradiance *= t * t;
-            }
-        }
+        let incidence = delta_light_incidence(light, origin);
+        let dir = incidence.dir;
+        let distance = incidence.distance;
+        let irradiance = incidence.irradiance;
         if (!(dot(dir, ng) > 0.0) || all(irradiance == vec3(0.0))) {
             continue;
         }
