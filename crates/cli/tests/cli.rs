@@ -495,9 +495,13 @@ fn tiled_renders_honour_every_flag() {
         return;
     }
     let dir = temp_dir("tiled-flags");
+    // À-Trous, rt's own denoiser, whose output is a function of its inputs: the comparison is of
+    // what tiling stitches (image, variance, guides). With `--denoise` (Open Image Denoise here)
+    // the two denoised files once differed in a loaded run of the suite, raw images equal; it did
+    // not recur, and OIDN's determinism is not what this test is about.
     let flag_sets: [&[&str]; 2] = [
         &[
-            "--denoise",
+            "--denoise=atrous",
             "--clamp",
             "2",
             "--no-roulette",
@@ -508,7 +512,7 @@ fn tiled_renders_honour_every_flag() {
             "--seed",
             "3",
         ],
-        &["--denoise", "--kernel", "megakernel", "--nee-only"],
+        &["--denoise=atrous", "--kernel", "megakernel", "--nee-only"],
     ];
     for flags in flag_sets {
         let render = |name: &str, env: &[(&str, &str)]| {
