@@ -633,13 +633,9 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
     assert_eq!(rt_gpu::pixel_binding_bytes(&RenderOptions::default()), 16);
     assert_eq!(rt_gpu::tile_rows(16384, 16384, 16, 128 << 20), 512);
     assert_eq!(rt_gpu::tile_rows(2560, 1440, 48, 128 << 20), 1092);
-    assert!(rt_gpu::needs_tiles(2560, 1440, &options, 128 << 20));
-    assert!(!rt_gpu::needs_tiles(
-        2560,
-        1440,
-        &RenderOptions::default(),
-        128 << 20
-    ));
+    let whole = |options| rt_gpu::whole_image_binding_bytes(2560, 1440, options);
+    assert!(whole(&options) > 128 << 20);
+    assert!(whole(&RenderOptions::default()) <= 128 << 20);
 }
 
 /// The firefly clamp scales down light that has bounced (never a directly seen emitter), so with

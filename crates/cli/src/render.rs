@@ -95,10 +95,9 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let max_buffer = max_accumulation_bytes(&ctx);
     let options = shard_options(&args, range);
     let (width, height) = (scene.settings.width, scene.settings.height);
-    if rt_gpu::needs_tiles(width, height, &options, max_buffer) {
+    let bytes = rt_gpu::whole_image_binding_bytes(width, height, &options);
+    if bytes > max_buffer {
         if args.open_ended() {
-            let bytes =
-                u64::from(width) * u64::from(height) * rt_gpu::pixel_binding_bytes(&options);
             anyhow::bail!(
                 "a {width}x{height} image needs a {bytes}-byte buffer (accumulation or denoiser \
                  guides), more than this adapter's {max_buffer} per buffer: it renders in tiles, \

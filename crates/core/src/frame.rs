@@ -82,10 +82,13 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
             (true, true) => 0.5,
         },
         sample_offset: 0,
-        clamp_max: settings
-            .clamp
-            .filter(|c| c.is_finite() && *c > 0.0)
-            .unwrap_or(0.0),
+        clamp_max: clamp_max(settings.clamp),
         _pad_e: 0,
     })
+}
+
+/// The firefly clamp as the kernels read it (`Frame::clamp_max`): the value where it is a positive
+/// finite number, else 0 (off).
+pub fn clamp_max(clamp: Option<f32>) -> f32 {
+    clamp.filter(|c| c.is_finite() && *c > 0.0).unwrap_or(0.0)
 }

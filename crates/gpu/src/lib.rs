@@ -44,4 +44,6 @@ pub use error::{GpuError, Result};
 pub use image::{Aovs, Image};
 pub use options::{Adaptive, Experiments, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace};
 pub use renderer::{BatchStats, Renderer};
-pub use tiling::{TiledRender, needs_tiles, pixel_binding_bytes, render_tiled, tile_rows};
+pub use tiling::{
+    TiledRender, pixel_binding_bytes, render_tiled, tile_rows, whole_image_binding_bytes,
+};

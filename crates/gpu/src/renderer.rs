@@ -590,10 +590,7 @@ fn loop_cap(scene: &GpuScene, frame: &Frame, options: &RenderOptions) -> u32 {
 /// clamp; `RenderOptions::clamp` decides, as `Renderer::for_scene` merges the scene's into it).
 fn with_clamp(frame: Frame, options: &RenderOptions) -> Frame {
     Frame {
-        clamp_max: options
-            .clamp
-            .filter(|c| c.is_finite() && *c > 0.0)
-            .unwrap_or(0.0),
+        clamp_max: rt_core::frame::clamp_max(options.clamp),
         ..frame
     }
 }

@@ -25,10 +25,10 @@ pub fn tile_rows(width: u32, height: u32, pixel_bytes: u64, max_bytes: u64) -> u
     ((max_bytes / row_bytes).max(1) as u32).min(height.max(1))
 }
 
-/// Whether a `width` x `height` render with `options` needs tiles: some per-pixel buffer of the
-/// whole image would exceed `max_bytes`.
-pub fn needs_tiles(width: u32, height: u32, options: &RenderOptions, max_bytes: u64) -> bool {
-    u64::from(width) * u64::from(height) * pixel_binding_bytes(options) > max_bytes
+/// The largest per-pixel buffer of a whole `width` x `height` render with `options`: above the
+/// adapter's binding limit, the image renders in tiles.
+pub fn whole_image_binding_bytes(width: u32, height: u32, options: &RenderOptions) -> u64 {
+    u64::from(width) * u64::from(height) * pixel_binding_bytes(options)
 }
 
 /// A tiled render's result: the image and, with `RenderOptions::aovs`, the denoiser's guides.
