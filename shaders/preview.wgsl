@@ -4,6 +4,11 @@
 // not an estimate of the rendered image: the path tracer is the truth.
 
 const MAX_PREVIEW_LIGHTS: u32 = 8u;
+// How an object is shaded (PreviewObject.flags.w; crates/app/src/preview/types.rs `look`).
+const LOOK_DIFFUSE: u32 = 0u;
+const LOOK_METAL: u32 = 1u;
+const LOOK_GLASS: u32 = 2u;
+const LOOK_EMITTER: u32 = 3u;
 
 struct PreviewLight {
     // xyz: position; w unused.
@@ -107,7 +112,7 @@ fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
         albedo = texel;
     }
     var radiance: vec3<f32>;
-    if o.flags.w == 3u {
+    if o.flags.w == LOOK_EMITTER {
         // Lights glow in their colour at a fixed display brightness, whatever their power.
         let e = o.emission.rgb / max(max(o.emission.r, max(o.emission.g, o.emission.b)), 1e-6);
         radiance = (vec3<f32>(0.5) + 3.5 * e) / max(view.eye.w, 1e-6);
@@ -130,12 +135,12 @@ fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
         // A weak headlight keeps unlit sides readable.
         let fill = 0.08 / max(view.eye.w, 1e-6) * max(dot(n, to_eye), 0.0);
         radiance = albedo * (irradiance + vec3<f32>(fill));
-        if o.flags.w == 1u {
+        if o.flags.w == LOOK_METAL {
             radiance = radiance * 0.6 + albedo * highlight;
-        } else if o.flags.w == 0u && r >= 0.0 {
+        } else if o.flags.w == LOOK_DIFFUSE && r >= 0.0 {
             // A PBR dielectric: its specular layer reflects about 4% of the light, untinted.
             radiance += 0.04 * highlight;
-        } else if o.flags.w == 2u {
+        } else if o.flags.w == LOOK_GLASS {
             let fresnel = pow(1.0 - max(dot(n, to_eye), 0.0), 5.0);
             radiance = radiance * 0.35 + highlight + vec3<f32>(fresnel) / max(view.eye.w, 1e-6);
         }

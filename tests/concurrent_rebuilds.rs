@@ -1,5 +1,5 @@
 //! Renderers on three threads sharing one device, each rebuilding its pipelines before every batch
-//! (`Experiments::pipeline_lifetime` of zero, the lavapipe memory workaround at its most frequent),
+//! (`Tuning::pipeline_lifetime` of zero, the lavapipe memory workaround at its most frequent),
 //! finish and change no sample: each thread's image equals a render of the same seed without
 //! rebuilds. (A CI run once stalled inside lavapipe with every renderer rebuilding; this test would
 //! then hang, and the harness's time limit fail it.)
@@ -8,7 +8,7 @@ mod common;
 
 use common::{gpu, render_gpu};
 use rt_core::GpuScene;
-use rt_gpu::{Experiments, Kernel, RenderOptions, Renderer};
+use rt_gpu::{Kernel, RenderOptions, Renderer, Tuning};
 use std::time::Duration;
 
 #[test]
@@ -29,7 +29,7 @@ fn concurrent_pipeline_rebuilds_finish_and_change_no_sample() {
                         ..Default::default()
                     };
                     let rebuilding = RenderOptions {
-                        experiments: Experiments {
+                        tuning: Tuning {
                             pipeline_lifetime: Some(Duration::ZERO),
                             ..Default::default()
                         },

@@ -7,7 +7,7 @@ use common::*;
 use glam::Vec3;
 use rt_core::shapes::{cuboid, quad};
 use rt_core::{GpuScene, Material, Mesh};
-use rt_gpu::{Experiments, Kernel, RenderOptions, Renderer};
+use rt_gpu::{Kernel, RenderOptions, Renderer, Tuning};
 use std::time::Duration;
 
 fn lit_room() -> Vec<rt_core::Object> {
@@ -865,7 +865,7 @@ fn generic_kernels_and_workgroup_shapes_give_identical_images() {
     };
     let experiment = |kernel: Kernel, generic_kernel: bool, workgroup: [u32; 2]| RenderOptions {
         kernel,
-        experiments: Experiments {
+        tuning: Tuning {
             generic_kernel,
             workgroup,
             ..Default::default()
@@ -900,7 +900,7 @@ fn an_impossible_work_group_is_a_clear_error() {
     ] {
         let options = RenderOptions {
             kernel,
-            experiments: Experiments {
+            tuning: Tuning {
                 workgroup,
                 ..Default::default()
             },
@@ -931,7 +931,7 @@ fn rebuilding_the_pipeline_changes_no_sample() {
             let options = RenderOptions {
                 max_samples_per_dispatch: Some(1),
                 kernel,
-                experiments: Experiments {
+                tuning: Tuning {
                     pipeline_lifetime: Some(lifetime),
                     ..Default::default()
                 },

@@ -79,7 +79,7 @@ fn long_renders_keep_host_memory_flat() {
         ctx,
         RenderOptions {
             kernel: rt_gpu::Kernel::Megakernel,
-            experiments: rt_gpu::Experiments {
+            tuning: rt_gpu::Tuning {
                 pipeline_lifetime: Some(Duration::from_millis(300)),
                 ..Default::default()
             },

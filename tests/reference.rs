@@ -162,8 +162,14 @@ fn gpu_matches_cpu_reference_on_textures_normals_and_thin_lens() {
     let gpu_scene = GpuScene::build(&scene).unwrap();
     assert!(
         gpu_scene.features.textures
-            && gpu_scene.features.metal
-            && gpu_scene.features.dielectric
+            && gpu_scene
+                .features
+                .kinds
+                .contains(rt_core::MaterialKind::Metal)
+            && gpu_scene
+                .features
+                .kinds
+                .contains(rt_core::MaterialKind::Dielectric)
             && gpu_scene.features.thin_lens
     );
     assert_images_agree(&scene, 8192, 4096);
@@ -605,7 +611,7 @@ fn the_kernels_and_the_cpu_reference_agree_per_pixel_in_lockstep() {
             masked_only(alpha_and_emission_textures_scene(20, 20)),
         ),
         // Blending flips a coin hashed from the ray's exact bits (`alpha_coin` itself agrees bit
-        // for bit, tests/twins.rs), but the twins' camera rays differ in their last bits (the
+        // for bit, tests/twins/), but the twins' camera rays differ in their last bits (the
         // drivers' `normalize`), which flips ~10% of the coins: blending is compared
         // statistically (gpu_matches_cpu_reference_with_alpha_and_emission_textures).
     ] {

@@ -303,7 +303,7 @@ fn the_binding_table_matches_every_tracing_kernel() {
 /// sentinel, material flags, texture slots and sampler bits) have the same values in `rt_core::gpu_types` and in `crates/core/src/gpu_types.wgsl`.
 #[test]
 fn shared_constants_match_wgsl() {
-    use rt_core::gpu_types::{self, NO_TEXTURE, light_kind, material_kind};
+    use rt_core::gpu_types::{self, NO_TEXTURE, light_kind};
     use rt_core::{Filter, TextureSampler, Wrap};
     // The s-wrap bits of a sampler (t repeats), or its filter bit.
     let sampler_bits = |wrap: Wrap, filter: Filter| {
@@ -327,12 +327,19 @@ fn shared_constants_match_wgsl() {
             ref other => panic!("{name} = {other:?}, not a u32 literal"),
         }
     };
+    for kind in rt_core::MaterialKind::ALL {
+        assert_eq!(value(kind.wgsl_constant()), kind.tag(), "{kind:?}");
+        if let Some(switch) = kind.pipeline_switch() {
+            assert!(
+                parsed
+                    .overrides
+                    .iter()
+                    .any(|(_, o)| o.name.as_deref() == Some(switch)),
+                "{kind:?}: the kernels declare no override {switch}"
+            );
+        }
+    }
     for (wgsl, rust) in [
-        ("MAT_LAMBERTIAN", material_kind::LAMBERTIAN),
-        ("MAT_METAL", material_kind::METAL),
-        ("MAT_DIELECTRIC", material_kind::DIELECTRIC),
-        ("MAT_EMISSIVE", material_kind::EMISSIVE),
-        ("MAT_PBR", material_kind::PBR),
         ("ENERGY_SIDE", rt_core::math::microfacet::ENERGY_SIDE as u32),
         ("NO_TEXTURE", NO_TEXTURE),
         ("LIGHT_POINT", light_kind::POINT),
@@ -349,6 +356,7 @@ fn shared_constants_match_wgsl() {
         ),
         ("SLOT_NORMAL", gpu_types::SLOT_NORMAL),
         ("SLOT_EMISSION", gpu_types::SLOT_EMISSION),
+        ("SAMPLER_BITS", gpu_types::SAMPLER_BITS),
         // The sampler bits texture.wgsl decodes, as `TextureSampler::bits` packs them.
         (
             "WRAP_CLAMP",

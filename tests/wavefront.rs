@@ -23,8 +23,11 @@ fn render(
 ) -> (Image, Aovs, u64) {
     let options = RenderOptions {
         kernel,
-        count_rays: true,
         aovs: true,
+        tuning: rt_gpu::Tuning {
+            count_rays: true,
+            ..Default::default()
+        },
         max_samples_per_dispatch: Some(2),
         ..Default::default()
     };

@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::Result;
 use clap::Args;
 use rt_core::{GpuScene, Scene};
-use rt_gpu::{Experiments, Kernel, RenderOptions, Renderer};
+use rt_gpu::{Kernel, RenderOptions, Renderer, Tuning};
 
 use crate::options::{BvhArgs, EngineArgs, open_device};
 use serde::Serialize;
@@ -206,11 +206,10 @@ pub fn run(args: BenchArgs) -> Result<()> {
     };
     let options = RenderOptions {
         kernel,
-        count_rays: true,
         target_dispatch: std::time::Duration::from_millis(args.dispatch_ms.max(1)),
         // A benchmark measures the kernels without lavapipe's memory workaround.
-        rebuild_on_cpu: false,
-        experiments: Experiments {
+        tuning: Tuning {
+            count_rays: true,
             generic_kernel: args.generic,
             workgroup: args.workgroup,
             ..Default::default()

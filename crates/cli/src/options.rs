@@ -87,15 +87,18 @@ impl EngineArgs {
             trace: self.trace.into(),
             aovs: denoise,
             // Bounds lavapipe's memory growth over long megakernel renders (docs/performance.md).
-            rebuild_on_cpu: true,
-            cpu_pipeline_lifetime: pipeline_lifetime_from_env(),
+            tuning: rt_gpu::Tuning {
+                rebuild_on_cpu: true,
+                cpu_pipeline_lifetime: pipeline_lifetime_from_env(),
+                ..Default::default()
+            },
             ..Default::default()
         }
     }
 }
 
 /// `RT_PIPELINE_LIFETIME_S` (seconds, finite and not negative): the exact pipeline lifetime of
-/// the CPU memory workaround (`RenderOptions::cpu_pipeline_lifetime`). The binary reads the
+/// the CPU memory workaround (`Tuning::cpu_pipeline_lifetime`). The binary reads the
 /// environment; the library takes the value.
 fn pipeline_lifetime_from_env() -> Option<std::time::Duration> {
     std::env::var("RT_PIPELINE_LIFETIME_S")
@@ -291,7 +294,7 @@ mod tests {
             .engine
             .render_options(true);
         assert_eq!(options.kernel, Kernel::Megakernel);
-        assert!(options.aovs && options.rebuild_on_cpu);
+        assert!(options.aovs && options.tuning.rebuild_on_cpu);
         let options = parse(&[]).engine.render_options(false);
         assert_eq!(options.kernel, Kernel::Wavefront);
         assert_eq!(options.trace, Trace::Auto);

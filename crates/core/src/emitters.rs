@@ -87,11 +87,11 @@ mod tests {
     /// zero-area emitter included (those must never be picked).
     #[test]
     fn emitters_are_picked_in_proportion_to_their_power() {
-        use crate::gpu_types::material_kind;
+        use crate::material_kind::MaterialKind;
         use crate::math::rng::Rng;
         let material = |emission: [f32; 3]| Material {
-            albedo: [0.5; 3],
-            kind: material_kind::EMISSIVE,
+            color: [0.5; 3],
+            kind: MaterialKind::Emissive.tag(),
             emission,
             ..Default::default()
         };

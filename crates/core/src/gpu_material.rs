@@ -2,7 +2,10 @@
 //! resolved against the texel array, and the tangents a normal map needs.
 
 use crate::error::{Error, Result};
-use crate::gpu_types::{self, NO_TEXTURE, material_kind};
+use crate::gpu_types::{
+    self, DielectricLobe, MetalLobe, PbrLobe, SAMPLER_BITS, SLOT_BASE, SLOT_EMISSION,
+    SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, TextureSlot,
+};
 use crate::material::{AlphaMode, Material};
 use crate::scene::Scene;
 use crate::scene_features::SceneFeatures;
@@ -30,14 +33,16 @@ pub(crate) fn object_material(
             Error::Scene(format!("{}: texture index {t} does not exist", label()))
         })?;
         if mesh.uvs.is_some() {
-            material.texture_offset = texture_offsets[t];
-            material.texture_width = texture.width;
-            material.texture_height = texture.height;
-            material.samplers |= texture.sampler.bits() << gpu_types::SLOT_BASE;
+            material.textures[SLOT_BASE as usize] = TextureSlot {
+                offset: texture_offsets[t],
+                width: texture.width,
+                height: texture.height,
+            };
+            material.samplers |= texture.sampler.bits() << (SAMPLER_BITS * SLOT_BASE);
             features.textures = true;
         } else {
             log::warn!("{} has a texture but no UVs: rendering it white", label());
-            material.albedo = [1.0; 3];
+            material.color = [1.0; 3];
         }
     }
     let mut tangents = None;
@@ -55,36 +60,27 @@ pub(crate) fn object_material(
                 other => Ok(other),
             }
         };
-        // (offset, width, height) of a slot, its sampler in `samplers` at `shift`.
-        let mut bind = |t: usize, shift: u32, samplers: &mut u32| {
+        // Puts texture `t` into `slot`, with its sampler.
+        let mut bind = |t: usize, slot: u32, material: &mut gpu_types::Material| {
             let texture = &scene.textures[t];
-            *samplers |= texture.sampler.bits() << shift;
+            material.samplers |= texture.sampler.bits() << (SAMPLER_BITS * slot);
+            material.textures[slot as usize] = TextureSlot {
+                offset: texture_offsets[t],
+                width: texture.width,
+                height: texture.height,
+            };
             features.textures = true;
-            (texture_offsets[t], texture.width, texture.height)
         };
-        let mut samplers = material.samplers;
         if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
-            (
-                material.mr_texture_offset,
-                material.mr_texture_width,
-                material.mr_texture_height,
-            ) = bind(t, gpu_types::SLOT_METALLIC_ROUGHNESS, &mut samplers);
+            bind(t, SLOT_METALLIC_ROUGHNESS, &mut material);
         }
         if let Some(t) = slot(p.emission_texture, "emission texture")? {
-            (
-                material.emission_texture_offset,
-                material.emission_texture_width,
-                material.emission_texture_height,
-            ) = bind(t, gpu_types::SLOT_EMISSION, &mut samplers);
+            bind(t, SLOT_EMISSION, &mut material);
         }
         if let Some(t) = slot(p.normal_texture, "normal texture")? {
             match crate::tangents::mikktspace_tangents(mesh) {
                 Some(t_corners) => {
-                    (
-                        material.normal_texture_offset,
-                        material.normal_texture_width,
-                        material.normal_texture_height,
-                    ) = bind(t, gpu_types::SLOT_NORMAL, &mut samplers);
+                    bind(t, SLOT_NORMAL, &mut material);
                     tangents = Some(t_corners);
                     features.normal_maps = true;
                 }
@@ -94,12 +90,12 @@ pub(crate) fn object_material(
                 ),
             }
         }
-        material.samplers = samplers;
         // Coverage comes from the factor and the base colour texture: without UVs only the factor.
+        let base_textured = !material.texture(SLOT_BASE).is_empty();
         let cuts = match p.alpha_mode {
             AlphaMode::Opaque => false,
-            AlphaMode::Mask => material.texture_offset != NO_TEXTURE || p.alpha < p.alpha_cutoff,
-            AlphaMode::Blend => material.texture_offset != NO_TEXTURE || p.alpha < 1.0,
+            AlphaMode::Mask => base_textured || p.alpha < p.alpha_cutoff,
+            AlphaMode::Blend => base_textured || p.alpha < 1.0,
         };
         if cuts {
             material.flags |= match p.alpha_mode {
@@ -109,62 +105,43 @@ pub(crate) fn object_material(
             features.alpha = true;
         }
     }
-    features.metal |= material.kind == material_kind::METAL;
-    features.dielectric |= material.kind == material_kind::DIELECTRIC;
-    features.pbr |= material.kind == material_kind::PBR;
+    features.kinds.insert(object.material.kind());
     Ok((material, tangents))
 }
 
 fn gpu_material(material: &Material) -> gpu_types::Material {
-    let base = gpu_types::Material {
-        texture_offset: NO_TEXTURE,
-        mr_texture_offset: NO_TEXTURE,
-        normal_texture_offset: NO_TEXTURE,
-        emission_texture_offset: NO_TEXTURE,
-        alpha: 1.0,
+    let mut gpu = gpu_types::Material {
+        kind: material.kind().tag(),
         ..Default::default()
     };
     match *material {
-        Material::Lambertian { albedo, .. } => gpu_types::Material {
-            albedo,
-            kind: material_kind::LAMBERTIAN,
-            ..base
-        },
-        Material::Metal { albedo, fuzz } => gpu_types::Material {
-            albedo,
-            kind: material_kind::METAL,
-            param: fuzz,
-            ..base
-        },
-        Material::Dielectric { ior, tint } => gpu_types::Material {
-            albedo: tint,
-            kind: material_kind::DIELECTRIC,
-            param: ior,
-            ..base
-        },
-        Material::Emissive { color, intensity } => gpu_types::Material {
-            kind: material_kind::EMISSIVE,
-            emission: color.map(|c| c * intensity),
-            ..base
-        },
-        Material::Pbr(ref p) => gpu_types::Material {
-            normal_scale: p.normal_scale,
-            albedo: p.base_color,
-            kind: material_kind::PBR,
-            emission: p.emission.map(|c| c * p.emission_strength),
-            param: p.ior,
-            absorption: p.absorption(),
-            metallic: p.metallic,
-            roughness: p.roughness,
-            transmission: p.transmission,
-            alpha: p.alpha,
-            alpha_cutoff: p.alpha_cutoff,
-            flags: if p.thin_walled {
-                gpu_types::THIN_WALLED
-            } else {
-                0
-            },
-            ..base
-        },
+        Material::Lambertian { albedo, .. } => gpu.color = albedo,
+        Material::Metal { albedo, fuzz } => {
+            gpu.color = albedo;
+            gpu.set_lobe(MetalLobe { fuzz });
+        }
+        Material::Dielectric { ior, tint } => {
+            gpu.color = tint;
+            gpu.set_lobe(DielectricLobe { ior });
+        }
+        Material::Emissive { color, intensity } => gpu.emission = color.map(|c| c * intensity),
+        Material::Pbr(ref p) => {
+            gpu.color = p.base_color;
+            gpu.emission = p.emission.map(|c| c * p.emission_strength);
+            gpu.alpha = p.alpha;
+            gpu.alpha_cutoff = p.alpha_cutoff;
+            if p.thin_walled {
+                gpu.flags |= gpu_types::THIN_WALLED;
+            }
+            gpu.set_lobe(PbrLobe {
+                metallic: p.metallic,
+                roughness: p.roughness,
+                transmission: p.transmission,
+                ior: p.ior,
+                absorption: p.absorption(),
+                normal_scale: p.normal_scale,
+            });
+        }
     }
+    gpu
 }

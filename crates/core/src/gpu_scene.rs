@@ -274,7 +274,7 @@ impl GpuScene {
         for (object, old) in scene.objects.iter().zip(&self.materials) {
             let (material, tangents) =
                 object_material(scene, object, &texture_offsets, &mut features)?;
-            let had_normal_map = old.normal_texture_width > 0;
+            let had_normal_map = !old.texture(crate::gpu_types::SLOT_NORMAL).is_empty();
             if tangents.is_some() != had_normal_map {
                 return Ok(None);
             }

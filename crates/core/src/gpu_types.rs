@@ -9,16 +9,6 @@ pub const WGSL: &str = include_str!("gpu_types.wgsl");
 
 use bytemuck::{Pod, Zeroable};
 
-/// `Material.kind` values; the WGSL constants `MAT_*` must match.
-pub mod material_kind {
-    pub const LAMBERTIAN: u32 = 0;
-    pub const METAL: u32 = 1;
-    pub const DIELECTRIC: u32 = 2;
-    pub const EMISSIVE: u32 = 3;
-    /// glTF metallic-roughness (`math::bsdf`).
-    pub const PBR: u32 = 4;
-}
-
 /// `Triangle.has_normals` bits.
 pub const HAS_NORMALS: u32 = 1;
 pub const HAS_COLORS: u32 = 2;
@@ -64,55 +54,147 @@ pub struct Shading {
     pub _pad3: [f32; 2], // 72
 }
 
-/// A material as the kernel sees it; `kind` selects the model (see `material_kind`).
+/// Where one of a material's images lies in the texel buffer; `offset` is `NO_TEXTURE` when the
+/// slot is empty.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct TextureSlot {
+    pub offset: u32, // 0
+    pub width: u32,  // 4
+    pub height: u32, // 8
+}
+
+impl TextureSlot {
+    pub const NONE: TextureSlot = TextureSlot {
+        offset: NO_TEXTURE,
+        width: 0,
+        height: 0,
+    };
+
+    pub fn is_empty(&self) -> bool {
+        self.offset == NO_TEXTURE
+    }
+}
+
+impl Default for TextureSlot {
+    fn default() -> Self {
+        TextureSlot::NONE
+    }
+}
+
+/// A material as the kernel sees it: the tag `kind` (`MaterialKind::tag`) selects the BSDF, which
+/// reads its parameters from `lobe` through its own block type (`MetalLobe`, `DielectricLobe`,
+/// `PbrLobe`); the rest means the same for every kind.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Material {
+    /// The colour the surface scatters with (times the base colour image and vertex colours): the
+    /// Lambertian albedo, the metal's reflectance, the glass's transmission tint, the PBR base colour.
+    pub color: [f32; 3], // 0
+    pub kind: u32, // 12
+    /// Radiance emitted from the front face (any kind may emit; `Emissive` also absorbs), times the
+    /// emission image.
+    pub emission: [f32; 3], // 16
+    /// Bit 0 (`THIN_WALLED`) thin-walled transmission; bits 1–2 (`ALPHA_MASK`, `ALPHA_BLEND`) the
+    /// alpha mode.
+    pub flags: u32, // 28
+    /// The kind's parameter block, written and read only as that kind's block type (`lobe_of`).
+    pub lobe: [[f32; 4]; 2], // 32
+    /// The coverage factor (times the base colour image's alpha).
+    pub alpha: f32, // 64
+    /// With `ALPHA_MASK`: coverage below this is a hole.
+    pub alpha_cutoff: f32, // 68
+    /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot: slot `i` at bit `5 i`.
+    pub samplers: u32, // 72
+    pub _pad: u32, // 76
+    /// The images, indexed by `SLOT_*`: base colour (sRGB), metallic-roughness (B metal, G rough;
+    /// linear), tangent-space normals (linear), emission (sRGB).
+    pub textures: [TextureSlot; 4], // 80
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            color: [0.0; 3],
+            kind: 0,
+            emission: [0.0; 3],
+            flags: 0,
+            lobe: [[0.0; 4]; 2],
+            alpha: 1.0,
+            alpha_cutoff: 0.0,
+            samplers: 0,
+            _pad: 0,
+            textures: [TextureSlot::NONE; 4],
+        }
+    }
+}
+
+impl Material {
+    /// The material's texture slot `slot` (`SLOT_*`).
+    pub fn texture(&self, slot: u32) -> TextureSlot {
+        self.textures[slot as usize]
+    }
+
+    /// Slot `slot`'s sampler bits.
+    pub fn sampler_bits(&self, slot: u32) -> u32 {
+        (self.samplers >> (SAMPLER_BITS * slot)) & ((1 << SAMPLER_BITS) - 1)
+    }
+
+    /// The parameter block of this material's kind, as `L` lays it out (the WGSL reads the same
+    /// words in the same order: `pbr_lobe` and its siblings in `gpu_types.wgsl`).
+    pub fn lobe_of<L: Lobe>(&self) -> L {
+        bytemuck::pod_read_unaligned(&bytemuck::bytes_of(&self.lobe)[..size_of::<L>()])
+    }
+
+    /// Writes `lobe` as this material's parameter block.
+    pub fn set_lobe<L: Lobe>(&mut self, lobe: L) {
+        self.lobe = [[0.0; 4]; 2];
+        bytemuck::bytes_of_mut(&mut self.lobe)[..size_of::<L>()]
+            .copy_from_slice(bytemuck::bytes_of(&lobe));
+    }
+}
+
+/// A kind's parameter block in `Material::lobe` (at most its 32 bytes, all `f32`s).
+pub trait Lobe: Pod {}
+
+const _: () = assert!(
+    size_of::<MetalLobe>() <= 32 && size_of::<DielectricLobe>() <= 32 && size_of::<PbrLobe>() <= 32
+);
+
+/// `MaterialKind::Metal`'s parameters.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct MetalLobe {
+    /// The radius of the ball perturbing the mirror direction, in [0, 1].
+    pub fuzz: f32, // 0
+}
+impl Lobe for MetalLobe {}
+
+/// `MaterialKind::Dielectric`'s parameters.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DielectricLobe {
+    pub ior: f32, // 0
+}
+impl Lobe for DielectricLobe {}
+
+/// `MaterialKind::Pbr`'s parameters (`math::bsdf`).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct Material {
-    /// Lambertian albedo, metal albedo, or dielectric transmission tint.
-    pub albedo: [f32; 3], // 0
-    pub kind: u32, // 12
-    /// Radiance emitted from the front face (any kind may emit; `EMISSIVE` also absorbs).
-    pub emission: [f32; 3], // 16
-    /// Metal: fuzz in [0, 1]. Dielectric and PBR: index of refraction.
-    pub param: f32, // 28
-    /// PBR: Beer–Lambert absorption coefficient σ per unit length inside a transmissive object.
-    pub absorption: [f32; 3], // 32
-    /// PBR: metallic in [0, 1].
-    pub metallic: f32, // 44
-    /// First texel in the texel buffer, or `NO_TEXTURE`.
-    pub texture_offset: u32, // 48
-    pub texture_width: u32, // 52
-    pub texture_height: u32, // 56
-    /// PBR: roughness in [0, 1] (α = roughness²).
-    pub roughness: f32, // 60
-    /// PBR: specular transmission in [0, 1].
-    pub transmission: f32, // 64
-    /// PBR: the normal map's xy scale.
-    pub normal_scale: f32, // 68
-    /// PBR: the metallic-roughness image (B metal, G rough; linear), or `NO_TEXTURE`.
-    pub mr_texture_offset: u32, // 72
-    pub mr_texture_width: u32, // 76
-    pub mr_texture_height: u32, // 80
-    /// PBR: the tangent-space normal map (linear), or `NO_TEXTURE`.
-    pub normal_texture_offset: u32, // 84
-    pub normal_texture_width: u32, // 88
-    pub normal_texture_height: u32, // 92
-    /// PBR: bit 0 (`THIN_WALLED`) thin-walled transmission; bits 1–2 (`ALPHA_MASK`,
-    /// `ALPHA_BLEND`) the alpha mode.
-    pub flags: u32, // 96
-    /// PBR: the emission image (sRGB) multiplying `emission`, or `NO_TEXTURE`.
-    pub emission_texture_offset: u32, // 100
-    pub emission_texture_width: u32, // 104
-    pub emission_texture_height: u32, // 108
-    /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot from bit 0: base colour
-    /// (`SLOT_BASE`), metallic-roughness, normal, emission.
-    pub samplers: u32, // 112
-    /// PBR: the base colour factor's alpha (coverage, with the base colour texture's alpha).
-    pub alpha: f32, // 116
-    /// PBR with `ALPHA_MASK`: coverage below this is a hole.
-    pub alpha_cutoff: f32, // 120
-    pub _pad: u32, // 124
+pub struct PbrLobe {
+    /// In [0, 1], times the metallic-roughness image's blue.
+    pub metallic: f32, // 0
+    /// In [0, 1] (α = roughness²), times the metallic-roughness image's green.
+    pub roughness: f32, // 4
+    /// Specular transmission in [0, 1].
+    pub transmission: f32, // 8
+    pub ior: f32, // 12
+    /// Beer–Lambert absorption coefficient σ per unit length inside a transmissive object.
+    pub absorption: [f32; 3], // 16
+    /// The normal map's xy scale.
+    pub normal_scale: f32, // 28
 }
+impl Lobe for PbrLobe {}
 
 /// `Material.flags` bits.
 pub const THIN_WALLED: u32 = 1;
@@ -122,11 +204,13 @@ pub const ALPHA_MASK: u32 = 2;
 /// stochastic transparency: a hashed coin per ray and triangle).
 pub const ALPHA_BLEND: u32 = 4;
 
-/// Where each texture slot's sampler lies in `Material::samplers` (bit shift).
+/// The texture slots: indices into `Material::textures`; slot `i`'s sampler lies at bit
+/// `SAMPLER_BITS * i` of `Material::samplers`.
 pub const SLOT_BASE: u32 = 0;
-pub const SLOT_METALLIC_ROUGHNESS: u32 = 5;
-pub const SLOT_NORMAL: u32 = 10;
-pub const SLOT_EMISSION: u32 = 15;
+pub const SLOT_METALLIC_ROUGHNESS: u32 = 1;
+pub const SLOT_NORMAL: u32 = 2;
+pub const SLOT_EMISSION: u32 = 3;
+pub const SAMPLER_BITS: u32 = 5;
 /// A slot's sampler bits (`scene::TextureSampler::bits`): wrap s in bits 0–1 and t in 2–3
 /// (0 repeat, these two otherwise), bit 4 nearest filtering.
 pub const WRAP_CLAMP: u32 = 1;
@@ -341,36 +425,35 @@ pub fn layouts() -> Vec<StructLayout> {
             Shading,
             [n0, c0, n1, c1, n2, c2, uv0, uv1, uv2, _pad3]
         ),
+        layout!("TextureSlot", TextureSlot, [offset, width, height]),
         layout!(
             "Material",
             Material,
             [
-                albedo,
+                color,
                 kind,
                 emission,
-                param,
-                absorption,
-                metallic,
-                texture_offset,
-                texture_width,
-                texture_height,
-                roughness,
-                transmission,
-                normal_scale,
-                mr_texture_offset,
-                mr_texture_width,
-                mr_texture_height,
-                normal_texture_offset,
-                normal_texture_width,
-                normal_texture_height,
                 flags,
-                emission_texture_offset,
-                emission_texture_width,
-                emission_texture_height,
-                samplers,
+                lobe,
                 alpha,
                 alpha_cutoff,
-                _pad
+                samplers,
+                _pad,
+                textures
+            ]
+        ),
+        layout!("MetalLobe", MetalLobe, [fuzz]),
+        layout!("DielectricLobe", DielectricLobe, [ior]),
+        layout!(
+            "PbrLobe",
+            PbrLobe,
+            [
+                metallic,
+                roughness,
+                transmission,
+                ior,
+                absorption,
+                normal_scale
             ]
         ),
         layout!(

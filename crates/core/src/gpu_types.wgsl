@@ -32,42 +32,66 @@ struct Shading {
     _pad3: vec2<f32>,    // 72
 }
 
+// Where a material's image lies in `texels` (NO_TEXTURE: none).
+struct TextureSlot {
+    offset: u32,             // 0
+    width: u32,              // 4
+    height: u32,             // 8
+}
+
+// The tag `kind` (MAT_*) selects the BSDF, which reads its parameter block from `lobe` through its
+// decoder below (metal_lobe, dielectric_lobe, pbr_lobe); the rest means the same for every kind.
 struct Material {
-    albedo: vec3<f32>,       // 0
+    color: vec3<f32>,        // 0: albedo, metal reflectance, glass tint or PBR base colour
     kind: u32,               // 12
     emission: vec3<f32>,     // 16
-    param: f32,              // 28
-    absorption: vec3<f32>,   // 32
-    metallic: f32,           // 44
-    texture_offset: u32,     // 48
-    texture_width: u32,      // 52
-    texture_height: u32,     // 56
-    roughness: f32,          // 60
-    transmission: f32,       // 64
-    normal_scale: f32,       // 68
-    mr_texture_offset: u32,  // 72: metallic (B) and roughness (G), linear; NO_TEXTURE if none
-    mr_texture_width: u32,   // 76
-    mr_texture_height: u32,  // 80
-    normal_texture_offset: u32,  // 84: tangent-space normals, linear; NO_TEXTURE if none
-    normal_texture_width: u32,   // 88
-    normal_texture_height: u32,  // 92
-    flags: u32,              // 96: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND
-    emission_texture_offset: u32,  // 100: multiplies emission, sRGB; NO_TEXTURE if none
-    emission_texture_width: u32,   // 104
-    emission_texture_height: u32,  // 108
-    samplers: u32,           // 112: 5 bits a slot (SLOT_*): wrap s, wrap t, nearest
-    alpha: f32,              // 116: base colour factor's alpha
-    alpha_cutoff: f32,       // 120
-    _pad: u32,               // 124
+    flags: u32,              // 28: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND
+    lobe: array<vec4<f32>, 2>,  // 32: the kind's parameter block
+    alpha: f32,              // 64: the coverage factor
+    alpha_cutoff: f32,       // 68
+    samplers: u32,           // 72: SAMPLER_BITS a slot: wrap s, wrap t, nearest
+    _pad: u32,               // 76
+    textures: array<TextureSlot, 4>,  // 80: by SLOT_*
+}
+
+// The kinds' parameter blocks: the words of Material.lobe in order (core::gpu_types::*Lobe).
+struct MetalLobe {
+    fuzz: f32,               // 0
+}
+
+struct DielectricLobe {
+    ior: f32,                // 0
+}
+
+struct PbrLobe {
+    metallic: f32,           // 0
+    roughness: f32,          // 4
+    transmission: f32,       // 8
+    ior: f32,                // 12
+    absorption: vec3<f32>,   // 16
+    normal_scale: f32,       // 28
+}
+
+fn metal_lobe(m: Material) -> MetalLobe {
+    return MetalLobe(m.lobe[0].x);
+}
+
+fn dielectric_lobe(m: Material) -> DielectricLobe {
+    return DielectricLobe(m.lobe[0].x);
+}
+
+fn pbr_lobe(m: Material) -> PbrLobe {
+    return PbrLobe(m.lobe[0].x, m.lobe[0].y, m.lobe[0].z, m.lobe[0].w, m.lobe[1].xyz, m.lobe[1].w);
 }
 
 const THIN_WALLED: u32 = 1u;
 const ALPHA_MASK: u32 = 2u;
 const ALPHA_BLEND: u32 = 4u;
 const SLOT_BASE: u32 = 0u;
-const SLOT_METALLIC_ROUGHNESS: u32 = 5u;
-const SLOT_NORMAL: u32 = 10u;
-const SLOT_EMISSION: u32 = 15u;
+const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
+const SLOT_NORMAL: u32 = 2u;
+const SLOT_EMISSION: u32 = 3u;
+const SAMPLER_BITS: u32 = 5u;
 
 // An environment texel with its alias-table entry (core::gpu_types::EnvTexel).
 struct EnvTexel {

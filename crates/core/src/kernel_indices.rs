@@ -3,7 +3,10 @@
 
 use crate::bvh::BvhLayout;
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{NO_TEXTURE, Triangle};
+use crate::gpu_types::{
+    NO_TEXTURE, SLOT_BASE, SLOT_EMISSION, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, TextureSlot,
+    Triangle,
+};
 
 impl GpuScene {
     /// Checks every index the tracing kernels follow, the invariants the builder promises them
@@ -115,32 +118,17 @@ impl GpuScene {
             }
         }
         for (i, m) in self.materials.iter().enumerate() {
-            for (what, offset, w, h) in [
-                (
-                    "texture",
-                    m.texture_offset,
-                    m.texture_width,
-                    m.texture_height,
-                ),
-                (
-                    "metallic-roughness texture",
-                    m.mr_texture_offset,
-                    m.mr_texture_width,
-                    m.mr_texture_height,
-                ),
-                (
-                    "normal texture",
-                    m.normal_texture_offset,
-                    m.normal_texture_width,
-                    m.normal_texture_height,
-                ),
-                (
-                    "emission texture",
-                    m.emission_texture_offset,
-                    m.emission_texture_width,
-                    m.emission_texture_height,
-                ),
+            for (what, slot) in [
+                ("texture", SLOT_BASE),
+                ("metallic-roughness texture", SLOT_METALLIC_ROUGHNESS),
+                ("normal texture", SLOT_NORMAL),
+                ("emission texture", SLOT_EMISSION),
             ] {
+                let TextureSlot {
+                    offset,
+                    width: w,
+                    height: h,
+                } = m.texture(slot);
                 if offset == NO_TEXTURE {
                     continue;
                 }
@@ -152,7 +140,7 @@ impl GpuScene {
                     ));
                 }
             }
-            if m.normal_texture_offset != NO_TEXTURE && self.tangents.len() != 3 * triangles {
+            if !m.texture(SLOT_NORMAL).is_empty() && self.tangents.len() != 3 * triangles {
                 return Err(format!(
                     "material {i} is normal-mapped but there are {} tangents for {triangles} triangles",
                     self.tangents.len()

@@ -18,6 +18,7 @@ pub mod io;
 mod kernel_indices;
 pub mod light;
 pub mod material;
+pub mod material_kind;
 pub mod math;
 pub mod metrics;
 pub mod oidn;
@@ -36,6 +37,7 @@ pub use error::{Error, Result};
 pub use gpu_scene::{GpuScene, SceneFeatures};
 pub use light::{Light, LightKind};
 pub use material::Material;
+pub use material_kind::MaterialKind;
 pub use scene::{
     Filter, Mesh, Object, RenderSettings, Scene, Texture, TextureSampler, Transform, Wrap,
 };

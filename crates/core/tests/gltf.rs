@@ -668,9 +668,14 @@ fn samplers_emissive_textures_and_alpha_modes_map_onto_the_material() {
     // metallic-roughness slots; the emission slot's sampler is the default (0).
     assert_eq!(
         g.samplers,
-        0b11001 | 0b11001 << rt_core::gpu_types::SLOT_METALLIC_ROUGHNESS
+        0b11001
+            | 0b11001
+                << (rt_core::gpu_types::SAMPLER_BITS * rt_core::gpu_types::SLOT_METALLIC_ROUGHNESS)
     );
-    assert_ne!(g.emission_texture_offset, rt_core::gpu_types::NO_TEXTURE);
+    assert_ne!(
+        g.texture(rt_core::gpu_types::SLOT_EMISSION).offset,
+        rt_core::gpu_types::NO_TEXTURE
+    );
 
     doc["materials"][0]["alphaMode"] = json!("BLEND");
     let scene = load(&embedded(doc.clone()), None).unwrap();

@@ -172,10 +172,10 @@ fn each_kind_of_bad_index_is_caught() {
             s
         }),
         ("texture past the texels", {
-            with_textured_material(&good, |m| m.texture_offset = 1)
+            with_textured_material(&good, |m| m.textures[0].offset = 1)
         }),
         ("empty texture", {
-            with_textured_material(&good, |m| m.texture_width = 0)
+            with_textured_material(&good, |m| m.textures[0].width = 0)
         }),
         ("emitter alias past the table", {
             let mut s = cornell.clone();
@@ -227,7 +227,7 @@ fn with_textured_material(
     change(
         s.materials
             .iter_mut()
-            .find(|m| m.texture_offset != NO_TEXTURE)
+            .find(|m| m.textures[0].offset != NO_TEXTURE)
             .unwrap(),
     );
     s

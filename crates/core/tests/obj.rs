@@ -307,9 +307,9 @@ fn a_texture_without_uvs_renders_white_with_a_warning() {
         transform: Default::default(),
     });
     let gpu = rt_core::GpuScene::build(&scene).unwrap();
-    assert_eq!(gpu.materials[0].albedo, [1.0; 3]);
+    assert_eq!(gpu.materials[0].color, [1.0; 3]);
     assert_eq!(
-        gpu.materials[0].texture_offset,
+        gpu.materials[0].textures[0].offset,
         rt_core::gpu_types::NO_TEXTURE
     );
     assert!(!gpu.features.textures);

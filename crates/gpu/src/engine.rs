@@ -131,8 +131,8 @@ pub(crate) fn pipeline_key(
         features: specialised_features(scene, frame, options),
         layout: scene.layout,
         ray_query,
-        count_rays: options.count_rays,
-        workgroup: options.experiments.workgroup,
+        count_rays: options.tuning.count_rays,
+        workgroup: options.tuning.workgroup,
         sobol: frame.sampler == 1,
         aovs: options.aovs,
         adaptive: options.adaptive.is_some(),
@@ -140,20 +140,18 @@ pub(crate) fn pipeline_key(
 }
 
 /// The branches the kernels compile in: the scene's features, the lens and light sampling as
-/// `frame` asks, or every branch with `Experiments::generic_kernel`.
+/// `frame` asks, or every branch with `Tuning::generic_kernel`.
 fn specialised_features(scene: &GpuScene, frame: &Frame, options: &RenderOptions) -> SceneFeatures {
     let mut features = scene.features;
     features.thin_lens = frame.lens_radius > 0.0;
     features.nee = frame.emitter_count > 0;
-    if options.experiments.generic_kernel {
+    if options.tuning.generic_kernel {
         // Every branch compiled in; each still checks its data at run time. (NEE stays as the
         // scene needs: the emitter table must not be empty.)
         features.textures = true;
-        features.metal = true;
-        features.dielectric = true;
+        features.kinds = rt_core::material_kind::KindSet::all();
         features.thin_lens = true;
         features.delta_lights = true;
-        features.pbr = true;
         features.environment = true;
         features.normal_maps = true;
         features.alpha = true;

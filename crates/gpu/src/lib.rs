@@ -1,7 +1,7 @@
 //! rt's GPU layer: adapter and device, pipelines specialised per scene, and the progressive
 //! path-tracing renderer. Everything it uploads is built by `rt-core`.
 //!
-//! - `options`: what a caller may ask (`RenderOptions`, `Kernel`, `Experiments`).
+//! - `options`: what a caller may ask (`RenderOptions`, `Kernel`, `Tuning`).
 //! - `bindings`: the tracing kernels' bind group, declared once.
 //! - `pipelines`: both kernels' pipelines, specialised per feature set, in one cache (the key,
 //!   the compiled stages and the cache the context holds are in `pipeline_cache`, below both).
@@ -42,7 +42,7 @@ pub mod wavefront;
 pub use context::{AdapterChoice, DeviceOptions, GpuContext};
 pub use error::{GpuError, Result};
 pub use image::{Aovs, Image};
-pub use options::{Adaptive, Experiments, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace};
+pub use options::{Adaptive, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace, Tuning};
 pub use renderer::{BatchStats, Renderer};
 pub use tiling::{
     TiledRender, pixel_binding_bytes, render_tiled, tile_rows, whole_image_binding_bytes,

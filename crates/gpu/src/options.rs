@@ -1,5 +1,6 @@
-//! What a caller may ask of a render: the kernel, dispatch sizing, ray counting, AOVs and the
-//! firefly clamp (the contract), and `Experiments`, switches kept for benchmarks and tests.
+//! What a caller may ask of a render: the kernel, dispatch sizing, AOVs, adaptive sampling and the
+//! firefly clamp (the contract), and `Tuning`: how the kernels run (measurements, tests and driver
+//! workarounds), never what they compute.
 
 use std::time::Duration;
 
@@ -13,7 +14,7 @@ pub const MAX_WORKGROUP_INVOCATIONS: u32 = 64;
 /// docs/performance-log.md, "Work-group shape").
 pub const DEFAULT_WORKGROUP: [u32; 2] = [8, 8];
 
-/// `Experiments::pipeline_lifetime` on CPU adapters with `RenderOptions::rebuild_on_cpu` (the
+/// `Tuning::pipeline_lifetime` on CPU adapters with `RenderOptions::rebuild_on_cpu` (the
 /// compile-time amortisation usually decides: see docs/performance.md).
 pub const CPU_PIPELINE_LIFETIME: Duration = Duration::from_secs(5);
 
@@ -77,8 +78,6 @@ pub struct RenderOptions {
     pub target_dispatch: Duration,
     /// Upper bound on samples per pixel in one dispatch; `None` derives it from the loop budget.
     pub max_samples_per_dispatch: Option<u32>,
-    /// Count rays in the kernel (benchmarks); compiled out otherwise.
-    pub count_rays: bool,
     /// Also accumulate each pixel's first-hit albedo and normal and the light seen directly (for
     /// the denoiser; read them with `Renderer::read_aovs`).
     pub aovs: bool,
@@ -91,24 +90,12 @@ pub struct RenderOptions {
     /// default) leaves samples alone. `Renderer::for_scene` takes it from the scene's settings
     /// when unset here.
     pub clamp: Option<f32>,
-    /// Bound lavapipe's host-memory growth over long megakernel renders by rebuilding the
-    /// pipeline now and then (Mesa 22.3 keeps memory for every path the compiled megakernel
-    /// traces until the pipeline is destroyed; the wavefront kernels do not grow: tests/memory.rs).
-    /// Mesa 25.0 does not grow (docs/performance-log.md), so this applies on CPU adapters other
-    /// than Mesa 25 or newer, with the megakernel only: after `CPU_PIPELINE_LIFETIME` or
-    /// `REBUILD_AMORTISATION` times the last build's first batch (its JIT compile), whichever is
-    /// longer (`cpu_pipeline_lifetime` sets the lifetime exactly). Off by default, for renderers
-    /// that share a device with others (the tests): a CI run of the suite with it on stalled
-    /// inside lavapipe. `rt-cli render` and `converge` turn it on.
-    pub rebuild_on_cpu: bool,
-    /// Where `rebuild_on_cpu` applies, rebuild after exactly this long instead (no amortisation).
-    /// `rt-cli` sets it from `RT_PIPELINE_LIFETIME_S` (seconds): rt-gpu reads no environment.
-    pub cpu_pipeline_lifetime: Option<Duration>,
     /// The index of the render's first sample: a shard of a larger render (`rt-cli render
     /// --shard`) takes samples `first_sample..first_sample + spp` of the whole image's, with the
     /// same random numbers a one-machine render gives them.
     pub first_sample: u32,
-    pub experiments: Experiments,
+    /// How the kernels run, never what they compute: measurements and driver workarounds.
+    pub tuning: Tuning,
 }
 
 impl Default for RenderOptions {
@@ -118,14 +105,11 @@ impl Default for RenderOptions {
             trace: Trace::default(),
             target_dispatch: Duration::from_millis(40),
             max_samples_per_dispatch: None,
-            count_rays: false,
             aovs: false,
             adaptive: None,
             clamp: None,
-            rebuild_on_cpu: false,
-            cpu_pipeline_lifetime: None,
             first_sample: 0,
-            experiments: Experiments::default(),
+            tuning: Tuning::default(),
         }
     }
 }
@@ -141,10 +125,27 @@ pub struct Adaptive {
     pub min_samples: u32,
 }
 
-/// Switches for measurements and tests, not for users: each changes how the kernel runs, never
-/// what it computes (tests/extremes.rs checks the images are identical).
+/// How the kernels run, never what they compute (tests/extremes.rs checks the images are
+/// identical): switches for measurements (`rt-cli bench`) and tests, and the CPU-driver memory
+/// workaround the binaries turn on. No user setting lives here; `Default` is the library's
+/// behaviour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Experiments {
+pub struct Tuning {
+    /// Count rays in the kernel (benchmarks); compiled out otherwise.
+    pub count_rays: bool,
+    /// Bound lavapipe's host-memory growth over long megakernel renders by rebuilding the
+    /// pipeline now and then (Mesa 22.3 keeps memory for every path the compiled megakernel
+    /// traces until the pipeline is destroyed; the wavefront kernels do not grow: tests/memory.rs).
+    /// Mesa 25.0 does not grow (docs/performance-log.md), so this applies on CPU adapters other
+    /// than Mesa 25 or newer, with the megakernel only: after `CPU_PIPELINE_LIFETIME` or
+    /// `REBUILD_AMORTISATION` times the last build's first batch (its JIT compile), whichever is
+    /// longer (`cpu_pipeline_lifetime` sets the lifetime exactly). Off by default, for renderers
+    /// that share a device with others (the tests): a CI run of the suite with it on stalled
+    /// inside lavapipe. `rt-cli render` and `converge` turn it on.
+    pub rebuild_on_cpu: bool,
+    /// Where `rebuild_on_cpu` applies, rebuild after exactly this long instead (no amortisation).
+    /// `rt-cli` sets it from `RT_PIPELINE_LIFETIME_S` (seconds): rt-gpu reads no environment.
+    pub cpu_pipeline_lifetime: Option<Duration>,
     /// Compile every optional feature in, as if the scene used them all (benchmarks compare this
     /// generic kernel with the specialised one).
     pub generic_kernel: bool,
@@ -157,9 +158,12 @@ pub struct Experiments {
     pub pipeline_lifetime: Option<Duration>,
 }
 
-impl Default for Experiments {
+impl Default for Tuning {
     fn default() -> Self {
-        Experiments {
+        Tuning {
+            count_rays: false,
+            rebuild_on_cpu: false,
+            cpu_pipeline_lifetime: None,
             generic_kernel: false,
             workgroup: DEFAULT_WORKGROUP,
             pipeline_lifetime: None,
@@ -185,7 +189,7 @@ impl RenderOptions {
 
     /// An error for a combination that cannot be honoured (rather than silently ignoring a part).
     pub fn validate(&self) -> Result<()> {
-        let [wx, wy] = self.experiments.workgroup;
+        let [wx, wy] = self.tuning.workgroup;
         if wx == 0
             || wy == 0
             || wx
@@ -205,7 +209,7 @@ impl RenderOptions {
                  stops a pixel, got {a:?}"
             )));
         }
-        if self.kernel == Kernel::Wavefront && self.experiments.workgroup != DEFAULT_WORKGROUP {
+        if self.kernel == Kernel::Wavefront && self.tuning.workgroup != DEFAULT_WORKGROUP {
             return Err(GpuError::Options(format!(
                 "work group {wx}x{wy}: work-group shapes are the megakernel's (the wavefront \
                  kernels run 64x1); choose the megakernel"

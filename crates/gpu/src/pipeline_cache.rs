@@ -63,13 +63,10 @@ impl PipelineKey {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let mut constants = vec![
             ("HAS_TEXTURES", flag(self.features.textures)),
-            ("HAS_METAL", flag(self.features.metal)),
-            ("HAS_DIELECTRIC", flag(self.features.dielectric)),
             ("HAS_THIN_LENS", flag(self.features.thin_lens)),
             ("COUNT_RAYS", flag(self.count_rays)),
             ("HAS_NEE", flag(self.features.nee)),
             ("HAS_DELTA_LIGHTS", flag(self.features.delta_lights)),
-            ("HAS_PBR", flag(self.features.pbr)),
             ("HAS_ENVIRONMENT", flag(self.features.environment)),
             ("HAS_NORMAL_MAPS", flag(self.features.normal_maps)),
             ("HAS_ALPHA", flag(self.features.alpha)),
@@ -77,6 +74,11 @@ impl PipelineKey {
             ("WRITE_AOVS", flag(self.aovs)),
             ("ADAPTIVE", flag(self.adaptive)),
         ];
+        for kind in rt_core::MaterialKind::ALL {
+            if let Some(switch) = kind.pipeline_switch() {
+                constants.push((switch, flag(self.features.kinds.contains(kind))));
+            }
+        }
         if self.kernel == Kernel::Megakernel {
             constants.push(("WG_X", f64::from(self.workgroup[0])));
             constants.push(("WG_Y", f64::from(self.workgroup[1])));

@@ -1,5 +1,5 @@
 //! When a renderer rebuilds its pipeline (`RenderOptions::pipeline_lifetime`,
-//! `RenderOptions::rebuild_on_cpu`): some CPU drivers hold memory per compiled pipeline that grows
+//! `Tuning::rebuild_on_cpu`): some CPU drivers hold memory per compiled pipeline that grows
 //! while it runs, and a fresh build lets them free it.
 
 use std::time::{Duration, Instant};
@@ -24,14 +24,14 @@ impl PipelineLifetime {
     pub fn new(ctx: &GpuContext, options: &RenderOptions) -> Self {
         // Only the megakernel's pipelines grow (tests/memory.rs).
         // Mesa 25.0's megakernel stays flat (performance-log.md); other CPU drivers may not.
-        let auto = options.rebuild_on_cpu
+        let auto = options.tuning.rebuild_on_cpu
             && options.kernel == Kernel::Megakernel
             && ctx.info.device_type == wgpu::DeviceType::Cpu
             && ctx.mesa_version().is_none_or(|v| v < (25, 0));
         let explicit = options
-            .experiments
+            .tuning
             .pipeline_lifetime
-            .or(options.cpu_pipeline_lifetime.filter(|_| auto));
+            .or(options.tuning.cpu_pipeline_lifetime.filter(|_| auto));
         let lifetime = explicit.or(auto.then_some(CPU_PIPELINE_LIFETIME));
         let amortisation = if explicit.is_some() {
             0

@@ -197,7 +197,7 @@ impl<'a> Renderer<'a> {
         self.samples_done
     }
 
-    /// Rays traced so far (only counted with `RenderOptions::count_rays`).
+    /// Rays traced so far (only counted with `Tuning::count_rays`).
     pub fn rays_traced(&self) -> u64 {
         self.rays
     }
@@ -459,7 +459,7 @@ impl<'a> Renderer<'a> {
             &self.outputs.frame,
             &frame,
             rows,
-            self.options.experiments.workgroup,
+            self.options.tuning.workgroup,
         )
     }
 

@@ -53,6 +53,10 @@ pub const FILES: &[(&str, &str)] = &[
         rt_core::reference::texture::WGSL,
     ),
     (
+        "crates/core/src/reference/surface.wgsl",
+        rt_core::reference::surface::WGSL,
+    ),
+    (
         "crates/core/src/reference/path.wgsl",
         rt_core::reference::path::WGSL,
     ),
@@ -91,6 +95,7 @@ macro_rules! tracing_module {
                 "crates/core/src/math/microfacet.wgsl",
                 "crates/core/src/math/bsdf.wgsl",
                 "crates/core/src/environment.wgsl",
+                "crates/core/src/reference/surface.wgsl",
                 "crates/core/src/reference/path.wgsl",
                 "crates/core/src/accumulation.wgsl",
                 $entry,

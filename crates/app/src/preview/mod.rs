@@ -10,7 +10,7 @@ use std::sync::Arc;
 use glam::{Mat3, Mat4, Vec3};
 use rt_core::{Camera, Material, Mesh, Scene};
 
-use types::{GridVertex, MAX_PREVIEW_LIGHTS, PreviewLight, PreviewObject, PreviewView, kind};
+use types::{GridVertex, MAX_PREVIEW_LIGHTS, PreviewLight, PreviewObject, PreviewView, look};
 
 /// A texture's texels, shared with the scene.
 #[derive(Clone)]
@@ -180,30 +180,30 @@ pub fn build_frame(
             }
             _ => 0.0,
         };
-        let (color, emission, material_kind, texture) = match &object.material {
+        let (color, emission, look, texture) = match &object.material {
             Material::Lambertian { albedo, texture } => (
                 *albedo,
                 [0.0; 3],
-                kind::DIFFUSE,
+                look::DIFFUSE,
                 texture.and_then(|t| scene.textures.get(t)),
             ),
-            Material::Metal { albedo, .. } => (*albedo, [0.0; 3], kind::METAL, None),
-            Material::Dielectric { tint, .. } => (*tint, [0.0; 3], kind::GLASS, None),
+            Material::Metal { albedo, .. } => (*albedo, [0.0; 3], look::METAL, None),
+            Material::Dielectric { tint, .. } => (*tint, [0.0; 3], look::GLASS, None),
             Material::Emissive { color, intensity } => (
                 [0.0; 3],
                 (Vec3::from(*color) * *intensity).to_array(),
-                kind::EMITTER,
+                look::EMITTER,
                 None,
             ),
             Material::Pbr(p) => (
                 p.base_color,
                 (Vec3::from(p.emission) * p.emission_strength).to_array(),
                 if p.transmission > 0.5 {
-                    kind::GLASS
+                    look::GLASS
                 } else if p.metallic > 0.5 {
-                    kind::METAL
+                    look::METAL
                 } else {
-                    kind::DIFFUSE
+                    look::DIFFUSE
                 },
                 p.texture.and_then(|t| scene.textures.get(t)),
             ),
@@ -217,7 +217,7 @@ pub fn build_frame(
                 u32::from(selection == Some(i)),
                 u32::from(texture.is_some()),
                 u32::from(object.mesh.normals.is_some()),
-                material_kind,
+                look,
             ],
         });
         meshes.push(object.mesh.clone());

@@ -25,8 +25,10 @@ pub struct PreviewView {
     pub lights: [PreviewLight; MAX_PREVIEW_LIGHTS],
 }
 
-/// Material kinds of `PreviewObject::flags[3]`.
-pub mod kind {
+/// How the preview shades an object (`PreviewObject::flags[3]`, the `LOOK_*` constants of
+/// `shaders/preview.wgsl`): an approximation chosen per material, not the material's kind
+/// (`rt_core::MaterialKind`); the preview's match over `Material` gives each material one.
+pub mod look {
     pub const DIFFUSE: u32 = 0;
     pub const METAL: u32 = 1;
     pub const GLASS: u32 = 2;
@@ -94,6 +96,31 @@ mod tests {
                 vec![$((stringify!($field).to_string(), offset_of!($ty, $field))),*];
             assert_eq!(members, rust, "{}: member offsets (WGSL vs Rust)", $name);
         }};
+    }
+
+    #[test]
+    fn preview_looks_match_the_shader() {
+        let source = rt_gpu::shaders::PREVIEW.source();
+        let module = naga::front::wgsl::parse_str(&source).expect("preview.wgsl parses");
+        for (name, value) in [
+            ("LOOK_DIFFUSE", look::DIFFUSE),
+            ("LOOK_METAL", look::METAL),
+            ("LOOK_GLASS", look::GLASS),
+            ("LOOK_EMITTER", look::EMITTER),
+        ] {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("preview.wgsl has no {name}"));
+            assert!(
+                matches!(
+                    module.global_expressions[c.init],
+                    naga::Expression::Literal(naga::Literal::U32(v)) if v == value
+                ),
+                "{name}"
+            );
+        }
     }
 
     #[test]

@@ -1,5 +1,4 @@
-// The PBR material's BSDF and the surfaces next-event estimation evaluates; mirrors
-// crates/core/src/math/bsdf.rs (equations there) and `Surface` in reference/path.rs.
+// The PBR material's BSDF; mirrors crates/core/src/math/bsdf.rs (equations there).
 
 struct PbrBsdf {
     base: vec3<f32>,
@@ -149,32 +148,4 @@ fn pbr_sample(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32) -> BsdfS
         return none;
     }
     return BsdfSample(wi, e.w, weight, true);
-}
-
-const SURFACE_LAMBERT: u32 = 0u;
-const SURFACE_PBR: u32 = 1u;
-
-// What next-event estimation and the delta lights evaluate at a vertex.
-struct Surface {
-    kind: u32,
-    albedo: vec3<f32>,
-    // The shading frame (t, b, n) and wo in it (PBR).
-    t: vec3<f32>,
-    b: vec3<f32>,
-    n: vec3<f32>,
-    wo: vec3<f32>,
-    bsdf: PbrBsdf,
-}
-
-// f |cos θ| towards world direction wi (xyz) and the BSDF-sampling pdf of wi (w).
-fn surface_eval(s: Surface, wi: vec3<f32>) -> vec4<f32> {
-    if (HAS_PBR && s.kind == SURFACE_PBR) {
-        return pbr_eval(s.bsdf, s.wo, vec3(dot(wi, s.t), dot(wi, s.b), dot(wi, s.n)));
-    }
-    let c = dot(wi, s.n);
-    if (c > 0.0) {
-        let p = c * (1.0 / PI);
-        return vec4(s.albedo * p, p);
-    }
-    return vec4(0.0);
 }

@@ -9,14 +9,15 @@ pub const WGSL: &str = include_str!("path.wgsl");
 use glam::{Vec2, Vec3};
 
 use super::hit::MISS;
+use super::surface::Surface;
 use super::texture::{Slot, base_color_texture, coverage, surface_emission};
 use super::{occluded, trace};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{
-    ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame, Hit, NO_TEXTURE, SLOT_METALLIC_ROUGHNESS,
-    SLOT_NORMAL, material_kind,
+    ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame, Hit, PbrLobe, SLOT_BASE, SLOT_METALLIC_ROUGHNESS,
+    SLOT_NORMAL,
 };
-use crate::math::bsdf::Pbr;
+use crate::material_kind::MaterialKind;
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::{self, Rng};
 use crate::math::sampling::*;
@@ -25,40 +26,6 @@ use crate::math::sampling::*;
 pub fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
-}
-
-/// How a surface point scatters, for next-event estimation and the delta lights.
-#[derive(Clone, Copy, Debug)]
-pub enum Surface {
-    /// f = albedo/π about `ns`.
-    Lambert { albedo: Vec3, ns: Vec3 },
-    /// The PBR BSDF in the frame (t, b, ns), with ωo there.
-    Pbr {
-        bsdf: Pbr,
-        frame: [Vec3; 3],
-        wo: Vec3,
-    },
-}
-
-impl Surface {
-    /// f · |cosθ| towards world direction `wi` and the BSDF-sampling pdf of `wi`.
-    pub fn eval(&self, wi: Vec3) -> (Vec3, f32) {
-        match self {
-            Surface::Lambert { albedo, ns } => {
-                let c = wi.dot(*ns);
-                if c > 0.0 {
-                    let p = c * std::f32::consts::FRAC_1_PI;
-                    (*albedo * p, p)
-                } else {
-                    (Vec3::ZERO, 0.0)
-                }
-            }
-            Surface::Pbr { bsdf, frame, wo } => {
-                let local = Vec3::new(wi.dot(frame[0]), wi.dot(frame[1]), wi.dot(frame[2]));
-                bsdf.eval(*wo, local)
-            }
-        }
-    }
 }
 
 /// A light sample for next-event estimation: the direction and distance to trace and L_e / p_light.
@@ -379,9 +346,9 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let ng_raw = (v1 - v0).cross(v2 - v0);
     let front = path.direction.dot(ng_raw) < 0.0;
-    if !front && material.kind == material_kind::PBR {
+    if !front && material.kind == MaterialKind::Pbr.tag() {
         // The segment ran inside the object: Beer–Lambert absorption over its length.
-        let sigma = Vec3::from(material.absorption);
+        let sigma = Vec3::from(material.lobe_of::<PbrLobe>().absorption);
         if sigma != Vec3::ZERO {
             path.beta *= (-sigma * hit.t).exp();
         }
@@ -406,7 +373,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         }
         path.radiance += clamp_bounced(path.beta * le * weight, frame, path.depth);
     }
-    if material.kind == material_kind::EMISSIVE || path.depth + 1 >= frame.max_depth {
+    if material.kind == MaterialKind::Emissive.tag() || path.depth + 1 >= frame.max_depth {
         return false;
     }
     let b0 = 1.0 - hit.b1 - hit.b2;
@@ -436,134 +403,83 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
             + Vec2::from(shading.uv1) * hit.b1
             + Vec2::from(shading.uv2) * hit.b2
     });
-    let albedo = match uv {
-        Some(uv) if material.texture_offset != NO_TEXTURE => {
+    let color = match uv {
+        Some(uv) if !material.texture(SLOT_BASE).is_empty() => {
             base_color_texture(scene, material, uv)
         }
-        _ => Vec3::from(material.albedo),
+        _ => Vec3::from(material.color),
     };
-    let albedo = if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
-        albedo * vertex_color(&scene.shading[hit.triangle as usize], [b0, hit.b1, hit.b2])
+    let color = if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
+        color * vertex_color(&scene.shading[hit.triangle as usize], [b0, hit.b1, hit.b2])
     } else {
-        albedo
+        color
     };
-    let (mut metallic, mut roughness) = (material.metallic, material.roughness);
-    if let (Some(uv), material_kind::PBR) = (uv, material.kind) {
-        if material.mr_texture_offset != NO_TEXTURE {
-            let t = Slot {
-                offset: material.mr_texture_offset,
-                width: material.mr_texture_width,
-                height: material.mr_texture_height,
-                bits: material.samplers >> SLOT_METALLIC_ROUGHNESS,
+    let (mut metallic, mut roughness) = (0.0, 0.0);
+    if material.kind == MaterialKind::Pbr.tag() {
+        let lobe = material.lobe_of::<PbrLobe>();
+        (metallic, roughness) = (lobe.metallic, lobe.roughness);
+        if let Some(uv) = uv {
+            if !material.texture(SLOT_METALLIC_ROUGHNESS).is_empty() {
+                let t = Slot::of(material, SLOT_METALLIC_ROUGHNESS).sample(scene, uv, false);
+                roughness *= t.y;
+                metallic *= t.z;
             }
-            .sample(scene, uv, false);
-            roughness *= t.y;
-            metallic *= t.z;
-        }
-        if material.normal_texture_offset != NO_TEXTURE
-            && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
-        {
-            let t = Slot {
-                offset: material.normal_texture_offset,
-                width: material.normal_texture_width,
-                height: material.normal_texture_height,
-                bits: material.samplers >> SLOT_NORMAL,
+            if !material.texture(SLOT_NORMAL).is_empty()
+                && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
+            {
+                let t = Slot::of(material, SLOT_NORMAL)
+                    .sample(scene, uv, false)
+                    .truncate();
+                let i = 3 * hit.triangle as usize;
+                let mapped = normal_mapped(
+                    n_interpolated,
+                    [
+                        scene.tangents[i],
+                        scene.tangents[i + 1],
+                        scene.tangents[i + 2],
+                    ],
+                    [b0, hit.b1, hit.b2],
+                    t,
+                    lobe.normal_scale,
+                );
+                ns = if mapped.dot(ng) < 0.0 {
+                    -mapped
+                } else {
+                    mapped
+                };
             }
-            .sample(scene, uv, false)
-            .truncate();
-            let i = 3 * hit.triangle as usize;
-            let mapped = normal_mapped(
-                n_interpolated,
-                [
-                    scene.tangents[i],
-                    scene.tangents[i + 1],
-                    scene.tangents[i + 2],
-                ],
-                [b0, hit.b1, hit.b2],
-                t,
-                material.normal_scale,
-            );
-            ns = if mapped.dot(ng) < 0.0 {
-                -mapped
-            } else {
-                mapped
-            };
         }
     }
-    path.prev_bsdf_pdf = 0.0;
-    let next = match material.kind {
-        material_kind::METAL => {
-            path.beta *= albedo;
-            sample_metal(path.direction, ns, material.param, &mut path.rng)
+    let surface = Surface::of_material(
+        scene,
+        material,
+        (color, metallic, roughness),
+        path.direction,
+        ng,
+        ns,
+        front,
+    );
+    if !surface.is_delta() {
+        if lights_sampled {
+            let direct = path.beta * direct_light(scene, frame, p, ng, &surface, &mut path.rng);
+            path.radiance += clamp_bounced(direct, frame, path.depth + 1);
         }
-        material_kind::DIELECTRIC => {
-            let eta = if front {
-                material.param
-            } else {
-                1.0 / material.param
-            };
-            let (d, refracted) = sample_dielectric(path.direction, ns, eta, &mut path.rng);
-            if refracted {
-                path.beta *= albedo / (eta * eta);
-            }
-            d
-        }
-        _ => {
-            let surface = if material.kind == material_kind::PBR {
-                pbr_surface(
-                    scene,
-                    material,
-                    (albedo, metallic, roughness),
-                    -path.direction,
-                    ng,
-                    ns,
-                    front,
-                )
-            } else {
-                Surface::Lambert { albedo, ns }
-            };
-            if lights_sampled {
-                let direct = path.beta * direct_light(scene, frame, p, ng, &surface, &mut path.rng);
-                path.radiance += clamp_bounced(direct, frame, path.depth + 1);
-            }
-            let delta = path.beta * delta_lights_at(scene, frame, p, ng, &surface);
-            path.radiance += clamp_bounced(delta, frame, path.depth + 1);
-            match surface {
-                Surface::Lambert { .. } => {
-                    path.beta *= albedo;
-                    let d = sample_cosine_hemisphere(ns, &mut path.rng);
-                    path.prev_bsdf_pdf = d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI;
-                    d
-                }
-                Surface::Pbr { bsdf, frame: f, wo } => {
-                    let (u_lobe, u1, u2) = (
-                        path.rng.next_f32(),
-                        path.rng.next_f32(),
-                        path.rng.next_f32(),
-                    );
-                    let Some(sample) = bsdf.sample(wo, u_lobe, u1, u2) else {
-                        return false;
-                    };
-                    path.beta *= sample.weight;
-                    let d =
-                        (f[0] * sample.wi.x + f[1] * sample.wi.y + f[2] * sample.wi.z).normalize();
-                    if d.dot(ng) > 0.0 {
-                        path.prev_bsdf_pdf = sample.pdf;
-                    }
-                    d
-                }
-            }
-        }
+        let delta = path.beta * delta_lights_at(scene, frame, p, ng, &surface);
+        path.radiance += clamp_bounced(delta, frame, path.depth + 1);
+    }
+    let Some(sample) = surface.sample(path.direction, ng, &mut path.rng) else {
+        return false;
     };
+    path.beta *= sample.weight;
+    path.prev_bsdf_pdf = sample.pdf;
+    let next = sample.direction;
     let side = next.dot(ng);
     if side == 0.0 || !next.is_finite() {
         return false;
     }
     // Transmission continues below the surface, reflection above it.
     let transmitted = side < 0.0;
-    let transmits = material.kind == material_kind::DIELECTRIC
-        || (material.kind == material_kind::PBR && material.transmission > 0.0);
-    if transmitted && !transmits {
+    if transmitted && !surface.transmits() {
         return false;
     }
     if frame.roulette_from_depth > 0 && path.depth >= frame.roulette_from_depth {
@@ -577,42 +493,4 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     path.direction = next;
     path.depth += 1;
     true
-}
-
-/// The PBR surface at a hit seen from `wo` (world, pointing away): its shading frame is `ns`
-/// unless `wo` lies below it (an interpolated normal at a silhouette), then the true normal.
-fn pbr_surface(
-    scene: &GpuScene,
-    material: &crate::gpu_types::Material,
-    (base, metallic, roughness): (Vec3, f32, f32),
-    wo: Vec3,
-    ng: Vec3,
-    ns: Vec3,
-    front: bool,
-) -> Surface {
-    let n = if wo.dot(ns) > 0.0 { ns } else { ng };
-    let (t, b) = onb(n);
-    let wo_local = Vec3::new(wo.dot(t), wo.dot(b), wo.dot(n));
-    // A thin sheet looks the same from both sides.
-    let thin = material.flags & crate::gpu_types::THIN_WALLED != 0;
-    let eta = if front || thin {
-        material.param
-    } else {
-        1.0 / material.param
-    };
-    let energy = crate::math::microfacet::energy_lookup(&scene.ggx_energy, wo_local.z, roughness);
-    Surface::Pbr {
-        bsdf: Pbr::new(
-            base,
-            metallic,
-            roughness,
-            eta,
-            material.transmission,
-            wo_local.z,
-            energy,
-        )
-        .thin_walled(thin),
-        frame: [t, b, n],
-        wo: wo_local,
-    }
 }

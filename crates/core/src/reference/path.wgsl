@@ -10,15 +10,13 @@
 // frame.light_strategy == 1 (a diagnostic) next-event estimation takes weight 1 and BSDF-sampled
 // hits on emitters after a diffuse bounce weight 0.
 
-// Features a scene does not use are compiled out by these pipeline constants.
+// Features a scene does not use are compiled out by these pipeline constants (the material
+// kinds' in surface.wgsl).
 override HAS_TEXTURES: bool = true;
-override HAS_METAL: bool = true;
-override HAS_DIELECTRIC: bool = true;
 override HAS_THIN_LENS: bool = true;
 override COUNT_RAYS: bool = false;
 override HAS_NEE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
-override HAS_PBR: bool = true;
 override HAS_ENVIRONMENT: bool = true;
 override HAS_NORMAL_MAPS: bool = true;
 // Also record the first hit's albedo, normal and directly seen light (for the denoiser).
@@ -268,26 +266,6 @@ fn escaped(direction: vec3<f32>, prev_bsdf_pdf: f32) -> vec3<f32> {
     return e.xyz * weight;
 }
 
-// The PBR surface at a hit seen from wo: shading frame ns unless wo lies below it, then ng.
-fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f32, wo: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
-    let n = select(ng, ns, dot(wo, ns) > 0.0);
-    let basis = onb(n);
-    let wo_local = vec3(dot(wo, basis.t), dot(wo, basis.b), dot(wo, n));
-    // A thin sheet looks the same from both sides.
-    let thin = (material.flags & THIN_WALLED) != 0u;
-    let eta = select(1.0 / material.param, material.param, front || thin);
-    let energy = energy_lookup(wo_local.z, roughness);
-    var s: Surface;
-    s.kind = SURFACE_PBR;
-    s.t = basis.t;
-    s.b = basis.b;
-    s.n = n;
-    s.wo = wo_local;
-    s.bsdf = pbr_bsdf(base, metallic, roughness, eta, material.transmission, wo_local.z, energy);
-    s.bsdf.thin = thin;
-    return s;
-}
-
 fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<vec3<f32>, 2> {
     let jx = rng_next(rng);
     let jy = rng_next(rng);
@@ -354,9 +332,12 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     let material = materials[tri.material];
     let ng_raw = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
     let front = dot(direction, ng_raw) < 0.0;
-    if (HAS_PBR && !front && material.kind == MAT_PBR && any(material.absorption != vec3(0.0))) {
+    if (HAS_PBR && !front && material.kind == MAT_PBR) {
         // The segment ran inside the object: Beer-Lambert absorption over its length.
-        (*path).beta *= exp(-material.absorption * hit.t);
+        let sigma = pbr_lobe(material).absorption;
+        if (any(sigma != vec3(0.0))) {
+            (*path).beta *= exp(-sigma * hit.t);
+        }
     }
     if (WRITE_AOVS && depth == 0u) {
         let n = normalize(ng_raw);
@@ -365,8 +346,8 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
             let e = material.emission;
             aov_albedo = e / max(max(e.x, max(e.y, e.z)), 1e-6);
         } else {
-            var a = material.albedo;
-            if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
+            var a = material.color;
+            if (HAS_TEXTURES && material.textures[SLOT_BASE].offset != NO_TEXTURE && tri.has_uvs != 0u) {
                 let s0 = shading[hit.triangle];
                 let c0 = 1.0 - hit.b1 - hit.b2;
                 a = base_color_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2);
@@ -408,50 +389,35 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         ns = select(n_interpolated, -n_interpolated, dot(n_interpolated, ng) < 0.0);
     }
     let uv = sh.uv0 * b0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2;
-    var albedo = material.albedo;
-    if (HAS_TEXTURES && material.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
-        albedo = base_color_texture(material, uv);
+    var color = material.color;
+    if (HAS_TEXTURES && material.textures[SLOT_BASE].offset != NO_TEXTURE && tri.has_uvs != 0u) {
+        color = base_color_texture(material, uv);
     }
     if ((tri.has_normals & HAS_COLORS) != 0u) {
-        albedo *= vertex_color(sh, vec3(b0, hit.b1, hit.b2));
+        color *= vertex_color(sh, vec3(b0, hit.b1, hit.b2));
     }
-    var metallic = material.metallic;
-    var roughness = material.roughness;
-    if (HAS_PBR && HAS_TEXTURES && material.kind == MAT_PBR && tri.has_uvs != 0u) {
-        if (material.mr_texture_offset != NO_TEXTURE) {
-            let t = sample_slot(material.mr_texture_offset, material.mr_texture_width, material.mr_texture_height,
-                material.samplers >> SLOT_METALLIC_ROUGHNESS, uv, false);
-            roughness *= t.y;
-            metallic *= t.z;
-        }
-        if (HAS_NORMAL_MAPS && material.normal_texture_offset != NO_TEXTURE && (tri.has_normals & HAS_NORMALS) != 0u) {
-            let t = sample_slot(material.normal_texture_offset, material.normal_texture_width, material.normal_texture_height,
-                material.samplers >> SLOT_NORMAL, uv, false).rgb;
-            let i = 3u * hit.triangle;
-            let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], vec3(b0, hit.b1, hit.b2), t, material.normal_scale);
-            ns = select(mapped, -mapped, dot(mapped, ng) < 0.0);
+    var metallic = 0.0;
+    var roughness = 0.0;
+    if (HAS_PBR && material.kind == MAT_PBR) {
+        let lobe = pbr_lobe(material);
+        metallic = lobe.metallic;
+        roughness = lobe.roughness;
+        if (HAS_TEXTURES && tri.has_uvs != 0u) {
+            if (material.textures[SLOT_METALLIC_ROUGHNESS].offset != NO_TEXTURE) {
+                let t = material_texture(material, SLOT_METALLIC_ROUGHNESS, uv, false);
+                roughness *= t.y;
+                metallic *= t.z;
+            }
+            if (HAS_NORMAL_MAPS && material.textures[SLOT_NORMAL].offset != NO_TEXTURE && (tri.has_normals & HAS_NORMALS) != 0u) {
+                let t = material_texture(material, SLOT_NORMAL, uv, false).rgb;
+                let i = 3u * hit.triangle;
+                let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], vec3(b0, hit.b1, hit.b2), t, lobe.normal_scale);
+                ns = select(mapped, -mapped, dot(mapped, ng) < 0.0);
+            }
         }
     }
-    var next: vec3<f32>;
-    (*path).prev_bsdf_pdf = 0.0;
-    if (HAS_METAL && material.kind == MAT_METAL) {
-        next = sample_metal(direction, ns, material.param, rng);
-        (*path).beta *= albedo;
-    } else if (HAS_DIELECTRIC && material.kind == MAT_DIELECTRIC) {
-        let eta = select(1.0 / material.param, material.param, front);
-        let sample = sample_dielectric(direction, ns, eta, rng);
-        next = sample.direction;
-        if (sample.refracted) {
-            (*path).beta *= albedo / (eta * eta);
-        }
-    } else {
-        var surface: Surface;
-        surface.kind = SURFACE_LAMBERT;
-        surface.albedo = albedo;
-        surface.n = ns;
-        if (HAS_PBR && material.kind == MAT_PBR) {
-            surface = pbr_surface(material, albedo, metallic, roughness, -direction, ng, ns, front);
-        }
+    let surface = material_surface(material, color, metallic, roughness, direction, ng, ns, front);
+    if (!surface_is_delta(surface)) {
         if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
             if (defer_shadow) {
                 *shadow = sample_direct(p, ng, surface, rng);
@@ -463,31 +429,19 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         if (HAS_DELTA_LIGHTS) {
             (*path).radiance += clamp_bounced((*path).beta * delta_lights_at(p, ng, surface, rays));
         }
-        if (HAS_PBR && surface.kind == SURFACE_PBR) {
-            let u_lobe = rng_next(rng);
-            let u1 = rng_next(rng);
-            let u2 = rng_next(rng);
-            let sample = pbr_sample(surface.bsdf, surface.wo, u_lobe, u1, u2);
-            if (!sample.valid) {
-                return false;
-            }
-            (*path).beta *= sample.weight;
-            next = normalize(surface.t * sample.wi.x + surface.b * sample.wi.y + surface.n * sample.wi.z);
-            if (dot(next, ng) > 0.0) {
-                (*path).prev_bsdf_pdf = sample.pdf;
-            }
-        } else {
-            (*path).beta *= albedo;
-            next = sample_cosine_hemisphere(ns, rng);
-            (*path).prev_bsdf_pdf = max(dot(next, ns), 0.0) * (1.0 / PI);
-        }
     }
+    let sample = surface_sample(surface, direction, ng, rng);
+    if (!sample.valid) {
+        return false;
+    }
+    (*path).beta *= sample.weight;
+    (*path).prev_bsdf_pdf = sample.pdf;
+    let next = sample.direction;
     let side = dot(next, ng);
     let transmitted = side < 0.0;
-    let transmits = material.kind == MAT_DIELECTRIC || (HAS_PBR && material.kind == MAT_PBR && material.transmission > 0.0);
     // A direction that is not finite (a degenerate normal or sample) ends the path, as in the Rust
     // twin, rather than sending NaN into the traversal and the sums.
-    if (side == 0.0 || !is_finite3(next) || (transmitted && !transmits)) {
+    if (side == 0.0 || !is_finite3(next) || (transmitted && !surface_transmits(surface))) {
         return false;
     }
     // Russian roulette: continue with probability q = min(1, max(beta)), re-weighted by 1/q.

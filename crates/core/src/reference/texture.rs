@@ -10,9 +10,10 @@ use glam::{Vec2, Vec3, Vec4};
 
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{
-    ALPHA_BLEND, ALPHA_MASK, FILTER_NEAREST, Material, NO_TEXTURE, SLOT_BASE, SLOT_EMISSION,
-    Triangle, WRAP_CLAMP, WRAP_MIRROR, material_kind,
+    ALPHA_BLEND, ALPHA_MASK, FILTER_NEAREST, Material, SAMPLER_BITS, SLOT_BASE, SLOT_EMISSION,
+    Triangle, WRAP_CLAMP, WRAP_MIRROR,
 };
+use crate::material_kind::MaterialKind;
 use crate::math::intersect::PreparedRay;
 use crate::math::sampling::srgb_to_linear;
 
@@ -73,30 +74,24 @@ impl Slot {
     }
 }
 
-/// A material's texture slots.
-pub fn base_slot(m: &Material) -> Slot {
-    Slot {
-        offset: m.texture_offset,
-        width: m.texture_width,
-        height: m.texture_height,
-        bits: m.samplers >> SLOT_BASE,
-    }
-}
-
-fn emission_slot(m: &Material) -> Slot {
-    Slot {
-        offset: m.emission_texture_offset,
-        width: m.emission_texture_width,
-        height: m.emission_texture_height,
-        bits: m.samplers >> SLOT_EMISSION,
+impl Slot {
+    /// Material `m`'s texture slot `slot` (`SLOT_*`) with its sampler.
+    pub fn of(m: &Material, slot: u32) -> Slot {
+        let t = m.texture(slot);
+        Slot {
+            offset: t.offset,
+            width: t.width,
+            height: t.height,
+            bits: m.samplers >> (SAMPLER_BITS * slot),
+        }
     }
 }
 
 /// The base colour image (sRGB) times PBR's factor (a Lambertian texture replaces the albedo).
 pub fn base_color_texture(scene: &GpuScene, m: &Material, uv: Vec2) -> Vec3 {
-    let t = base_slot(m).sample(scene, uv, true).truncate();
-    if m.kind == material_kind::PBR {
-        t * Vec3::from(m.albedo)
+    let t = Slot::of(m, SLOT_BASE).sample(scene, uv, true).truncate();
+    if m.kind == MaterialKind::Pbr.tag() {
+        t * Vec3::from(m.color)
     } else {
         t
     }
@@ -117,10 +112,10 @@ pub fn surface_emission(
     b2: f32,
 ) -> Vec3 {
     let e = Vec3::from(m.emission);
-    if m.emission_texture_offset == NO_TEXTURE || tri.has_uvs == 0 {
+    if m.texture(SLOT_EMISSION).is_empty() || tri.has_uvs == 0 {
         return e;
     }
-    e * emission_slot(m)
+    e * Slot::of(m, SLOT_EMISSION)
         .sample(scene, uv_at(scene, i, b1, b2), true)
         .truncate()
 }
@@ -129,8 +124,10 @@ pub fn surface_emission(
 /// `ALPHA_MASK` 1 at or above the cutoff, else 0.
 pub fn coverage(scene: &GpuScene, m: &Material, tri: &Triangle, i: u32, b1: f32, b2: f32) -> f32 {
     let mut a = m.alpha;
-    if m.texture_offset != NO_TEXTURE && tri.has_uvs != 0 {
-        a *= base_slot(m).sample(scene, uv_at(scene, i, b1, b2), false).w;
+    if !m.texture(SLOT_BASE).is_empty() && tri.has_uvs != 0 {
+        a *= Slot::of(m, SLOT_BASE)
+            .sample(scene, uv_at(scene, i, b1, b2), false)
+            .w;
     }
     if m.flags & ALPHA_MASK != 0 {
         return if a >= m.alpha_cutoff { 1.0 } else { 0.0 };

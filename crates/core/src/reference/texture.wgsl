@@ -49,22 +49,27 @@ fn sample_slot(offset: u32, w: u32, h: u32, bits: u32, uv: vec2<f32>, srgb: bool
     return mix(top, bottom, fy);
 }
 
+// Material m's texture slot `slot` (SLOT_*) at uv.
+fn material_texture(m: Material, slot: u32, uv: vec2<f32>, srgb: bool) -> vec4<f32> {
+    let t = m.textures[slot];
+    return sample_slot(t.offset, t.width, t.height, m.samplers >> (SAMPLER_BITS * slot), uv, srgb);
+}
+
 // The base colour image (sRGB), multiplied by the factor for PBR (a Lambertian texture replaces it).
 fn base_color_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
-    let t = sample_slot(m.texture_offset, m.texture_width, m.texture_height, m.samplers >> SLOT_BASE, uv, true).rgb;
-    return t * select(vec3(1.0), m.albedo, m.kind == MAT_PBR);
+    let t = material_texture(m, SLOT_BASE, uv, true).rgb;
+    return t * select(vec3(1.0), m.color, m.kind == MAT_PBR);
 }
 
 // The light a surface emits at the barycentrics (b1, b2) of triangle i: the material's emission
 // times its emission image.
 fn surface_emission(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32) -> vec3<f32> {
-    if (!HAS_TEXTURES || m.emission_texture_offset == NO_TEXTURE || tri.has_uvs == 0u) {
+    if (!HAS_TEXTURES || m.textures[SLOT_EMISSION].offset == NO_TEXTURE || tri.has_uvs == 0u) {
         return m.emission;
     }
     let sh = shading[i];
     let uv = sh.uv0 * (1.0 - b1 - b2) + sh.uv1 * b1 + sh.uv2 * b2;
-    let t = sample_slot(m.emission_texture_offset, m.emission_texture_width, m.emission_texture_height,
-        m.samplers >> SLOT_EMISSION, uv, true);
+    let t = material_texture(m, SLOT_EMISSION, uv, true);
     return m.emission * t.rgb;
 }
 
@@ -72,10 +77,10 @@ fn surface_emission(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32) -> vec
 // image; with ALPHA_MASK, 1 at or above the cutoff and 0 below.
 fn coverage(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32) -> f32 {
     var a = m.alpha;
-    if (m.texture_offset != NO_TEXTURE && tri.has_uvs != 0u) {
+    if (m.textures[SLOT_BASE].offset != NO_TEXTURE && tri.has_uvs != 0u) {
         let sh = shading[i];
         let uv = sh.uv0 * (1.0 - b1 - b2) + sh.uv1 * b1 + sh.uv2 * b2;
-        a *= sample_slot(m.texture_offset, m.texture_width, m.texture_height, m.samplers >> SLOT_BASE, uv, false).a;
+        a *= material_texture(m, SLOT_BASE, uv, false).a;
     }
     if ((m.flags & ALPHA_MASK) != 0u) {
         return select(0.0, 1.0, a >= m.alpha_cutoff);

@@ -91,6 +91,7 @@ fn same_shading(a: &Scene, b: &Scene) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rt_core::MaterialKind;
 
     #[test]
     fn camera_moves_reuse_material_edits_restyle_and_geometry_edits_rebuild() {
@@ -123,7 +124,10 @@ mod tests {
         assert_eq!(restyled.emitters, full.emitters);
         assert_eq!(restyled.triangles, full.triangles);
         assert_eq!(restyled.features, full.features);
-        assert!(restyled.features.metal && !first.features.metal);
+        assert!(
+            restyled.features.kinds.contains(MaterialKind::Metal)
+                && !first.features.kinds.contains(MaterialKind::Metal)
+        );
 
         let mut shifted = recoloured.clone();
         shifted.objects[0].transform.translation[0] += 0.1;

@@ -3,7 +3,7 @@
 
 use egui::{DragValue, Ui};
 
-use super::material::{Kind, kind_of, material_fields, with_kind};
+use super::material::{kind_list, kind_of, material_fields, with_kind};
 use super::vec3_row;
 use crate::app::RtApp;
 use crate::presets::PRESETS;
@@ -132,26 +132,7 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
     ui.strong("Material");
     let current = kind_of(&object.material);
     ui.horizontal_wrapped(|ui| {
-        for (kind, label, tip) in [
-            (Kind::Diffuse, "Diffuse", "Lambertian: matte, one colour"),
-            (
-                Kind::Textured,
-                "Texture",
-                "Lambertian with an image as its colour",
-            ),
-            (Kind::Metal, "Metal", "A mirror, blurred by fuzz"),
-            (Kind::Glass, "Glass", "A smooth dielectric that refracts"),
-            (
-                Kind::Emissive,
-                "Emissive",
-                "A light source (emits from its front faces)",
-            ),
-            (
-                Kind::Pbr,
-                "Physically based",
-                "glTF metallic-roughness: metal or dielectric, rough or polished, opaque or clear",
-            ),
-        ] {
+        for (kind, label, tip) in kind_list() {
             if ui
                 .selectable_label(current == kind, label)
                 .on_hover_text(tip)

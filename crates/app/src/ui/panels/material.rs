@@ -2,27 +2,50 @@
 //! of each kind (the physically based material's textures and alpha included).
 
 use egui::{DragValue, Ui};
-use rt_core::Material;
+use rt_core::{Material, MaterialKind};
 
-/// The material kinds offered in the inspector.
+/// An entry of the inspector's kind list: a material kind and, for a Lambertian one, whether its
+/// colour is an image (the list offers "Diffuse" and "Texture").
 #[derive(Clone, Copy, PartialEq, Eq)]
-pub(super) enum Kind {
-    Diffuse,
-    Textured,
-    Metal,
-    Glass,
-    Emissive,
-    Pbr,
+pub(super) struct Kind {
+    pub kind: MaterialKind,
+    pub textured: bool,
+}
+
+/// The kinds the inspector offers, with their labels and tooltips: `MaterialKind::ALL`, with a
+/// textured Lambertian entry after the plain one.
+pub(super) fn kind_list() -> Vec<(Kind, &'static str, &'static str)> {
+    let mut list = Vec::new();
+    for kind in MaterialKind::ALL {
+        let entry = Kind {
+            kind,
+            textured: false,
+        };
+        list.push((entry, kind.label(), kind.summary()));
+        if kind == MaterialKind::Lambertian {
+            list.push((
+                Kind {
+                    kind,
+                    textured: true,
+                },
+                "Texture",
+                "Lambertian with an image as its colour",
+            ));
+        }
+    }
+    list
 }
 
 pub(super) fn kind_of(m: &Material) -> Kind {
-    match m {
-        Material::Lambertian { texture: None, .. } => Kind::Diffuse,
-        Material::Lambertian { .. } => Kind::Textured,
-        Material::Metal { .. } => Kind::Metal,
-        Material::Dielectric { .. } => Kind::Glass,
-        Material::Emissive { .. } => Kind::Emissive,
-        Material::Pbr(_) => Kind::Pbr,
+    Kind {
+        kind: m.kind(),
+        textured: matches!(
+            m,
+            Material::Lambertian {
+                texture: Some(_),
+                ..
+            }
+        ),
     }
 }
 
@@ -38,26 +61,26 @@ fn color_of(m: &Material) -> [f32; 3] {
 
 pub(super) fn with_kind(m: &Material, kind: Kind, textures: usize) -> Material {
     let color = color_of(m);
-    match kind {
-        Kind::Diffuse => Material::lambertian(color),
+    match kind.kind {
+        MaterialKind::Lambertian if !kind.textured => Material::lambertian(color),
         // A texture slot without an image renders white until an image is chosen.
-        Kind::Textured => Material::Lambertian {
+        MaterialKind::Lambertian => Material::Lambertian {
             albedo: [1.0; 3],
             texture: (textures > 0).then_some(0),
         },
-        Kind::Metal => Material::Metal {
+        MaterialKind::Metal => Material::Metal {
             albedo: color,
             fuzz: 0.1,
         },
-        Kind::Glass => Material::Dielectric {
+        MaterialKind::Dielectric => Material::Dielectric {
             ior: 1.5,
             tint: [1.0; 3],
         },
-        Kind::Emissive => Material::Emissive {
+        MaterialKind::Emissive => Material::Emissive {
             color,
             intensity: 10.0,
         },
-        Kind::Pbr => Material::Pbr(Box::new(rt_core::material::Pbr {
+        MaterialKind::Pbr => Material::Pbr(Box::new(rt_core::material::Pbr {
             base_color: color,
             ..Default::default()
         })),

@@ -1,0 +1,208 @@
+//! The BSDF at a path vertex, dispatched on the material kind, as `surface.wgsl` beside it (its
+//! twin) computes it. The lobes: Lambert (here), fuzzy metal and smooth glass (`math::sampling`),
+//! glTF metallic-roughness (`math::bsdf`). Metal and glass are delta-like: lights are not sampled
+//! at them, and their samples carry pdf 0, so an emitter they reach counts fully (MIS weight 1).
+//!
+//! Lambert: f = albedo/π, sampled cosine-weighted, so f cosθ / p = albedo and p = cosθ/π.
+
+/// The WGSL twin of this module, `surface.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("surface.wgsl");
+
+use glam::Vec3;
+
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::{DielectricLobe, Material, MetalLobe, PbrLobe, THIN_WALLED};
+use crate::material_kind::MaterialKind;
+use crate::math::bsdf::Pbr;
+use crate::math::microfacet::energy_lookup;
+use crate::math::rng::Rng;
+use crate::math::sampling::{onb, sample_cosine_hemisphere, sample_dielectric, sample_metal};
+
+/// How a surface point scatters: its lobe and that lobe's parameters.
+#[derive(Clone, Copy, Debug)]
+pub enum Surface {
+    /// f = albedo/π about `ns`.
+    Lambert { albedo: Vec3, ns: Vec3 },
+    /// The mirror direction about `ns` perturbed within a ball of radius `fuzz`, weight `albedo`.
+    Metal { albedo: Vec3, ns: Vec3, fuzz: f32 },
+    /// Smooth glass about `ns` with η = n_transmitted / n_incident; refraction weighs `tint`/η².
+    Dielectric { tint: Vec3, ns: Vec3, eta: f32 },
+    /// The PBR BSDF in the frame (t, b, n), with ωo there.
+    Pbr {
+        bsdf: Pbr,
+        frame: [Vec3; 3],
+        wo: Vec3,
+    },
+}
+
+/// A direction drawn from a surface's lobe.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceSample {
+    pub direction: Vec3,
+    /// f |cosθ| / pdf: what the path throughput is multiplied by.
+    pub weight: Vec3,
+    /// The pdf MIS weighs an emitter reached along `direction` with: 0 for the delta lobes and
+    /// for a PBR sample below the geometric surface.
+    pub pdf: f32,
+}
+
+impl Surface {
+    /// The BSDF of `material` where a ray travelling along `direction` hit it: `color` is its
+    /// colour after textures and vertex colours, `metallic` and `roughness` the PBR inputs after
+    /// theirs, `ng` the geometric and `ns` the shading normal (both facing the ray), `front` the
+    /// side it hit.
+    #[allow(clippy::too_many_arguments)]
+    pub fn of_material(
+        scene: &GpuScene,
+        material: &Material,
+        (color, metallic, roughness): (Vec3, f32, f32),
+        direction: Vec3,
+        ng: Vec3,
+        ns: Vec3,
+        front: bool,
+    ) -> Surface {
+        match MaterialKind::from_tag(material.kind) {
+            Some(MaterialKind::Metal) => Surface::Metal {
+                albedo: color,
+                ns,
+                fuzz: material.lobe_of::<MetalLobe>().fuzz,
+            },
+            Some(MaterialKind::Dielectric) => {
+                let ior = material.lobe_of::<DielectricLobe>().ior;
+                Surface::Dielectric {
+                    tint: color,
+                    ns,
+                    eta: if front { ior } else { 1.0 / ior },
+                }
+            }
+            Some(MaterialKind::Pbr) => pbr_surface(
+                scene,
+                material,
+                (color, metallic, roughness),
+                -direction,
+                ng,
+                ns,
+                front,
+            ),
+            _ => Surface::Lambert { albedo: color, ns },
+        }
+    }
+
+    /// Whether the lobe is sampled only (no light sampling, zero pdf).
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Surface::Metal { .. } | Surface::Dielectric { .. })
+    }
+
+    /// Whether the lobe may send a path below the geometric surface.
+    pub fn transmits(&self) -> bool {
+        match self {
+            Surface::Dielectric { .. } => true,
+            Surface::Pbr { bsdf, .. } => bsdf.transmission > 0.0,
+            _ => false,
+        }
+    }
+
+    /// f · |cosθ| towards world direction `wi` and the BSDF-sampling pdf of `wi` (zero for the
+    /// delta lobes, which are never asked).
+    pub fn eval(&self, wi: Vec3) -> (Vec3, f32) {
+        match self {
+            Surface::Lambert { albedo, ns } => {
+                let c = wi.dot(*ns);
+                if c > 0.0 {
+                    let p = c * std::f32::consts::FRAC_1_PI;
+                    (*albedo * p, p)
+                } else {
+                    (Vec3::ZERO, 0.0)
+                }
+            }
+            Surface::Pbr { bsdf, frame, wo } => {
+                let local = Vec3::new(wi.dot(frame[0]), wi.dot(frame[1]), wi.dot(frame[2]));
+                bsdf.eval(*wo, local)
+            }
+            Surface::Metal { .. } | Surface::Dielectric { .. } => (Vec3::ZERO, 0.0),
+        }
+    }
+
+    /// The next direction of a path that arrived along `direction` (`ng` the geometric normal
+    /// facing it); `None` ends the path.
+    pub fn sample(&self, direction: Vec3, ng: Vec3, rng: &mut Rng) -> Option<SurfaceSample> {
+        Some(match *self {
+            Surface::Metal { albedo, ns, fuzz } => SurfaceSample {
+                direction: sample_metal(direction, ns, fuzz, rng),
+                weight: albedo,
+                pdf: 0.0,
+            },
+            Surface::Dielectric { tint, ns, eta } => {
+                let (d, refracted) = sample_dielectric(direction, ns, eta, rng);
+                SurfaceSample {
+                    direction: d,
+                    // Refraction scales radiance by 1/η²; reflection (probability F) keeps it.
+                    weight: if refracted {
+                        tint / (eta * eta)
+                    } else {
+                        Vec3::ONE
+                    },
+                    pdf: 0.0,
+                }
+            }
+            Surface::Pbr { bsdf, frame, wo } => {
+                let (u_lobe, u1, u2) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
+                let s = bsdf.sample(wo, u_lobe, u1, u2)?;
+                let d = (frame[0] * s.wi.x + frame[1] * s.wi.y + frame[2] * s.wi.z).normalize();
+                SurfaceSample {
+                    direction: d,
+                    weight: s.weight,
+                    pdf: if d.dot(ng) > 0.0 { s.pdf } else { 0.0 },
+                }
+            }
+            Surface::Lambert { albedo, ns } => {
+                let d = sample_cosine_hemisphere(ns, rng);
+                SurfaceSample {
+                    direction: d,
+                    weight: albedo,
+                    pdf: d.dot(ns).max(0.0) * std::f32::consts::FRAC_1_PI,
+                }
+            }
+        })
+    }
+}
+
+/// The PBR surface at a hit seen from `wo` (world, pointing away): its shading frame is `ns`
+/// unless `wo` lies below it (an interpolated normal at a silhouette), then the true normal.
+fn pbr_surface(
+    scene: &GpuScene,
+    material: &Material,
+    (base, metallic, roughness): (Vec3, f32, f32),
+    wo: Vec3,
+    ng: Vec3,
+    ns: Vec3,
+    front: bool,
+) -> Surface {
+    let lobe = material.lobe_of::<PbrLobe>();
+    let n = if wo.dot(ns) > 0.0 { ns } else { ng };
+    let (t, b) = onb(n);
+    let wo_local = Vec3::new(wo.dot(t), wo.dot(b), wo.dot(n));
+    // A thin sheet looks the same from both sides.
+    let thin = material.flags & THIN_WALLED != 0;
+    let eta = if front || thin {
+        lobe.ior
+    } else {
+        1.0 / lobe.ior
+    };
+    let energy = energy_lookup(&scene.ggx_energy, wo_local.z, roughness);
+    Surface::Pbr {
+        bsdf: Pbr::new(
+            base,
+            metallic,
+            roughness,
+            eta,
+            lobe.transmission,
+            wo_local.z,
+            energy,
+        )
+        .thin_walled(thin),
+        frame: [t, b, n],
+        wo: wo_local,
+    }
+}

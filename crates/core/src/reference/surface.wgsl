@@ -1,0 +1,141 @@
+// The BSDF at a path vertex, dispatched on the material kind (MAT_*); mirrors
+// crates/core/src/reference/surface.rs. The lobes: Lambert (here), fuzzy metal and smooth glass
+// (math/sampling.wgsl), glTF metallic-roughness (math/bsdf.wgsl). Metal and glass are delta-like
+// lobes: lights are not sampled at them, and the pdf their samples carry is 0, so an emitter they
+// reach counts fully.
+
+// The kinds a scene lacks are compiled out (core::MaterialKind::pipeline_switch names these).
+override HAS_METAL: bool = true;
+override HAS_DIELECTRIC: bool = true;
+override HAS_PBR: bool = true;
+
+struct Surface {
+    kind: u32,
+    // Lambert albedo, metal reflectance or glass tint (PBR keeps its base colour in `bsdf`).
+    color: vec3<f32>,
+    // The shading frame (t, b, n) and wo in it (PBR); the other lobes use n only.
+    t: vec3<f32>,
+    b: vec3<f32>,
+    n: vec3<f32>,
+    wo: vec3<f32>,
+    // Metal: the fuzz ball's radius.
+    fuzz: f32,
+    // Glass: n_transmitted / n_incident.
+    eta: f32,
+    bsdf: PbrBsdf,
+}
+
+// The PBR surface at a hit seen from wo: shading frame ns unless wo lies below it, then ng.
+fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f32, wo: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
+    let lobe = pbr_lobe(material);
+    let n = select(ng, ns, dot(wo, ns) > 0.0);
+    let basis = onb(n);
+    let wo_local = vec3(dot(wo, basis.t), dot(wo, basis.b), dot(wo, n));
+    // A thin sheet looks the same from both sides.
+    let thin = (material.flags & THIN_WALLED) != 0u;
+    let eta = select(1.0 / lobe.ior, lobe.ior, front || thin);
+    let energy = energy_lookup(wo_local.z, roughness);
+    var s: Surface;
+    s.kind = MAT_PBR;
+    s.t = basis.t;
+    s.b = basis.b;
+    s.n = n;
+    s.wo = wo_local;
+    s.bsdf = pbr_bsdf(base, metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
+    s.bsdf.thin = thin;
+    return s;
+}
+
+// The BSDF of `material` where a ray travelling along `direction` hit it: `color` is its colour
+// after textures and vertex colours, metallic and roughness the PBR inputs after theirs, ng the
+// geometric normal and ns the shading normal (both facing the ray), `front` the side it hit. A kind
+// whose lobe the kernel has compiled out scatters as Lambert.
+fn material_surface(material: Material, color: vec3<f32>, metallic: f32, roughness: f32,
+                    direction: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
+    var s: Surface;
+    s.kind = MAT_LAMBERTIAN;
+    s.color = color;
+    s.n = ns;
+    if (HAS_METAL && material.kind == MAT_METAL) {
+        s.kind = MAT_METAL;
+        s.fuzz = metal_lobe(material).fuzz;
+    } else if (HAS_DIELECTRIC && material.kind == MAT_DIELECTRIC) {
+        let ior = dielectric_lobe(material).ior;
+        s.kind = MAT_DIELECTRIC;
+        s.eta = select(1.0 / ior, ior, front);
+    } else if (HAS_PBR && material.kind == MAT_PBR) {
+        s = pbr_surface(material, color, metallic, roughness, -direction, ng, ns, front);
+    }
+    return s;
+}
+
+// Whether the lobe is sampled only (no light sampling, zero pdf).
+fn surface_is_delta(s: Surface) -> bool {
+    return s.kind == MAT_METAL || s.kind == MAT_DIELECTRIC;
+}
+
+// Whether the lobe may send a path below the geometric surface.
+fn surface_transmits(s: Surface) -> bool {
+    return s.kind == MAT_DIELECTRIC || (HAS_PBR && s.kind == MAT_PBR && s.bsdf.transmission > 0.0);
+}
+
+// f |cos θ| towards world direction wi (xyz) and the BSDF-sampling pdf of wi (w); zero for the
+// delta lobes (never asked).
+fn surface_eval(s: Surface, wi: vec3<f32>) -> vec4<f32> {
+    if (HAS_PBR && s.kind == MAT_PBR) {
+        return pbr_eval(s.bsdf, s.wo, vec3(dot(wi, s.t), dot(wi, s.b), dot(wi, s.n)));
+    }
+    let c = dot(wi, s.n);
+    if (s.kind == MAT_LAMBERTIAN && c > 0.0) {
+        let p = c * (1.0 / PI);
+        return vec4(s.color * p, p);
+    }
+    return vec4(0.0);
+}
+
+struct SurfaceSample {
+    direction: vec3<f32>,
+    // f |cos θ| / pdf: what the path throughput is multiplied by.
+    weight: vec3<f32>,
+    // The pdf MIS weighs an emitter reached along `direction` with: 0 for the delta lobes and for
+    // a PBR sample below the geometric surface.
+    pdf: f32,
+    // false: no sample (the path ends).
+    valid: bool,
+}
+
+// The next direction of a path that arrived along `direction`, drawn from the surface's lobe.
+fn surface_sample(s: Surface, direction: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> SurfaceSample {
+    var out: SurfaceSample;
+    out.valid = true;
+    if (HAS_METAL && s.kind == MAT_METAL) {
+        out.direction = sample_metal(direction, s.n, s.fuzz, rng);
+        out.weight = s.color;
+        return out;
+    }
+    if (HAS_DIELECTRIC && s.kind == MAT_DIELECTRIC) {
+        let d = sample_dielectric(direction, s.n, s.eta, rng);
+        out.direction = d.direction;
+        // Refraction scales radiance by 1/η²; reflection (probability F) keeps it.
+        out.weight = select(vec3(1.0), s.color / (s.eta * s.eta), d.refracted);
+        return out;
+    }
+    if (HAS_PBR && s.kind == MAT_PBR) {
+        let u_lobe = rng_next(rng);
+        let u1 = rng_next(rng);
+        let u2 = rng_next(rng);
+        let b = pbr_sample(s.bsdf, s.wo, u_lobe, u1, u2);
+        if (!b.valid) {
+            out.valid = false;
+            return out;
+        }
+        out.weight = b.weight;
+        out.direction = normalize(s.t * b.wi.x + s.b * b.wi.y + s.n * b.wi.z);
+        out.pdf = select(0.0, b.pdf, dot(out.direction, ng) > 0.0);
+        return out;
+    }
+    out.direction = sample_cosine_hemisphere(s.n, rng);
+    out.weight = s.color;
+    out.pdf = max(dot(out.direction, s.n), 0.0) * (1.0 / PI);
+    return out;
+}

@@ -1,0 +1,323 @@
+//! Per-function twin tests, as vello tests its CPU shaders: each WGSL function of the estimator's
+//! math runs on the GPU (lavapipe in CI) through a small test entry point, over the same random
+//! inputs as its Rust twin beside it in `rt-core`, and the outputs are compared: integer functions
+//! (random numbers, hashes, fixed-point sums, ray offsets) bit for bit, floating-point ones within
+//! a few float roundings (the drivers' `sqrt`, `pow`, `acos`, `sin` … may differ from Rust's libm
+//! in the last bits). The harness binds the frame, an environment map and texture images, so the
+//! environment's functions and texture lookups are compared too; the image-level lockstep and
+//! Z-tests (`tests/reference.rs`) and the traversal against brute force cover the functions that
+//! read the rest of the scene (traversal, emitters and lights, the path vertex).
+
+#[path = "../common/mod.rs"]
+mod common;
+mod math;
+mod scene;
+
+use bytemuck::Zeroable;
+use common::gpu;
+use glam::Vec3;
+use rt_core::accumulation;
+use rt_core::environment::{self as env, EnvironmentMap, build_env_texels};
+use rt_core::gpu_types::{EnvTexel, Frame};
+use rt_core::math::bsdf::Pbr;
+use rt_core::math::intersect::{PreparedRay, intersect_box, intersect_triangle, offset_ray_origin};
+use rt_core::math::microfacet::*;
+use rt_core::math::rng::{Rng, SamplerKind, nested_uniform_scramble, pcg_hash, sobol_dim1};
+use rt_core::math::sampling::*;
+use rt_gpu::GpuContext;
+use wgpu::util::DeviceExt;
+
+/// Items per test: enough inputs to reach the branches, small enough for lavapipe.
+pub(crate) const ITEMS: usize = 4096;
+
+/// The scene bindings a test's functions read: the frame (uniform), the environment's texels and
+/// the texture images' texels.
+pub(crate) struct TwinScene {
+    frame: Frame,
+    environment: Vec<EnvTexel>,
+    texels: Vec<u32>,
+}
+
+impl Default for TwinScene {
+    fn default() -> Self {
+        TwinScene {
+            frame: Frame::zeroed(),
+            environment: vec![EnvTexel::zeroed()],
+            texels: vec![0],
+        }
+    }
+}
+
+/// A test entry point over the estimator's files: `body` reads item `item`'s inputs with
+/// `f_in`/`v3_in`/`u_in` and writes its outputs with `put`/`put3`/`put_u`.
+pub(crate) struct TwinKernel {
+    words_in: usize,
+    words_out: usize,
+    body: &'static str,
+    sobol: bool,
+}
+
+impl TwinKernel {
+    fn source(&self) -> String {
+        // The megakernel's whole module (its entry point declares bindings the estimator's files
+        // use), so a function is tested exactly as the kernels compile it.
+        let estimator: String = rt_gpu::shaders::TRACE_WIDE
+            .files
+            .iter()
+            .map(|f| {
+                rt_gpu::shaders::FILES
+                    .iter()
+                    .find(|(name, _)| name == f)
+                    .map(|(_, src)| *src)
+                    .unwrap_or_else(|| panic!("{f} is not in FILES"))
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        format!(
+            "{estimator}
+@group(1) @binding(0) var<storage, read> twin_in: array<u32>;
+@group(1) @binding(1) var<storage, read_write> twin_out: array<u32>;
+fn u_in(item: u32, k: u32) -> u32 {{ return twin_in[item * {wi}u + k]; }}
+fn f_in(item: u32, k: u32) -> f32 {{ return bitcast<f32>(u_in(item, k)); }}
+fn v3_in(item: u32, k: u32) -> vec3<f32> {{
+    return vec3(f_in(item, k), f_in(item, k + 1u), f_in(item, k + 2u));
+}}
+fn put_u(item: u32, k: u32, v: u32) {{ twin_out[item * {wo}u + k] = v; }}
+fn put(item: u32, k: u32, v: f32) {{ put_u(item, k, bitcast<u32>(v)); }}
+fn put3(item: u32, k: u32, v: vec3<f32>) {{ put(item, k, v.x); put(item, k + 1u, v.y); put(item, k + 2u, v.z); }}
+@compute @workgroup_size(64)
+fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    let item = gid.x;
+    if (item >= {items}u) {{ return; }}
+    {body}
+}}
+",
+            wi = self.words_in,
+            wo = self.words_out,
+            items = ITEMS,
+            body = self.body,
+        )
+    }
+
+    /// Runs the kernel over `inputs` (`words_in` words an item) and returns `words_out` words an
+    /// item.
+    pub(crate) fn run(&self, ctx: &GpuContext, inputs: &[u32]) -> Vec<u32> {
+        self.run_in(ctx, &TwinScene::default(), inputs)
+    }
+
+    /// `run` with the frame and environment of `scene` bound.
+    pub(crate) fn run_in(&self, ctx: &GpuContext, scene: &TwinScene, inputs: &[u32]) -> Vec<u32> {
+        assert_eq!(inputs.len(), ITEMS * self.words_in);
+        ctx.scoped(|| self.dispatch(ctx, scene, inputs))
+            .unwrap_or_else(|e| panic!("the twin test kernel failed: {e}"))
+    }
+
+    fn dispatch(&self, ctx: &GpuContext, scene: &TwinScene, inputs: &[u32]) -> Vec<u32> {
+        let device = &ctx.device;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("twin test"),
+            source: wgpu::ShaderSource::Wgsl(self.source().into()),
+        });
+        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        // The scene bindings the functions under test read (group 0): the frame, the environment
+        // and the GGX albedo table.
+        let uniform = wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: None,
+            entries: &[
+                uniform,
+                storage(5, true),
+                storage(20, true),
+                storage(21, true),
+            ],
+        });
+        let twin_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: None,
+            entries: &[storage(0, true), storage(1, false)],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&scene_layout), Some(&twin_layout)],
+            immediate_size: 0,
+        });
+        let constants = [("SOBOL", f64::from(u8::from(self.sobol)))];
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("twin test"),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some("twin_main"),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                ..Default::default()
+            },
+            cache: None,
+        });
+        let buffer = |contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: None,
+                contents,
+                usage,
+            })
+        };
+        let energy = buffer(
+            bytemuck::cast_slice(energy_table()),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let input = buffer(bytemuck::cast_slice(inputs), wgpu::BufferUsages::STORAGE);
+        let frame = buffer(
+            bytemuck::bytes_of(&scene.frame),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let environment = buffer(
+            bytemuck::cast_slice(&scene.environment),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let texels = buffer(
+            bytemuck::cast_slice(&scene.texels),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let out_bytes = (ITEMS * self.words_out * 4) as u64;
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: out_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: out_bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind = |layout, entries: &[(u32, &wgpu::Buffer)]| {
+            let entries: Vec<wgpu::BindGroupEntry> = entries
+                .iter()
+                .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                    binding: *binding,
+                    resource: buffer.as_entire_binding(),
+                })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout,
+                entries: &entries,
+            })
+        };
+        let scene_group = bind(
+            &scene_layout,
+            &[(0, &frame), (5, &texels), (20, &environment), (21, &energy)],
+        );
+        let twin_group = bind(&twin_layout, &[(0, &input), (1, &output)]);
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &scene_group, &[]);
+            pass.set_bind_group(1, &twin_group, &[]);
+            pass.dispatch_workgroups(ITEMS.div_ceil(64) as u32, 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, out_bytes);
+        ctx.queue.submit([encoder.finish()]);
+        readback
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, |r| r.expect("map"));
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .expect("poll");
+        let view = readback.slice(..).get_mapped_range().expect("mapped");
+        bytemuck::cast_slice(&view).to_vec()
+    }
+}
+
+/// Random inputs: `ITEMS` items of `words` each, built by `item` from a PCG stream.
+pub(crate) fn inputs(words: usize, mut item: impl FnMut(&mut Rng) -> Vec<u32>) -> Vec<u32> {
+    let mut out = Vec::with_capacity(ITEMS * words);
+    for i in 0..ITEMS {
+        let mut rng = Rng::new(i as u32, 0, 0x7417);
+        let v = item(&mut rng);
+        assert_eq!(v.len(), words);
+        out.extend(v);
+    }
+    out
+}
+
+/// A unit direction, uniform on the sphere.
+pub(crate) fn unit(rng: &mut Rng) -> Vec3 {
+    let z = 1.0 - 2.0 * rng.next_f32();
+    let phi = std::f32::consts::TAU * rng.next_f32();
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub(crate) fn bits(v: &[f32]) -> Vec<u32> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// Compares item by item, word by word: `expected` is the Rust twin's output for an item. Float
+/// words agree within `rel` of their size or within `abs` (near zero); NaN only with NaN.
+pub(crate) struct Comparison {
+    name: &'static str,
+    rel: f32,
+    abs: f32,
+    /// Outputs that are integers (compared exactly), by word index within an item.
+    exact_words: &'static [usize],
+}
+
+impl Comparison {
+    /// `gpu` holds `words` words per item; `expected(item)` is the Rust twin's output for it.
+    pub(crate) fn check(&self, gpu: &[u32], words: usize, expected: impl FnMut(usize) -> Vec<u32>) {
+        let rows: Vec<Vec<u32>> = (0..gpu.len() / words).map(expected).collect();
+        self.check_rows(gpu, words, &rows);
+    }
+
+    pub(crate) fn check_rows(&self, gpu: &[u32], words: usize, rows: &[Vec<u32>]) {
+        assert_eq!(gpu.len(), rows.len() * words, "{}: item count", self.name);
+        let mut worst = 0.0f32;
+        for (item, rust) in rows.iter().enumerate() {
+            assert_eq!(rust.len(), words, "{}: Rust twin's output size", self.name);
+            for (k, &r) in rust.iter().enumerate() {
+                let g = gpu[item * words + k];
+                if self.exact_words.contains(&k) {
+                    assert_eq!(g, r, "{}: item {item}, word {k}", self.name);
+                    continue;
+                }
+                let (g, r) = (f32::from_bits(g), f32::from_bits(r));
+                if g.is_nan() || r.is_nan() {
+                    assert!(
+                        g.is_nan() && r.is_nan(),
+                        "{}: item {item}, word {k}: GPU {g}, Rust {r}",
+                        self.name
+                    );
+                    continue;
+                }
+                let err = (g - r).abs() / g.abs().max(r.abs()).max(self.abs / self.rel.max(1e-12));
+                assert!(
+                    err <= self.rel || g == r,
+                    "{}: item {item}, word {k}: GPU {g}, Rust {r} (relative {err:e} > {:e})",
+                    self.name,
+                    self.rel
+                );
+                worst = worst.max(err);
+            }
+        }
+        eprintln!("{}: worst relative difference {worst:e}", self.name);
+    }
+}
