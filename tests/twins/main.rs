@@ -1,15 +1,17 @@
-//! Per-function twin tests, as vello tests its CPU shaders: each WGSL function of the estimator's
-//! math runs on the GPU (lavapipe in CI) through a small test entry point, over the same random
-//! inputs as its Rust twin beside it in `rt-core`, and the outputs are compared: integer functions
+//! Per-function twin tests, as vello tests its CPU shaders: each WGSL function of the estimator
+//! runs on the GPU (lavapipe in CI) through a small test entry point, over the same random inputs
+//! as its Rust twin beside it in `rt-core`, and the outputs are compared: integer functions
 //! (random numbers, hashes, fixed-point sums, ray offsets) bit for bit, floating-point ones within
 //! a few float roundings (the drivers' `sqrt`, `pow`, `acos`, `sin` … may differ from Rust's libm
-//! in the last bits). The harness binds the frame, an environment map and texture images, so the
-//! environment's functions and texture lookups are compared too; the image-level lockstep and
-//! Z-tests (`tests/reference.rs`) and the traversal against brute force cover the functions that
-//! read the rest of the scene (traversal, emitters and lights, the path vertex).
+//! in the last bits). The harness binds the frame and a whole `GpuScene` as the kernels do, so
+//! the functions that read the scene (traversal, light sampling, environment, textures) are
+//! compared too: `math.rs` holds the math, `scene.rs` the environment, textures, delta lights and
+//! the surface dispatch, `lights.rs` light sampling, direct light and traversal. The image-level
+//! lockstep and Z-tests (`tests/reference.rs`) compare whole paths.
 
 #[path = "../common/mod.rs"]
 mod common;
+mod lights;
 mod math;
 mod scene;
 
@@ -18,7 +20,7 @@ use common::gpu;
 use glam::Vec3;
 use rt_core::accumulation;
 use rt_core::environment::{self as env, EnvironmentMap, build_env_texels};
-use rt_core::gpu_types::{EnvTexel, Frame};
+use rt_core::gpu_types::Frame;
 use rt_core::math::bsdf::Pbr;
 use rt_core::math::intersect::{PreparedRay, intersect_box, intersect_triangle, offset_ray_origin};
 use rt_core::math::microfacet::*;
@@ -30,20 +32,22 @@ use wgpu::util::DeviceExt;
 /// Items per test: enough inputs to reach the branches, small enough for lavapipe.
 pub(crate) const ITEMS: usize = 4096;
 
-/// The scene bindings a test's functions read: the frame (uniform), the environment's texels and
-/// the texture images' texels.
+/// The scene a test's functions read: the frame (uniform) and a `GpuScene`'s buffers, bound as
+/// the kernels bind them (empty ones as zeroed placeholders). The scene's BVH layout picks the
+/// traversal compiled in (`TRACE_WIDE` or `TRACE`).
 pub(crate) struct TwinScene {
     frame: Frame,
-    environment: Vec<EnvTexel>,
-    texels: Vec<u32>,
+    scene: rt_core::GpuScene,
 }
 
 impl Default for TwinScene {
     fn default() -> Self {
         TwinScene {
             frame: Frame::zeroed(),
-            environment: vec![EnvTexel::zeroed()],
-            texels: vec![0],
+            scene: rt_core::GpuScene {
+                ggx_energy: energy_table().to_vec(),
+                ..Default::default()
+            },
         }
     }
 }
@@ -58,10 +62,14 @@ pub(crate) struct TwinKernel {
 }
 
 impl TwinKernel {
-    fn source(&self) -> String {
+    fn source(&self, layout: rt_core::bvh::BvhLayout) -> String {
         // The megakernel's whole module (its entry point declares bindings the estimator's files
         // use), so a function is tested exactly as the kernels compile it.
-        let estimator: String = rt_gpu::shaders::TRACE_WIDE
+        let module = match layout {
+            rt_core::bvh::BvhLayout::Cwbvh => &rt_gpu::shaders::TRACE_WIDE,
+            rt_core::bvh::BvhLayout::Bvh2 => &rt_gpu::shaders::TRACE,
+        };
+        let estimator: String = module
             .files
             .iter()
             .map(|f| {
@@ -86,7 +94,9 @@ fn put_u(item: u32, k: u32, v: u32) {{ twin_out[item * {wo}u + k] = v; }}
 fn put(item: u32, k: u32, v: f32) {{ put_u(item, k, bitcast<u32>(v)); }}
 fn put3(item: u32, k: u32, v: vec3<f32>) {{ put(item, k, v.x); put(item, k + 1u, v.y); put(item, k + 2u, v.z); }}
 @compute @workgroup_size(64)
-fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
+fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {{
+    // The traversal's stack in work-group memory, as the megakernel's entry point sets it.
+    stack_base = lid * BVH_STACK_SIZE;
     let item = gid.x;
     if (item >= {items}u) {{ return; }}
     {body}
@@ -116,7 +126,7 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
         let device = &ctx.device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("twin test"),
-            source: wgpu::ShaderSource::Wgsl(self.source().into()),
+            source: wgpu::ShaderSource::Wgsl(self.source(scene.scene.layout).into()),
         });
         let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
             binding,
@@ -128,8 +138,8 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
             },
             count: None,
         };
-        // The scene bindings the functions under test read (group 0): the frame, the environment
-        // and the GGX albedo table.
+        // The scene bindings the functions under test may read (group 0), as `gpu_scene.wgsl`
+        // numbers them.
         let uniform = wgpu::BindGroupLayoutEntry {
             binding: 0,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -144,9 +154,16 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
             label: None,
             entries: &[
                 uniform,
+                storage(1, true),
+                storage(2, true),
+                storage(3, true),
+                storage(4, true),
                 storage(5, true),
+                storage(8, true),
+                storage(9, true),
                 storage(20, true),
                 storage(21, true),
+                storage(22, true),
             ],
         });
         let twin_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -177,23 +194,30 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
                 usage,
             })
         };
-        let energy = buffer(
-            bytemuck::cast_slice(energy_table()),
-            wgpu::BufferUsages::STORAGE,
-        );
+        // An empty array is bound as zeros (a binding holds at least one record).
+        let storage_buffer = |bytes: &[u8]| {
+            let mut contents = bytes.to_vec();
+            contents.resize(contents.len().max(256), 0);
+            buffer(&contents, wgpu::BufferUsages::STORAGE)
+        };
+        let g = &scene.scene;
         let input = buffer(bytemuck::cast_slice(inputs), wgpu::BufferUsages::STORAGE);
         let frame = buffer(
             bytemuck::bytes_of(&scene.frame),
             wgpu::BufferUsages::UNIFORM,
         );
-        let environment = buffer(
-            bytemuck::cast_slice(&scene.environment),
-            wgpu::BufferUsages::STORAGE,
-        );
-        let texels = buffer(
-            bytemuck::cast_slice(&scene.texels),
-            wgpu::BufferUsages::STORAGE,
-        );
+        let scene_buffers = [
+            (1, storage_buffer(bytemuck::cast_slice(&g.triangles))),
+            (2, storage_buffer(bytemuck::cast_slice(&g.shading))),
+            (3, storage_buffer(bytemuck::cast_slice(&g.materials))),
+            (4, storage_buffer(g.node_bytes())),
+            (5, storage_buffer(bytemuck::cast_slice(&g.texels))),
+            (8, storage_buffer(bytemuck::cast_slice(&g.emitters))),
+            (9, storage_buffer(bytemuck::cast_slice(&g.delta_lights))),
+            (20, storage_buffer(bytemuck::cast_slice(&g.env_texels))),
+            (21, storage_buffer(bytemuck::cast_slice(&g.ggx_energy))),
+            (22, storage_buffer(bytemuck::cast_slice(&g.tangents))),
+        ];
         let out_bytes = (ITEMS * self.words_out * 4) as u64;
         let output = device.create_buffer(&wgpu::BufferDescriptor {
             label: None,
@@ -221,10 +245,9 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>) {{
                 entries: &entries,
             })
         };
-        let scene_group = bind(
-            &scene_layout,
-            &[(0, &frame), (5, &texels), (20, &environment), (21, &energy)],
-        );
+        let mut scene_entries = vec![(0, &frame)];
+        scene_entries.extend(scene_buffers.iter().map(|(binding, b)| (*binding, b)));
+        let scene_group = bind(&scene_layout, &scene_entries);
         let twin_group = bind(&twin_layout, &[(0, &input), (1, &output)]);
         let mut encoder = device.create_command_encoder(&Default::default());
         {

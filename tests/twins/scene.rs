@@ -25,11 +25,11 @@ fn environment_functions_match_their_twin() {
     frame.env_width = w;
     frame.env_height = h;
     frame.env_rotation = rotation;
-    let scene = TwinScene {
+    let mut scene = TwinScene {
         frame,
-        environment: texels.clone(),
         ..Default::default()
     };
+    scene.scene.env_texels = texels.clone();
     let input = inputs(9, |rng| {
         let d = unit(rng);
         let u: Vec<f32> = (0..6).map(|_| rng.next_f32()).collect();
@@ -99,10 +99,8 @@ fn texture_lookups_match_their_twin() {
     let texels: Vec<u32> = (0..35 + 36)
         .map(|_| (rng.next_f32() * 4_294_967_296.0) as u32)
         .collect();
-    let scene = TwinScene {
-        texels: texels.clone(),
-        ..Default::default()
-    };
+    let mut scene = TwinScene::default();
+    scene.scene.texels = texels.clone();
     let input = inputs(6, |rng| {
         let (offset, w, h) = images[usize::from(rng.next_f32() < 0.5)];
         // Wrap s and t (0 repeat, 1 clamp, 2 mirror) and the nearest filter, as `TextureSampler::bits`.
