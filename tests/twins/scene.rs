@@ -149,7 +149,7 @@ fn texture_lookups_match_their_twin() {
 }
 
 /// Where each kind of delta light lies from a point and the irradiance it gives there
-/// (`delta_light_incidence` in `path.wgsl` ⇄ `path.rs`): point, spot (smoothstep falloff), glTF
+/// (`delta_light_incidence` in `light.wgsl` ⇄ `light.rs`): point, spot (smoothstep falloff), glTF
 /// spot (quadratic falloff) and sun, from points inside and outside the cones.
 #[test]
 fn delta_light_incidence_matches_its_twin() {
@@ -219,7 +219,7 @@ fn delta_light_incidence_matches_its_twin() {
             f32::from_bits(w[13]),
             f32::from_bits(w[14]),
         );
-        let (dir, distance, e) = rt_core::reference::path::delta_light_incidence(&light, origin);
+        let (dir, distance, e) = rt_core::reference::light::delta_light_incidence(&light, origin);
         bits(&[dir.x, dir.y, dir.z, distance, e.x, e.y, e.z])
     });
 }

@@ -57,6 +57,10 @@ pub const FILES: &[(&str, &str)] = &[
         rt_core::reference::surface::WGSL,
     ),
     (
+        "crates/core/src/reference/light.wgsl",
+        rt_core::reference::light::WGSL,
+    ),
+    (
         "crates/core/src/reference/path.wgsl",
         rt_core::reference::path::WGSL,
     ),
@@ -96,6 +100,7 @@ macro_rules! tracing_module {
                 "crates/core/src/math/bsdf.wgsl",
                 "crates/core/src/environment.wgsl",
                 "crates/core/src/reference/surface.wgsl",
+                "crates/core/src/reference/light.wgsl",
                 "crates/core/src/reference/path.wgsl",
                 "crates/core/src/accumulation.wgsl",
                 $entry,

@@ -18,7 +18,7 @@
 //! with probability q = min(1, max component of β) and β is divided by q, so E[β'] = β (unbiased).
 //!
 //! Each file is the twin of the WGSL file of its stem beside it (`bvh.rs` of `bvh.wgsl`,
-//! `cwbvh.rs` of `cwbvh.wgsl`, `path.rs` of `path.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
+//! `cwbvh.rs` of `cwbvh.wgsl`, `path.rs` of `path.wgsl`, `light.rs` of `light.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
 //! of `texture.wgsl`), exported
 //! as its `WGSL` for `rt_gpu::shaders` to compose; the math they share with the rest of rt-core
 //! (random numbers, sampling, intersection, microfacets, the PBR BSDF) lives in `crate::math`, each
@@ -29,14 +29,14 @@
 pub mod bvh;
 pub mod cwbvh;
 mod hit;
+pub mod light;
 pub mod path;
 pub mod surface;
 pub mod texture;
 
 pub use hit::trace_brute_force;
-pub use path::{
-    LightSample, camera_ray, delta_lights_at, direct_light, power_heuristic, radiance, sample_light,
-};
+pub use light::{LightSample, delta_lights_at, direct_light, sample_light};
+pub use path::{camera_ray, power_heuristic, radiance};
 pub use surface::{Surface, SurfaceSample};
 pub use texture::{Slot, alpha_coin, base_color_texture, coverage, stops_ray, wrap_index};
 

@@ -1,6 +1,6 @@
 //! One path's radiance, vertex by vertex, as `path.wgsl` beside it computes it (its twin):
-//! camera rays, texture lookups, next-event estimation with MIS, delta lights, BSDF sampling and
-//! Russian roulette, drawing the same random numbers in the same order.
+//! camera rays, texture lookups, the light at each vertex (`light.rs`), BSDF sampling
+//! (`surface.rs`) and Russian roulette, drawing the same random numbers in the same order.
 
 /// The WGSL twin of this module, `path.wgsl` beside it (composed into the kernels by
 /// `rt_gpu::shaders`).
@@ -9,14 +9,12 @@ pub const WGSL: &str = include_str!("path.wgsl");
 use glam::{Vec2, Vec3};
 
 use super::hit::MISS;
+use super::light::{delta_lights_at, direct_light, escaped};
 use super::surface::Surface;
-use super::texture::{Slot, base_color_texture, coverage, surface_emission};
-use super::{occluded, trace};
+use super::texture::{Slot, base_color_texture, surface_emission};
+use super::trace;
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{
-    ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame, Hit, PbrLobe, SLOT_BASE, SLOT_METALLIC_ROUGHNESS,
-    SLOT_NORMAL,
-};
+use crate::gpu_types::{Frame, Hit, PbrLobe, SLOT_BASE, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL};
 use crate::material_kind::MaterialKind;
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::{self, Rng};
@@ -26,169 +24,6 @@ use crate::math::sampling::*;
 pub fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
-}
-
-/// A light sample for next-event estimation: the direction and distance to trace and L_e / p_light.
-pub struct LightSample {
-    pub origin: Vec3,
-    pub direction: Vec3,
-    pub distance: f32,
-    pub radiance_over_pdf: Vec3,
-    pub p_light: f32,
-}
-
-/// One light sample from point `p`: the environment with probability `frame.env_pick`, else an
-/// emitter point (an emitter by power, then a uniform point on it). `None` when the sample cannot
-/// reach `p`'s side of the surface. Always draws four random numbers.
-pub fn sample_light(
-    scene: &GpuScene,
-    frame: &Frame,
-    p: Vec3,
-    ng: Vec3,
-    rng: &mut Rng,
-) -> Option<LightSample> {
-    let u_pick = rng.next_f32();
-    let u_alias = rng.next_f32();
-    let u_a = rng.next_f32();
-    let u_b = rng.next_f32();
-    let origin = offset_ray_origin(p, ng, frame.offset_scale);
-    if u_pick < frame.env_pick {
-        let (dir, le, pdf) = crate::environment::sample_env(
-            &scene.env_texels,
-            frame.env_width,
-            frame.env_height,
-            frame.env_rotation,
-            [u_pick / frame.env_pick, u_alias, u_a, u_b],
-        );
-        let p_light = frame.env_pick * pdf;
-        if !(p_light > 0.0 && dir.dot(ng) > 0.0) {
-            return None;
-        }
-        return Some(LightSample {
-            origin,
-            direction: dir,
-            distance: 3.0e38,
-            radiance_over_pdf: le / p_light,
-            p_light,
-        });
-    }
-    let u_pick = (u_pick - frame.env_pick) / (1.0 - frame.env_pick);
-    let n = frame.emitter_count as usize;
-    let chosen = crate::emitters::pick_emitter(&scene.emitters[..n], u_pick, u_alias);
-    let tri = &scene.triangles[chosen as usize];
-    let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
-    let [b0, b1, b2] = sample_triangle(u_a, u_b);
-    let y = v0 * b0 + v1 * b1 + v2 * b2;
-    let nl = (v1 - v0).cross(v2 - v0).normalize();
-    if (y - p).dot(nl) >= 0.0 {
-        return None; // p is behind the emitter's front face
-    }
-    let to = offset_ray_origin(y, nl, frame.offset_scale) - origin;
-    let distance = to.length();
-    let dir = to / distance;
-    let cos_l = -dir.dot(nl);
-    if !(dir.dot(ng) > 0.0 && cos_l > 0.0) {
-        return None;
-    }
-    // Picked by the emission factor; the point's radiance is the factor times the emission image,
-    // and times the coverage on a surface with holes.
-    let material = &scene.materials[tri.material as usize];
-    let p_light = (1.0 - frame.env_pick)
-        * luminance(Vec3::from(material.emission))
-        * frame.emitter_power_inv
-        * distance
-        * distance
-        / cos_l;
-    let mut le = surface_emission(scene, material, tri, chosen, b1, b2);
-    if material.flags & (ALPHA_MASK | ALPHA_BLEND) != 0 {
-        le *= coverage(scene, material, tri, chosen, b1, b2);
-    }
-    Some(LightSample {
-        origin,
-        direction: dir,
-        distance,
-        radiance_over_pdf: le / p_light,
-        p_light,
-    })
-}
-
-/// Next-event estimation at `p`: f cosθ L_e · w_light / p_light for one light sample, or zero if
-/// it is occluded (β is applied by the caller). Always draws four random numbers.
-pub fn direct_light(
-    scene: &GpuScene,
-    frame: &Frame,
-    p: Vec3,
-    ng: Vec3,
-    surface: &Surface,
-    rng: &mut Rng,
-) -> Vec3 {
-    let Some(light) = sample_light(scene, frame, p, ng, rng) else {
-        return Vec3::ZERO;
-    };
-    let (f_cos, p_bsdf) = surface.eval(light.direction);
-    if f_cos == Vec3::ZERO || occluded(scene, light.origin, light.direction, light.distance) {
-        return Vec3::ZERO;
-    }
-    let w_light = if frame.light_strategy == 1 {
-        1.0
-    } else {
-        power_heuristic(light.p_light, p_bsdf)
-    };
-    f_cos * light.radiance_over_pdf * w_light
-}
-
-/// Point, spot and directional lights at `p`: Σ E f cosθ over the unoccluded lights (β applied by
-/// the caller), E = I/d² (times the spot falloff) or the sun's E.
-/// Where a point, spot or sun light lies from `origin` (unit direction, distance) and the
-/// irradiance it gives there, normal to that direction (before the surface's cosine): each light
-/// type is one case here (`crate::light` has the units and the spots' falloffs).
-pub fn delta_light_incidence(light: &DeltaLight, origin: Vec3) -> (Vec3, f32, Vec3) {
-    use crate::gpu_types::light_kind;
-    if light.kind == light_kind::DIRECTIONAL {
-        return (
-            -Vec3::from(light.direction),
-            3.0e38,
-            Vec3::from(light.power),
-        );
-    }
-    let to = Vec3::from(light.position) - origin;
-    let d2 = to.length_squared();
-    let distance = d2.sqrt();
-    let dir = to / distance;
-    let mut e = Vec3::from(light.power) / d2;
-    let cos = (-dir).dot(Vec3::from(light.direction));
-    if light.kind == light_kind::SPOT {
-        e *= crate::light::spot_falloff(cos, light.cos_inner, light.cos_outer);
-    } else if light.kind == light_kind::SPOT_GLTF {
-        e *= crate::light::spot_falloff_gltf(cos, light.cos_inner, light.cos_outer);
-    }
-    (dir, distance, e)
-}
-
-pub fn delta_lights_at(
-    scene: &GpuScene,
-    frame: &Frame,
-    p: Vec3,
-    ng: Vec3,
-    surface: &Surface,
-) -> Vec3 {
-    let origin = offset_ray_origin(p, ng, frame.offset_scale);
-    let mut sum = Vec3::ZERO;
-    for light in &scene.delta_lights {
-        if light.kind == 0 {
-            continue;
-        }
-        let (dir, distance, irradiance) = delta_light_incidence(light, origin);
-        if dir.dot(ng) <= 0.0 || dir.dot(ng).is_nan() || irradiance == Vec3::ZERO {
-            continue;
-        }
-        let (f_cos, _) = surface.eval(dir);
-        if f_cos == Vec3::ZERO || occluded(scene, origin, dir, distance) {
-            continue;
-        }
-        sum += irradiance * f_cos;
-    }
-    sum
 }
 
 /// The camera ray through a jittered point of pixel (x, y): box pixel filter, thin lens when
@@ -246,31 +81,6 @@ pub fn normal_mapped(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], t: Vec3, scal
     if len > 0.0 { mapped / len } else { n }
 }
 
-/// The radiance a ray leaving the scene along `direction` finds, MIS-weighted against the
-/// environment's next-event estimation when the last vertex sampled its BSDF with `prev_bsdf_pdf`.
-fn escaped(scene: &GpuScene, frame: &Frame, direction: Vec3, prev_bsdf_pdf: f32) -> Vec3 {
-    if frame.env_width == 0 {
-        return Vec3::from(frame.ambient);
-    }
-    let (le, pdf) = crate::environment::env_lookup(
-        &scene.env_texels,
-        frame.env_width,
-        frame.env_height,
-        frame.env_rotation,
-        direction,
-    );
-    let mut weight = 1.0;
-    if frame.env_pick > 0.0 && prev_bsdf_pdf > 0.0 {
-        weight = if frame.light_strategy == 1 {
-            0.0
-        } else {
-            power_heuristic(prev_bsdf_pdf, frame.env_pick * pdf)
-        };
-    }
-    le * weight
-}
-
-/// One path's radiance estimate for pixel (x, y), sample `sample`.
 /// The firefly clamp (`frame.clamp_max`, 0 off): light reaching the camera after `bounces`
 /// scatterings, if any, is scaled down so that its largest channel is at most the clamp; light
 /// seen directly (no bounce) stays exact. Biased: it removes energy.
@@ -283,6 +93,7 @@ fn clamp_bounced(c: Vec3, frame: &Frame, bounces: u32) -> Vec3 {
     }
 }
 
+/// One path's radiance estimate for pixel (x, y), sample `sample`.
 pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
     let mut path = start_path(frame, x, y, sample);
     while path.depth < frame.max_depth {

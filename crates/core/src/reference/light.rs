@@ -1,0 +1,219 @@
+//! The lights, as `light.wgsl` beside it (its twin) computes them: what next-event estimation
+//! samples and what a path that misses everything sees. Each kind of light is one place here:
+//!
+//! - **area lights** (emissive triangles): `sample_light` picks one by power through the alias
+//!   table (`crate::emitters`) and a uniform point on it, p_light = p_pick · |x − y|² / cosθ_y
+//!   per solid angle; a BSDF-sampled ray that hits one is weighed against that pdf in
+//!   `shade_vertex`;
+//! - **the environment** (`crate::environment`): `sample_light` draws a direction from its map
+//!   with probability `frame.env_pick`; `escaped` is what a ray leaving the scene sees, weighed
+//!   against that sampling (or the ambient colour without a map);
+//! - **delta lights** (point, spot, sun; `crate::light` has their units): `delta_light_incidence`
+//!   is where one lies from a point and the irradiance it gives there, one case per type, and
+//!   `delta_lights_at` sums them at a vertex (deterministic, no MIS: no BSDF ray can hit them).
+//!
+//! `direct_light` is next-event estimation with the power heuristic (β = 2):
+//!   L_direct = f(ωi) cosθ L_e · w_light / p_light,  w_light = p_light² / (p_light² + p_bsdf²).
+
+/// The WGSL twin of this module, `light.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("light.wgsl");
+
+use glam::Vec3;
+
+use super::occluded;
+use super::path::power_heuristic;
+use super::surface::Surface;
+use super::texture::{coverage, surface_emission};
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame};
+use crate::math::intersect::offset_ray_origin;
+use crate::math::rng::Rng;
+use crate::math::sampling::*;
+
+/// A light sample for next-event estimation: the direction and distance to trace and L_e / p_light.
+pub struct LightSample {
+    pub origin: Vec3,
+    pub direction: Vec3,
+    pub distance: f32,
+    pub radiance_over_pdf: Vec3,
+    pub p_light: f32,
+}
+
+/// One light sample from point `p`: the environment with probability `frame.env_pick`, else an
+/// emitter point (an emitter by power, then a uniform point on it). `None` when the sample cannot
+/// reach `p`'s side of the surface. Always draws four random numbers.
+pub fn sample_light(
+    scene: &GpuScene,
+    frame: &Frame,
+    p: Vec3,
+    ng: Vec3,
+    rng: &mut Rng,
+) -> Option<LightSample> {
+    let u_pick = rng.next_f32();
+    let u_alias = rng.next_f32();
+    let u_a = rng.next_f32();
+    let u_b = rng.next_f32();
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    if u_pick < frame.env_pick {
+        let (dir, le, pdf) = crate::environment::sample_env(
+            &scene.env_texels,
+            frame.env_width,
+            frame.env_height,
+            frame.env_rotation,
+            [u_pick / frame.env_pick, u_alias, u_a, u_b],
+        );
+        let p_light = frame.env_pick * pdf;
+        if !(p_light > 0.0 && dir.dot(ng) > 0.0) {
+            return None;
+        }
+        return Some(LightSample {
+            origin,
+            direction: dir,
+            distance: 3.0e38,
+            radiance_over_pdf: le / p_light,
+            p_light,
+        });
+    }
+    let u_pick = (u_pick - frame.env_pick) / (1.0 - frame.env_pick);
+    let n = frame.emitter_count as usize;
+    let chosen = crate::emitters::pick_emitter(&scene.emitters[..n], u_pick, u_alias);
+    let tri = &scene.triangles[chosen as usize];
+    let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+    let [b0, b1, b2] = sample_triangle(u_a, u_b);
+    let y = v0 * b0 + v1 * b1 + v2 * b2;
+    let nl = (v1 - v0).cross(v2 - v0).normalize();
+    if (y - p).dot(nl) >= 0.0 {
+        return None; // p is behind the emitter's front face
+    }
+    let to = offset_ray_origin(y, nl, frame.offset_scale) - origin;
+    let distance = to.length();
+    let dir = to / distance;
+    let cos_l = -dir.dot(nl);
+    if !(dir.dot(ng) > 0.0 && cos_l > 0.0) {
+        return None;
+    }
+    // Picked by the emission factor; the point's radiance is the factor times the emission image,
+    // and times the coverage on a surface with holes.
+    let material = &scene.materials[tri.material as usize];
+    let p_light = (1.0 - frame.env_pick)
+        * luminance(Vec3::from(material.emission))
+        * frame.emitter_power_inv
+        * distance
+        * distance
+        / cos_l;
+    let mut le = surface_emission(scene, material, tri, chosen, b1, b2);
+    if material.flags & (ALPHA_MASK | ALPHA_BLEND) != 0 {
+        le *= coverage(scene, material, tri, chosen, b1, b2);
+    }
+    Some(LightSample {
+        origin,
+        direction: dir,
+        distance,
+        radiance_over_pdf: le / p_light,
+        p_light,
+    })
+}
+
+/// Next-event estimation at `p`: f cosθ L_e · w_light / p_light for one light sample, or zero if
+/// it is occluded (β is applied by the caller). Always draws four random numbers.
+pub fn direct_light(
+    scene: &GpuScene,
+    frame: &Frame,
+    p: Vec3,
+    ng: Vec3,
+    surface: &Surface,
+    rng: &mut Rng,
+) -> Vec3 {
+    let Some(light) = sample_light(scene, frame, p, ng, rng) else {
+        return Vec3::ZERO;
+    };
+    let (f_cos, p_bsdf) = surface.eval(light.direction);
+    if f_cos == Vec3::ZERO || occluded(scene, light.origin, light.direction, light.distance) {
+        return Vec3::ZERO;
+    }
+    let w_light = if frame.light_strategy == 1 {
+        1.0
+    } else {
+        power_heuristic(light.p_light, p_bsdf)
+    };
+    f_cos * light.radiance_over_pdf * w_light
+}
+
+/// Where a point, spot or sun light lies from `origin` (unit direction, distance) and the
+/// irradiance it gives there, normal to that direction (before the surface's cosine): each light
+/// type is one case here (`crate::light` has the units and the spots' falloffs).
+pub fn delta_light_incidence(light: &DeltaLight, origin: Vec3) -> (Vec3, f32, Vec3) {
+    use crate::gpu_types::light_kind;
+    if light.kind == light_kind::DIRECTIONAL {
+        return (
+            -Vec3::from(light.direction),
+            3.0e38,
+            Vec3::from(light.power),
+        );
+    }
+    let to = Vec3::from(light.position) - origin;
+    let d2 = to.length_squared();
+    let distance = d2.sqrt();
+    let dir = to / distance;
+    let mut e = Vec3::from(light.power) / d2;
+    let cos = (-dir).dot(Vec3::from(light.direction));
+    if light.kind == light_kind::SPOT {
+        e *= crate::light::spot_falloff(cos, light.cos_inner, light.cos_outer);
+    } else if light.kind == light_kind::SPOT_GLTF {
+        e *= crate::light::spot_falloff_gltf(cos, light.cos_inner, light.cos_outer);
+    }
+    (dir, distance, e)
+}
+
+/// Point, spot and directional lights at `p`: Σ E f cosθ over the unoccluded lights (β applied by
+/// the caller), E = I/d² (times the spot falloff) or the sun's E.
+pub fn delta_lights_at(
+    scene: &GpuScene,
+    frame: &Frame,
+    p: Vec3,
+    ng: Vec3,
+    surface: &Surface,
+) -> Vec3 {
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    let mut sum = Vec3::ZERO;
+    for light in &scene.delta_lights {
+        if light.kind == 0 {
+            continue;
+        }
+        let (dir, distance, irradiance) = delta_light_incidence(light, origin);
+        if dir.dot(ng) <= 0.0 || dir.dot(ng).is_nan() || irradiance == Vec3::ZERO {
+            continue;
+        }
+        let (f_cos, _) = surface.eval(dir);
+        if f_cos == Vec3::ZERO || occluded(scene, origin, dir, distance) {
+            continue;
+        }
+        sum += irradiance * f_cos;
+    }
+    sum
+}
+
+/// The radiance a ray leaving the scene along `direction` finds, MIS-weighted against the
+/// environment's next-event estimation when the last vertex sampled its BSDF with `prev_bsdf_pdf`.
+pub fn escaped(scene: &GpuScene, frame: &Frame, direction: Vec3, prev_bsdf_pdf: f32) -> Vec3 {
+    if frame.env_width == 0 {
+        return Vec3::from(frame.ambient);
+    }
+    let (le, pdf) = crate::environment::env_lookup(
+        &scene.env_texels,
+        frame.env_width,
+        frame.env_height,
+        frame.env_rotation,
+        direction,
+    );
+    let mut weight = 1.0;
+    if frame.env_pick > 0.0 && prev_bsdf_pdf > 0.0 {
+        weight = if frame.light_strategy == 1 {
+            0.0
+        } else {
+            power_heuristic(prev_bsdf_pdf, frame.env_pick * pdf)
+        };
+    }
+    le * weight
+}

@@ -1,0 +1,171 @@
+// The lights; mirrors crates/core/src/reference/light.rs (which documents each kind and the
+// estimator): area lights and the environment sampled for next-event estimation (sample_light,
+// sample_direct, direct_light), the delta lights (delta_light_incidence, delta_lights_at), and
+// what a ray leaving the scene sees (escaped).
+
+// Lights a scene lacks are compiled out.
+override HAS_NEE: bool = true;
+override HAS_DELTA_LIGHTS: bool = true;
+override HAS_ENVIRONMENT: bool = true;
+
+// One light sample from p (light.rs `sample_light`): the environment with probability
+// frame.env_pick, else an emitter point. `distance` <= 0: none. Always draws four random numbers.
+struct LightSample {
+    origin: vec3<f32>,
+    distance: f32,
+    direction: vec3<f32>,
+    p_light: f32,
+    radiance_over_pdf: vec3<f32>,
+}
+
+fn sample_light(p: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> LightSample {
+    var none: LightSample;
+    none.distance = -1.0;
+    let u_pick = rng_next(rng);
+    let u_alias = rng_next(rng);
+    let u_a = rng_next(rng);
+    let u_b = rng_next(rng);
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    if (HAS_ENVIRONMENT && u_pick < frame.env_pick) {
+        let e = sample_env(u_pick / frame.env_pick, u_alias, u_a, u_b);
+        let p_light = frame.env_pick * e.pdf;
+        if (!(p_light > 0.0 && dot(e.direction, ng) > 0.0)) {
+            return none;
+        }
+        return LightSample(origin, 3.0e38, e.direction, p_light, e.radiance / p_light);
+    }
+    if (!HAS_NEE) {
+        return none;
+    }
+    let u_emitter = (u_pick - frame.env_pick) / (1.0 - frame.env_pick);
+    let n = frame.emitter_count;
+    let slot = emitters[min(u32(u_emitter * f32(n)), n - 1u)];
+    let chosen = select(emitters[slot.alias_index].triangle, slot.triangle, u_alias < slot.threshold);
+    let tri = triangles[chosen];
+    let b = sample_triangle(u_a, u_b);
+    let y = tri.v0 * b.x + tri.v1 * b.y + tri.v2 * b.z;
+    let nl = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    if (dot(y - p, nl) >= 0.0) {
+        return none;
+    }
+    let to = offset_ray_origin(y, nl, frame.offset_scale) - origin;
+    let distance = length(to);
+    let dir = to / distance;
+    let cos_l = -dot(dir, nl);
+    if (!(dot(dir, ng) > 0.0 && cos_l > 0.0)) {
+        return none;
+    }
+    // The table picks emitters by their emission factor; the point's own radiance is the factor
+    // times the emission image, and, on a surface with holes, times its coverage (the light that
+    // BSDF sampling finds there on average).
+    let material = materials[tri.material];
+    let p_light = (1.0 - frame.env_pick) * luminance(material.emission) * frame.emitter_power_inv * distance * distance / cos_l;
+    var le = surface_emission(material, tri, chosen, b.y, b.z);
+    if (HAS_ALPHA && (material.flags & (ALPHA_MASK | ALPHA_BLEND)) != 0u) {
+        le *= coverage(material, tri, chosen, b.y, b.z);
+    }
+    return LightSample(origin, distance, dir, p_light, le / p_light);
+}
+
+// Next-event estimation at p for `surface`: the shadow ray and, should it arrive,
+// f cos Le * w_light / p_light (beta applied by the caller). Always draws four random numbers.
+fn sample_direct(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<function, Sampler>) -> ShadowRay {
+    var none: ShadowRay;
+    none.distance = -1.0;
+    let light = sample_light(p, ng, rng);
+    if (!(light.distance > 0.0)) {
+        return none;
+    }
+    let e = surface_eval(surface, light.direction);
+    if (all(e.xyz == vec3(0.0))) {
+        return none;
+    }
+    let w_light = select(power_heuristic(light.p_light, e.w), 1.0, frame.light_strategy == 1u);
+    return ShadowRay(light.origin, light.distance, light.direction, 0u, e.xyz * light.radiance_over_pdf * w_light);
+}
+
+// `sample_direct` with its ray traced here: the contribution, or zero if occluded.
+fn direct_light(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
+    let shadow = sample_direct(p, ng, surface, rng);
+    if (!(shadow.distance > 0.0)) {
+        return vec3(0.0);
+    }
+    *rays += 1u;
+    if (intersect_scene(shadow.origin, shadow.direction, shadow.distance, true).triangle != MISS) {
+        return vec3(0.0);
+    }
+    return shadow.contribution;
+}
+
+// Where a point, spot or sun light lies from `origin` and the irradiance it gives there (normal to
+// `dir`, before the surface's cosine): each light type is one case here (light.rs
+// `delta_light_incidence`; light.rs has the units and the spots' falloffs).
+struct DeltaIncidence {
+    dir: vec3<f32>,
+    distance: f32,
+    irradiance: vec3<f32>,
+}
+
+fn delta_light_incidence(light: DeltaLight, origin: vec3<f32>) -> DeltaIncidence {
+    if (light.kind == LIGHT_DIRECTIONAL) {
+        return DeltaIncidence(-light.direction, 3.0e38, light.power);
+    }
+    let to = light.position - origin;
+    let d2 = dot(to, to);
+    let distance = sqrt(d2);
+    let dir = to / distance;
+    var irradiance = light.power / d2;
+    if (light.kind == LIGHT_SPOT) {
+        let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-6), 0.0, 1.0);
+        irradiance *= t * t * (3.0 - 2.0 * t);
+    } else if (light.kind == LIGHT_SPOT_GLTF) {
+        let t = clamp((dot(-dir, light.direction) - light.cos_outer) / max(light.cos_inner - light.cos_outer, 1e-3), 0.0, 1.0);
+        irradiance *= t * t;
+    }
+    return DeltaIncidence(dir, distance, irradiance);
+}
+
+// Point, spot and directional lights at p: sum over lights of E f cos, E the irradiance from the
+// light (I/d^2, falloff for spots; E for the sun), if unoccluded (beta applied by the caller).
+// Deterministic: draws no random numbers.
+fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<function, u32>) -> vec3<f32> {
+    var sum = vec3(0.0);
+    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    for (var i = 0u; i < arrayLength(&delta_lights); i++) {
+        let light = delta_lights[i];
+        if (light.kind == 0u) {
+            continue;
+        }
+        let incidence = delta_light_incidence(light, origin);
+        let dir = incidence.dir;
+        let distance = incidence.distance;
+        let irradiance = incidence.irradiance;
+        if (!(dot(dir, ng) > 0.0) || all(irradiance == vec3(0.0))) {
+            continue;
+        }
+        let f_cos = surface_eval(surface, dir).xyz;
+        if (all(f_cos == vec3(0.0))) {
+            continue;
+        }
+        *rays += 1u;
+        if (intersect_scene(origin, dir, distance, true).triangle != MISS) {
+            continue;
+        }
+        sum += irradiance * f_cos;
+    }
+    return sum;
+}
+
+// The light a ray leaving the scene finds, MIS-weighted against the environment's next-event
+// estimation when the last vertex sampled its BSDF with density prev_bsdf_pdf.
+fn escaped(direction: vec3<f32>, prev_bsdf_pdf: f32) -> vec3<f32> {
+    if (!HAS_ENVIRONMENT || frame.env_width == 0u) {
+        return frame.ambient;
+    }
+    let e = env_lookup(direction);
+    var weight = 1.0;
+    if (frame.env_pick > 0.0 && prev_bsdf_pdf > 0.0) {
+        weight = select(power_heuristic(prev_bsdf_pdf, frame.env_pick * e.w), 0.0, frame.light_strategy == 1u);
+    }
+    return e.xyz * weight;
+}
