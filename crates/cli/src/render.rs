@@ -14,6 +14,9 @@ use crate::scene_args::SceneArgs;
 use crate::shard::ShardArgs;
 use crate::summary::{Finish, estimator_summary, print_render_summary, print_scene_summary};
 
+mod cpu;
+pub use cpu::DeviceArg;
+
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     #[command(flatten)]
@@ -48,6 +51,12 @@ pub struct RenderArgs {
     /// sampling on, with the target as each pixel's threshold).
     #[arg(long, conflicts_with = "adaptive")]
     no_adaptive: bool,
+    /// What renders: gpu (a GPU through wgpu; lavapipe where there is none) or cpu (rt's native
+    /// CPU backend, the estimator's Rust twin on every core: the same samples, so the same image
+    /// and mergeable parts; it does not yet do adaptive sampling, --time-limit, --noise-target or
+    /// --denoise).
+    #[arg(long, value_enum, default_value = "gpu")]
+    device: DeviceArg,
     #[command(flatten)]
     shard: ShardArgs,
     #[command(flatten)]
@@ -90,6 +99,9 @@ impl RenderArgs {
 
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let (scene, range) = prepare_scene(&args)?;
+    if args.device == DeviceArg::Cpu {
+        return cpu::run(&args, &scene, range);
+    }
     let ctx = open_device(&args.engine.adapter)?;
     let gpu_scene = GpuScene::build(&scene)?;
     let max_buffer = max_accumulation_bytes(&ctx);

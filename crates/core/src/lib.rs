@@ -5,6 +5,7 @@ pub mod accumulation;
 pub mod assets;
 pub mod bvh;
 pub mod camera;
+pub mod cpu_render;
 pub mod denoise;
 pub mod denoiser;
 pub mod emitters;

@@ -1,0 +1,101 @@
+//! `render --device cpu`, the native CPU backend: the GPU's image from the same samples, parts that
+//! merge with GPU parts, and a clear refusal of what it does not do yet.
+#![expect(
+    clippy::unwrap_used,
+    reason = "test helpers fail the test on unexpected errors"
+)]
+
+mod common;
+use std::path::{Path, PathBuf};
+
+use common::{has_gpu, render_cornell, rt_cli, temp_dir};
+use rt_core::part::{Part, read_part};
+
+const W: u32 = 32;
+const H: u32 = 24;
+const SPP: u32 = 8;
+
+fn part(dir: &Path, name: &str, extra: &[&str]) -> Part {
+    let out: PathBuf = dir.join(format!("{name}.exr"));
+    let (code, stderr) = render_cornell(W, H, SPP, &out, extra);
+    assert_eq!(code, 0, "{extra:?}: {stderr}");
+    read_part(&out).unwrap()
+}
+
+/// How many pixels of `a` and `b` (same samples, traced by the two twins) agree to rounding. The
+/// twins compute each sample with the same random numbers, but a last-bit difference may send a
+/// path another way (another lobe, the other side of an edge): such pixels hold a different,
+/// equally valid sample and are counted, not compared.
+fn agreeing_pixels(a: &Part, b: &Part) -> usize {
+    assert_eq!(a.counts, b.counts, "sample counts");
+    a.pixels()
+        .iter()
+        .zip(b.pixels())
+        .filter(|(p, q)| {
+            p.iter()
+                .zip(q)
+                .all(|(x, y)| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7)
+        })
+        .count()
+}
+
+#[test]
+fn the_cpu_backend_renders_the_gpu_image_and_merges_with_gpu_parts() {
+    if !has_gpu() {
+        return;
+    }
+    let dir = temp_dir("cpu-device");
+    let gpu = part(&dir, "gpu", &["--shard", "0/1"]);
+    let cpu = part(&dir, "cpu", &["--shard", "0/1", "--device", "cpu"]);
+    let pixels = (W * H) as usize;
+    let agree = agreeing_pixels(&cpu, &gpu);
+    assert!(
+        agree * 100 >= pixels * 98,
+        "only {agree} of {pixels} pixels agree between the CPU and the GPU"
+    );
+    // Half the samples on each: the merged frame is the one-machine frame.
+    let first = dir.join("first.exr");
+    let (code, stderr) = render_cornell(W, H, SPP, &first, &["--shard", "0/2", "--device", "cpu"]);
+    assert_eq!(code, 0, "{stderr}");
+    let second = dir.join("second.exr");
+    let (code, stderr) = render_cornell(W, H, SPP, &second, &["--shard", "1/2"]);
+    assert_eq!(code, 0, "{stderr}");
+    let merged = dir.join("merged.exr");
+    let (code, _, stderr) = rt_cli(&[
+        "merge",
+        first.to_str().unwrap(),
+        second.to_str().unwrap(),
+        "-o",
+        merged.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let merged = read_part(&merged).unwrap();
+    assert!(merged.is_complete());
+    let agree = agreeing_pixels(&merged, &gpu);
+    assert!(
+        agree * 100 >= pixels * 98,
+        "only {agree} of {pixels} pixels of the merged CPU and GPU halves agree with the GPU frame"
+    );
+}
+
+#[test]
+fn the_cpu_backend_refuses_what_it_does_not_do_yet() {
+    let dir = temp_dir("cpu-refuses");
+    let out = dir.join("out.png");
+    for (flags, named) in [
+        (&["--denoise"][..], "--denoise"),
+        (&["--time-limit", "1"], "--time-limit"),
+        (&["--adapter", "cpu"], "--adapter"),
+        (&["--kernel", "megakernel"], "--kernel"),
+    ] {
+        let mut args = vec!["render", "--device", "cpu", "-o", out.to_str().unwrap()];
+        args.extend(flags);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_ne!(code, 0, "{flags:?} was accepted");
+        assert!(
+            stderr.contains(named) && stderr.contains("--device gpu"),
+            "{flags:?}: {stderr}"
+        );
+        assert!(!out.exists(), "{flags:?} wrote an image");
+    }
+}
