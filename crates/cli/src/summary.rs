@@ -23,48 +23,8 @@ pub fn print_render_summary(
     finish: &Finish,
     verbose: bool,
 ) {
-    let noise = image.estimated_noise();
-    let render_time = finish.render_time;
-    let secs = render_time.as_secs_f64().max(1e-9);
-    let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
-    let paths = pixels as f64 * image.mean_samples();
     print_scene_summary(ctx, renderer.kernel(), renderer.trace(), gpu_scene);
-    eprintln!(
-        "image:          {}x{}, {} spp, {}",
-        image.width,
-        image.height,
-        image.samples_per_pixel,
-        estimator_summary(&scene.settings, gpu_scene)
-    );
-    if let (Some(threshold), Some(counts)) =
-        (scene.settings.adaptive_threshold, &image.sample_counts)
-    {
-        let stopped = counts
-            .iter()
-            .filter(|&&c| c < image.samples_per_pixel)
-            .count();
-        eprintln!(
-            "adaptive:       threshold {threshold}, mean {:.1} spp, {:.1}% of pixels stopped before the last batch",
-            image.mean_samples(),
-            100.0 * stopped as f64 / counts.len().max(1) as f64
-        );
-    }
-    if let Some([a, b]) = range {
-        eprintln!(
-            "shard:          samples {a}..{b} of {}, saved as a part for `rt-cli merge`",
-            scene.settings.samples_per_pixel
-        );
-    }
-    eprintln!(
-        "render time:    {render_time:.2?} (stopped by {})",
-        finish.stopped_by
-    );
-    eprintln!("noise:          {noise:.5} (estimated sqrt(relMSE) against the converged image)");
-    eprintln!(
-        "samples/s:      {:.1} spp/s",
-        f64::from(image.samples_per_pixel) / secs
-    );
-    eprintln!("paths/s:        {:.3} M", paths / secs / 1e6);
+    print_image_summary((scene, gpu_scene), image, range, finish);
     if renderer.dropped_samples() > 0 {
         eprintln!(
             "dropped:        {} NaN/Inf samples (counted as black)",
@@ -116,4 +76,55 @@ pub fn estimator_summary(settings: &rt_core::RenderSettings, gpu_scene: &GpuScen
             rt_core::math::rng::SamplerKind::Independent => "independent",
         }
     )
+}
+
+/// The lines of a render's summary that do not depend on the backend: the image, adaptive
+/// sampling and the shard where they apply, time, noise and speed.
+pub fn print_image_summary(
+    (scene, gpu_scene): (&Scene, &GpuScene),
+    image: &rt_gpu::Image,
+    range: Option<[u32; 2]>,
+    finish: &Finish,
+) {
+    let noise = image.estimated_noise();
+    let render_time = finish.render_time;
+    let secs = render_time.as_secs_f64().max(1e-9);
+    let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
+    let paths = pixels as f64 * image.mean_samples();
+    eprintln!(
+        "image:          {}x{}, {} spp, {}",
+        image.width,
+        image.height,
+        image.samples_per_pixel,
+        estimator_summary(&scene.settings, gpu_scene)
+    );
+    if let (Some(threshold), Some(counts)) =
+        (scene.settings.adaptive_threshold, &image.sample_counts)
+    {
+        let stopped = counts
+            .iter()
+            .filter(|&&c| c < image.samples_per_pixel)
+            .count();
+        eprintln!(
+            "adaptive:       threshold {threshold}, mean {:.1} spp, {:.1}% of pixels stopped before the last batch",
+            image.mean_samples(),
+            100.0 * stopped as f64 / counts.len().max(1) as f64
+        );
+    }
+    if let Some([a, b]) = range {
+        eprintln!(
+            "shard:          samples {a}..{b} of {}, saved as a part for `rt-cli merge`",
+            scene.settings.samples_per_pixel
+        );
+    }
+    eprintln!(
+        "render time:    {render_time:.2?} (stopped by {})",
+        finish.stopped_by
+    );
+    eprintln!("noise:          {noise:.5} (estimated sqrt(relMSE) against the converged image)");
+    eprintln!(
+        "samples/s:      {:.1} spp/s",
+        f64::from(image.samples_per_pixel) / secs
+    );
+    eprintln!("paths/s:        {:.3} M", paths / secs / 1e6);
 }

@@ -53,6 +53,27 @@ fn the_cpu_backend_renders_the_gpu_image_and_merges_with_gpu_parts() {
         agree * 100 >= pixels * 98,
         "only {agree} of {pixels} pixels agree between the CPU and the GPU"
     );
+    // The denoiser's guides (first-hit albedo, normal, directly seen light) are the GPU's too.
+    for (name, c, g) in [
+        ("albedo", &cpu.guides.albedo, &gpu.guides.albedo),
+        ("normal", &cpu.guides.normal, &gpu.guides.normal),
+        ("emission", &cpu.guides.emission, &gpu.guides.emission),
+    ] {
+        assert_eq!(c.len(), pixels, "{name}: the CPU part has no guides");
+        let close = c
+            .iter()
+            .zip(g)
+            .filter(|(a, b)| {
+                a.iter()
+                    .zip(*b)
+                    .all(|(x, y)| (x - y).abs() <= 1e-3 * x.abs().max(1.0))
+            })
+            .count();
+        assert!(
+            close * 100 >= pixels * 98,
+            "{name}: {close} of {pixels} pixels agree"
+        );
+    }
     // Half the samples on each: the merged frame is the one-machine frame.
     let first = dir.join("first.exr");
     let (code, stderr) = render_cornell(W, H, SPP, &first, &["--shard", "0/2", "--device", "cpu"]);
@@ -79,13 +100,11 @@ fn the_cpu_backend_renders_the_gpu_image_and_merges_with_gpu_parts() {
 }
 
 #[test]
-fn the_cpu_backend_refuses_what_it_does_not_do_yet() {
+fn the_cpu_backend_refuses_flags_that_choose_a_gpu() {
     let dir = temp_dir("cpu-refuses");
     let out = dir.join("out.png");
     for (flags, named) in [
-        (&["--denoise"][..], "--denoise"),
-        (&["--time-limit", "1"], "--time-limit"),
-        (&["--adapter", "cpu"], "--adapter"),
+        (&["--adapter", "cpu"][..], "--adapter"),
         (&["--kernel", "megakernel"], "--kernel"),
     ] {
         let mut args = vec!["render", "--device", "cpu", "-o", out.to_str().unwrap()];
@@ -98,4 +117,42 @@ fn the_cpu_backend_refuses_what_it_does_not_do_yet() {
         );
         assert!(!out.exists(), "{flags:?} wrote an image");
     }
+}
+
+/// The GPU path's stops and extras on the CPU: adaptive sampling gives pixels their own counts
+/// (the EXR keeps them), a noise target and a time limit stop the render, and `--denoise` writes
+/// the denoised copy from the CPU's own guides. Needs no GPU.
+#[test]
+fn the_cpu_backend_samples_adaptively_stops_on_noise_and_time_and_denoises() {
+    let dir = temp_dir("cpu-features");
+    let run = |name: &str, flags: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render",
+            "--device",
+            "cpu",
+            "--width",
+            "24",
+            "--height",
+            "18",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(flags);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{flags:?}: {stderr}");
+        (out, stderr)
+    };
+    let (_, stderr) = run("adaptive.exr", &["--spp", "256", "--adaptive", "0.2"]);
+    assert!(
+        stderr.contains("adaptive:") && stderr.contains("device:         CPU"),
+        "{stderr}"
+    );
+    let (_, stderr) = run("noise.exr", &["--spp", "4096", "--noise-target", "0.2"]);
+    assert!(stderr.contains("stopped by noise target"), "{stderr}");
+    let (_, stderr) = run("time.exr", &["--spp", "1000000", "--time-limit", "0.5"]);
+    assert!(stderr.contains("stopped by time limit"), "{stderr}");
+    let (out, stderr) = run("denoised.png", &["--spp", "4", "--denoise=atrous"]);
+    let denoised = out.with_file_name("denoised.denoised.png");
+    assert!(denoised.exists(), "{stderr}");
 }

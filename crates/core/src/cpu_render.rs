@@ -12,15 +12,33 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use crate::accumulation::{PixelSums, add_pixels, add_sample};
+use crate::accumulation::{PixelSums, add_pixels, add_sample, pixel_mean};
+use crate::adaptive::Adaptive;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
-use crate::reference::radiance;
+use crate::reference::trace_path;
 
 /// The threads a batch is spread over (rayon's pool: one per core unless `RAYON_NUM_THREADS` says
 /// otherwise).
 pub fn threads() -> usize {
     rayon::current_num_threads()
+}
+
+/// The denoiser's guides: per pixel, the running means of its samples' first-hit albedo, normal
+/// and directly seen light (`reference::FirstHit`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Guides {
+    pub albedo: Vec<[f32; 3]>,
+    pub normal: Vec<[f32; 3]>,
+    pub emission: Vec<[f32; 3]>,
+}
+
+/// What a batch adds to one pixel.
+#[derive(Clone, Copy, Default)]
+struct PixelBatch {
+    sums: PixelSums,
+    /// Sums of the guides over the batch's samples.
+    guides: [glam::Vec3; 3],
 }
 
 /// A frame's samples accumulated on the CPU.
@@ -30,26 +48,46 @@ pub struct CpuAccumulation {
     pub height: u32,
     /// The index of the first sample taken (a render part's range start).
     pub first_sample: u32,
-    /// Samples taken of every pixel so far (samples `first_sample..first_sample + samples`).
+    /// Batches' samples so far: every pixel still sampling has samples
+    /// `first_sample..first_sample + samples`.
     pub samples: u32,
     /// Per pixel, row-major: the sums of its samples' radiance and squared luminance.
     pub sums: Vec<PixelSums>,
+    adaptive: Option<Adaptive>,
+    /// With adaptive sampling, per pixel: 0 while it samples, else the count it stopped at.
+    stopped: Vec<u32>,
+    guides: Option<Guides>,
 }
 
 impl CpuAccumulation {
-    /// No samples yet of a `frame.width × frame.height` image, starting at sample `first_sample`.
-    pub fn new(frame: &Frame, first_sample: u32) -> Self {
+    /// No samples yet of a `frame.width × frame.height` image, starting at sample
+    /// `first_sample`; pixels stop by `adaptive`'s rule, and the denoiser's guides are kept when
+    /// `guides` asks.
+    pub fn new(frame: &Frame, first_sample: u32, adaptive: Option<Adaptive>, guides: bool) -> Self {
+        let n = (frame.width * frame.height) as usize;
         CpuAccumulation {
             width: frame.width,
             height: frame.height,
             first_sample,
             samples: 0,
-            sums: vec![PixelSums::default(); (frame.width * frame.height) as usize],
+            sums: vec![PixelSums::default(); n],
+            adaptive,
+            stopped: if adaptive.is_some() {
+                vec![0; n]
+            } else {
+                Vec::new()
+            },
+            guides: guides.then(|| Guides {
+                albedo: vec![[0.0; 3]; n],
+                normal: vec![[0.0; 3]; n],
+                emission: vec![[0.0; 3]; n],
+            }),
         }
     }
 
-    /// Takes the next `count` samples of every pixel. Returns false, having added nothing, when
-    /// `cancel` is set before the batch ends.
+    /// Takes the next `count` samples of every pixel still sampling, then applies adaptive
+    /// sampling's rule. Returns false, having added nothing, when `cancel` is set before the
+    /// batch ends.
     pub fn add_batch(
         &mut self,
         scene: &GpuScene,
@@ -59,18 +97,31 @@ impl CpuAccumulation {
     ) -> bool {
         let width = self.width as usize;
         let first = self.first_sample + self.samples;
-        let rows: Vec<Option<Vec<PixelSums>>> = (0..self.height)
+        let stopped = &self.stopped;
+        let rows: Vec<Option<Vec<PixelBatch>>> = (0..self.height)
             .into_par_iter()
             .map(|y| {
                 if cancel.load(Ordering::Relaxed) {
                     return None;
                 }
-                let mut row = vec![PixelSums::default(); width];
-                for (x, sums) in row.iter_mut().enumerate() {
+                let mut row = vec![PixelBatch::default(); width];
+                for (x, pixel) in row.iter_mut().enumerate() {
+                    if stopped.get(y as usize * width + x).is_some_and(|&s| s != 0) {
+                        continue;
+                    }
                     for s in first..first + count {
+                        let path = trace_path(scene, frame, x as u32, y, s);
                         // A sample that is not finite (or absurdly large) is dropped, as the
                         // kernels drop it: it adds zero and still counts.
-                        add_sample(sums, radiance(scene, frame, x as u32, y, s).to_array());
+                        add_sample(&mut pixel.sums, path.radiance.to_array());
+                        let f = path.first_hit;
+                        for (sum, v) in pixel
+                            .guides
+                            .iter_mut()
+                            .zip([f.albedo, f.normal, f.emission])
+                        {
+                            *sum += v;
+                        }
                     }
                 }
                 Some(row)
@@ -79,28 +130,73 @@ impl CpuAccumulation {
         if rows.iter().any(Option::is_none) {
             return false;
         }
-        for (y, row) in rows.into_iter().flatten().enumerate() {
-            let line = &mut self.sums[y * width..(y + 1) * width];
-            for (sums, add) in line.iter_mut().zip(&row) {
-                *sums = add_pixels(sums, add);
+        let before = self.counts();
+        for (i, add) in rows.into_iter().flatten().flatten().enumerate() {
+            self.sums[i] = add_pixels(&self.sums[i], &add.sums);
+            let sampled = self.stopped.get(i).is_none_or(|&s| s == 0);
+            if let Some(g) = self.guides.as_mut().filter(|_| sampled) {
+                // Running means over the pixel's own samples.
+                let n = before[i] as f32;
+                for (plane, sum) in [&mut g.albedo, &mut g.normal, &mut g.emission]
+                    .into_iter()
+                    .zip(add.guides)
+                {
+                    let mean = glam::Vec3::from(plane[i]);
+                    plane[i] = ((mean * n + sum) / (n + count as f32)).to_array();
+                }
             }
         }
         self.samples += count;
+        if let Some(rule) = self.adaptive {
+            self.stopped = rule.settle(&self.pixels(), &self.stopped, width, self.samples);
+        }
         true
     }
 
-    /// Each pixel's mean radiance (rgb) and mean squared luminance (a).
+    /// Each pixel's sample count.
+    pub fn counts(&self) -> Vec<u32> {
+        if self.stopped.is_empty() {
+            return vec![self.samples; self.sums.len()];
+        }
+        self.stopped
+            .iter()
+            .map(|&s| if s == 0 { self.samples } else { s })
+            .collect()
+    }
+
+    /// The pixels still taking samples.
+    pub fn active_pixels(&self) -> usize {
+        if self.stopped.is_empty() {
+            self.sums.len()
+        } else {
+            self.stopped.iter().filter(|&&s| s == 0).count()
+        }
+    }
+
+    /// Whether adaptive sampling gives pixels counts of their own.
+    pub fn adaptive(&self) -> bool {
+        self.adaptive.is_some()
+    }
+
+    /// Each pixel's mean radiance (rgb) and mean squared luminance (a) over its own samples.
     pub fn pixels(&self) -> Vec<[f32; 4]> {
         self.sums
             .iter()
-            .map(|s| crate::accumulation::pixel_mean(s, self.samples))
+            .zip(self.counts())
+            .map(|(s, n)| pixel_mean(s, n))
             .collect()
+    }
+
+    /// The denoiser's guides, when kept.
+    pub fn guides(&self) -> Option<&Guides> {
+        self.guides.as_ref()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::radiance;
 
     fn cornell(width: u32, height: u32) -> (GpuScene, Frame) {
         let mut scene = crate::assets::cornell_box().unwrap();
@@ -117,10 +213,10 @@ mod tests {
     fn batches_sum_exactly_and_a_cancelled_batch_adds_nothing() {
         let (scene, frame) = cornell(12, 9);
         let go = AtomicBool::new(false);
-        let mut one_by_one = CpuAccumulation::new(&frame, 3);
+        let mut one_by_one = CpuAccumulation::new(&frame, 3, None, true);
         assert!(one_by_one.add_batch(&scene, &frame, 1, &go));
         assert!(one_by_one.add_batch(&scene, &frame, 2, &go));
-        let mut at_once = CpuAccumulation::new(&frame, 3);
+        let mut at_once = CpuAccumulation::new(&frame, 3, None, true);
         assert!(at_once.add_batch(&scene, &frame, 3, &go));
         assert_eq!(one_by_one.sums, at_once.sums);
         assert_eq!(one_by_one.samples, 3);

@@ -2,6 +2,7 @@
 //! of the kernel's estimator. Nothing here depends on wgpu.
 
 pub mod accumulation;
+pub mod adaptive;
 pub mod assets;
 pub mod bvh;
 pub mod camera;

@@ -1,6 +1,6 @@
 //! Adaptive sampling's state on the CPU and the GPU: which pixels have stopped (and at which
-//! count), and the list of those still sampling, which the wavefront's waves walk. The rule is in
-//! `options::Adaptive`; `Renderer::render_batch` calls `update` after every batch.
+//! count), and the list of those still sampling, which the wavefront's waves walk. The rule is
+//! `rt_core::adaptive::Adaptive::settle`; `Renderer::render_batch` calls `update` after every batch.
 
 use wgpu::util::DeviceExt;
 
@@ -106,26 +106,7 @@ impl AdaptiveState {
         if samples_done < rule.min_samples || self.active.is_empty() {
             return Ok(());
         }
-        let pixels = pixels()?;
-        let limit = f64::from(rule.threshold).powi(2);
-        let converged: Vec<bool> = pixels
-            .iter()
-            .zip(&self.stopped)
-            .map(|(p, &s)| s != 0 || rt_core::metrics::pixel_rel_mse(*p, samples_done) <= limit)
-            .collect();
-        let width = self.width.max(1);
-        let rows = pixels.len() / width;
-        let mut stopped = self.stopped.clone();
-        for y in 0..rows {
-            for x in 0..width {
-                let settled = (y.saturating_sub(1)..(y + 2).min(rows)).all(|ny| {
-                    (x.saturating_sub(1)..(x + 2).min(width)).all(|nx| converged[ny * width + nx])
-                });
-                if stopped[y * width + x] == 0 && settled {
-                    stopped[y * width + x] = samples_done;
-                }
-            }
-        }
+        let stopped = rule.settle(&pixels()?, &self.stopped, self.width, samples_done);
         if stopped == self.stopped {
             return Ok(());
         }

@@ -114,16 +114,7 @@ impl Default for RenderOptions {
     }
 }
 
-/// Adaptive sampling (as Cycles' noise threshold): after `min_samples`, a pixel stops taking
-/// samples once the square root of its estimated relMSE term (`rt_core::metrics::pixel_rel_mse`) is
-/// at most `threshold` and its eight neighbours' are too (so a pixel dark by chance among noisy
-/// ones goes on). Each pixel's mean stays the running mean of its own samples, and its count is
-/// kept (`Image::sample_counts`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Adaptive {
-    pub threshold: f32,
-    pub min_samples: u32,
-}
+pub use rt_core::adaptive::Adaptive;
 
 /// How the kernels run, never what they compute (tests/extremes.rs checks the images are
 /// identical): switches for measurements (`rt-cli bench`) and tests, and the CPU-driver memory

@@ -36,7 +36,7 @@ pub mod texture;
 
 pub use hit::trace_brute_force;
 pub use light::{LightSample, delta_lights_at, direct_light, sample_light};
-pub use path::{camera_ray, power_heuristic, radiance};
+pub use path::{FirstHit, camera_ray, power_heuristic, radiance, trace_path};
 pub use surface::{Surface, SurfaceSample};
 pub use texture::{Slot, alpha_coin, base_color_texture, coverage, stops_ray, wrap_index};
 

@@ -95,6 +95,12 @@ fn clamp_bounced(c: Vec3, frame: &Frame, bounces: u32) -> Vec3 {
 
 /// One path's radiance estimate for pixel (x, y), sample `sample`.
 pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
+    trace_path(scene, frame, x, y, sample).radiance
+}
+
+/// Pixel (x, y)'s path of sample `sample`, traced to its end: its radiance in `radiance`, what it
+/// hit first in `first_hit`.
+pub fn trace_path(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
     let mut path = start_path(frame, x, y, sample);
     while path.depth < frame.max_depth {
         let hit = trace(scene, path.origin, path.direction, f32::MAX);
@@ -102,7 +108,7 @@ pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) ->
             break;
         }
     }
-    path.radiance
+    path
 }
 
 /// A path between two vertices: what `shade_vertex` reads and updates (the WGSL `PathState`,
@@ -119,6 +125,18 @@ pub struct PathState {
     /// Segments traced so far (0: the camera ray).
     pub depth: u32,
     pub rng: Rng,
+    /// The denoiser's guides of this sample, set at the first vertex (the WGSL `aov_*`): the
+    /// first hit's albedo and normal (facing the camera), and the light seen directly there.
+    /// Zero where the camera ray escapes (the sky it sees is the emission).
+    pub first_hit: FirstHit,
+}
+
+/// What the camera ray finds first, for the denoiser's guides.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FirstHit {
+    pub albedo: Vec3,
+    pub normal: Vec3,
+    pub emission: Vec3,
 }
 
 /// The camera ray of pixel (x, y), sample `sample` (the WGSL `start_path`).
@@ -138,6 +156,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         prev_bsdf_pdf: 0.0,
         depth: 0,
         rng,
+        first_hit: FirstHit::default(),
     }
 }
 
@@ -150,6 +169,9 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     if hit.triangle == MISS {
         let sky = path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf);
         path.radiance += clamp_bounced(sky, frame, path.depth);
+        if path.depth == 0 {
+            path.first_hit.emission = sky;
+        }
         return false;
     }
     let tri = &scene.triangles[hit.triangle as usize];
@@ -182,7 +204,16 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
                 power_heuristic(path.prev_bsdf_pdf, p_light)
             };
         }
-        path.radiance += clamp_bounced(path.beta * le * weight, frame, path.depth);
+        let emitted = path.beta * le * weight;
+        path.radiance += clamp_bounced(emitted, frame, path.depth);
+        if path.depth == 0 {
+            path.first_hit.emission = emitted;
+        }
+    }
+    if path.depth == 0 {
+        path.first_hit.albedo = first_hit_albedo(scene, material, tri, hit);
+        let n = ng_raw.normalize();
+        path.first_hit.normal = if front { n } else { -n };
     }
     if material.kind == MaterialKind::Emissive.tag() || path.depth + 1 >= frame.max_depth {
         return false;
@@ -304,4 +335,30 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     path.direction = next;
     path.depth += 1;
     true
+}
+
+/// The denoiser's albedo guide at a first hit: an emitter's colour scaled to a peak of 1, else the
+/// surface's colour with its base colour image and vertex colours.
+fn first_hit_albedo(
+    scene: &GpuScene,
+    material: &crate::gpu_types::Material,
+    tri: &crate::gpu_types::Triangle,
+    hit: Hit,
+) -> Vec3 {
+    if material.kind == MaterialKind::Emissive.tag() {
+        let e = Vec3::from(material.emission);
+        return e / e.max_element().max(1e-6);
+    }
+    let shading = || &scene.shading[hit.triangle as usize];
+    let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+    let mut a = Vec3::from(material.color);
+    if !material.texture(SLOT_BASE).is_empty() && tri.has_uvs != 0 {
+        let s = shading();
+        let uv = Vec2::from(s.uv0) * b[0] + Vec2::from(s.uv1) * b[1] + Vec2::from(s.uv2) * b[2];
+        a = base_color_texture(scene, material, uv);
+    }
+    if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
+        a *= vertex_color(shading(), b);
+    }
+    a
 }
