@@ -687,7 +687,7 @@ fn the_firefly_clamp_only_lowers_bounced_light_and_is_exact_when_it_does_not_bit
 /// A context of its own (for faults that must not disturb the other tests) and a 16 x 16 Cornell
 /// box.
 fn own_context_and_small_cornell() -> (rt_gpu::GpuContext, rt_core::Scene, GpuScene) {
-    let ctx = rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Cpu).unwrap();
+    let ctx = rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Software).unwrap();
     let mut s = rt_core::assets::cornell_box().unwrap();
     s.settings.width = 16;
     s.settings.height = 16;

@@ -38,6 +38,10 @@ pub struct BenchArgs {
     bvh: BvhArgs,
     #[command(flatten)]
     engine: EngineArgs,
+    /// What renders: gpu (through wgpu; lavapipe without a GPU) or cpu (the native CPU backend;
+    /// it counts no rays, so Mrays/s stays empty).
+    #[arg(long, value_enum, default_value = "gpu")]
+    device: crate::render::DeviceArg,
     /// Only the scenes whose names contain this.
     #[arg(long)]
     only: Option<String>,
@@ -198,6 +202,9 @@ fn mesh_scene(path: &Path) -> Result<Scene> {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
+    if args.device == crate::render::DeviceArg::Cpu {
+        return run_on_cpu(&args);
+    }
     let ctx = open_device(&args.engine.adapter)?;
     let kernel = match args.engine.kernel {
         Some(kernel) => kernel.into(),
@@ -217,29 +224,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         ..args.engine.render_options(false)
     };
     options.validate()?;
-    let mut suite: Vec<(String, Result<Scene>)> = vec![
-        (
-            "cornell".into(),
-            rt_core::assets::cornell_box().map_err(Into::into),
-        ),
-        ("cornell+metal".into(), material_scene(false)),
-        ("cornell+all".into(), material_scene(true)),
-    ];
-    for (name, file) in [
-        ("bunny-69k", "stanford-bunny/stanford-bunny.obj"),
-        ("dragon-202k", "stanford-dragon/dragon_vrip_res2.obj"),
-        ("dragon-871k", "stanford-dragon/dragon_vrip.obj"),
-    ] {
-        let path = args.models.join(file);
-        if path.exists() {
-            suite.push((name.into(), mesh_scene(&path)));
-        } else {
-            eprintln!(
-                "skipping {name}: {} not found (pass --models DIR)",
-                path.display()
-            );
-        }
-    }
+    let suite = bench_suite(&args)?;
     if args.interactive {
         let mut scenes = Vec::new();
         // A name that matches exactly selects that scene alone ("cornell", not its variants).
@@ -348,6 +333,93 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     for r in &records {
         println!("{}", serde_json::to_string(r)?);
+    }
+    Ok(())
+}
+
+/// The benchmark scenes: the Cornell box and its material variants, then the large meshes found
+/// under `--models`.
+fn bench_suite(args: &BenchArgs) -> Result<Vec<(String, Result<Scene>)>> {
+    let mut suite: Vec<(String, Result<Scene>)> = vec![
+        (
+            "cornell".into(),
+            rt_core::assets::cornell_box().map_err(Into::into),
+        ),
+        ("cornell+metal".into(), material_scene(false)),
+        ("cornell+all".into(), material_scene(true)),
+    ];
+    for (name, file) in [
+        ("bunny-69k", "stanford-bunny/stanford-bunny.obj"),
+        ("dragon-202k", "stanford-dragon/dragon_vrip_res2.obj"),
+        ("dragon-871k", "stanford-dragon/dragon_vrip.obj"),
+    ] {
+        let path = args.models.join(file);
+        if path.exists() {
+            suite.push((name.into(), mesh_scene(&path)));
+        } else {
+            eprintln!(
+                "skipping {name}: {} not found (pass --models DIR)",
+                path.display()
+            );
+        }
+    }
+    Ok(suite)
+}
+
+/// The suite on the native CPU backend: the same scenes and table, paths/s only.
+fn run_on_cpu(args: &BenchArgs) -> Result<()> {
+    if args.interactive || args.generic || args.engine.kernel.is_some() {
+        anyhow::bail!(
+            "--interactive, --generic and --kernel measure the GPU path; drop them with --device cpu"
+        );
+    }
+    let label = format!(
+        "CPU (native backend, {} threads)",
+        rt_core::cpu_render::threads()
+    );
+    println!(
+        "{:<12} {:>9} {:>9} {:>6} {:>9} {:>9}",
+        "scene", "triangles", "BVH ms", "depth", "render s", "Mpaths/s"
+    );
+    for (name, scene) in bench_suite(args)? {
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !name.contains(o.as_str()))
+        {
+            continue;
+        }
+        let mut scene = scene?;
+        scene.settings.width = args.size;
+        scene.settings.height = args.size;
+        scene.settings.next_event_estimation = !args.no_nee;
+        let gpu_scene =
+            GpuScene::build_with_layout(&scene, args.bvh.bvh_quality.into(), args.bvh.bvh.into())?;
+        let frame = rt_core::frame::frame_for(&scene, &gpu_scene)?;
+        let mut accumulation = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let started = Instant::now();
+        accumulation.add_batch(&gpu_scene, &frame, args.spp, &never);
+        let secs = started.elapsed().as_secs_f64();
+        let paths = f64::from(args.size) * f64::from(args.size) * f64::from(args.spp);
+        println!(
+            "{:<12} {:>9} {:>9.1} {:>6} {:>9.2} {:>9.3}",
+            name,
+            gpu_scene.triangles.len(),
+            gpu_scene.bvh_build_time.as_secs_f64() * 1e3,
+            gpu_scene.bvh_depth,
+            secs,
+            paths / secs / 1e6
+        );
+        println!(
+            "{}",
+            serde_json::json!({
+                "scene": name, "adapter": label, "bvh": format!("{:?}", gpu_scene.layout),
+                "width": args.size, "height": args.size, "spp": args.spp,
+                "max_depth": scene.settings.max_depth, "render_s": secs,
+                "paths_per_s": paths / secs,
+            })
+        );
     }
     Ok(())
 }

@@ -69,7 +69,8 @@ pub struct EngineArgs {
     /// GPU has it), bvh (rt's own traversal) or auto (hw on GPUs that offer ray queries, else bvh).
     #[arg(long, value_enum, default_value = "auto")]
     pub trace: TraceArg,
-    /// GPU adapter: auto, cpu (lavapipe), or part of an adapter's name.
+    /// GPU adapter: auto, lavapipe (a software GPU on the CPU, also `cpu`; not --device cpu, rt's
+    /// native CPU backend), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     pub adapter: AdapterChoice,
 }

@@ -145,7 +145,7 @@ fn buffer(ctx: &GpuContext, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu:
 }
 
 fn main() -> Result<(), rt_gpu::GpuError> {
-    let ctx = GpuContext::new(&AdapterChoice::Cpu)?;
+    let ctx = GpuContext::new(&AdapterChoice::Software)?;
     println!("adapter: {}", ctx.adapter_label());
     let words: Vec<u32> = (0..1024u32)
         .map(|i| i.wrapping_mul(2_654_435_761))

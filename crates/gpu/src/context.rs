@@ -12,8 +12,9 @@ pub enum AdapterChoice {
     /// A discrete or integrated GPU if there is one, else whatever exists (e.g. lavapipe).
     #[default]
     Auto,
-    /// A CPU (software) adapter such as Mesa lavapipe: repeatable results, used by tests.
-    Cpu,
+    /// A software adapter such as Mesa lavapipe (a GPU emulated on the CPU): repeatable results,
+    /// used by tests. Not rt's native CPU backend (`rt-cli --device cpu`).
+    Software,
     /// The first adapter whose name contains this text (case-insensitive).
     Named(String),
 }
@@ -23,7 +24,7 @@ impl std::str::FromStr for AdapterChoice {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Ok(match s.to_ascii_lowercase().as_str() {
             "auto" | "" => AdapterChoice::Auto,
-            "cpu" | "lavapipe" | "llvmpipe" => AdapterChoice::Cpu,
+            "lavapipe" | "llvmpipe" | "software" | "cpu" => AdapterChoice::Software,
             _ => AdapterChoice::Named(s.to_string()),
         })
     }
@@ -141,8 +142,8 @@ impl GpuContext {
                 1
             };
             let kind = match (choice, info.device_type) {
-                (AdapterChoice::Cpu, wgpu::DeviceType::Cpu) => 4,
-                (AdapterChoice::Cpu, _) => 0,
+                (AdapterChoice::Software, wgpu::DeviceType::Cpu) => 4,
+                (AdapterChoice::Software, _) => 0,
                 (_, wgpu::DeviceType::DiscreteGpu) => 4,
                 (_, wgpu::DeviceType::IntegratedGpu) => 3,
                 (_, wgpu::DeviceType::VirtualGpu) => 2,
@@ -158,7 +159,7 @@ impl GpuContext {
                     .into_iter()
                     .find(|a| a.get_info().name.to_ascii_lowercase().contains(&needle))
             }
-            AdapterChoice::Cpu => adapters
+            AdapterChoice::Software => adapters
                 .into_iter()
                 .filter(|a| a.get_info().device_type == wgpu::DeviceType::Cpu)
                 .max_by_key(rank),
@@ -274,7 +275,7 @@ impl GpuContext {
     #[cfg(feature = "testing")]
     pub fn for_tests() -> Option<GpuContext> {
         let found =
-            GpuContext::new(&AdapterChoice::Cpu).or_else(|_| GpuContext::new(&AdapterChoice::Auto));
+            GpuContext::new(&AdapterChoice::Software).or_else(|_| GpuContext::new(&AdapterChoice::Auto));
         match found {
             Ok(ctx) => {
                 eprintln!("GPU tests on {}", ctx.adapter_label());
