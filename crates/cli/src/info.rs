@@ -68,9 +68,13 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
         );
         // The adapter is opened only on request: it takes a second on lavapipe.
         match crate::options::open_device(&args.adapter) {
-            Ok(ctx) => println!("adapter: {}", ctx.adapter_label()),
+            Ok(ctx) => println!("adapter: {} (render --device gpu)", ctx.adapter_label()),
             Err(e) => println!("adapter: none ({e})"),
         }
+        println!(
+            "cpu backend: native, {} threads (render --device cpu)",
+            rt_core::cpu_render::threads()
+        );
     }
     Ok(())
 }
