@@ -274,8 +274,8 @@ impl GpuContext {
     /// suites' dev-dependencies turn it on): the shipping library reads no `CI`.
     #[cfg(feature = "testing")]
     pub fn for_tests() -> Option<GpuContext> {
-        let found =
-            GpuContext::new(&AdapterChoice::Software).or_else(|_| GpuContext::new(&AdapterChoice::Auto));
+        let found = GpuContext::new(&AdapterChoice::Software)
+            .or_else(|_| GpuContext::new(&AdapterChoice::Auto));
         match found {
             Ok(ctx) => {
                 eprintln!("GPU tests on {}", ctx.adapter_label());

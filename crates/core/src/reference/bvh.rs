@@ -17,7 +17,10 @@ use crate::math::intersect::{PreparedRay, intersect_box};
 pub(super) fn trace_bvh2(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let mut hit = miss(t_max);
-    let mut stack = Vec::with_capacity(64);
+    // A fixed stack, as the kernel's (the builder keeps the BVH within it; a push past it is
+    // dropped in both twins): no allocation per ray.
+    let mut stack = [0usize; crate::bvh::MAX_BVH_DEPTH];
+    let mut sp = 0;
     let mut index = 0usize;
     loop {
         let node = &scene.nodes[index];
@@ -46,14 +49,18 @@ pub(super) fn trace_bvh2(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max:
         match (l, r) {
             (Some((tl, il)), Some((tr, ir))) => {
                 let (near, far) = if tl <= tr { (il, ir) } else { (ir, il) };
-                stack.push(far);
+                if sp < stack.len() {
+                    stack[sp] = far;
+                    sp += 1;
+                }
                 index = near;
             }
             (Some((_, i)), None) | (None, Some((_, i))) => index = i,
-            (None, None) => match stack.pop() {
-                Some(next) => index = next,
-                None => break,
-            },
+            (None, None) if sp > 0 => {
+                sp -= 1;
+                index = stack[sp];
+            }
+            (None, None) => break,
         }
     }
     hit

@@ -72,7 +72,10 @@ pub(super) fn trace_wide(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max:
         | u32::from(direction.z >= 0.0);
     let oct_inv4 = oct_inv * 0x0101_0101;
     let neg = direction.cmplt(Vec3::ZERO);
-    let mut stack: Vec<(u32, u32)> = Vec::with_capacity(crate::bvh::MAX_WIDE_BVH_DEPTH);
+    // A fixed stack, as the kernel's (the builder keeps the BVH within it; a push past it is
+    // dropped in both twins): no allocation per ray.
+    let mut stack = [(0u32, 0u32); crate::bvh::MAX_WIDE_BVH_DEPTH];
+    let mut sp = 0;
     // The root is the one inner child (rank 7, no inner slots before it) of a virtual node at 0.
     let mut group = (0u32, 0x8000_0000u32);
     let mut triangles = (0u32, 0u32);
@@ -83,17 +86,19 @@ pub(super) fn trace_wide(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max:
             test_triangle(scene, &ray, triangles.0 + bit, &mut hit);
         }
         if group.1 & INNER_BITS == 0 {
-            match stack.pop() {
-                Some(next) => group = next,
-                None => break,
+            if sp == 0 {
+                break;
             }
+            sp -= 1;
+            group = stack[sp];
         }
         let rank_bit = 31 - group.1.leading_zeros();
         group.1 &= !(1 << rank_bit);
         let slot = (rank_bit - 24) ^ oct_inv;
         let child = group.0 + (group.1 & IMASK & ((1 << slot) - 1)).count_ones();
-        if group.1 & INNER_BITS != 0 {
-            stack.push(group);
+        if group.1 & INNER_BITS != 0 && sp < stack.len() {
+            stack[sp] = group;
+            sp += 1;
         }
         let node = &scene.wide_nodes[child as usize];
         let hits = child_hits(node, &ray, oct_inv4, neg, hit.t);
