@@ -10,7 +10,9 @@ here, and LLVM 14 is too old; DRJIT_LIBLLVM_PATH overrides the library), and a r
 (`cargo build --release -p rt-cli`).
 
 Usage: bench/mitsuba-vs-rt.py REFERENCE.exr [--spp 256] [--size 512] [--sampler independent|sobol]
-(rt's own default sampler, Sobol, unless --sampler is given; Mitsuba keeps its independent one)
+       [--device gpu|cpu]
+(rt's own default sampler, Sobol, unless --sampler is given; Mitsuba keeps its independent one;
+--device cpu renders rt with its native CPU backend rather than through wgpu)
 """
 
 import argparse
@@ -116,6 +118,7 @@ def main():
     parser.add_argument("--spp", type=int, default=256)
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--sampler", default=None)
+    parser.add_argument("--device", default="gpu", choices=["gpu", "cpu"])
     args = parser.parse_args()
     os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
     import drjit as dr
@@ -139,7 +142,8 @@ def main():
         started = time.perf_counter()
         log = subprocess.run(
             [str(CLI), "render", "--width", str(args.size), "--height", str(args.size),
-             "--spp", str(args.spp), "--max-depth", "8", "-o", str(rt_out)]
+             "--spp", str(args.spp), "--max-depth", "8", "-o", str(rt_out),
+             "--device", args.device]
             + (["--sampler", args.sampler] if args.sampler else []),
             capture_output=True, text=True, check=True,
         ).stderr
@@ -150,7 +154,7 @@ def main():
         e_mitsuba = rel_mse(mitsuba_out, args.reference)
         e_rt = rel_mse(rt_out, args.reference)
     ratio = (t_rt * e_rt) / (t_mitsuba * e_mitsuba)
-    adapter = re.search(r"adapter:\s+(.*)", log).group(1)
+    adapter = re.search(r"(?:adapter|device):\s+(.*)", log).group(1)
     print(f"machine: {os.cpu_count()} CPUs; rt adapter: {adapter}")
     print(f"{'':10} {'time (s)':>10} {'relMSE':>12}")
     print(f"{'Mitsuba 3':10} {t_mitsuba:>10.2f} {e_mitsuba:>12.4e}   (llvm_ad_rgb, path, independent)")

@@ -150,3 +150,117 @@ fn light_sampling_and_traversal_match_their_twin() {
         .check_rows(&gpu_out, 19, &rows);
     }
 }
+
+/// Camera rays through a thin lens (`camera_ray_origin_dir` ⇄ `camera_ray`), the sky a ray that
+/// leaves the scene sees, weighed against environment sampling (`escaped`), and the point, spot
+/// and sun lights' sum at a point with their shadow rays (`delta_lights_at`), on the Cornell box
+/// with an environment, three delta lights and an open aperture.
+#[test]
+fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
+    use rt_core::reference::{camera_ray, delta_lights_at};
+    use rt_core::{Light, LightKind};
+    let Some(ctx) = gpu() else { return };
+    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut rng = Rng::new(6, 0, 0x12);
+    let texels = (0..16 * 8)
+        .map(|_| [rng.next_f32() * 4.0, rng.next_f32(), rng.next_f32() * 2.0])
+        .collect();
+    scene.environment = Some(rt_core::Environment::new(
+        "random",
+        EnvironmentMap::from_texels(16, 8, texels).0,
+    ));
+    scene.camera.aperture_radius = 0.05;
+    let (lo, hi) = scene.bounds().unwrap();
+    let centre = (lo + hi) * 0.5;
+    let mut point = Light::new(LightKind::Point, "point");
+    point.position = (centre + (hi - centre) * 0.6).to_array();
+    point.intensity = 3.0;
+    let mut spot = Light::new(LightKind::Spot, "spot");
+    spot.position = (centre + (hi - centre) * Vec3::new(-0.5, 0.8, 0.2)).to_array();
+    spot.direction = [0.2, -1.0, 0.1];
+    spot.intensity = 5.0;
+    let mut sun = Light::new(LightKind::Directional, "sun");
+    sun.direction = [0.3, -1.0, -0.4];
+    scene.lights = vec![point, spot, sun];
+    let g = rt_core::GpuScene::build(&scene).unwrap();
+    let frame = rt_core::frame::frame_for(&scene, &g).unwrap();
+    assert!(frame.lens_radius > 0.0 && frame.env_pick > 0.0 && g.delta_lights.len() == 3);
+    let input = inputs(11, |rng| {
+        let u = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let p = lo + (hi - lo) * u;
+        let ng = unit(rng);
+        let d = unit(rng);
+        let pdf = if rng.next_f32() < 0.5 {
+            0.0
+        } else {
+            4.0 * rng.next_f32()
+        };
+        let pixel = (rng.next_f32() * (frame.width * frame.height) as f32) as u32;
+        let mut words = bits(&[p, ng, d].map(|v| v.to_array()).concat());
+        words.push(pdf.to_bits());
+        words.push(pixel);
+        words
+    });
+    let kernel = TwinKernel {
+        words_in: 11,
+        words_out: 12,
+        body: "let p = v3_in(item, 0u); let ng = v3_in(item, 3u); let d = v3_in(item, 6u);
+    let pixel = u_in(item, 10u);
+    var r = rng_init(pixel, item, frame.seed);
+    let ray = camera_ray_origin_dir(pixel % frame.width, pixel / frame.width, &r);
+    put3(item, 0u, ray[0]); put3(item, 3u, ray[1]);
+    put3(item, 6u, escaped(d, f_in(item, 9u)));
+    var s: Surface;
+    s.kind = MAT_LAMBERTIAN; s.color = vec3(0.8, 0.5, 0.3); s.n = ng;
+    var rays = 0u;
+    put3(item, 9u, delta_lights_at(p, ng, s, &rays));",
+        sobol: true,
+    };
+    let twin = TwinScene { frame, scene: g };
+    let gpu_out = kernel.run_in(ctx, &twin, &input);
+    let (g, frame) = (&twin.scene, &twin.frame);
+    let mut set_aside = 0;
+    let rows: Vec<Vec<u32>> = (0..ITEMS)
+        .map(|item| {
+            let f = |k: usize| f32::from_bits(input[item * 11 + k]);
+            let v = |k: usize| Vec3::new(f(k), f(k + 1), f(k + 2));
+            let (p, ng, d) = (v(0), v(3), v(6));
+            let pixel = input[item * 11 + 10];
+            let mut r = Rng::with_sampler(pixel, item as u32, frame.seed, SamplerKind::Sobol);
+            let (o, dir) = camera_ray(frame, pixel % frame.width, pixel / frame.width, &mut r);
+            let sky = rt_core::reference::light::escaped(g, frame, d, f(9));
+            let surface = Surface::Lambert {
+                albedo: Vec3::new(0.8, 0.5, 0.3),
+                ns: ng,
+            };
+            let lit = delta_lights_at(g, frame, p, ng, &surface);
+            let out = bits(&[o, dir, sky, lit].map(|v| v.to_array()).concat());
+            // A shadow ray grazing an edge, or a direction on an environment texel's boundary,
+            // may go the other way on the GPU: set aside and counted.
+            let gpu_row = &gpu_out[item * 12..item * 12 + 12];
+            let differs = (6..12).any(|k| {
+                let (a, b) = (f32::from_bits(out[k]), f32::from_bits(gpu_row[k]));
+                (a - b).abs() > 1e-3 * a.abs().max(b.abs()).max(1e-3)
+            });
+            if differs {
+                set_aside += 1;
+                return gpu_row.to_vec();
+            }
+            out
+        })
+        .collect();
+    eprintln!("camera, sky and delta lights: {set_aside} of {ITEMS} items on an edge");
+    assert!(set_aside <= ITEMS / 100, "{set_aside} items differ");
+    let lit = rows
+        .iter()
+        .filter(|r| f32::from_bits(r[9]) + f32::from_bits(r[10]) > 0.0)
+        .count();
+    assert!(lit > ITEMS / 8, "only {lit} points lit by the delta lights");
+    Comparison {
+        name: "camera, sky and delta lights",
+        rel: 2e-4,
+        abs: 1e-5,
+        exact_words: &[],
+    }
+    .check_rows(&gpu_out, 12, &rows);
+}

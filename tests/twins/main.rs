@@ -6,7 +6,8 @@
 //! in the last bits). The harness binds the frame and a whole `GpuScene` as the kernels do, so
 //! the functions that read the scene (traversal, light sampling, environment, textures) are
 //! compared too: `math.rs` holds the math, `scene.rs` the environment, textures, delta lights and
-//! the surface dispatch, `lights.rs` light sampling, direct light and traversal. The image-level
+//! the surface dispatch, `lights.rs` light sampling, direct light, the delta lights' sum, the escaped sky, camera rays and
+//! traversal. The image-level
 //! lockstep and Z-tests (`tests/reference.rs`) compare whole paths.
 
 #[path = "../common/mod.rs"]
