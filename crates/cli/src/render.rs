@@ -51,10 +51,9 @@ pub struct RenderArgs {
     /// sampling on, with the target as each pixel's threshold).
     #[arg(long, conflicts_with = "adaptive")]
     no_adaptive: bool,
-    /// What renders: gpu (a GPU through wgpu; lavapipe where there is none) or cpu (rt's native
-    /// CPU backend, the estimator's Rust twin on every core: the same samples, so the same image
-    /// and mergeable parts; it does not yet do adaptive sampling, --time-limit, --noise-target or
-    /// --denoise).
+    /// What renders: gpu (a GPU through wgpu; lavapipe where there is none), cpu (rt's native CPU
+    /// backend, the estimator's Rust twin on every core: the same samples, so the same image and
+    /// mergeable parts), or auto (a hardware GPU if there is one, else cpu).
     #[arg(long, value_enum, default_value = "gpu")]
     device: DeviceArg,
     #[command(flatten)]
@@ -99,8 +98,11 @@ impl RenderArgs {
 
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let (scene, range) = prepare_scene(&args)?;
-    if args.device == DeviceArg::Cpu {
-        return cpu::run(&args, &scene, range);
+    let gpu_flags =
+        args.engine.kernel.is_some() || args.engine.adapter != rt_gpu::AdapterChoice::Auto;
+    let (device, why) = args.device.resolve(gpu_flags);
+    if device == DeviceArg::Cpu {
+        return cpu::run(&args, &scene, range, &why);
     }
     let ctx = open_device(&args.engine.adapter)?;
     let gpu_scene = GpuScene::build(&scene)?;
@@ -128,6 +130,7 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     };
     let (kernel, scenes) = (renderer.kernel(), (&scene, &gpu_scene));
     save_output(&args, range, &ctx, kernel, scenes, &image, aovs.as_ref())?;
+    eprintln!("device:         GPU ({why})");
     print_render_summary(&ctx, &renderer, scenes, &image, range, &finish, verbose);
     if args.denoise.is_some() {
         let aovs = renderer.read_aovs()?;

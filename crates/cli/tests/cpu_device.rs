@@ -156,3 +156,47 @@ fn the_cpu_backend_samples_adaptively_stops_on_noise_and_time_and_denoises() {
     let denoised = out.with_file_name("denoised.denoised.png");
     assert!(denoised.exists(), "{stderr}");
 }
+
+/// `--device auto` renders with a hardware GPU where there is one and with the CPU backend
+/// otherwise (lavapipe does not count), and says which and why; `--adapter` makes it a GPU.
+#[test]
+fn auto_picks_a_backend_and_says_why() {
+    let dir = temp_dir("cpu-auto");
+    let out = dir.join("auto.png");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--device",
+            "auto",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--spp",
+            "2",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        stderr
+    };
+    let hardware = rt_gpu::hardware_gpu();
+    let stderr = render(&[]);
+    let expected = match &hardware {
+        Some(_) => "device:         GPU (auto: hardware GPU",
+        None => "device:         CPU (native backend",
+    };
+    assert!(
+        stderr.contains(expected) && stderr.contains("auto:"),
+        "{hardware:?}: {stderr}"
+    );
+    if has_gpu() {
+        let stderr = render(&["--adapter", "lavapipe"]);
+        assert!(
+            stderr.contains("device:         GPU (auto: --adapter or --kernel asks for a GPU)"),
+            "{stderr}"
+        );
+    }
+}

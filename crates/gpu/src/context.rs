@@ -101,6 +101,45 @@ fn experimental_features_enabled() -> wgpu::ExperimentalFeatures {
     unsafe { wgpu::ExperimentalFeatures::enabled() }
 }
 
+/// Every adapter wgpu finds (Vulkan, Metal or DX12 ones, else GL ones), with the instances they
+/// came from, kept alive while the adapters are used.
+async fn enumerate_adapters() -> (Vec<wgpu::Adapter>, Vec<wgpu::Instance>) {
+    // GL only as a fallback, in an instance of its own: creating its EGL display is slow and
+    // logs errors on machines where Vulkan works (Mesa 25's EGL without a DRI driver).
+    let described = || wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    let allowed = described().backends;
+    let primary = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: allowed & wgpu::Backends::PRIMARY,
+        ..described()
+    });
+    let mut adapters = primary.enumerate_adapters(wgpu::Backends::PRIMARY).await;
+    if adapters.is_empty() && allowed.contains(wgpu::Backends::GL) {
+        let gl = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::GL,
+            ..described()
+        });
+        adapters = gl.enumerate_adapters(wgpu::Backends::GL).await;
+        return (adapters, vec![primary, gl]);
+    }
+    (adapters, vec![primary])
+}
+
+/// The name of a hardware GPU wgpu can use (discrete, integrated or virtual), if there is one:
+/// what `--device auto` asks before it chooses a backend. Software adapters (lavapipe,
+/// SwiftShader, WARP) do not count. Opens no device.
+pub fn hardware_gpu() -> Option<String> {
+    let (adapters, _instances) = pollster::block_on(enumerate_adapters());
+    adapters.iter().map(|a| a.get_info()).find_map(|info| {
+        matches!(
+            info.device_type,
+            wgpu::DeviceType::DiscreteGpu
+                | wgpu::DeviceType::IntegratedGpu
+                | wgpu::DeviceType::VirtualGpu
+        )
+        .then_some(info.name)
+    })
+}
+
 impl GpuContext {
     /// Opens `choice`'s device with the default `DeviceOptions` (ray queries where it has them).
     pub fn new(choice: &AdapterChoice) -> Result<Self> {
@@ -113,22 +152,7 @@ impl GpuContext {
     }
 
     async fn new_async(choice: &AdapterChoice, options: DeviceOptions) -> Result<Self> {
-        // GL only as a fallback, in an instance of its own: creating its EGL display is slow and
-        // logs errors on machines where Vulkan works (Mesa 25's EGL without a DRI driver).
-        let described = || wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        let allowed = described().backends;
-        let primary = wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends: allowed & wgpu::Backends::PRIMARY,
-            ..described()
-        });
-        let mut adapters = primary.enumerate_adapters(wgpu::Backends::PRIMARY).await;
-        if adapters.is_empty() && allowed.contains(wgpu::Backends::GL) {
-            let gl = wgpu::Instance::new(wgpu::InstanceDescriptor {
-                backends: wgpu::Backends::GL,
-                ..described()
-            });
-            adapters = gl.enumerate_adapters(wgpu::Backends::GL).await;
-        }
+        let (adapters, _instances) = enumerate_adapters().await;
         let names: Vec<String> = adapters
             .iter()
             .map(|a| format!("{} ({:?})", a.get_info().name, a.get_info().backend))

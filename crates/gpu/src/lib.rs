@@ -39,7 +39,7 @@ pub mod tiling;
 pub mod trace_rays;
 pub mod wavefront;
 
-pub use context::{AdapterChoice, DeviceOptions, GpuContext};
+pub use context::{AdapterChoice, DeviceOptions, GpuContext, hardware_gpu};
 pub use error::{GpuError, Result};
 pub use image::{Aovs, Image};
 pub use options::{Adaptive, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace, Tuning};

@@ -17,11 +17,36 @@ use crate::summary::{Finish, estimator_summary, print_image_summary};
 /// `--device` values.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DeviceArg {
+    /// A hardware GPU when there is one, else the native CPU backend (software adapters such as
+    /// lavapipe do not count); a GPU whenever --adapter or --kernel is given.
+    Auto,
     /// A GPU through wgpu (lavapipe on a machine without one).
     #[default]
     Gpu,
     /// The native CPU backend: the estimator's Rust twin on every core.
     Cpu,
+}
+
+impl DeviceArg {
+    /// The backend to run (`Gpu` or `Cpu`) and why, given whether GPU-only flags were passed.
+    pub fn resolve(self, gpu_flags: bool) -> (DeviceArg, String) {
+        match self {
+            DeviceArg::Auto if gpu_flags => (
+                DeviceArg::Gpu,
+                "auto: --adapter or --kernel asks for a GPU".into(),
+            ),
+            DeviceArg::Auto => match rt_gpu::hardware_gpu() {
+                Some(name) => (DeviceArg::Gpu, format!("auto: hardware GPU {name}")),
+                None => (
+                    DeviceArg::Cpu,
+                    "auto: no hardware GPU (software adapters such as lavapipe do not count)"
+                        .into(),
+                ),
+            },
+            DeviceArg::Gpu => (DeviceArg::Gpu, "--device gpu".into()),
+            DeviceArg::Cpu => (DeviceArg::Cpu, "--device cpu".into()),
+        }
+    }
 }
 
 /// Each batch should take about this long: short enough for the time limit and the progress
@@ -30,7 +55,7 @@ const TARGET_BATCH_SECS: f64 = 0.25;
 
 /// Renders `scene` (its settings applied) on the CPU and saves it, or for a shard (`range`) its
 /// part.
-pub fn run(args: &RenderArgs, scene: &Scene, range: Option<[u32; 2]>) -> Result<()> {
+pub fn run(args: &RenderArgs, scene: &Scene, range: Option<[u32; 2]>, why: &str) -> Result<()> {
     let gpu_flags: Vec<&str> = [
         (args.engine.kernel.is_some(), "--kernel"),
         (
@@ -120,7 +145,7 @@ pub fn run(args: &RenderArgs, scene: &Scene, range: Option<[u32; 2]>) -> Result<
         }
         None => super::save(args, &image)?,
     }
-    eprintln!("device:         CPU (native backend, {threads} threads)");
+    eprintln!("device:         CPU (native backend, {threads} threads; {why})");
     eprintln!("triangles:      {}", gpu_scene.triangles.len());
     eprintln!(
         "estimator:      {}",
