@@ -4,7 +4,7 @@
 //! only when that pipeline is destroyed, so `Renderer` can rebuild its pipeline on CPU adapters
 //! every `RenderOptions::pipeline_lifetime`; the wavefront kernels (the default) do not grow. Its own test binary with one test: resident memory is per
 //! process, and other tests running alongside would move it. (That a rebuild changes no sample is
-//! `tests/extremes.rs::rebuilding_the_pipeline_changes_no_sample`.)
+//! `tests/extremes/renderer.rs::rebuilding_the_pipeline_changes_no_sample`.)
 
 mod common;
 

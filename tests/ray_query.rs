@@ -136,7 +136,7 @@ fn ray_queries_render_the_image_of_rts_bvh() {
         ),
         // Holes: the driver hands every hit over as a candidate that rt's coverage test confirms.
         // (Blending's coin hashes the ray's exact bits, so the driver's rounding of hit points
-        // sends later paths elsewhere: tests/analytic.rs checks it over ray queries statistically.)
+        // sends later paths elsewhere: tests/analytic/ checks it over ray queries statistically.)
         (
             "alpha mask, emission textures",
             masked_only(alpha_and_emission_textures_scene(24, 24)),

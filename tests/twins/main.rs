@@ -8,7 +8,7 @@
 //! compared too: `math.rs` holds the math, `scene.rs` the environment, textures, delta lights and
 //! the surface dispatch, `lights.rs` light sampling, direct light, the delta lights' sum, the escaped sky, camera rays and
 //! traversal. The image-level
-//! lockstep and Z-tests (`tests/reference.rs`) compare whole paths.
+//! lockstep and Z-tests (`tests/reference/`) compare whole paths.
 
 #[path = "../common/mod.rs"]
 mod common;

@@ -200,3 +200,31 @@ fn auto_picks_a_backend_and_says_why() {
         );
     }
 }
+
+/// The CPU backend's image does not depend on its thread count: one thread and two give the same
+/// sums bit for bit (each pixel's samples are its own, and fixed-point addition is exact).
+#[test]
+fn the_cpu_image_is_the_same_whatever_the_thread_count() {
+    let dir = temp_dir("cpu-threads");
+    let render = |threads: &str| {
+        let out = dir.join(format!("threads-{threads}.exr"));
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_rt-cli"))
+            .args([
+                "render", "--device", "cpu", "--width", "20", "--height", "14", "--spp", "6",
+                "--shard", "0/1", "-o",
+            ])
+            .arg(&out)
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        read_part(&out).unwrap()
+    };
+    let (one, two) = (render("1"), render("2"));
+    assert_eq!(one.sums, two.sums);
+    assert_eq!(one.counts, two.counts);
+}

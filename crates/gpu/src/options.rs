@@ -116,7 +116,7 @@ impl Default for RenderOptions {
 
 pub use rt_core::adaptive::Adaptive;
 
-/// How the kernels run, never what they compute (tests/extremes.rs checks the images are
+/// How the kernels run, never what they compute (tests/extremes/ checks the images are
 /// identical): switches for measurements (`rt-cli bench`) and tests, and the CPU-driver memory
 /// workaround the binaries turn on. No user setting lives here; `Default` is the library's
 /// behaviour.

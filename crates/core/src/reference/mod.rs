@@ -23,7 +23,7 @@
 //! as its `WGSL` for `rt_gpu::shaders` to compose; the math they share with the rest of rt-core
 //! (random numbers, sampling, intersection, microfacets, the PBR BSDF) lives in `crate::math`, each
 //! file likewise beside its WGSL twin.
-//! `tests/reference.rs` checks the GPU against this reference per pixel, in lockstep at a few
+//! `tests/reference/` checks the GPU against this reference per pixel, in lockstep at a few
 //! samples and statistically at many.
 
 pub mod bvh;

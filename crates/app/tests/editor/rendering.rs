@@ -1,0 +1,167 @@
+//! Rendering from the editor: start and cancel, the path-traced viewport, adaptive sampling.
+
+use super::*;
+use egui_kittest::kittest::Queryable;
+
+#[test]
+fn start_and_cancel_a_render_then_render_to_the_end() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    {
+        let app = harness.state_mut();
+        app.doc.edit("small", "small", |s| {
+            s.settings.width = 48;
+            s.settings.height = 48;
+            s.settings.samples_per_pixel = 1_000_000;
+        });
+    }
+    harness.get_by_label("Render image").click();
+    harness.step();
+    assert!(harness.state().is_rendering());
+    step_until(&mut harness, "first samples", |app| {
+        app.renders[0].job.progress.samples_done > 0
+    });
+    harness.get_by_label("Cancel render").click();
+    step_until(&mut harness, "the cancelled render to stop", |app| {
+        !app.is_rendering()
+    });
+    let job = &harness.state().renders[0].job;
+    assert_eq!(job.state, JobState::Cancelled);
+    let image = job
+        .image
+        .as_ref()
+        .expect("a cancelled render keeps its samples");
+    assert!(image.samples_per_pixel > 0 && image.samples_per_pixel < 1_000_000);
+
+    harness.state_mut().doc.edit("few", "few", |s| {
+        s.settings.samples_per_pixel = 4;
+    });
+    harness.get_by_label("Render image").click();
+    step_until(&mut harness, "the second render to finish", |app| {
+        app.renders.len() == 2 && !app.is_rendering()
+    });
+    let app = harness.state();
+    assert_eq!(app.renders[1].job.state, JobState::Finished);
+    assert_eq!(
+        app.renders[1].job.image.as_ref().unwrap().samples_per_pixel,
+        4
+    );
+    assert!(app.ui.last_render.is_some());
+    assert_eq!(app.renders.len(), 2, "the earlier result stays open");
+    harness.get_all_by_label("Save as…").next().unwrap();
+    // The finished render kept the denoiser's guides: show the denoised image.
+    assert!(harness.state().renders[1].job.aovs.is_some());
+    harness.get_all_by_label("denoised").last().unwrap().click();
+    harness.run_ok();
+    let view = &harness.state().renders[1];
+    assert!(view.show_denoised && view.denoised.is_some());
+}
+
+/// `P` turns the path-traced view on (not while a text field has focus); after a camera move the
+/// first image shown is coarse and reuses the GPU scene, and the view reaches full resolution and
+/// a denoised image without input; `P` again stops it and drops its threads.
+#[test]
+fn the_path_traced_viewport_starts_coarse_refines_denoises_and_stops() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    // A focused text field takes the key: no toggle.
+    let floor = index_of(harness.state(), "floor");
+    harness.state_mut().select_object(Some(floor));
+    harness.run_ok();
+    harness
+        .get_all_by_role(egui::accesskit::Role::TextInput)
+        .find(|n| n.value().as_deref() == Some("floor"))
+        .expect("the name field")
+        .focus();
+    harness.run_ok();
+    harness.key_press(egui::Key::P);
+    harness.run_ok();
+    assert!(
+        !harness.state().live.enabled,
+        "P typed into a text field does not toggle the view"
+    );
+    harness.key_press(egui::Key::Escape);
+    harness.run_ok();
+    harness.key_press(egui::Key::P);
+    harness.step();
+    assert!(
+        harness.state().live.enabled,
+        "P turns the path-traced view on"
+    );
+    let display = |app: &RtApp| app.live.view.as_ref().and_then(|v| v.display()).cloned();
+    step_until(&mut harness, "a full-resolution image", |app| {
+        display(app).is_some_and(|f| f.pixel_size == 1)
+    });
+    harness.state_mut().doc.edit("camera", "camera", |s| {
+        s.camera.vfov_deg = 30.0;
+    });
+    harness.step();
+    let generation = harness.state().live.view.as_ref().unwrap().generation();
+    step_until(&mut harness, "the first image after the move", |app| {
+        display(app).is_some()
+    });
+    let first = display(harness.state()).unwrap();
+    assert_eq!(first.generation, generation);
+    assert!(
+        first.pixel_size > 1,
+        "the first image is coarse: {}",
+        first.pixel_size
+    );
+    assert_eq!(
+        first.rebuild,
+        rt_gpu::live::Rebuild::Nothing,
+        "a camera move rebuilds nothing"
+    );
+    step_until(&mut harness, "a denoised full-resolution image", |app| {
+        display(app).is_some_and(|f| f.pixel_size == 1 && f.denoiser.is_some())
+    });
+    let image = harness.render().unwrap();
+    image
+        .save(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("editor-path-traced.png"))
+        .unwrap();
+    harness.key_press(egui::Key::P);
+    harness.step();
+    let app = harness.state();
+    assert!(!app.live.enabled && app.live.view.is_none() && app.live.texture.is_none());
+}
+
+/// The Render panel's "Adaptive sampling" turns it on (threshold 0.02), and a render with a
+/// threshold every pixel meets at once ends after the minimum samples, finished, not cancelled,
+/// with per-pixel counts.
+#[test]
+fn adaptive_sampling_from_the_render_panel() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("Adaptive sampling").click();
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.settings.adaptive_threshold,
+        Some(0.02)
+    );
+    harness.state_mut().doc.edit("loose", "loose", |s| {
+        s.settings.width = 32;
+        s.settings.height = 32;
+        s.settings.samples_per_pixel = 1_000_000;
+        s.settings.adaptive_threshold = Some(1e6);
+    });
+    harness.get_by_label("Render image").click();
+    step_until(&mut harness, "the adaptive render to finish", |app| {
+        !app.renders.is_empty() && !app.is_rendering()
+    });
+    let job = &harness.state().renders[0].job;
+    assert_eq!(job.state, JobState::Finished);
+    let image = job.image.as_ref().unwrap();
+    let min = rt_core::scene::ADAPTIVE_MIN_SAMPLES;
+    assert!(image.samples_per_pixel >= min && image.samples_per_pixel < 1_000_000);
+    let counts = image.sample_counts.as_ref().expect("per-pixel counts");
+    assert!(counts.iter().all(|&c| c == image.samples_per_pixel));
+}

@@ -1,0 +1,264 @@
+//! Opening, selecting, editing materials and lights, undo and redo, and the editor's defaults.
+
+use super::*;
+use egui_kittest::kittest::Queryable;
+use rt_core::Material;
+
+#[test]
+fn the_cornell_box_opens_listed_and_previewed() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    assert!(harness.state().preview_available, "egui runs on wgpu");
+    for name in ["floor", "tall_block", "short_block"] {
+        harness.get_by_label(name);
+    }
+    harness.get_by_label("light");
+
+    let image = harness.render().unwrap();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    image.save(dir.join("editor-cornell.png")).unwrap();
+    // The viewport (between the side panels) shows the box: the red and green walls are there.
+    let (w, h) = image.dimensions();
+    let mut red = 0;
+    let mut green = 0;
+    for y in (h / 5..h * 4 / 5).step_by(4) {
+        for x in (w / 4..w * 3 / 4).step_by(4) {
+            let [r, g, b, _] = image.get_pixel(x, y).0;
+            let (r, g, b) = (i32::from(r), i32::from(g), i32::from(b));
+            if r > g + 40 && r > b + 40 {
+                red += 1;
+            }
+            if g > r + 40 && g > b + 40 {
+                green += 1;
+            }
+        }
+    }
+    assert!(
+        red > 50 && green > 50,
+        "the preview should show the red and green walls: {red} red, {green} green samples \
+         (screenshot in {})",
+        dir.display()
+    );
+}
+
+#[test]
+fn select_change_material_undo_and_redo() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("tall_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "tall_block");
+    assert_eq!(harness.state().selection, Some(index));
+    let original = harness.state().doc.scene.objects[index].material.clone();
+
+    harness.get_by_label("Metal").click();
+    harness.run_ok();
+    assert!(matches!(
+        harness.state().doc.scene.objects[index].material,
+        Material::Metal { .. }
+    ));
+
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.objects[index].material,
+        original,
+        "Ctrl+Z restores the material"
+    );
+    harness.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    harness.run_ok();
+    assert!(matches!(
+        harness.state().doc.scene.objects[index].material,
+        Material::Metal { .. }
+    ));
+
+    harness.get_by_label("Glass").click();
+    harness.run_ok();
+    assert!(matches!(
+        harness.state().doc.scene.objects[index].material,
+        Material::Dielectric { .. }
+    ));
+}
+
+#[test]
+fn add_a_light_then_delete_it_after_confirming() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    let before = harness.state().doc.scene.objects.len();
+    harness.get_by_label("Add quad light").click();
+    harness.run_ok();
+    let app = harness.state();
+    assert_eq!(app.doc.scene.objects.len(), before + 1);
+    let added = app.doc.scene.objects.last().unwrap();
+    assert!(matches!(added.material, Material::Emissive { .. }));
+    assert_eq!(app.selection, Some(before), "the new light is selected");
+    let name = added.name.clone();
+    harness.get_by_label(&name);
+
+    harness.get_by_label("Delete…").click();
+    harness.run_ok();
+    harness.get_by_label("Cancel").click();
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.objects.len(),
+        before + 1,
+        "cancel keeps it"
+    );
+
+    harness.get_by_label("Delete…").click();
+    harness.run_ok();
+    harness.get_by_label("Delete").click();
+    harness.run_ok();
+    assert_eq!(harness.state().doc.scene.objects.len(), before);
+    assert!(harness.query_by_label(&name).is_none());
+
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.objects.len(),
+        before + 1,
+        "undo restores it"
+    );
+}
+
+#[test]
+fn add_edit_and_delete_point_spot_and_sun_lights() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    for (button, kind) in [
+        ("Add point light", rt_core::LightKind::Point),
+        ("Add spot light", rt_core::LightKind::Spot),
+        ("Add sun", rt_core::LightKind::Directional),
+    ] {
+        harness.get_by_label(button).click();
+        harness.run_ok();
+        let app = harness.state();
+        let light = app.doc.scene.lights.last().unwrap();
+        assert_eq!(light.kind, kind);
+        assert_eq!(app.selected_light, Some(app.doc.scene.lights.len() - 1));
+        assert_eq!(app.selection, None, "selecting a light deselects objects");
+        light.validate().unwrap();
+    }
+    assert_eq!(harness.state().doc.scene.lights.len(), 3);
+    // The inspector edits the selected light (the sun): switch it to a point light.
+    harness.get_by_label("Point").click();
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.lights[2].kind,
+        rt_core::LightKind::Point
+    );
+    harness.get_by_label("Delete light").click();
+    harness.run_ok();
+    assert_eq!(harness.state().doc.scene.lights.len(), 2);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.lights.len(),
+        3,
+        "undo brings it back"
+    );
+    // Lights render: a final render with them finishes.
+    harness.state_mut().doc.edit("small", "small", |s| {
+        s.settings.width = 16;
+        s.settings.height = 16;
+        s.settings.samples_per_pixel = 2;
+    });
+    harness.state_mut().start_render();
+    step_until(&mut harness, "the render with delta lights", |app| {
+        !app.is_rendering()
+    });
+    assert_eq!(harness.state().renders[0].job.state, JobState::Finished);
+}
+
+#[test]
+fn a_physically_based_material_and_the_studio_environment_from_the_panels() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("tall_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "tall_block");
+    harness.get_by_label("Physically based").click();
+    harness.run_ok();
+    let Material::Pbr(p) = &harness.state().doc.scene.objects[index].material else {
+        panic!("a PBR material expected")
+    };
+    assert_eq!(p.roughness, 0.5, "the default roughness");
+    assert!(harness.state().doc.scene.environment.is_none());
+    harness.get_by_label("Studio").click();
+    harness.run_ok();
+    let env = harness
+        .state()
+        .doc
+        .scene
+        .environment
+        .as_ref()
+        .expect("environment set");
+    assert_eq!((env.map.width, env.map.height), (1024, 512));
+    harness.get_by_label("None").click();
+    harness.run_ok();
+    assert!(harness.state().doc.scene.environment.is_none());
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert!(
+        harness.state().doc.scene.environment.is_some(),
+        "removing the environment undoes"
+    );
+    harness.get_by_label("Sun and sky").click();
+    harness.run_ok();
+    let env = harness.state().doc.scene.environment.as_ref().unwrap();
+    assert!(env.source.starts_with("sun and sky"), "{}", env.source);
+    assert_eq!(env.strength, rt_core::sky::DAYLIGHT_STRENGTH);
+}
+
+#[test]
+fn a_bare_model_is_lit_by_the_default_environment() {
+    let mut scene = rt_core::Scene::default();
+    rt_app::app::light_with_the_default_environment(&mut scene);
+    assert!(scene.environment.is_some());
+    let mut lit = rt_core::assets::cornell_box().unwrap();
+    rt_app::app::light_with_the_default_environment(&mut lit);
+    assert!(
+        lit.environment.is_none(),
+        "a scene with emitters keeps its own light"
+    );
+}
+
+/// The editor's own defaults, on top of the loader all callers share, apply to models only: an OBJ
+/// without light gets the studio and a max depth from its materials, a glTF (whose loader decides
+/// its light) only the depth, and a project stays exactly as saved.
+#[test]
+fn editor_defaults_apply_to_models_not_projects() {
+    use rt_app::app::apply_editor_defaults;
+    use rt_core::io::SceneFormat;
+    let bare = rt_core::Scene::default();
+    assert_eq!(bare.settings.max_depth, 8);
+    let mut obj = bare.clone();
+    apply_editor_defaults(&mut obj, SceneFormat::Obj);
+    assert!(obj.environment.is_some());
+    assert_eq!(obj.settings.max_depth, 5, "diffuse (here: nothing) needs 5");
+    let mut gltf = bare.clone();
+    apply_editor_defaults(&mut gltf, SceneFormat::Gltf);
+    assert!(gltf.environment.is_none());
+    assert_eq!(gltf.settings.max_depth, 5);
+    let mut project = bare.clone();
+    apply_editor_defaults(&mut project, SceneFormat::Project);
+    assert_eq!(project, bare);
+}

@@ -1,0 +1,316 @@
+//! Renders to every format, `info`, bad input, environments and view transforms, glTF binaries.
+
+use super::*;
+
+#[test]
+fn renders_the_embedded_cornell_box_to_every_format() {
+    if !has_gpu() {
+        return;
+    }
+    let dir = temp_dir("render");
+    for ext in ["png", "jpg", "ppm", "exr"] {
+        let out = dir.join(format!("cornell.{ext}"));
+        let (code, _, stderr) = rt_cli(&[
+            "render",
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--spp",
+            "2",
+            "--adapter",
+            "cpu",
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+        for field in [
+            "adapter:",
+            "triangles:",
+            "BVH build:",
+            "render time:",
+            "samples/s:",
+            "paths/s:",
+        ] {
+            assert!(stderr.contains(field), "summary lacks '{field}': {stderr}");
+        }
+        let img = image::open(&out).unwrap();
+        assert_eq!((img.width(), img.height()), (32, 24));
+    }
+}
+
+#[test]
+fn info_describes_a_scene() {
+    let (code, stdout, stderr) = rt_cli(&["info"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("triangles: 32") && stdout.contains("light") && stdout.contains("emissive"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("bounds:"), "{stdout}");
+}
+
+#[test]
+fn bad_arguments_and_files_exit_2_with_one_line() {
+    let dir = temp_dir("bad");
+    let bad_obj = dir.join("bad.obj");
+    std::fs::write(&bad_obj, "v 0 0 0\nf 1 2 3\n").unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["render", "--camera-from", "1,2"],
+            "three comma-separated",
+        ),
+        (
+            vec!["render", "--camera-from", "1,x,3"],
+            "not a finite number",
+        ),
+        (
+            vec!["render", "--width", "0", "-o", "x.png"],
+            "at least 1x1",
+        ),
+        (vec!["render", "--width=-5"], "invalid value"),
+        (
+            vec!["render", "--spp", "0", "-o", "x.png"],
+            "samples per pixel",
+        ),
+        (
+            vec!["render", "--width", "100000", "-o", "x.png"],
+            "exceeds the limit",
+        ),
+        (vec!["render", "-o", "x.bmp"], "unknown image type"),
+        (
+            vec!["render", "/nonexistent/scene.obj", "-o", "x.png"],
+            "/nonexistent/scene.obj",
+        ),
+        (
+            vec!["render", bad_obj.to_str().unwrap(), "-o", "x.png"],
+            "bad.obj:2:",
+        ),
+        (
+            vec!["render", "scene.xyz", "-o", "x.png"],
+            "scene.xyz: unknown scene type '.xyz': rt reads .obj, .gltf, .glb, .rtproj",
+        ),
+        (
+            vec!["info", "scene.obj", "--gltf-scene", "0"],
+            "--gltf-scene needs a .gltf or .glb scene",
+        ),
+        (
+            vec![
+                "render",
+                "--camera-from",
+                "0,0,0",
+                "--camera-to",
+                "0,0,0",
+                "-o",
+                "x.png",
+            ],
+            "same point",
+        ),
+        (
+            vec!["render", "--camera-up", "0,0,1", "-o", "x.png"],
+            "parallel",
+        ),
+        (vec!["render", "--vfov", "180", "-o", "x.png"], "vfov"),
+        (vec!["info", dir.to_str().unwrap()], "directory"),
+        (vec!["frobnicate"], "unrecognized subcommand"),
+    ];
+    for (args, needle) in cases {
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 2, "{args:?} should exit 2: {stderr}");
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: error should mention '{needle}': {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+        if !stderr.contains("Usage") {
+            let lines: Vec<&str> = stderr
+                .lines()
+                .filter(|l| !l.contains("XDG_RUNTIME_DIR") && !l.trim().is_empty())
+                .collect();
+            assert_eq!(
+                lines.len(),
+                1,
+                "{args:?}: expected a one-line error, got {stderr}"
+            );
+        }
+    }
+}
+
+/// `--environment` (the built-in studio, a file, or the sun and sky), its rotation and strength,
+/// and `--view`: an environment brightens an open scene, strength 0 removes its light, rotation
+/// turns it, the neutral view transform changes 8-bit outputs only; bad environment input is a
+/// one-line error with exit code 2.
+#[test]
+fn environments_and_view_transforms_from_the_command_line() {
+    let dir = temp_dir("environment");
+    let bunny = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/bunny/bunny-lowres-npm.obj"
+    );
+    let missing = dir.join("missing.hdr");
+    let corrupt = dir.join("corrupt.exr");
+    std::fs::write(&corrupt, b"definitely not an EXR").unwrap();
+    for (args, says) in [
+        (
+            vec!["--environment", missing.to_str().unwrap()],
+            "missing.hdr",
+        ),
+        (
+            vec!["--environment", corrupt.to_str().unwrap()],
+            "corrupt.exr",
+        ),
+        (vec!["--env-strength", "2"], "need an environment"),
+        (
+            vec!["--environment", "default", "--env-strength", "-1"],
+            "strength",
+        ),
+        (
+            vec!["--environment", "default", "--env-rotation", "nan"],
+            "rotation",
+        ),
+        (vec!["--environment", "sky:95"], "sun elevation"),
+        (vec!["--environment", "sky:30,x"], "turbidity"),
+    ] {
+        let mut all = vec!["render", bunny, "--spp", "1", "-o"];
+        let out = dir.join("bad.png");
+        all.push(out.to_str().unwrap());
+        all.extend(args.iter().copied());
+        let (code, _, stderr) = rt_cli(&all);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+        assert_eq!(
+            stderr.trim().lines().count(),
+            1,
+            "{args:?}: one line: {stderr}"
+        );
+        assert!(!out.exists());
+    }
+    if !has_gpu() {
+        return;
+    }
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render", bunny, "--width", "32", "--height", "32", "--spp", "8",
+        ];
+        args.push("-o");
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        image::open(&out).unwrap().to_rgb32f()
+    };
+    let mean = |img: &image::Rgb32FImage| {
+        img.pixels()
+            .map(|p| f64::from(p.0[0] + p.0[1] + p.0[2]))
+            .sum::<f64>()
+            / img.len() as f64
+    };
+    let ambient = render("ambient.exr", &["--ambient", "0,0,0"]);
+    let studio = render(
+        "studio.exr",
+        &["--ambient", "0,0,0", "--environment", "default"],
+    );
+    let dark = render(
+        "dark.exr",
+        &[
+            "--ambient",
+            "0,0,0",
+            "--environment",
+            "default",
+            "--env-strength",
+            "0",
+        ],
+    );
+    let turned = render(
+        "turned.exr",
+        &["--environment", "default", "--env-rotation", "90"],
+    );
+    assert_eq!(
+        mean(&ambient),
+        0.0,
+        "no light without ambient or environment"
+    );
+    assert!(mean(&studio) > 0.01, "the studio lights the bunny");
+    assert_eq!(mean(&dark), 0.0, "strength 0 turns it off");
+    assert_ne!(studio.as_raw(), turned.as_raw(), "rotation turns the light");
+    let standard = render(
+        "standard.png",
+        &["--environment", "default", "--exposure", "4"],
+    );
+    let neutral = render(
+        "neutral.png",
+        &[
+            "--environment",
+            "default",
+            "--exposure",
+            "4",
+            "--view",
+            "neutral",
+        ],
+    );
+    assert_ne!(
+        standard.as_raw(),
+        neutral.as_raw(),
+        "the view transform changes PNGs"
+    );
+    // The sun and sky lights the bunny, and turning it moves the sun (the physics of the sky is
+    // tested in crates/core/src/sky.rs and tests/analytic/).
+    let sky = render("sky.exr", &["--environment", "sky:30,4"]);
+    let turned_sky = render(
+        "sky-turned.exr",
+        &["--environment", "sky:30,4", "--env-rotation", "120"],
+    );
+    assert!(
+        mean(&sky) > 0.01 && mean(&sky).is_finite(),
+        "{}",
+        mean(&sky)
+    );
+    assert_ne!(sky.as_raw(), turned_sky.as_raw(), "rotation turns the sun");
+    let exr_a = render("a.exr", &["--environment", "default", "--view", "neutral"]);
+    let exr_b = render("b.exr", &["--environment", "default"]);
+    assert_eq!(exr_a.as_raw(), exr_b.as_raw(), "EXR stays linear");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A real .glb (Khronos' Box Textured) renders, and `info` describes it; a scene index it lacks is
+/// a one-line error.
+#[test]
+fn renders_and_describes_a_gltf_binary() {
+    let glb = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/BoxTextured.glb");
+    let (code, stdout, stderr) = rt_cli(&["info", glb]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("triangles: 12"), "{stdout}");
+    assert!(stdout.contains("pbr"), "{stdout}");
+    let dir = temp_dir("gltf");
+    let out = dir.join("box.png");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        glb,
+        "--gltf-scene",
+        "5",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("no scene 5"), "{stderr}");
+    if !has_gpu() {
+        return;
+    }
+    let out = dir.join("box.exr");
+    let args = [
+        "render", glb, "--width", "24", "--height", "24", "--spp", "4", "-o",
+    ];
+    let (code, _, stderr) = rt_cli(&[&args[..], &[out.to_str().unwrap()]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    let image = image::open(&out).unwrap().to_rgb32f();
+    let lit = image
+        .pixels()
+        .filter(|p| p.0.iter().any(|c| *c > 0.05))
+        .count();
+    assert!(
+        lit > 24 * 24 / 4,
+        "the box is lit and in view: {lit} pixels"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1,0 +1,167 @@
+//! Supported features map onto the scene model: .glb and .gltf, external buffers, projects,
+//! accessors without bounds.
+
+use super::*;
+use std::sync::Arc;
+
+use rt_core::light::{LightKind, SpotFalloff};
+
+fn close(a: [f32; 3], b: [f32; 3]) -> bool {
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-4)
+}
+
+#[test]
+fn every_supported_feature_maps_onto_the_scene_model() {
+    let scene = load(&embedded(document()), None).unwrap();
+    assert_eq!(scene.objects.len(), 2);
+    let (a, b) = (&scene.objects[0], &scene.objects[1]);
+    assert_eq!((a.name.as_str(), b.name.as_str()), ("quad A", "quad B"));
+    assert!(Arc::ptr_eq(&a.mesh, &b.mesh), "instances share their mesh");
+    assert!(close(a.transform.translation, [1.0, 2.0, 3.0]));
+    assert!(close(a.transform.scale, [2.0; 3]));
+    assert!(
+        close(b.transform.translation, [5.0, 0.0, 0.0]),
+        "{:?}",
+        b.transform
+    );
+    assert!(
+        close(b.transform.rotation_deg, [0.0, 90.0, 0.0]),
+        "{:?}",
+        b.transform
+    );
+    let mesh = &a.mesh;
+    assert_eq!(mesh.indices, vec![[0, 1, 2], [0, 2, 3]]);
+    assert_eq!(mesh.normals.as_ref().unwrap()[0], glam::Vec3::Y);
+    assert_eq!(
+        mesh.uvs.as_ref().unwrap()[0],
+        glam::Vec2::new(0.0, 0.75),
+        "v flipped to rt's convention"
+    );
+    let Material::Pbr(p) = &a.material else {
+        panic!("PBR expected")
+    };
+    assert_eq!(p.base_color, [0.5, 0.6, 0.7]);
+    assert_eq!((p.metallic, p.roughness), (0.25, 0.75));
+    assert_eq!((p.emission, p.emission_strength), ([1.0, 0.5, 0.25], 4.0));
+    assert_eq!((p.transmission, p.ior), (0.5, 1.33));
+    assert_eq!(
+        (p.attenuation_color, p.attenuation_distance),
+        ([0.5, 0.5, 1.0], Some(2.0))
+    );
+    let c = &scene.camera;
+    assert!(close(c.from, [0.0, 1.0, 10.0]) && close(c.to, [0.0, 1.0, 9.0]));
+    assert!((c.vfov_deg - 0.7f32.to_degrees()).abs() < 1e-4);
+    assert_eq!(
+        scene.settings.height,
+        scene.settings.width / 2,
+        "aspect ratio 2"
+    );
+    assert_eq!(scene.lights.len(), 2);
+    let (bulb, spot) = (&scene.lights[0], &scene.lights[1]);
+    assert_eq!(bulb.kind, LightKind::Point);
+    assert!((bulb.intensity - 1.0).abs() < 1e-6, "683 cd = 1 W/sr");
+    assert_eq!(bulb.color, [1.0, 0.5, 0.25]);
+    assert!(close(bulb.position, [0.0, 5.0, 0.0]));
+    assert_eq!(
+        (spot.kind, spot.falloff),
+        (LightKind::Spot, SpotFalloff::Gltf)
+    );
+    assert!((spot.intensity - 2.0).abs() < 1e-6);
+    assert!(
+        close(spot.direction, [0.0, -1.0, 0.0]),
+        "{:?}",
+        spot.direction
+    );
+    assert!((spot.inner_angle_deg - 0.2f32.to_degrees()).abs() < 1e-4);
+    assert!((spot.outer_angle_deg - 0.6f32.to_degrees()).abs() < 1e-4);
+    assert!(scene.environment.is_none(), "the file brings its lights");
+    assert!(!p.thin_walled, "transmission with a volume refracts");
+    let mut doc = document();
+    let ext = doc["materials"][0]["extensions"].as_object_mut().unwrap();
+    ext.remove("KHR_materials_volume");
+    let thin = load(&embedded(doc), None).unwrap();
+    let Material::Pbr(p) = &thin.objects[0].material else {
+        panic!()
+    };
+    assert!(
+        p.thin_walled,
+        "transmission without a volume is thin-walled"
+    );
+    rt_core::GpuScene::build(&scene).unwrap();
+}
+
+#[test]
+fn glb_and_embedded_gltf_agree_and_scenes_are_chosen() {
+    let mut doc = document();
+    let from_gltf = load(&embedded(doc.clone()), None).unwrap();
+    let from_glb = load(&glb(&doc), None).unwrap();
+    assert_eq!(from_gltf, from_glb);
+    let second = load(&embedded(doc.clone()), Some(1)).unwrap();
+    assert_eq!(second.objects.len(), 1);
+    assert!(second.lights.is_empty());
+    assert!(
+        second.environment.is_none(),
+        "its emissive material lights it"
+    );
+    let mut dark = doc.clone();
+    dark["materials"][0]["emissiveFactor"] = json!([0, 0, 0]);
+    let second = load(&embedded(dark), Some(1)).unwrap();
+    assert!(
+        second.environment.is_some(),
+        "no light at all: the default environment"
+    );
+    let e = load(&embedded(doc.clone()), Some(7))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no scene 7"), "{e}");
+    // Without a camera: framed automatically.
+    doc["scenes"][0]["nodes"] = json!([0]);
+    let framed = load(&embedded(doc), None).unwrap();
+    assert_ne!(framed.camera, rt_core::Camera::default());
+}
+
+#[test]
+fn a_file_with_a_separate_bin_and_percent_encoded_name_loads_from_disk() {
+    let dir = std::env::temp_dir().join(format!("rt-gltf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("my quad.bin"), quad_buffer()).unwrap();
+    let mut doc = document();
+    doc["buffers"][0]["uri"] = json!("my%20quad.bin");
+    let path = dir.join("scene.gltf");
+    std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+    assert_eq!(load_gltf(&path, None).unwrap().objects.len(), 2);
+    std::fs::remove_file(dir.join("my quad.bin")).unwrap();
+    let e = load_gltf(&path, None).unwrap_err().to_string();
+    assert!(e.contains("my quad.bin"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A glTF scene saved as a project reloads as the same scene (materials, lights, camera, shared
+/// meshes).
+#[test]
+fn a_gltf_scene_round_trips_through_a_project() {
+    let scene = load(&embedded(document()), None).unwrap();
+    let back = through_a_project(&scene);
+    assert_eq!(back, scene);
+    assert!(Arc::ptr_eq(&back.objects[0].mesh, &back.objects[1].mesh));
+}
+
+/// The spec requires POSITION's min and max, and the gltf crate refuses files without them, but
+/// exporters leave them out: rt computes its own bounds and opens such files (and ones whose
+/// bounds are malformed) with the same geometry.
+#[test]
+fn position_accessors_without_min_and_max_still_load() {
+    let full = load(&embedded(document()), None).unwrap();
+    for bounds in [json!(null), json!("nonsense"), json!([1, 2])] {
+        let mut doc = document();
+        let accessor = doc["accessors"][0].as_object_mut().unwrap();
+        if bounds.is_null() {
+            accessor.remove("min");
+            accessor.remove("max");
+        } else {
+            accessor.insert("min".into(), bounds.clone());
+        }
+        let scene = load(&embedded(doc), None).unwrap_or_else(|e| panic!("bounds {bounds}: {e}"));
+        assert_eq!(scene.objects[0].mesh, full.objects[0].mesh);
+    }
+}

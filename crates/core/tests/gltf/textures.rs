@@ -1,0 +1,158 @@
+//! Textures, texture transforms, samplers, emissive textures and alpha modes.
+
+use super::*;
+
+/// A base colour texture (a data-URI PNG) with a `KHR_texture_transform`: the image is decoded,
+/// and its offset, rotation and scale are baked into the UVs (then flipped to rt's v-up).
+#[test]
+fn textures_load_and_texture_transforms_bake_into_the_uvs() {
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 0, 255, 255])
+        .unwrap()
+        .write_to(&mut png, image::ImageFormat::Png)
+        .unwrap();
+    let uri = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png.get_ref())
+    );
+    let mut doc = document();
+    doc["images"] = json!([{"uri": uri}]);
+    doc["textures"] = json!([{"source": 0}]);
+    doc["extensionsUsed"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!("KHR_texture_transform"));
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0,
+        "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2.0, 3.0]}}});
+    doc["materials"][0]["normalTexture"] = json!({"index": 0, "scale": 0.5});
+    // Vertex colours: COLOR_0 as normalized u8 RGBA, a fifth buffer view.
+    let mut buffer = quad_buffer();
+    buffer.extend([
+        255u8, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255,
+    ]);
+    doc["buffers"][0]["byteLength"] = json!(buffer.len());
+    doc["bufferViews"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"buffer": 0, "byteOffset": 140, "byteLength": 16}));
+    doc["accessors"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"bufferView": 4, "componentType": 5121,
+        "normalized": true, "count": 4, "type": "VEC4"}));
+    doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = json!(4);
+    doc["buffers"][0]["uri"] = json!(format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&buffer)
+    ));
+    let scene = load(&serde_json::to_vec(&doc).unwrap(), None).unwrap();
+    let colors = scene.objects[0].mesh.colors.as_ref().expect("COLOR_0 read");
+    assert_eq!(colors[1], glam::Vec3::Y);
+    assert_eq!(scene.textures.len(), 1, "one image, decoded once");
+    assert_eq!((scene.textures[0].width, scene.textures[0].height), (2, 1));
+    let Material::Pbr(p) = &scene.objects[0].material else {
+        panic!()
+    };
+    assert_eq!(
+        (p.texture, p.normal_texture, p.normal_scale),
+        (Some(0), Some(0), 0.5)
+    );
+    // Vertex 0 has glTF uv (0, 0.25): scaled (0, 0.75), offset (0.5, 1.0), v flipped: (0.5, 0.0).
+    let uv = scene.objects[0].mesh.uvs.as_ref().unwrap()[0];
+    assert!((uv - glam::Vec2::new(0.5, 0.0)).length() < 1e-6, "{uv}");
+    rt_core::GpuScene::build(&scene).unwrap();
+}
+
+/// `document()` with a 2×1 data-URI PNG as image 0.
+fn document_with_image() -> Value {
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 0, 255, 0])
+        .unwrap()
+        .write_to(&mut png, image::ImageFormat::Png)
+        .unwrap();
+    let mut doc = document();
+    doc["images"] = json!([{"uri": format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png.get_ref())
+    )}]);
+    doc
+}
+
+/// Samplers' wrap modes and magnification filter reach the textures (one image read through two
+/// samplers is two textures; through the same sampler, one); the emissive texture is an emission
+/// image; MASK keeps its cutoff and BLEND the base colour factor's alpha; the occlusion texture
+/// is left out.
+#[test]
+fn samplers_emissive_textures_and_alpha_modes_map_onto_the_material() {
+    use rt_core::material::AlphaMode;
+    use rt_core::{Filter, Wrap};
+    let mut doc = document_with_image();
+    doc["samplers"] = json!([
+        {"wrapS": 33071, "wrapT": 33648, "magFilter": 9728},
+        {}
+    ]);
+    doc["textures"] = json!([
+        {"source": 0, "sampler": 0},
+        {"source": 0, "sampler": 1},
+        {"source": 0, "sampler": 0}
+    ]);
+    let m = &mut doc["materials"][0];
+    m["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
+    m["pbrMetallicRoughness"]["baseColorFactor"] = json!([1.0, 1.0, 1.0, 0.6]);
+    m["pbrMetallicRoughness"]["metallicRoughnessTexture"] = json!({"index": 2});
+    m["emissiveTexture"] = json!({"index": 1});
+    m["occlusionTexture"] = json!({"index": 1});
+    m["alphaMode"] = json!("MASK");
+    m["alphaCutoff"] = json!(0.25);
+    let scene = load(&embedded(doc.clone()), None).unwrap();
+    assert_eq!(scene.textures.len(), 2, "one image through two samplers");
+    let s = scene.textures[0].sampler;
+    assert_eq!(
+        (s.wrap_s, s.wrap_t, s.filter),
+        (Wrap::ClampToEdge, Wrap::MirroredRepeat, Filter::Nearest)
+    );
+    assert_eq!(
+        scene.textures[1].sampler,
+        rt_core::TextureSampler::default()
+    );
+    let Material::Pbr(p) = &scene.objects[0].material else {
+        panic!()
+    };
+    assert_eq!(
+        (p.texture, p.metallic_roughness_texture, p.emission_texture),
+        (Some(0), Some(0), Some(1))
+    );
+    assert_eq!(
+        (p.alpha_mode, p.alpha, p.alpha_cutoff),
+        (AlphaMode::Mask, 0.6, 0.25)
+    );
+    let gpu = rt_core::GpuScene::build(&scene).unwrap();
+    assert!(gpu.features.alpha && gpu.features.textures);
+    let g = &gpu.materials[0];
+    assert_eq!(
+        g.flags & rt_core::gpu_types::ALPHA_MASK,
+        rt_core::gpu_types::ALPHA_MASK
+    );
+    // Clamp (1) on s, mirror (2) on t, nearest: 1 | 2 << 2 | 1 << 4 in the base and
+    // metallic-roughness slots; the emission slot's sampler is the default (0).
+    assert_eq!(
+        g.samplers,
+        0b11001
+            | 0b11001
+                << (rt_core::gpu_types::SAMPLER_BITS * rt_core::gpu_types::SLOT_METALLIC_ROUGHNESS)
+    );
+    assert_ne!(
+        g.texture(rt_core::gpu_types::SLOT_EMISSION).offset,
+        rt_core::gpu_types::NO_TEXTURE
+    );
+
+    doc["materials"][0]["alphaMode"] = json!("BLEND");
+    let scene = load(&embedded(doc.clone()), None).unwrap();
+    let Material::Pbr(p) = &scene.objects[0].material else {
+        panic!()
+    };
+    assert_eq!((p.alpha_mode, p.alpha), (AlphaMode::Blend, 0.6));
+    // A project keeps samplers, the emission image and the alpha mode.
+    let back = through_a_project(&scene);
+    assert_eq!(back, scene);
+}

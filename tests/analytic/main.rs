@@ -1,0 +1,31 @@
+//! Scenes with known answers, rendered on the GPU: furnaces, a lens-filling emitter, a mirror and a
+//! glass slab at normal incidence, and an empty scene.
+//!
+//! `closed_form.rs` holds the furnaces, emitters, mirror, slab and empty scene, `lights.rs` the
+//! delta lights, the sun and sky and the Sobol sampler, `materials.rs` PBR, normal maps, texture
+//! wrap modes and alpha.
+
+mod closed_form;
+#[path = "../common/mod.rs"]
+mod common;
+mod lights;
+mod materials;
+
+use common::*;
+use glam::Vec3;
+use rt_core::shapes::{quad, uv_sphere};
+use rt_core::{GpuScene, Material};
+use rt_gpu::RenderOptions;
+
+fn assert_all_pixels(image: &rt_gpu::Image, expected: [f32; 3], tolerance: f32, what: &str) {
+    for (i, p) in image.pixels.iter().enumerate() {
+        for c in 0..3 {
+            assert!(
+                (p[c] - expected[c]).abs() <= tolerance,
+                "{what}: pixel {i} channel {c} is {} but should be {}",
+                p[c],
+                expected[c]
+            );
+        }
+    }
+}

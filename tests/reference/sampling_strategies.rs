@@ -1,0 +1,199 @@
+//! NEE with MIS, NEE only and BSDF sampling converge to the same image.
+
+use super::*;
+use rt_core::shapes::uv_sphere;
+
+/// Per-pixel, per-channel Z-tests of two CPU estimates of one image, each with its own sample
+/// variance: α = 0.01 over the image with Šidák's correction. Returns the failures and the number of
+/// tests.
+fn z_test_failures(
+    a: &reference::ReferenceImage,
+    n_a: u32,
+    b: &reference::ReferenceImage,
+    n_b: u32,
+) -> (usize, usize) {
+    let tests = a.mean.len() * 3;
+    let z_max = z_threshold(1.0 - (1.0 - 0.01f64).powf(1.0 / tests as f64));
+    let mut failed = 0;
+    for i in 0..a.mean.len() {
+        for c in 0..3 {
+            let sigma = (f64::from(a.variance[i][c]) / f64::from(n_a)
+                + f64::from(b.variance[i][c]) / f64::from(n_b))
+            .sqrt();
+            let diff = f64::from(a.mean[i][c]) - f64::from(b.mean[i][c]);
+            if (sigma > 0.0 && (diff / sigma).abs() > z_max) || (sigma == 0.0 && diff.abs() > 1e-6)
+            {
+                failed += 1;
+            }
+        }
+    }
+    (failed, tests)
+}
+
+fn total_variance(image: &reference::ReferenceImage) -> f64 {
+    image
+        .variance
+        .iter()
+        .flat_map(|v| v.iter())
+        .map(|v| f64::from(*v))
+        .sum()
+}
+
+/// A room lit by a small, a medium and a large emitter, and a ball.
+fn room_with_three_lights() -> Scene {
+    let mut room = rt_core::shapes::cuboid(Vec3::splat(-2.0), Vec3::splat(2.0), true);
+    room.positions.iter_mut().for_each(|p| p.z -= 1.0);
+    let light = |size: f32, x: f32, color: [f32; 3]| {
+        object(
+            "light",
+            quad(Vec3::new(x, 1.99, -1.0), -Vec3::Y, size),
+            Material::Emissive {
+                color,
+                intensity: 1.0,
+            },
+        )
+    };
+    let mut scene = scene(
+        vec![
+            object("room", room, Material::lambertian([0.7, 0.6, 0.5])),
+            object(
+                "ball",
+                uv_sphere(0.6, 8, 16),
+                Material::lambertian([0.3, 0.5, 0.8]),
+            ),
+            light(0.25, -1.2, [60.0, 50.0, 40.0]),
+            light(0.7, 0.0, [4.0, 6.0, 8.0]),
+            light(1.6, 1.2, [1.0, 1.0, 1.0]),
+        ],
+        camera(Vec3::new(0.0, 0.0, 0.9), Vec3::new(0.0, -0.3, -1.0), 80.0),
+        [0.0; 3],
+        settings(10, 8, 1, 4),
+    );
+    scene.objects[1].transform.translation = [0.3, -1.4, -1.5];
+    scene
+}
+
+/// Next-event estimation with MIS, next-event estimation alone and BSDF sampling alone estimate the
+/// same image: the room with three light sizes, all three estimators on the CPU reference (whose
+/// kernel twin is checked above and in `gpu_matches_cpu_reference_with_nee_only`), compared pairwise
+/// per pixel with both estimators' sample variances; ≥ 99.5% of the tests of each pair pass.
+#[test]
+fn nee_with_mis_nee_only_and_bsdf_sampling_converge_to_the_same_image() {
+    let mut scene = room_with_three_lights();
+    let render = |scene: &Scene, spp: u32| {
+        let gpu_scene = GpuScene::build(scene).unwrap();
+        let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
+        (reference::render(&gpu_scene, &frame, spp), frame)
+    };
+    let (n_mis, n_nee, n_bsdf) = (2048u32, 4096u32, 16384u32);
+    let (mis, frame) = render(&scene, n_mis);
+    assert_eq!(frame.emitter_count, 6);
+    assert_eq!(frame.light_strategy, 0);
+    scene.settings.nee_only = true;
+    let (nee, frame) = render(&scene, n_nee);
+    assert_eq!(
+        frame.light_strategy, 1,
+        "NEE-only run must say so to the estimator"
+    );
+    scene.settings.nee_only = false;
+    scene.settings.next_event_estimation = false;
+    let (bsdf, frame) = render(&scene, n_bsdf);
+    assert_eq!(
+        frame.emitter_count, 0,
+        "BSDF-only run must not sample emitters"
+    );
+
+    for (what, a, n_a, b, n_b) in [
+        ("NEE+MIS vs BSDF-only", &mis, n_mis, &bsdf, n_bsdf),
+        ("NEE-only vs BSDF-only", &nee, n_nee, &bsdf, n_bsdf),
+        ("NEE+MIS vs NEE-only", &mis, n_mis, &nee, n_nee),
+    ] {
+        let (failed, tests) = z_test_failures(a, n_a, b, n_b);
+        assert!(
+            failed as f64 <= 0.005 * tests as f64,
+            "{what}: {failed} of {tests} pixel tests failed"
+        );
+    }
+    // The three are different estimators, not one run thrice: their per-sample variances differ,
+    // and combining the strategies beats either alone.
+    let (var_mis, var_nee, var_bsdf) = (
+        total_variance(&mis),
+        total_variance(&nee),
+        total_variance(&bsdf),
+    );
+    assert!(
+        var_mis * 4.0 < var_bsdf,
+        "NEE should cut the per-sample variance a lot: {var_mis} vs {var_bsdf}"
+    );
+    assert!(
+        var_mis < var_nee && var_mis < var_bsdf,
+        "MIS should beat both of its strategies here: MIS {var_mis}, NEE-only {var_nee}, BSDF-only {var_bsdf}"
+    );
+}
+
+/// Next-event estimation must see what BSDF sampling sees on an emitter with an emission image and
+/// holes: the room's middle light made a PBR panel whose emission image (mirrored past its edge)
+/// varies over it and whose alpha mask cuts holes. NEE alone, NEE with MIS and BSDF sampling alone,
+/// on the CPU reference (the kernels' twin), agree per pixel; a NEE that ignored the image or the
+/// holes would be brighter.
+#[test]
+fn a_textured_emitter_with_holes_lights_alike_by_nee_and_bsdf_sampling() {
+    use rt_core::material::{AlphaMode, Pbr};
+    let mut scene = room_with_three_lights();
+    let mut panel = quad(Vec3::new(0.0, 1.99, -1.0), -Vec3::Y, 1.2);
+    panel.uvs = Some(
+        [(0.0, 0.0), (1.5, 0.0), (1.5, 1.5), (0.0, 1.5)]
+            .map(|(u, v)| glam::Vec2::new(u, v))
+            .to_vec(),
+    );
+    scene.objects[3].mesh = panel.into();
+    scene.objects[3].material = pbr(Pbr {
+        base_color: [0.5; 3],
+        texture: Some(0),
+        emission: [8.0, 6.0, 4.0],
+        emission_texture: Some(0),
+        alpha_mode: AlphaMode::Mask,
+        ..Default::default()
+    });
+    let rgba: Vec<u8> = (0..16u32)
+        .flat_map(|i| {
+            let hole = (i % 4 + i / 4) % 3 == 0;
+            [
+                255,
+                (40 + 50 * (i % 4)) as u8,
+                90,
+                if hole { 0 } else { 255 },
+            ]
+        })
+        .collect();
+    scene.textures.push(rt_core::Texture {
+        name: "pattern".into(),
+        width: 4,
+        height: 4,
+        rgba8: rgba.into(),
+        sampler: rt_core::TextureSampler {
+            wrap_s: rt_core::Wrap::MirroredRepeat,
+            wrap_t: rt_core::Wrap::MirroredRepeat,
+            filter: rt_core::Filter::Nearest,
+        },
+    });
+    let render = |scene: &Scene, spp: u32| {
+        let gpu_scene = GpuScene::build(scene).unwrap();
+        let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
+        reference::render(&gpu_scene, &frame, spp)
+    };
+    let (n_mis, n_nee, n_bsdf) = (2048u32, 4096u32, 16384u32);
+    let mis = render(&scene, n_mis);
+    scene.settings.nee_only = true;
+    let nee = render(&scene, n_nee);
+    scene.settings.nee_only = false;
+    scene.settings.next_event_estimation = false;
+    let bsdf = render(&scene, n_bsdf);
+    for (what, a, n_a) in [("NEE-only", &nee, n_nee), ("NEE+MIS", &mis, n_mis)] {
+        let (failed, tests) = z_test_failures(a, n_a, &bsdf, n_bsdf);
+        assert!(
+            failed as f64 <= 0.005 * tests as f64,
+            "{what} vs BSDF-only: {failed} of {tests} pixel tests failed"
+        );
+    }
+}
