@@ -13,6 +13,7 @@ use rt_core::GpuScene;
 use rt_core::metrics::{RgbImage, compare};
 use rt_gpu::Renderer;
 
+use crate::backend::Progressive;
 use crate::options::{BvhArgs, EngineArgs, EstimatorArgs, open_device};
 use crate::plot;
 use crate::scene_args::SceneArgs;
@@ -38,6 +39,10 @@ pub struct ConvergeArgs {
     bvh: BvhArgs,
     #[command(flatten)]
     engine: EngineArgs,
+    /// What renders: gpu (through wgpu), cpu (the native CPU backend) or auto (a hardware GPU if
+    /// there is one, else cpu), as `render --device`.
+    #[arg(long, value_enum, default_value = "gpu")]
+    device: crate::render::DeviceArg,
     /// Name of this series in the CSV and the plot (default: from the settings).
     #[arg(long)]
     label: Option<String>,
@@ -87,26 +92,45 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         )
     });
 
-    let ctx = open_device(&args.engine.adapter)?;
+    let gpu_flags =
+        args.engine.kernel.is_some() || args.engine.adapter != rt_gpu::AdapterChoice::Auto;
+    let (device, _) = args.device.resolve(gpu_flags);
+    let ctx = match device {
+        crate::render::DeviceArg::Cpu if gpu_flags => anyhow::bail!(
+            "--adapter and --kernel choose how a GPU renders, and --device cpu renders without one"
+        ),
+        crate::render::DeviceArg::Cpu => None,
+        _ => Some(open_device(&args.engine.adapter)?),
+    };
     let start = Instant::now();
     let gpu_scene =
         GpuScene::build_with_layout(&scene, args.bvh.bvh_quality.into(), args.bvh.bvh.into())?;
     let bvh = start.elapsed();
-    let options = args.engine.render_options(args.denoise.is_some());
-    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
-    // The first dispatch includes compiling the kernel; a warm-up sample keeps that out of the
-    // curve (it is a one-off per feature set, cached afterwards).
-    {
-        let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
-        warm.render_batch(1)?;
-        warm.read_image()?;
-    }
+    let guides = args.denoise.is_some();
+    let (mut renderer, on) = match &ctx {
+        Some(ctx) => {
+            let options = args.engine.render_options(guides);
+            // The first dispatch includes compiling the kernel; a warm-up sample keeps that out
+            // of the curve (it is a one-off per feature set, cached afterwards).
+            {
+                let mut warm = Renderer::for_scene(ctx, &scene, &gpu_scene, options)?;
+                warm.render_batch(1)?;
+                warm.read_image()?;
+            }
+            let renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, options)?;
+            (Progressive::Gpu(Box::new(renderer)), ctx.adapter_label())
+        }
+        None => (
+            Progressive::cpu(&scene, &gpu_scene, 0, guides)?,
+            format!(
+                "the CPU backend ({} threads)",
+                rt_core::cpu_render::threads()
+            ),
+        ),
+    };
     eprintln!(
-        "{label}: {}x{}, up to {} spp on {}",
-        scene.settings.width,
-        scene.settings.height,
-        args.max_spp,
-        ctx.adapter_label()
+        "{label}: {}x{}, up to {} spp on {on}",
+        scene.settings.width, scene.settings.height, args.max_spp,
     );
     println!(
         "{:>7} {:>10} {:>12} {:>12} {:>8}",

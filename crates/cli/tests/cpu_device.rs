@@ -228,3 +228,50 @@ fn the_cpu_image_is_the_same_whatever_the_thread_count() {
     assert_eq!(one.sums, two.sums);
     assert_eq!(one.counts, two.counts);
 }
+
+/// `converge --device cpu` measures the CPU backend's images against a reference, step by step,
+/// and its error falls as samples are added.
+#[test]
+fn converge_runs_on_the_cpu_backend() {
+    let dir = temp_dir("cpu-converge");
+    let reference = dir.join("reference.exr");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "--device",
+        "cpu",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--spp",
+        "256",
+        "-o",
+        reference.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stdout, stderr) = rt_cli(&[
+        "converge",
+        "--device",
+        "cpu",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--max-spp",
+        "16",
+        "--reference",
+        reference.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("the CPU backend"), "{stderr}");
+    let errors: Vec<f64> = stdout
+        .lines()
+        .skip(1)
+        .map(|l| l.split_whitespace().nth(2).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(errors.len(), 5, "{stdout}");
+    assert!(
+        errors[4] < errors[0] / 4.0,
+        "the error does not fall: {stdout}"
+    );
+}

@@ -12,6 +12,14 @@ pub struct Adaptive {
 }
 
 impl Adaptive {
+    /// The rule a scene's settings ask for (`RenderSettings::adaptive_threshold`), if any.
+    pub fn of_settings(settings: &crate::RenderSettings) -> Option<Adaptive> {
+        settings.adaptive_threshold.map(|threshold| Adaptive {
+            threshold,
+            min_samples: crate::scene::ADAPTIVE_MIN_SAMPLES,
+        })
+    }
+
     /// The stop marks after a batch: `stopped` holds, per pixel of a `width`-wide image or tile,
     /// 0 while it samples, else the count it stopped at; `pixels` are the means after
     /// `samples_done` samples of every pixel still sampling. Returns the new marks (pixels that

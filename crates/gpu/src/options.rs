@@ -168,12 +168,7 @@ impl RenderOptions {
     pub fn with_scene_settings(self, settings: &rt_core::RenderSettings) -> Self {
         RenderOptions {
             clamp: self.clamp.or(settings.clamp),
-            adaptive: self
-                .adaptive
-                .or(settings.adaptive_threshold.map(|threshold| Adaptive {
-                    threshold,
-                    min_samples: rt_core::scene::ADAPTIVE_MIN_SAMPLES,
-                })),
+            adaptive: self.adaptive.or(Adaptive::of_settings(settings)),
             ..self
         }
     }

@@ -78,13 +78,7 @@ pub fn run(args: &RenderArgs, scene: &Scene, range: Option<[u32; 2]>, why: &str)
     let gpu_scene = GpuScene::build(scene)?;
     let frame = rt_core::frame::frame_for(scene, &gpu_scene)?;
     let [first, end] = range.unwrap_or([0, scene.settings.samples_per_pixel]);
-    let adaptive = scene
-        .settings
-        .adaptive_threshold
-        .map(|threshold| rt_core::adaptive::Adaptive {
-            threshold,
-            min_samples: rt_core::scene::ADAPTIVE_MIN_SAMPLES,
-        });
+    let adaptive = rt_core::adaptive::Adaptive::of_settings(&scene.settings);
     let guides = args.denoise.is_some() || range.is_some();
     let mut accumulation = CpuAccumulation::new(&frame, first, adaptive, guides);
     let threads = rt_core::cpu_render::threads();
@@ -128,7 +122,7 @@ pub fn run(args: &RenderArgs, scene: &Scene, range: Option<[u32; 2]>, why: &str)
         render_time: started.elapsed(),
         stopped_by,
     };
-    let image = image_of(&accumulation);
+    let image = crate::backend::image_of(&accumulation);
     let aovs = accumulation.guides().map(|g| rt_gpu::Aovs {
         albedo: g.albedo.clone(),
         normal: g.normal.clone(),
@@ -167,16 +161,4 @@ fn estimated_noise(accumulation: &CpuAccumulation) -> f64 {
         rt_core::output::SampleCounts::PerPixel(&counts),
     )
     .sqrt()
-}
-
-/// The accumulation as the image the rest of rt-cli saves and measures.
-fn image_of(accumulation: &CpuAccumulation) -> rt_gpu::Image {
-    rt_gpu::Image {
-        width: accumulation.width,
-        height: accumulation.height,
-        samples_per_pixel: accumulation.samples,
-        sample_counts: accumulation.adaptive().then(|| accumulation.counts()),
-        pixels: accumulation.pixels(),
-        sums: accumulation.sums.clone(),
-    }
 }
