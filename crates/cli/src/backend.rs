@@ -12,11 +12,14 @@ use rt_gpu::Renderer;
 
 pub enum Progressive<'a> {
     Gpu(Box<Renderer<'a>>),
-    Cpu {
-        scene: &'a GpuScene,
-        frame: Frame,
-        accumulation: CpuAccumulation,
-    },
+    Cpu(Box<CpuRun<'a>>),
+}
+
+/// The CPU backend's state: the scene, its frame, and the samples so far.
+pub struct CpuRun<'a> {
+    scene: &'a GpuScene,
+    frame: Frame,
+    accumulation: CpuAccumulation,
 }
 
 impl<'a> Progressive<'a> {
@@ -30,25 +33,25 @@ impl<'a> Progressive<'a> {
     ) -> Result<Self> {
         let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
         let adaptive = rt_core::adaptive::Adaptive::of_settings(&scene.settings);
-        Ok(Progressive::Cpu {
+        Ok(Progressive::Cpu(Box::new(CpuRun {
             scene: gpu_scene,
             accumulation: CpuAccumulation::new(&frame, first_sample, adaptive, guides),
             frame,
-        })
+        })))
     }
 
     /// Samples taken of every pixel still sampling.
     pub fn samples_done(&self) -> u32 {
         match self {
             Progressive::Gpu(r) => r.samples_done(),
-            Progressive::Cpu { accumulation, .. } => accumulation.samples,
+            Progressive::Cpu(c) => c.accumulation.samples,
         }
     }
 
     pub fn active_pixels(&self) -> usize {
         match self {
             Progressive::Gpu(r) => r.active_pixels(),
-            Progressive::Cpu { accumulation, .. } => accumulation.active_pixels(),
+            Progressive::Cpu(c) => c.accumulation.active_pixels(),
         }
     }
 
@@ -58,12 +61,9 @@ impl<'a> Progressive<'a> {
             Progressive::Gpu(r) => {
                 r.render_batch(samples)?;
             }
-            Progressive::Cpu {
-                scene,
-                frame,
-                accumulation,
-            } => {
-                accumulation.add_batch(scene, frame, samples, &AtomicBool::new(false));
+            Progressive::Cpu(c) => {
+                let never = AtomicBool::new(false);
+                c.accumulation.add_batch(c.scene, &c.frame, samples, &never);
             }
         }
         Ok(())
@@ -72,7 +72,7 @@ impl<'a> Progressive<'a> {
     pub fn read_image(&self) -> Result<rt_gpu::Image> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_image()?,
-            Progressive::Cpu { accumulation, .. } => image_of(accumulation),
+            Progressive::Cpu(c) => image_of(&c.accumulation),
         })
     }
 
@@ -80,7 +80,7 @@ impl<'a> Progressive<'a> {
     pub fn read_aovs(&self) -> Result<Option<rt_gpu::Aovs>> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_aovs()?,
-            Progressive::Cpu { accumulation, .. } => accumulation.guides().map(|g| rt_gpu::Aovs {
+            Progressive::Cpu(c) => c.accumulation.guides().map(|g| rt_gpu::Aovs {
                 albedo: g.albedo.clone(),
                 normal: g.normal.clone(),
                 emission: g.emission.clone(),
