@@ -20,9 +20,14 @@ use crate::{AppOptions, RtApp};
 struct Args {
     /// A Wavefront OBJ, an rt project (.rtproj) or lighting file (.rtlight) to open.
     path: Option<PathBuf>,
-    /// Which GPU renders: "auto", "cpu" (lavapipe) or part of an adapter's name.
+    /// Which GPU renders: "auto", "lavapipe" (a software GPU; also "cpu") or part of an adapter's
+    /// name.
     #[arg(long, default_value = "auto")]
     adapter: String,
+    /// What renders the render windows: gpu, cpu (rt's native CPU backend) or auto (a hardware
+    /// GPU when there is one, else cpu); the Render panel's Device changes it.
+    #[arg(long, default_value = "gpu", value_parser = ["auto", "gpu", "cpu"])]
+    device: String,
     /// Render a few samples, save an image, a project and a screenshot into DIR, and quit (a
     /// test of the real window).
     #[arg(long, value_name = "DIR")]
@@ -66,6 +71,11 @@ pub fn main() -> ExitCode {
         device: rt_gpu::DeviceOptions::from_no_ray_query_var(
             std::env::var_os("RT_NO_RAY_QUERY").as_deref(),
         ),
+        render_device: match args.device.as_str() {
+            "auto" => crate::render_job::DeviceChoice::Auto,
+            "cpu" => crate::render_job::DeviceChoice::Cpu,
+            _ => crate::render_job::DeviceChoice::Gpu,
+        },
     };
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()

@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use rt_core::{GpuScene, Scene};
 use rt_gpu::context::{AdapterChoice, DeviceOptions, GpuContext};
+use rt_gpu::progressive::Progressive;
 use rt_gpu::{Image, RenderOptions, Renderer};
 
 /// The render device, opened on first use and shared by every job (opening one takes a while, and
@@ -107,6 +108,42 @@ pub struct JobOptions {
     pub preview_every: Option<Duration>,
     /// Keep albedo, normals and direct light for the denoiser.
     pub keep_aovs: bool,
+    /// Render with the native CPU backend rather than the GPU.
+    pub on_cpu: bool,
+}
+
+/// Which backend renders the editor's render windows (the Render panel's "Device").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DeviceChoice {
+    /// A hardware GPU when there is one, else the CPU backend (lavapipe does not count).
+    Auto,
+    /// The GPU through wgpu (lavapipe on a machine without one).
+    #[default]
+    Gpu,
+    /// rt's native CPU backend.
+    Cpu,
+}
+
+impl DeviceChoice {
+    pub const ALL: [DeviceChoice; 3] = [DeviceChoice::Auto, DeviceChoice::Gpu, DeviceChoice::Cpu];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            DeviceChoice::Auto => "Auto",
+            DeviceChoice::Gpu => "GPU",
+            DeviceChoice::Cpu => "CPU",
+        }
+    }
+
+    /// Whether renders go to the CPU backend: `Auto` asks wgpu once for a hardware GPU.
+    pub fn on_cpu(self) -> bool {
+        static HARDWARE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+        match self {
+            DeviceChoice::Auto => !*HARDWARE.get_or_init(|| rt_gpu::hardware_gpu().is_some()),
+            DeviceChoice::Gpu => false,
+            DeviceChoice::Cpu => true,
+        }
+    }
 }
 
 /// A render in progress or done.
@@ -294,7 +331,11 @@ fn run(
     wake: &dyn Fn(),
 ) -> anyhow::Result<()> {
     let start = Instant::now();
-    let ctx = device.get()?;
+    let ctx = if job.on_cpu {
+        None
+    } else {
+        Some(device.get()?)
+    };
     let gpu_scene = match gpu_scene {
         Some(built) => built,
         None => {
@@ -303,18 +344,25 @@ fn run(
             built
         }
     };
-    let options = RenderOptions {
-        aovs: job.keep_aovs,
-        ..Default::default()
+    let mut renderer = match &ctx {
+        Some(ctx) => {
+            let options = RenderOptions {
+                aovs: job.keep_aovs,
+                ..Default::default()
+            };
+            Progressive::Gpu(Box::new(Renderer::for_scene(
+                ctx, scene, &gpu_scene, options,
+            )?))
+        }
+        None => Progressive::cpu(scene, &gpu_scene, 0, job.keep_aovs)?,
     };
-    let mut renderer = Renderer::for_scene(&ctx, scene, &gpu_scene, options)?;
     let total = scene.settings.samples_per_pixel;
     let mut last_preview = Instant::now();
     let mut noise = None;
     // Adaptive sampling may stop every pixel before `total`.
-    let unfinished = |r: &Renderer| r.samples_done() < total && r.active_pixels() > 0;
+    let unfinished = |r: &Progressive| r.samples_done() < total && r.active_pixels() > 0;
     while unfinished(&renderer) && !cancel.load(Ordering::Relaxed) {
-        renderer.render_batch(total - renderer.samples_done())?;
+        renderer.render_batch(total - renderer.samples_done(), cancel)?;
         let due = job
             .preview_every
             .is_some_and(|every| last_preview.elapsed() >= every);

@@ -13,11 +13,11 @@ use rt_core::GpuScene;
 use rt_core::metrics::{RgbImage, compare};
 use rt_gpu::Renderer;
 
-use crate::backend::Progressive;
 use crate::options::{BvhArgs, EngineArgs, EstimatorArgs, open_device};
 use crate::plot;
 use crate::scene_args::SceneArgs;
 use crate::series::{Row, append_csv, read_csv};
+use rt_gpu::progressive::Progressive;
 
 #[derive(Args, Debug)]
 pub struct ConvergeArgs {
@@ -122,10 +122,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         }
         None => (
             Progressive::cpu(&scene, &gpu_scene, 0, guides)?,
-            format!(
-                "the CPU backend ({} threads)",
-                rt_core::cpu_render::threads()
-            ),
+            rt_gpu::progressive::cpu_label(),
         ),
     };
     eprintln!(
@@ -140,11 +137,12 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     let mut rendering = Duration::ZERO;
     let mut denoise_time = Duration::ZERO;
     let mut step = 1u32;
+    let never = std::sync::atomic::AtomicBool::new(false);
     loop {
         let step_start = Instant::now();
         // Adaptive sampling may stop every pixel before `step`.
         while renderer.samples_done() < step && renderer.active_pixels() > 0 {
-            renderer.render_batch(step - renderer.samples_done())?;
+            renderer.render_batch(step - renderer.samples_done(), &never)?;
         }
         // render_batch waits for its dispatches, so this is GPU time as the user sees it.
         rendering += step_start.elapsed();

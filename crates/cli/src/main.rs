@@ -1,6 +1,5 @@
 //! `rt-cli`: render scenes headless, describe them, and benchmark the renderer.
 
-mod backend;
 mod bench;
 mod compare;
 mod converge;

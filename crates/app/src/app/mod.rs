@@ -26,6 +26,8 @@ pub struct AppOptions {
     pub adapter: rt_gpu::AdapterChoice,
     /// How to open the render device (`launch` fills it from `RT_NO_RAY_QUERY`).
     pub device: rt_gpu::DeviceOptions,
+    /// Which backend renders the render windows at start (the Render panel's Device).
+    pub render_device: crate::render_job::DeviceChoice,
 }
 
 /// A finished or running render with its viewer's settings.
@@ -99,6 +101,8 @@ pub struct UiState {
     pub scripted_drag: bool,
     /// The window title last sent.
     pub window_title: Option<String>,
+    /// Which backend renders the render windows (the Render panel's "Device").
+    pub render_device: crate::render_job::DeviceChoice,
 }
 
 pub struct RtApp {
@@ -132,7 +136,10 @@ impl RtApp {
             device: RenderDevice::new(options.adapter.clone(), options.device),
             renders: Vec::new(),
             live: LiveViewport::default(),
-            ui: UiState::default(),
+            ui: UiState {
+                render_device: options.render_device,
+                ..UiState::default()
+            },
             recent: RecentFiles::load(options.config_dir.as_deref()),
             preview_available: false,
             display_adapter: None,

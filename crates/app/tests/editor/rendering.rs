@@ -165,3 +165,45 @@ fn adaptive_sampling_from_the_render_panel() {
     let counts = image.sample_counts.as_ref().expect("per-pixel counts");
     assert!(counts.iter().all(|&c| c == image.samples_per_pixel));
 }
+
+/// The Render panel's Device picks rt's native CPU backend for the render windows: the status bar
+/// says so, a render finishes with its samples and the denoiser's guides, and cancel stops one.
+/// Needs no GPU.
+#[test]
+fn renders_on_the_cpu_backend_from_the_render_panel() {
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("CPU").click();
+    harness.run_ok();
+    assert!(harness.state().ui.render_device.on_cpu());
+    harness.get_by_label_contains("renders on CPU (native backend");
+    harness.state_mut().doc.edit("small", "small", |s| {
+        s.settings.width = 32;
+        s.settings.height = 24;
+        s.settings.samples_per_pixel = 1_000_000;
+    });
+    harness.get_by_label("Render image").click();
+    harness.step();
+    assert!(harness.state().is_rendering());
+    step_until(&mut harness, "first samples on the CPU", |app| {
+        app.renders[0].job.progress.samples_done > 0
+    });
+    harness.get_by_label("Cancel render").click();
+    step_until(&mut harness, "the cancelled render to stop", |app| {
+        !app.is_rendering()
+    });
+    assert_eq!(harness.state().renders[0].job.state, JobState::Cancelled);
+    harness.state_mut().doc.edit("few", "few", |s| {
+        s.settings.samples_per_pixel = 4;
+    });
+    harness.get_by_label("Render image").click();
+    step_until(&mut harness, "the CPU render to finish", |app| {
+        app.renders.len() == 2 && !app.is_rendering()
+    });
+    let job = &harness.state().renders[1].job;
+    assert_eq!(job.state, JobState::Finished);
+    let image = job.image.as_ref().unwrap();
+    assert_eq!(image.samples_per_pixel, 4);
+    assert!(image.pixels.iter().any(|p| p[0] > 0.0), "a black image");
+    assert!(job.aovs.is_some(), "no denoiser guides");
+}

@@ -122,7 +122,7 @@ pub fn run(args: &RenderArgs, scene: &Scene, range: Option<[u32; 2]>, why: &str)
         render_time: started.elapsed(),
         stopped_by,
     };
-    let image = crate::backend::image_of(&accumulation);
+    let image = rt_gpu::progressive::image_of(&accumulation);
     let aovs = accumulation.guides().map(|g| rt_gpu::Aovs {
         albedo: g.albedo.clone(),
         normal: g.normal.clone(),

@@ -35,6 +35,7 @@ fn optional_setting(ui: &mut Ui, value: &mut Option<f32>, setting: OptionalSetti
 
 pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
     ui.heading("Render");
+    device_choice(app, ui);
     let mut settings = app.doc.scene.settings.clone();
     egui::Grid::new("render settings").show(ui, |ui| {
         ui.label("Width");
@@ -138,4 +139,19 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
         )))
         .on_hover_text("Samples per pixel done, estimated time left and relative noise");
     }
+}
+
+/// Which backend renders the render windows: the GPU, rt's native CPU backend, or Auto (a
+/// hardware GPU when there is one, else the CPU backend; lavapipe does not count).
+fn device_choice(app: &mut RtApp, ui: &mut Ui) {
+    use crate::render_job::DeviceChoice;
+    ui.horizontal(|ui| {
+        ui.label("Device").on_hover_text(
+            "What renders: the GPU, the CPU (rt's native backend, on every core), or Auto (a \
+             hardware GPU when there is one, else the CPU, which is faster than a software GPU)",
+        );
+        for choice in DeviceChoice::ALL {
+            ui.selectable_value(&mut app.ui.render_device, choice, choice.label());
+        }
+    });
 }

@@ -6,8 +6,13 @@ use crate::app::RtApp;
 
 pub fn status_bar(app: &mut RtApp, ui: &mut Ui) {
     ui.horizontal(|ui| {
-        ui.label(app.adapter_label())
-            .on_hover_text("The GPU (adapter) in use");
+        let renders_on = if app.ui.render_device.on_cpu() {
+            rt_gpu::progressive::cpu_label()
+        } else {
+            app.adapter_label()
+        };
+        ui.label(format!("renders on {renders_on}"))
+            .on_hover_text("What renders the render windows (the Render panel's Device)");
         ui.separator();
         ui.label(format!(
             "{} objects, {} triangles",

@@ -1,25 +1,33 @@
-//! A progressive render on either backend, behind the few calls a command that drives one batch
-//! by batch needs (`converge`, `render --device cpu`): the GPU's `Renderer`, or the native CPU
-//! backend's accumulation (`rt_core::cpu_render`).
+//! A progressive render on either backend, behind the few calls that drive one batch by batch
+//! (`rt-cli converge`, the editor's render windows): the GPU's `Renderer`, or the native CPU
+//! backend's accumulation (`rt_core::cpu_render`), whose batches are sized to take about
+//! `CPU_BATCH` each so that progress, previews and cancelling stay responsive.
 
 use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
 
-use anyhow::Result;
 use rt_core::cpu_render::CpuAccumulation;
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
-use rt_gpu::Renderer;
+
+use crate::error::Result;
+use crate::image::{Aovs, Image};
+use crate::renderer::Renderer;
+
+/// About how long one of the CPU backend's batches should take.
+pub const CPU_BATCH: Duration = Duration::from_millis(250);
 
 pub enum Progressive<'a> {
     Gpu(Box<Renderer<'a>>),
     Cpu(Box<CpuRun<'a>>),
 }
 
-/// The CPU backend's state: the scene, its frame, and the samples so far.
+/// The CPU backend's state: the scene, its frame, the samples so far, and the next batch's size.
 pub struct CpuRun<'a> {
     scene: &'a GpuScene,
     frame: Frame,
     accumulation: CpuAccumulation,
+    batch: u32,
 }
 
 impl<'a> Progressive<'a> {
@@ -31,12 +39,14 @@ impl<'a> Progressive<'a> {
         first_sample: u32,
         guides: bool,
     ) -> Result<Self> {
-        let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+        let frame = rt_core::frame::frame_for(scene, gpu_scene)
+            .map_err(|e| crate::GpuError::Options(e.to_string()))?;
         let adaptive = rt_core::adaptive::Adaptive::of_settings(&scene.settings);
         Ok(Progressive::Cpu(Box::new(CpuRun {
             scene: gpu_scene,
             accumulation: CpuAccumulation::new(&frame, first_sample, adaptive, guides),
             frame,
+            batch: 1,
         })))
     }
 
@@ -55,21 +65,27 @@ impl<'a> Progressive<'a> {
         }
     }
 
-    /// Up to `samples` more samples of every pixel still sampling.
-    pub fn render_batch(&mut self, samples: u32) -> Result<()> {
+    /// Up to `samples` more samples of every pixel still sampling (on the CPU, as many as fit in
+    /// about `CPU_BATCH`; a batch that `cancel` stops adds nothing).
+    pub fn render_batch(&mut self, samples: u32, cancel: &AtomicBool) -> Result<()> {
         match self {
             Progressive::Gpu(r) => {
                 r.render_batch(samples)?;
             }
             Progressive::Cpu(c) => {
-                let never = AtomicBool::new(false);
-                c.accumulation.add_batch(c.scene, &c.frame, samples, &never);
+                let count = samples.min(c.batch).max(1);
+                let started = Instant::now();
+                if c.accumulation.add_batch(c.scene, &c.frame, count, cancel)
+                    && started.elapsed() < CPU_BATCH / 2
+                {
+                    c.batch = c.batch.saturating_mul(2);
+                }
             }
         }
         Ok(())
     }
 
-    pub fn read_image(&self) -> Result<rt_gpu::Image> {
+    pub fn read_image(&self) -> Result<Image> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_image()?,
             Progressive::Cpu(c) => image_of(&c.accumulation),
@@ -77,10 +93,10 @@ impl<'a> Progressive<'a> {
     }
 
     /// The denoiser's guides, when kept.
-    pub fn read_aovs(&self) -> Result<Option<rt_gpu::Aovs>> {
+    pub fn read_aovs(&self) -> Result<Option<Aovs>> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_aovs()?,
-            Progressive::Cpu(c) => c.accumulation.guides().map(|g| rt_gpu::Aovs {
+            Progressive::Cpu(c) => c.accumulation.guides().map(|g| Aovs {
                 albedo: g.albedo.clone(),
                 normal: g.normal.clone(),
                 emission: g.emission.clone(),
@@ -89,9 +105,17 @@ impl<'a> Progressive<'a> {
     }
 }
 
-/// The CPU accumulation as the image the rest of rt-cli saves and measures.
-pub fn image_of(accumulation: &CpuAccumulation) -> rt_gpu::Image {
-    rt_gpu::Image {
+/// The CPU backend, as a status line names it.
+pub fn cpu_label() -> String {
+    format!(
+        "CPU (native backend, {} threads)",
+        rt_core::cpu_render::threads()
+    )
+}
+
+/// The CPU accumulation as the image the rest of rt saves and measures.
+pub fn image_of(accumulation: &CpuAccumulation) -> Image {
+    Image {
         width: accumulation.width,
         height: accumulation.height,
         samples_per_pixel: accumulation.samples,
