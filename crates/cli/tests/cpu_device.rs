@@ -263,7 +263,7 @@ fn converge_runs_on_the_cpu_backend() {
         reference.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stderr.contains("the CPU backend"), "{stderr}");
+    assert!(stderr.contains("CPU (native backend"), "{stderr}");
     let errors: Vec<f64> = stdout
         .lines()
         .skip(1)
