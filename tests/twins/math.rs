@@ -413,7 +413,7 @@ fn intersection_functions_match_their_twin() {
 
 /// The exact sums: a sample's fixed-point value, addition, negation and what is kept
 /// (`accumulation.wgsl` ⇄ `accumulation.rs`), bit for bit; the texture wrap modes and the alpha
-/// coin (`texture.wgsl` ⇄ `texture.rs`) and the power heuristic (`path.wgsl` ⇄ `path.rs`).
+/// coin (`texture.wgsl` ⇄ `texture.rs`) and the power heuristic (`light.wgsl` ⇄ `light.rs`).
 #[test]
 fn fixed_point_sums_wrap_modes_and_heuristic_match_their_twin() {
     let Some(ctx) = gpu() else { return };

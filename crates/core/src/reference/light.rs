@@ -22,7 +22,6 @@ pub const WGSL: &str = include_str!("light.wgsl");
 use glam::Vec3;
 
 use super::occluded;
-use super::path::power_heuristic;
 use super::surface::Surface;
 use super::texture::{coverage, surface_emission};
 use crate::gpu_scene::GpuScene;
@@ -30,6 +29,12 @@ use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame};
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::Rng;
 use crate::math::sampling::*;
+
+/// The power heuristic (β = 2) weight of the strategy with density `a` against one with density `b`.
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+}
 
 /// A light sample for next-event estimation: the direction and distance to trace and L_e / p_light.
 pub struct LightSample {

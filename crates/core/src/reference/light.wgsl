@@ -1,12 +1,20 @@
 // The lights; mirrors crates/core/src/reference/light.rs (which documents each kind and the
 // estimator): area lights and the environment sampled for next-event estimation (sample_light,
 // sample_direct, direct_light), the delta lights (delta_light_incidence, delta_lights_at), and
-// what a ray leaving the scene sees (escaped).
+// what a ray leaving the scene sees (escaped), and the MIS weight they share (power_heuristic).
 
 // Lights a scene lacks are compiled out.
 override HAS_NEE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
 override HAS_ENVIRONMENT: bool = true;
+
+// The power heuristic (beta = 2) weight of the strategy with density a against one with density b:
+// how next-event estimation and BSDF sampling share the light they both find.
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    let b2 = b * b;
+    return select(0.0, a2 / (a2 + b2), a2 + b2 > 0.0);
+}
 
 // One light sample from p (light.rs `sample_light`): the environment with probability
 // frame.env_pick, else an emitter point. `distance` <= 0: none. Always draws four random numbers.

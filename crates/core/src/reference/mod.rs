@@ -35,8 +35,8 @@ pub mod surface;
 pub mod texture;
 
 pub use hit::trace_brute_force;
-pub use light::{LightSample, delta_lights_at, direct_light, sample_light};
-pub use path::{FirstHit, camera_ray, power_heuristic, radiance, trace_path};
+pub use light::{LightSample, delta_lights_at, direct_light, power_heuristic, sample_light};
+pub use path::{FirstHit, camera_ray, radiance, trace_path};
 pub use surface::{Surface, SurfaceSample};
 pub use texture::{Slot, alpha_coin, base_color_texture, coverage, stops_ray, wrap_index};
 

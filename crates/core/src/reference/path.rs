@@ -9,7 +9,7 @@ pub const WGSL: &str = include_str!("path.wgsl");
 use glam::{Vec2, Vec3};
 
 use super::hit::MISS;
-use super::light::{delta_lights_at, direct_light, escaped};
+use super::light::{delta_lights_at, direct_light, escaped, power_heuristic};
 use super::surface::Surface;
 use super::texture::{Slot, base_color_texture, surface_emission};
 use super::trace;
@@ -19,12 +19,6 @@ use crate::material_kind::MaterialKind;
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::{self, Rng};
 use crate::math::sampling::*;
-
-/// The power heuristic (β = 2) weight of the strategy with density `a` against one with density `b`.
-pub fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
-}
 
 /// The camera ray through a jittered point of pixel (x, y): box pixel filter, thin lens when
 /// `lens_radius > 0`.

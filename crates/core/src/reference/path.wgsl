@@ -89,12 +89,6 @@ fn clamp_bounced(c: vec3<f32>) -> vec3<f32> {
     return c;
 }
 
-fn power_heuristic(a: f32, b: f32) -> f32 {
-    let a2 = a * a;
-    let b2 = b * b;
-    return select(0.0, a2 / (a2 + b2), a2 + b2 > 0.0);
-}
-
 fn is_finite3(v: vec3<f32>) -> bool {
     // Exponent all ones means Inf or NaN; tested on the bits so fast-math cannot fold it away.
     let e = bitcast<vec3<u32>>(v) & vec3(0x7f800000u);
