@@ -273,20 +273,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
     );
     let mut records = Vec::new();
     for (name, scene) in suite {
-        if args
-            .only
-            .as_ref()
-            .is_some_and(|o| !name.contains(o.as_str()))
-        {
+        let Some(scene) = selected(&args, &name, scene)? else {
             continue;
-        }
-        let mut scene = scene?;
-        scene.settings.width = args.size;
-        scene.settings.height = args.size;
-        scene.settings.next_event_estimation = !args.no_nee;
+        };
         let build_started = Instant::now();
-        let gpu_scene =
-            GpuScene::build_with_layout(&scene, args.bvh.bvh_quality.into(), args.bvh.bvh.into())?;
+        let gpu_scene = build(&args, &scene)?;
         let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
         // Warm-up: compiles the pipeline and settles the dispatch size.
         let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
@@ -384,19 +375,10 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
         "scene", "triangles", "BVH ms", "depth", "render s", "Mpaths/s"
     );
     for (name, scene) in bench_suite(args)? {
-        if args
-            .only
-            .as_ref()
-            .is_some_and(|o| !name.contains(o.as_str()))
-        {
+        let Some(scene) = selected(args, &name, scene)? else {
             continue;
-        }
-        let mut scene = scene?;
-        scene.settings.width = args.size;
-        scene.settings.height = args.size;
-        scene.settings.next_event_estimation = !args.no_nee;
-        let gpu_scene =
-            GpuScene::build_with_layout(&scene, args.bvh.bvh_quality.into(), args.bvh.bvh.into())?;
+        };
+        let gpu_scene = build(args, &scene)?;
         let frame = rt_core::frame::frame_for(&scene, &gpu_scene)?;
         let mut accumulation = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
         let never = std::sync::atomic::AtomicBool::new(false);
@@ -424,4 +406,29 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A suite scene `--only` selects, at the benchmark's size and light sampling; `None` otherwise.
+fn selected(args: &BenchArgs, name: &str, scene: Result<Scene>) -> Result<Option<Scene>> {
+    if args
+        .only
+        .as_ref()
+        .is_some_and(|o| !name.contains(o.as_str()))
+    {
+        return Ok(None);
+    }
+    let mut scene = scene?;
+    scene.settings.width = args.size;
+    scene.settings.height = args.size;
+    scene.settings.next_event_estimation = !args.no_nee;
+    Ok(Some(scene))
+}
+
+/// The scene's GPU arrays with the BVH `--bvh` and `--bvh-quality` ask for.
+fn build(args: &BenchArgs, scene: &Scene) -> Result<GpuScene> {
+    Ok(GpuScene::build_with_layout(
+        scene,
+        args.bvh.bvh_quality.into(),
+        args.bvh.bvh.into(),
+    )?)
 }
