@@ -19,7 +19,7 @@ pub fn pack_color(c: [f32; 3]) -> u32 {
     b[0] | (b[1] << 8) | (b[2] << 16) | (255 << 24)
 }
 
-/// `Material.texture_offset` when the material has no texture.
+/// `TextureSlot::offset` of an empty slot.
 pub const NO_TEXTURE: u32 = u32::MAX;
 
 /// One triangle's vertices in world space, in BVH leaf order.
