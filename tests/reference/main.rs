@@ -1,12 +1,13 @@
 //! The GPU kernel against the scalar CPU reference of the same estimator, the BVH traversal against
 //! brute force, determinism, and the loop-budget sentinel.
 //!
-//! `cpu_reference.rs` holds the Z-tests and lockstep against the CPU reference, `traversal.rs` the
+//! `cpu_backend.rs` holds the native CPU backend against the GPU, `cpu_reference.rs` the Z-tests and lockstep against the CPU reference, `traversal.rs` the
 //! BVH against brute force, `determinism.rs` seeds and the loop-budget sentinel,
 //! `sampling_strategies.rs` NEE, MIS and BSDF sampling against each other.
 
 #[path = "../common/mod.rs"]
 mod common;
+mod cpu_backend;
 mod cpu_reference;
 mod determinism;
 mod sampling_strategies;

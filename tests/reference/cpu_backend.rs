@@ -1,0 +1,91 @@
+//! The native CPU backend (`rt_core::cpu_render`, what `--device cpu` runs) against the GPU
+//! kernel on the reference scenes, between them every feature: metal and glass, point, spot and
+//! sun lights, PBR materials under an environment, alpha masks and blending, emission and base
+//! colour textures, normal maps and a thin lens. Both take the same samples from the same random
+//! numbers, so pixels agree to rounding, except where a last-bit difference sends a path another
+//! way (another lobe or side of an edge; alpha blending's coins flip most, since they hash the
+//! ray's exact bits): those pixels hold another valid sample, so they are counted against a
+//! bound per scene, and the image means must agree within the pixels' own noise.
+
+use super::*;
+use rt_core::cpu_render::CpuAccumulation;
+use std::sync::atomic::AtomicBool;
+
+/// Renders `scene` on both backends at its samples and returns the fraction of pixels that agree
+/// to rounding, after checking the image means agree within four standard errors.
+fn agreement(scene: &Scene) -> Option<f64> {
+    let ctx = gpu()?;
+    let gpu_scene = GpuScene::build(scene).unwrap();
+    let gpu_image = render_gpu(ctx, scene, &gpu_scene, RenderOptions::default());
+    let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
+    let mut cpu = CpuAccumulation::new(&frame, 0, None, false);
+    let spp = scene.settings.samples_per_pixel;
+    assert!(cpu.add_batch(&gpu_scene, &frame, spp, &AtomicBool::new(false)));
+    let cpu_pixels = cpu.pixels();
+    let agree = gpu_image
+        .pixels
+        .iter()
+        .zip(&cpu_pixels)
+        .filter(|(g, c)| {
+            (0..3).all(|ch| (g[ch] - c[ch]).abs() <= 1e-4 * g[ch].abs().max(c[ch].abs()) + 1e-6)
+        })
+        .count();
+    // Image means: each pixel's luminance variance (from its mean squared luminance) bounds the
+    // noise of the difference between two independent-looking estimates of it.
+    let n = cpu_pixels.len() as f64;
+    let lum = |p: &[f32; 4]| {
+        0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+    };
+    let (g_mean, c_mean) = (
+        gpu_image.pixels.iter().map(lum).sum::<f64>() / n,
+        cpu_pixels.iter().map(lum).sum::<f64>() / n,
+    );
+    let variance: f64 = cpu_pixels
+        .iter()
+        .map(|p| (f64::from(p[3]) - lum(p).powi(2)).max(0.0))
+        .sum::<f64>()
+        / (n * n * f64::from(spp));
+    let sigma = (2.0 * variance).sqrt();
+    assert!(
+        (g_mean - c_mean).abs() <= 4.0 * sigma + 1e-6,
+        "image luminance: GPU {g_mean}, CPU backend {c_mean}, σ {sigma}"
+    );
+    Some(agree as f64 / n)
+}
+
+#[test]
+fn the_cpu_backend_renders_the_gpu_image_on_every_reference_scene() {
+    let mut lights = cornell_with_metal_and_glass(16);
+    let mut point = rt_core::Light::new(rt_core::LightKind::Point, "bulb");
+    point.position = [150.0, 400.0, 250.0];
+    point.intensity = 2e4;
+    let mut sun = rt_core::Light::new(rt_core::LightKind::Directional, "sun");
+    sun.direction = [0.3, -1.0, 0.2];
+    lights.lights = vec![point, sun];
+    lights.settings.samples_per_pixel = 8;
+    let mut pbr = pbr_scene_with_environment(24, 18);
+    pbr.settings.samples_per_pixel = 8;
+    let mut alpha = alpha_and_emission_textures_scene(24, 20);
+    alpha.settings.samples_per_pixel = 8;
+    let mut textured = textured_scene_with_normals_metal_glass_and_lens();
+    textured.settings.samples_per_pixel = 4;
+    for (name, scene, bound) in [
+        ("metal, glass, point and sun lights", lights, 0.98),
+        ("PBR under an environment", pbr, 0.98),
+        ("alpha and emission textures", alpha, 0.5),
+        ("textures, normal maps, thin lens", textured, 0.98),
+    ] {
+        let Some(fraction) = agreement(&scene) else {
+            return;
+        };
+        eprintln!(
+            "{name}: {:.1}% of pixels agree to rounding",
+            100.0 * fraction
+        );
+        assert!(
+            fraction >= bound,
+            "{name}: only {:.1}% of pixels agree",
+            100.0 * fraction
+        );
+    }
+}
