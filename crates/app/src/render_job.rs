@@ -113,36 +113,14 @@ pub struct JobOptions {
 }
 
 /// Which backend renders the editor's render windows (the Render panel's "Device").
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DeviceChoice {
-    /// A hardware GPU when there is one, else the CPU backend (lavapipe does not count).
-    Auto,
-    /// The GPU through wgpu (lavapipe on a machine without one).
-    #[default]
-    Gpu,
-    /// rt's native CPU backend.
-    Cpu,
-}
+pub use rt_gpu::progressive::Device as DeviceChoice;
 
-impl DeviceChoice {
-    pub const ALL: [DeviceChoice; 3] = [DeviceChoice::Auto, DeviceChoice::Gpu, DeviceChoice::Cpu];
-
-    pub fn label(self) -> &'static str {
-        match self {
-            DeviceChoice::Auto => "Auto",
-            DeviceChoice::Gpu => "GPU",
-            DeviceChoice::Cpu => "CPU",
-        }
-    }
-
-    /// Whether renders go to the CPU backend: `Auto` asks wgpu once for a hardware GPU.
-    pub fn on_cpu(self) -> bool {
-        static HARDWARE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-        match self {
-            DeviceChoice::Auto => !*HARDWARE.get_or_init(|| rt_gpu::hardware_gpu().is_some()),
-            DeviceChoice::Gpu => false,
-            DeviceChoice::Cpu => true,
-        }
+/// The Render panel's name for `choice`.
+pub fn device_label(choice: DeviceChoice) -> &'static str {
+    match choice {
+        DeviceChoice::Auto => "Auto",
+        DeviceChoice::Gpu => "GPU",
+        DeviceChoice::Cpu => "CPU",
     }
 }
 

@@ -38,10 +38,6 @@ pub struct BenchArgs {
     bvh: BvhArgs,
     #[command(flatten)]
     engine: EngineArgs,
-    /// What renders: gpu (through wgpu; lavapipe without a GPU), cpu (the native CPU backend; it
-    /// counts no rays, so Mrays/s stays empty) or auto (a hardware GPU if there is one, else cpu).
-    #[arg(long, value_enum, default_value = "gpu")]
-    device: crate::render::DeviceArg,
     /// Only the scenes whose names contain this.
     #[arg(long)]
     only: Option<String>,
@@ -202,9 +198,7 @@ fn mesh_scene(path: &Path) -> Result<Scene> {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    let gpu_flags =
-        args.engine.kernel.is_some() || args.engine.adapter != rt_gpu::AdapterChoice::Auto;
-    if args.device.resolve(gpu_flags).0 == crate::render::DeviceArg::Cpu {
+    if args.engine.on_cpu()?.0 {
         return run_on_cpu(&args);
     }
     let ctx = open_device(&args.engine.adapter)?;

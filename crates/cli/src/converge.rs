@@ -39,10 +39,6 @@ pub struct ConvergeArgs {
     bvh: BvhArgs,
     #[command(flatten)]
     engine: EngineArgs,
-    /// What renders: gpu (through wgpu), cpu (the native CPU backend) or auto (a hardware GPU if
-    /// there is one, else cpu), as `render --device`.
-    #[arg(long, value_enum, default_value = "gpu")]
-    device: crate::render::DeviceArg,
     /// Name of this series in the CSV and the plot (default: from the settings).
     #[arg(long)]
     label: Option<String>,
@@ -92,15 +88,9 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         )
     });
 
-    let gpu_flags =
-        args.engine.kernel.is_some() || args.engine.adapter != rt_gpu::AdapterChoice::Auto;
-    let (device, _) = args.device.resolve(gpu_flags);
-    let ctx = match device {
-        crate::render::DeviceArg::Cpu if gpu_flags => anyhow::bail!(
-            "--adapter and --kernel choose how a GPU renders, and --device cpu renders without one"
-        ),
-        crate::render::DeviceArg::Cpu => None,
-        _ => Some(open_device(&args.engine.adapter)?),
+    let ctx = match args.engine.on_cpu()?.0 {
+        true => None,
+        false => Some(open_device(&args.engine.adapter)?),
     };
     let start = Instant::now();
     let gpu_scene =

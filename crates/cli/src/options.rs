@@ -73,9 +73,52 @@ pub struct EngineArgs {
     /// native CPU backend), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     pub adapter: AdapterChoice,
+    /// What renders: gpu (a GPU through wgpu; lavapipe where there is none), cpu (rt's native CPU
+    /// backend, the estimator's Rust twin on every core: the same samples, so the same image and
+    /// mergeable parts), or auto (a hardware GPU if there is one, else cpu).
+    #[arg(long, value_enum, default_value = "gpu")]
+    pub device: DeviceArg,
+}
+
+/// `--device` values (`rt_gpu::progressive::Device`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DeviceArg {
+    Auto,
+    #[default]
+    Gpu,
+    Cpu,
 }
 
 impl EngineArgs {
+    /// Whether the CPU backend renders, and why (the summary's `device:` line). `--adapter` and
+    /// `--kernel` choose how a GPU renders: with `--device cpu` they are an error, and they make
+    /// `auto` a GPU.
+    pub fn on_cpu(&self) -> anyhow::Result<(bool, String)> {
+        let gpu_flags: Vec<&str> = [
+            (self.kernel.is_some(), "--kernel"),
+            (self.adapter != AdapterChoice::Auto, "--adapter"),
+        ]
+        .into_iter()
+        .filter_map(|(given, flag)| given.then_some(flag))
+        .collect();
+        if self.device == DeviceArg::Cpu && !gpu_flags.is_empty() {
+            let one = gpu_flags.len() == 1;
+            anyhow::bail!(
+                "{} choose{} how a GPU renders, and --device cpu renders without one: drop {}, or \
+                 render with --device gpu",
+                gpu_flags.join(" and "),
+                if one { "s" } else { "" },
+                if one { "it" } else { "them" },
+            );
+        }
+        let device = match self.device {
+            DeviceArg::Auto => rt_gpu::progressive::Device::Auto,
+            DeviceArg::Gpu => rt_gpu::progressive::Device::Gpu,
+            DeviceArg::Cpu => rt_gpu::progressive::Device::Cpu,
+        };
+        Ok(device.on_cpu(!gpu_flags.is_empty()))
+    }
+
     pub fn kernel(&self) -> Kernel {
         self.kernel.map(Into::into).unwrap_or_default()
     }

@@ -15,7 +15,6 @@ use crate::shard::ShardArgs;
 use crate::summary::{Finish, estimator_summary, print_render_summary, print_scene_summary};
 
 mod cpu;
-pub use cpu::DeviceArg;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -51,11 +50,6 @@ pub struct RenderArgs {
     /// sampling on, with the target as each pixel's threshold).
     #[arg(long, conflicts_with = "adaptive")]
     no_adaptive: bool,
-    /// What renders: gpu (a GPU through wgpu; lavapipe where there is none), cpu (rt's native CPU
-    /// backend, the estimator's Rust twin on every core: the same samples, so the same image and
-    /// mergeable parts), or auto (a hardware GPU if there is one, else cpu).
-    #[arg(long, value_enum, default_value = "gpu")]
-    device: DeviceArg,
     #[command(flatten)]
     shard: ShardArgs,
     #[command(flatten)]
@@ -98,10 +92,8 @@ impl RenderArgs {
 
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let (scene, range) = prepare_scene(&args)?;
-    let gpu_flags =
-        args.engine.kernel.is_some() || args.engine.adapter != rt_gpu::AdapterChoice::Auto;
-    let (device, why) = args.device.resolve(gpu_flags);
-    if device == DeviceArg::Cpu {
+    let (on_cpu, why) = args.engine.on_cpu()?;
+    if on_cpu {
         return cpu::run(&args, &scene, range, &why);
     }
     let ctx = open_device(&args.engine.adapter)?;

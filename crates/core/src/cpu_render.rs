@@ -16,21 +16,13 @@ use crate::accumulation::{PixelSums, add_pixels, add_sample, pixel_mean};
 use crate::adaptive::Adaptive;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
+use crate::part::Guides;
 use crate::reference::trace_path;
 
 /// The threads a batch is spread over (rayon's pool: one per core unless `RAYON_NUM_THREADS` says
 /// otherwise).
 pub fn threads() -> usize {
     rayon::current_num_threads()
-}
-
-/// The denoiser's guides: per pixel, the running means of its samples' first-hit albedo, normal
-/// and directly seen light (`reference::FirstHit`).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Guides {
-    pub albedo: Vec<[f32; 3]>,
-    pub normal: Vec<[f32; 3]>,
-    pub emission: Vec<[f32; 3]>,
 }
 
 /// What a batch adds to one pixel.
@@ -98,6 +90,7 @@ impl CpuAccumulation {
         let width = self.width as usize;
         let first = self.first_sample + self.samples;
         let stopped = &self.stopped;
+        let keep_guides = self.guides.is_some();
         let rows: Vec<Option<Vec<PixelBatch>>> = (0..self.height)
             .into_par_iter()
             .map(|y| {
@@ -110,11 +103,13 @@ impl CpuAccumulation {
                         continue;
                     }
                     for s in first..first + count {
-                        let path = trace_path(scene, frame, x as u32, y, s);
+                        let path = trace_path(scene, frame, x as u32, y, s, keep_guides);
                         // A sample that is not finite (or absurdly large) is dropped, as the
                         // kernels drop it: it adds zero and still counts.
                         add_sample(&mut pixel.sums, path.radiance.to_array());
-                        let f = path.first_hit;
+                        let Some(f) = path.first_hit else {
+                            continue;
+                        };
                         for (sum, v) in pixel
                             .guides
                             .iter_mut()
@@ -187,7 +182,7 @@ impl CpuAccumulation {
             .collect()
     }
 
-    /// The denoiser's guides, when kept.
+    /// The denoiser's guides (running means over each pixel's samples), when kept.
     pub fn guides(&self) -> Option<&Guides> {
         self.guides.as_ref()
     }

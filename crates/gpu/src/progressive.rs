@@ -14,6 +14,47 @@ use crate::error::Result;
 use crate::image::{Aovs, Image};
 use crate::renderer::Renderer;
 
+/// Which backend renders: what `rt-cli --device` and the editor's Device choose.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Device {
+    /// A hardware GPU when wgpu finds one, else the CPU backend (software adapters such as
+    /// lavapipe are slower than it, so they do not count).
+    Auto,
+    /// The GPU through wgpu (lavapipe on a machine without one).
+    #[default]
+    Gpu,
+    /// rt's native CPU backend.
+    Cpu,
+}
+
+impl Device {
+    /// Whether the CPU backend renders, and why (for a summary line). `gpu_flags`: the caller
+    /// was asked for a particular adapter or kernel, which makes `Auto` a GPU.
+    pub fn on_cpu(self, gpu_flags: bool) -> (bool, String) {
+        match self {
+            Device::Auto if gpu_flags => {
+                (false, "auto: --adapter or --kernel asks for a GPU".into())
+            }
+            Device::Auto => match hardware_gpu_cached() {
+                Some(name) => (false, format!("auto: hardware GPU {name}")),
+                None => (
+                    true,
+                    "auto: no hardware GPU (software adapters such as lavapipe do not count)"
+                        .into(),
+                ),
+            },
+            Device::Gpu => (false, "--device gpu".into()),
+            Device::Cpu => (true, "--device cpu".into()),
+        }
+    }
+}
+
+/// `crate::hardware_gpu`, asked once per process (it enumerates the adapters).
+fn hardware_gpu_cached() -> Option<&'static str> {
+    static FOUND: std::sync::OnceLock<Option<String>> = std::sync::OnceLock::new();
+    FOUND.get_or_init(crate::hardware_gpu).as_deref()
+}
+
 /// About how long one of the CPU backend's batches should take.
 pub const CPU_BATCH: Duration = Duration::from_millis(250);
 
@@ -85,6 +126,22 @@ impl<'a> Progressive<'a> {
         Ok(())
     }
 
+    /// The image's estimated noise (`Image::estimated_noise`); on the CPU without copying its
+    /// sums.
+    pub fn estimated_noise(&self) -> Result<f64> {
+        Ok(match self {
+            Progressive::Gpu(r) => r.read_image()?.estimated_noise(),
+            Progressive::Cpu(c) => {
+                let counts = c.accumulation.counts();
+                rt_core::metrics::estimated_rel_mse(
+                    &c.accumulation.pixels(),
+                    rt_core::output::SampleCounts::PerPixel(&counts),
+                )
+                .sqrt()
+            }
+        })
+    }
+
     pub fn read_image(&self) -> Result<Image> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_image()?,
@@ -114,7 +171,7 @@ pub fn cpu_label() -> String {
 }
 
 /// The CPU accumulation as the image the rest of rt saves and measures.
-pub fn image_of(accumulation: &CpuAccumulation) -> Image {
+fn image_of(accumulation: &CpuAccumulation) -> Image {
     Image {
         width: accumulation.width,
         height: accumulation.height,

@@ -20,7 +20,7 @@ impl RtApp {
             JobOptions {
                 preview_every: Some(Duration::from_millis(500)),
                 keep_aovs: true,
-                on_cpu: self.ui.render_device.on_cpu(),
+                on_cpu: self.ui.render_device.on_cpu(false).0,
             },
             self.waker(),
         );

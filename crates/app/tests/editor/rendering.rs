@@ -175,7 +175,7 @@ fn renders_on_the_cpu_backend_from_the_render_panel() {
     harness.run_ok();
     harness.get_by_label("CPU").click();
     harness.run_ok();
-    assert!(harness.state().ui.render_device.on_cpu());
+    assert!(harness.state().ui.render_device.on_cpu(false).0);
     harness.get_by_label_contains("renders on CPU (native backend");
     harness.state_mut().doc.edit("small", "small", |s| {
         s.settings.width = 32;

@@ -89,13 +89,21 @@ fn clamp_bounced(c: Vec3, frame: &Frame, bounces: u32) -> Vec3 {
 
 /// One path's radiance estimate for pixel (x, y), sample `sample`.
 pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
-    trace_path(scene, frame, x, y, sample).radiance
+    trace_path(scene, frame, x, y, sample, false).radiance
 }
 
-/// Pixel (x, y)'s path of sample `sample`, traced to its end: its radiance in `radiance`, what it
-/// hit first in `first_hit`.
-pub fn trace_path(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
+/// Pixel (x, y)'s path of sample `sample`, traced to its end: its radiance in `radiance` and,
+/// with `guides` (the WGSL's `WRITE_AOVS`), what it hit first in `first_hit`.
+pub fn trace_path(
+    scene: &GpuScene,
+    frame: &Frame,
+    x: u32,
+    y: u32,
+    sample: u32,
+    guides: bool,
+) -> PathState {
     let mut path = start_path(frame, x, y, sample);
+    path.first_hit = guides.then(FirstHit::default);
     while path.depth < frame.max_depth {
         let hit = trace(scene, path.origin, path.direction, f32::MAX);
         if !shade_vertex(scene, frame, &mut path, hit) {
@@ -119,10 +127,11 @@ pub struct PathState {
     /// Segments traced so far (0: the camera ray).
     pub depth: u32,
     pub rng: Rng,
-    /// The denoiser's guides of this sample, set at the first vertex (the WGSL `aov_*`): the
-    /// first hit's albedo and normal (facing the camera), and the light seen directly there.
-    /// Zero where the camera ray escapes (the sky it sees is the emission).
-    pub first_hit: FirstHit,
+    /// The denoiser's guides of this sample, set at the first vertex when recorded (`Some`; the
+    /// WGSL `aov_*` under `WRITE_AOVS`): the first hit's albedo and normal (facing the camera),
+    /// and the light seen directly there. Zero where the camera ray escapes (the sky it sees is
+    /// the emission).
+    pub first_hit: Option<FirstHit>,
 }
 
 /// What the camera ray finds first, for the denoiser's guides.
@@ -150,7 +159,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         prev_bsdf_pdf: 0.0,
         depth: 0,
         rng,
-        first_hit: FirstHit::default(),
+        first_hit: None,
     }
 }
 
@@ -163,8 +172,10 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     if hit.triangle == MISS {
         let sky = path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf);
         path.radiance += clamp_bounced(sky, frame, path.depth);
-        if path.depth == 0 {
-            path.first_hit.emission = sky;
+        if path.depth == 0
+            && let Some(f) = path.first_hit.as_mut()
+        {
+            f.emission = sky;
         }
         return false;
     }
@@ -200,14 +211,18 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         }
         let emitted = path.beta * le * weight;
         path.radiance += clamp_bounced(emitted, frame, path.depth);
-        if path.depth == 0 {
-            path.first_hit.emission = emitted;
+        if path.depth == 0
+            && let Some(f) = path.first_hit.as_mut()
+        {
+            f.emission = emitted;
         }
     }
-    if path.depth == 0 {
-        path.first_hit.albedo = first_hit_albedo(scene, material, tri, hit);
+    if path.depth == 0
+        && let Some(f) = path.first_hit.as_mut()
+    {
+        f.albedo = first_hit_albedo(scene, material, tri, hit);
         let n = ng_raw.normalize();
-        path.first_hit.normal = if front { n } else { -n };
+        f.normal = if front { n } else { -n };
     }
     if material.kind == MaterialKind::Emissive.tag() || path.depth + 1 >= frame.max_depth {
         return false;

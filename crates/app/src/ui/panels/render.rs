@@ -150,8 +150,9 @@ fn device_choice(app: &mut RtApp, ui: &mut Ui) {
             "What renders: the GPU, the CPU (rt's native backend, on every core), or Auto (a \
              hardware GPU when there is one, else the CPU, which is faster than a software GPU)",
         );
-        for choice in DeviceChoice::ALL {
-            ui.selectable_value(&mut app.ui.render_device, choice, choice.label());
+        for choice in [DeviceChoice::Auto, DeviceChoice::Gpu, DeviceChoice::Cpu] {
+            let label = crate::render_job::device_label(choice);
+            ui.selectable_value(&mut app.ui.render_device, choice, label);
         }
     });
 }

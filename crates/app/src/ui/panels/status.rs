@@ -6,7 +6,7 @@ use crate::app::RtApp;
 
 pub fn status_bar(app: &mut RtApp, ui: &mut Ui) {
     ui.horizontal(|ui| {
-        let renders_on = if app.ui.render_device.on_cpu() {
+        let renders_on = if app.ui.render_device.on_cpu(false).0 {
             rt_gpu::progressive::cpu_label()
         } else {
             app.adapter_label()
