@@ -304,6 +304,7 @@ fn the_binding_table_matches_every_tracing_kernel() {
 #[test]
 fn shared_constants_match_wgsl() {
     use rt_core::gpu_types::{self, NO_TEXTURE, light_kind};
+    use rt_core::math::layers;
     use rt_core::{Filter, TextureSampler, Wrap};
     // The s-wrap bits of a sampler (t repeats), or its filter bit.
     let sampler_bits = |wrap: Wrap, filter: Filter| {
@@ -357,6 +358,9 @@ fn shared_constants_match_wgsl() {
         ("SLOT_NORMAL", gpu_types::SLOT_NORMAL),
         ("SLOT_EMISSION", gpu_types::SLOT_EMISSION),
         ("SAMPLER_BITS", gpu_types::SAMPLER_BITS),
+        ("TABLE_CONDUCTOR", layers::TABLE_CONDUCTOR as u32),
+        ("TABLE_COAT", layers::TABLE_COAT as u32),
+        ("TABLE_SHEEN", layers::TABLE_SHEEN as u32),
         // The sampler bits texture.wgsl decodes, as `TextureSampler::bits` packs them.
         (
             "WRAP_CLAMP",
@@ -373,13 +377,25 @@ fn shared_constants_match_wgsl() {
     ] {
         assert_eq!(value(wgsl), rust, "{wgsl}");
     }
-    let (_, min_alpha) = parsed
-        .constants
-        .iter()
-        .find(|(_, c)| c.name.as_deref() == Some("MIN_ALPHA"))
-        .expect("no WGSL constant MIN_ALPHA");
-    assert!(matches!(
-        parsed.global_expressions[min_alpha.init],
-        naga::Expression::Literal(naga::Literal::F32(v)) if v == rt_core::math::microfacet::MIN_ALPHA
-    ));
+    for (wgsl, rust) in [
+        ("MIN_ALPHA", rt_core::math::microfacet::MIN_ALPHA),
+        ("COAT_IOR", rt_core::math::coat::COAT_IOR),
+        (
+            "SHEEN_MIN_ROUGHNESS",
+            rt_core::math::sheen::SHEEN_MIN_ROUGHNESS,
+        ),
+    ] {
+        let (_, constant) = parsed
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(wgsl))
+            .unwrap_or_else(|| panic!("no WGSL constant {wgsl}"));
+        assert!(
+            matches!(
+                parsed.global_expressions[constant.init],
+                naga::Expression::Literal(naga::Literal::F32(v)) if v == rust
+            ),
+            "{wgsl}"
+        );
+    }
 }

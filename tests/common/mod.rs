@@ -243,8 +243,9 @@ pub fn test_environment() -> rt_core::Environment {
     env
 }
 
-/// Every PBR feature: a textured plastic floor, rough gold, rough absorbing glass, smooth glass, a
-/// rough metal with an interpolated normal, an emissive PBR plate, an area light and an
+/// Every PBR feature: a textured plastic floor with a sheen, rough gold under a clear coat, rough
+/// absorbing glass, smooth glass, a rough metal with an interpolated normal, an emissive PBR plate
+/// with a tinted specular strength, an area light and an
 /// environment map (so next-event estimation picks between emitters and the environment).
 pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
     use rt_core::material::Pbr;
@@ -298,12 +299,16 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         metallic_roughness_texture: Some(2),
         roughness: 0.6,
         metallic: 0.8,
+        sheen_color: [0.6, 0.3, 0.2],
+        sheen_roughness: 0.4,
         ..Default::default()
     });
     scene.objects[1].material = pbr(Pbr {
         base_color: [1.0, 0.766, 0.336],
         metallic: 1.0,
         roughness: 0.5,
+        clearcoat: 0.8,
+        clearcoat_roughness: 0.15,
         ..Default::default()
     });
     scene.objects[2].material = pbr(Pbr {
@@ -337,6 +342,8 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
             thin_walled: true,
             emission: [1.0, 0.5, 0.2],
             emission_strength: 3.0,
+            specular: 0.6,
+            specular_color: [1.0, 0.5, 2.0],
             ..Default::default()
         }),
     );

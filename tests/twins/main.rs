@@ -5,13 +5,14 @@
 //! a few float roundings (the drivers' `sqrt`, `pow`, `acos`, `sin` … may differ from Rust's libm
 //! in the last bits). The harness binds the frame and a whole `GpuScene` as the kernels do, so
 //! the functions that read the scene (traversal, light sampling, environment, textures) are
-//! compared too: `math.rs` holds the math, `scene.rs` the environment, textures, delta lights and
+//! compared too: `math.rs` holds the math, `layers.rs` the coat, sheen and layer stack, `scene.rs` the environment, textures, delta lights and
 //! the surface dispatch, `lights.rs` light sampling, direct light, the delta lights' sum, the escaped sky, camera rays and
 //! traversal. The image-level
 //! lockstep and Z-tests (`tests/reference/`) compare whole paths.
 
 #[path = "../common/mod.rs"]
 mod common;
+mod layers;
 mod lights;
 mod math;
 mod scene;
@@ -46,7 +47,7 @@ impl Default for TwinScene {
         TwinScene {
             frame: Frame::zeroed(),
             scene: rt_core::GpuScene {
-                ggx_energy: energy_table().to_vec(),
+                albedo_tables: rt_core::math::layers::albedo_tables(),
                 ..Default::default()
             },
         }
@@ -216,7 +217,7 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invoc
             (8, storage_buffer(bytemuck::cast_slice(&g.emitters))),
             (9, storage_buffer(bytemuck::cast_slice(&g.delta_lights))),
             (20, storage_buffer(bytemuck::cast_slice(&g.env_texels))),
-            (21, storage_buffer(bytemuck::cast_slice(&g.ggx_energy))),
+            (21, storage_buffer(bytemuck::cast_slice(&g.albedo_tables))),
             (22, storage_buffer(bytemuck::cast_slice(&g.tangents))),
         ];
         let out_bytes = (ITEMS * self.words_out * 4) as u64;

@@ -243,7 +243,7 @@ fn the_surface_dispatch_matches_its_twin() {
         MaterialKind::Dielectric,
         MaterialKind::Pbr,
     ];
-    let input = inputs(26, |rng| {
+    let input = inputs(38, |rng| {
         let kind = KINDS[(rng.next_f32() * 4.0) as usize % 4];
         let color = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
         let mut m = Material {
@@ -262,6 +262,7 @@ fn the_surface_dispatch_matches_its_twin() {
                 if rng.next_f32() < 0.3 {
                     m.flags |= THIN_WALLED;
                 }
+                let layered = rng.next_f32() < 0.5;
                 m.set_lobe(PbrLobe {
                     metallic: if rng.next_f32() < 0.3 {
                         1.0
@@ -278,6 +279,23 @@ fn the_surface_dispatch_matches_its_twin() {
                     ior: 1.1 + rng.next_f32(),
                     absorption: [rng.next_f32(); 3],
                     normal_scale: 1.0,
+                    // Half the materials plain (the defaults), half with every layer.
+                    specular_color: if layered {
+                        [rng.next_f32() * 2.0, rng.next_f32(), 1.0]
+                    } else {
+                        [1.0; 3]
+                    },
+                    specular: if layered { rng.next_f32() } else { 1.0 },
+                    sheen_color: if layered {
+                        [rng.next_f32(), rng.next_f32(), rng.next_f32()]
+                    } else {
+                        [0.0; 3]
+                    },
+                    sheen_roughness: rng.next_f32(),
+                    clearcoat: if layered { rng.next_f32() } else { 0.0 },
+                    // From 0.1, as the base's roughness.
+                    clearcoat_roughness: 0.1 + 0.9 * rng.next_f32(),
+                    _pad: [0.0; 2],
                 })
             }
             _ => {}
@@ -304,15 +322,17 @@ fn the_surface_dispatch_matches_its_twin() {
         words
     });
     let kernel = TwinKernel {
-        words_in: 26,
+        words_in: 38,
         words_out: 15,
         body: "var m: Material;
     m.kind = u_in(item, 0u); m.color = v3_in(item, 1u); m.flags = u_in(item, 4u);
-    m.lobe[0] = vec4(f_in(item, 5u), f_in(item, 6u), f_in(item, 7u), f_in(item, 8u));
-    m.lobe[1] = vec4(f_in(item, 9u), f_in(item, 10u), f_in(item, 11u), f_in(item, 12u));
-    let d = v3_in(item, 13u); let ng = v3_in(item, 16u); let ns = v3_in(item, 19u);
-    let wi = v3_in(item, 22u);
-    let s = material_surface(m, m.color, f_in(item, 5u), f_in(item, 6u), d, ng, ns, u_in(item, 25u) != 0u);
+    for (var k = 0u; k < 5u; k++) {
+        let o = 5u + 4u * k;
+        m.lobe[k] = vec4(f_in(item, o), f_in(item, o + 1u), f_in(item, o + 2u), f_in(item, o + 3u));
+    }
+    let d = v3_in(item, 25u); let ng = v3_in(item, 28u); let ns = v3_in(item, 31u);
+    let wi = v3_in(item, 34u);
+    let s = material_surface(m, m.color, f_in(item, 5u), f_in(item, 6u), d, ng, ns, u_in(item, 37u) != 0u);
     put_u(item, 0u, s.kind);
     put_u(item, 1u, u32(surface_is_delta(s)));
     put_u(item, 2u, u32(surface_transmits(s)));
@@ -328,14 +348,14 @@ fn the_surface_dispatch_matches_its_twin() {
     };
     let gpu_out = kernel.run(ctx, &input);
     let scene = rt_core::GpuScene {
-        ggx_energy: energy_table().to_vec(),
+        albedo_tables: rt_core::math::layers::albedo_tables(),
         ..Default::default()
     };
     let mut other_branch = 0;
     let mut per_kind = [0usize; 5];
     let rows: Vec<Vec<u32>> = (0..ITEMS)
         .map(|item| {
-            let w = |k: usize| input[item * 26 + k];
+            let w = |k: usize| input[item * 38 + k];
             let f = |k: usize| f32::from_bits(w(k));
             let v = |k: usize| Vec3::new(f(k), f(k + 1), f(k + 2));
             let mut m = Material {
@@ -344,9 +364,9 @@ fn the_surface_dispatch_matches_its_twin() {
                 flags: w(4),
                 ..Default::default()
             };
-            m.lobe = [[f(5), f(6), f(7), f(8)], [f(9), f(10), f(11), f(12)]];
-            let (d, ng, ns, wi) = (v(13), v(16), v(19), v(22));
-            let s = Surface::of_material(&scene, &m, (v(1), f(5), f(6)), d, ng, ns, w(25) != 0);
+            m.lobe = std::array::from_fn(|k| std::array::from_fn(|j| f(5 + 4 * k + j)));
+            let (d, ng, ns, wi) = (v(25), v(28), v(31), v(34));
+            let s = Surface::of_material(&scene, &m, (v(1), f(5), f(6)), d, ng, ns, w(37) != 0);
             let kind = match s {
                 Surface::Lambert { .. } => MaterialKind::Lambertian,
                 Surface::Metal { .. } => MaterialKind::Metal,

@@ -140,6 +140,13 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
                 ior: p.ior,
                 absorption: p.absorption(),
                 normal_scale: p.normal_scale,
+                specular_color: p.specular_color,
+                specular: p.specular,
+                sheen_color: p.sheen_color,
+                sheen_roughness: p.sheen_roughness,
+                clearcoat: p.clearcoat,
+                clearcoat_roughness: p.clearcoat_roughness,
+                _pad: [0.0; 2],
             });
         }
     }

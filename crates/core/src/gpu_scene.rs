@@ -45,8 +45,8 @@ pub struct GpuScene {
     pub env_height: u32,
     /// Turns about +y.
     pub env_rotation: f32,
-    /// The white GGX conductor's albedo table (`math::microfacet::energy_table`).
-    pub ggx_energy: Vec<f32>,
+    /// The directional-albedo tables (`math::layers::albedo_tables`): conductor, coat, sheen.
+    pub albedo_tables: Vec<f32>,
     /// Per triangle (BVH order) three corner tangents (xyz, w the bitangent's sign), MikkTSpace,
     /// in world space; empty unless some normal-mapped object needs them.
     pub tangents: Vec<[f32; 4]>,
@@ -246,7 +246,7 @@ impl GpuScene {
         }
         out.extent = triangle_extent(&out.triangles);
         out.light(scene)?;
-        out.ggx_energy = crate::math::microfacet::energy_table().to_vec();
+        out.albedo_tables = crate::math::layers::albedo_tables();
         Ok(out)
     }
 

@@ -12,7 +12,7 @@
 // The environment map's texels (one placeholder without one: frame.env_width == 0).
 @group(0) @binding(20) var<storage, read> environment: array<EnvTexel>;
 // The white GGX conductor's albedo E(mu, roughness), ENERGY_SIDE x ENERGY_SIDE.
-@group(0) @binding(21) var<storage, read> ggx_energy: array<f32>;
+@group(0) @binding(21) var<storage, read> albedo_tables: array<f32>;
 // Normal maps: per triangle three corner tangents (xyz, w the bitangent's sign); a placeholder
 // without normal maps.
 @group(0) @binding(22) var<storage, read> tangents: array<vec4<f32>>;

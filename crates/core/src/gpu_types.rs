@@ -99,18 +99,21 @@ pub struct Material {
     /// alpha mode.
     pub flags: u32, // 28
     /// The kind's parameter block, written and read only as that kind's block type (`lobe_of`).
-    pub lobe: [[f32; 4]; 2], // 32
+    pub lobe: [[f32; 4]; LOBE_VEC4S], // 32
     /// The coverage factor (times the base colour image's alpha).
-    pub alpha: f32, // 64
+    pub alpha: f32, // 112
     /// With `ALPHA_MASK`: coverage below this is a hole.
-    pub alpha_cutoff: f32, // 68
+    pub alpha_cutoff: f32, // 116
     /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot: slot `i` at bit `5 i`.
-    pub samplers: u32, // 72
-    pub _pad: u32, // 76
+    pub samplers: u32, // 120
+    pub _pad: u32, // 124
     /// The images, indexed by `SLOT_*`: base colour (sRGB), metallic-roughness (B metal, G rough;
     /// linear), tangent-space normals (linear), emission (sRGB).
-    pub textures: [TextureSlot; 4], // 80
+    pub textures: [TextureSlot; 4], // 128
 }
+
+/// The size of `Material::lobe` in 16-byte words: the largest kind's block (`PbrLobe`).
+pub const LOBE_VEC4S: usize = 5;
 
 impl Default for Material {
     fn default() -> Self {
@@ -119,7 +122,7 @@ impl Default for Material {
             kind: 0,
             emission: [0.0; 3],
             flags: 0,
-            lobe: [[0.0; 4]; 2],
+            lobe: [[0.0; 4]; LOBE_VEC4S],
             alpha: 1.0,
             alpha_cutoff: 0.0,
             samplers: 0,
@@ -148,17 +151,19 @@ impl Material {
 
     /// Writes `lobe` as this material's parameter block.
     pub fn set_lobe<L: Lobe>(&mut self, lobe: L) {
-        self.lobe = [[0.0; 4]; 2];
+        self.lobe = [[0.0; 4]; LOBE_VEC4S];
         bytemuck::bytes_of_mut(&mut self.lobe)[..size_of::<L>()]
             .copy_from_slice(bytemuck::bytes_of(&lobe));
     }
 }
 
-/// A kind's parameter block in `Material::lobe` (at most its 32 bytes, all `f32`s).
+/// A kind's parameter block in `Material::lobe` (at most its `16 LOBE_VEC4S` bytes, all `f32`s).
 pub trait Lobe: Pod {}
 
 const _: () = assert!(
-    size_of::<MetalLobe>() <= 32 && size_of::<DielectricLobe>() <= 32 && size_of::<PbrLobe>() <= 32
+    size_of::<MetalLobe>() <= 16 * LOBE_VEC4S
+        && size_of::<DielectricLobe>() <= 16 * LOBE_VEC4S
+        && size_of::<PbrLobe>() <= 16 * LOBE_VEC4S
 );
 
 /// `MaterialKind::Metal`'s parameters.
@@ -193,6 +198,19 @@ pub struct PbrLobe {
     pub absorption: [f32; 3], // 16
     /// The normal map's xy scale.
     pub normal_scale: f32, // 28
+    /// `KHR_materials_specular`'s colour: scales the dielectric F0 (which stays ≤ 1).
+    pub specular_color: [f32; 3], // 32
+    /// `KHR_materials_specular`'s strength in [0, 1]: scales the dielectric F0 and F90.
+    pub specular: f32, // 44
+    /// The sheen layer's colour (`math::sheen`; black: no sheen).
+    pub sheen_color: [f32; 3], // 48
+    /// The sheen's roughness in [0, 1] (α = roughness²).
+    pub sheen_roughness: f32, // 60
+    /// The clear coat's weight in [0, 1] (`math::coat`; 0: no coat).
+    pub clearcoat: f32, // 64
+    /// The clear coat's roughness in [0, 1] (α = roughness²).
+    pub clearcoat_roughness: f32, // 68
+    pub _pad: [f32; 2], // 72
 }
 impl Lobe for PbrLobe {}
 
@@ -453,7 +471,14 @@ pub fn layouts() -> Vec<StructLayout> {
                 transmission,
                 ior,
                 absorption,
-                normal_scale
+                normal_scale,
+                specular_color,
+                specular,
+                sheen_color,
+                sheen_roughness,
+                clearcoat,
+                clearcoat_roughness,
+                _pad
             ]
         ),
         layout!(

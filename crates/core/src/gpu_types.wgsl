@@ -46,12 +46,12 @@ struct Material {
     kind: u32,               // 12
     emission: vec3<f32>,     // 16
     flags: u32,              // 28: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND
-    lobe: array<vec4<f32>, 2>,  // 32: the kind's parameter block
-    alpha: f32,              // 64: the coverage factor
-    alpha_cutoff: f32,       // 68
-    samplers: u32,           // 72: SAMPLER_BITS a slot: wrap s, wrap t, nearest
-    _pad: u32,               // 76
-    textures: array<TextureSlot, 4>,  // 80: by SLOT_*
+    lobe: array<vec4<f32>, 5>,  // 32: the kind's parameter block
+    alpha: f32,              // 112: the coverage factor
+    alpha_cutoff: f32,       // 116
+    samplers: u32,           // 120: SAMPLER_BITS a slot: wrap s, wrap t, nearest
+    _pad: u32,               // 124
+    textures: array<TextureSlot, 4>,  // 128: by SLOT_*
 }
 
 // The kinds' parameter blocks: the words of Material.lobe in order (core::gpu_types::*Lobe).
@@ -70,6 +70,13 @@ struct PbrLobe {
     ior: f32,                // 12
     absorption: vec3<f32>,   // 16
     normal_scale: f32,       // 28
+    specular_color: vec3<f32>,  // 32: KHR_materials_specular's colour (scales F0)
+    specular: f32,           // 44: its strength (scales F0 and F90)
+    sheen_color: vec3<f32>,  // 48: black: no sheen
+    sheen_roughness: f32,    // 60
+    clearcoat: f32,          // 64: 0: no coat
+    clearcoat_roughness: f32,  // 68
+    _pad: vec2<f32>,         // 72
 }
 
 fn metal_lobe(m: Material) -> MetalLobe {
@@ -81,7 +88,9 @@ fn dielectric_lobe(m: Material) -> DielectricLobe {
 }
 
 fn pbr_lobe(m: Material) -> PbrLobe {
-    return PbrLobe(m.lobe[0].x, m.lobe[0].y, m.lobe[0].z, m.lobe[0].w, m.lobe[1].xyz, m.lobe[1].w);
+    return PbrLobe(m.lobe[0].x, m.lobe[0].y, m.lobe[0].z, m.lobe[0].w, m.lobe[1].xyz, m.lobe[1].w,
+                   m.lobe[2].xyz, m.lobe[2].w, m.lobe[3].xyz, m.lobe[3].w, m.lobe[4].x, m.lobe[4].y,
+                   m.lobe[4].zw);
 }
 
 const THIN_WALLED: u32 = 1u;

@@ -65,6 +65,21 @@ pub struct Pbr {
     pub alpha: f32,
     /// `AlphaMode::Mask`: coverage below this is a hole (glTF's default 0.5).
     pub alpha_cutoff: f32,
+    /// `KHR_materials_specular`'s strength in [0, 1]: scales the dielectric reflectance at normal
+    /// (F0) and grazing (F90) incidence; 1 keeps the exact Fresnel of `ior`.
+    pub specular: f32,
+    /// `KHR_materials_specular`'s colour: F0 becomes min(F0(ior) · colour, 1) · `specular`.
+    pub specular_color: Rgb,
+    /// `KHR_materials_clearcoat`'s weight in [0, 1]: a smooth-to-rough GGX dielectric coat (IOR 1.5)
+    /// over the whole material (`math::coat`).
+    pub clearcoat: f32,
+    /// The coat's roughness in [0, 1] (α = roughness²).
+    pub clearcoat_roughness: f32,
+    /// `KHR_materials_sheen`'s colour, each channel in [0, 1]: a Charlie-distribution sheen layer
+    /// between the coat and the base (`math::sheen`); black is no sheen.
+    pub sheen_color: Rgb,
+    /// The sheen's roughness in [0, 1] (α = roughness²).
+    pub sheen_roughness: f32,
 }
 
 /// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
@@ -102,6 +117,12 @@ impl Default for Pbr {
             alpha_mode: AlphaMode::Opaque,
             alpha: 1.0,
             alpha_cutoff: 0.5,
+            specular: 1.0,
+            specular_color: [1.0; 3],
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
+            sheen_color: [0.0; 3],
+            sheen_roughness: 0.0,
         }
     }
 }
@@ -200,6 +221,13 @@ impl Pbr {
         unit("roughness", self.roughness)?;
         unit("transmission", self.transmission)?;
         unit("alpha", self.alpha)?;
+        unit("specular", self.specular)?;
+        unit("clearcoat", self.clearcoat)?;
+        unit("clearcoat_roughness", self.clearcoat_roughness)?;
+        unit("sheen_roughness", self.sheen_roughness)?;
+        for c in self.sheen_color {
+            unit("sheen_color", c)?;
+        }
         if !self.alpha_cutoff.is_finite() {
             return Err(format!(
                 "{what}: pbr alpha_cutoff must be finite, got {}",
@@ -209,6 +237,7 @@ impl Pbr {
         colour("base_color", &self.base_color)?;
         colour("attenuation_color", &self.attenuation_color)?;
         colour("emission", &self.emission)?;
+        colour("specular_color", &self.specular_color)?;
         if !(self.ior.is_finite() && self.ior >= 1.0) {
             return Err(format!("{what}: pbr ior must be >= 1, got {}", self.ior));
         }

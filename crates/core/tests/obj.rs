@@ -178,6 +178,17 @@ fn mtl_mapping_rules() {
         }),
         "glass with Pr: rough glass"
     );
+    assert_eq!(
+        material_of("Kd 0.5 0.1 0.1\nPc 0.8\nPcr 0.05\nPs 0.3 0.2 2"),
+        pbr(rt_core::material::Pbr {
+            base_color: [0.5, 0.1, 0.1],
+            clearcoat: 0.8,
+            clearcoat_roughness: 0.05,
+            sheen_color: [0.3, 0.2, 1.0],
+            ..Default::default()
+        }),
+        "clear coat and sheen (clamped to [0, 1]) make a PBR material"
+    );
     let Material::Metal { fuzz, .. } = material_of("Ks 1 1 1\nillum 3\nNs 198") else {
         panic!("metal expected")
     };

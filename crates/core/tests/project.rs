@@ -101,6 +101,12 @@ fn rich_scene() -> Scene {
         alpha_mode: rt_core::material::AlphaMode::Mask,
         alpha: 0.8,
         alpha_cutoff: 0.3,
+        specular: 0.6,
+        specular_color: [1.2, 0.9, 0.5],
+        clearcoat: 0.7,
+        clearcoat_roughness: 0.15,
+        sheen_color: [0.3, 0.2, 0.9],
+        sheen_roughness: 0.45,
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,

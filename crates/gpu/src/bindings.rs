@@ -75,7 +75,7 @@ pub const TEXELS: Binding = shared(5, "texels", Access::Read);
 pub const EMITTERS: Binding = shared(8, "emitters", Access::Read);
 pub const DELTA_LIGHTS: Binding = shared(9, "delta_lights", Access::Read);
 pub const ENVIRONMENT: Binding = shared(20, "environment", Access::Read);
-pub const GGX_ENERGY: Binding = shared(21, "ggx_energy", Access::Read);
+pub const ALBEDO_TABLES: Binding = shared(21, "albedo_tables", Access::Read);
 pub const TANGENTS: Binding = shared(22, "tangents", Access::Read);
 /// Adaptive sampling's per-pixel stop marks (written by the CPU between batches).
 pub const PIXEL_DONE: Binding = shared(18, "pixel_done", Access::Read);
@@ -133,7 +133,7 @@ pub const ALL: [Binding; 25] = [
     PIXEL_DONE,
     ACTIVE_SLOTS,
     ENVIRONMENT,
-    GGX_ENERGY,
+    ALBEDO_TABLES,
     TANGENTS,
     ACCUM[1],
     ACCUM[2],

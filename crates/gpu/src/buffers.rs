@@ -38,8 +38,8 @@ pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wg
             upload(ctx, "environment", &scene.env_texels)?,
         ),
         (
-            bindings::GGX_ENERGY,
-            upload(ctx, "ggx energy", &scene.ggx_energy)?,
+            bindings::ALBEDO_TABLES,
+            upload(ctx, "albedo tables", &scene.albedo_tables)?,
         ),
         (
             bindings::TANGENTS,

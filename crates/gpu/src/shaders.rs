@@ -30,6 +30,15 @@ pub const FILES: &[(&str, &str)] = &[
         rt_core::math::microfacet::WGSL,
     ),
     ("crates/core/src/math/bsdf.wgsl", rt_core::math::bsdf::WGSL),
+    ("crates/core/src/math/coat.wgsl", rt_core::math::coat::WGSL),
+    (
+        "crates/core/src/math/sheen.wgsl",
+        rt_core::math::sheen::WGSL,
+    ),
+    (
+        "crates/core/src/math/layers.wgsl",
+        rt_core::math::layers::WGSL,
+    ),
     (
         "crates/core/src/environment.wgsl",
         rt_core::environment::WGSL,
@@ -98,6 +107,9 @@ macro_rules! tracing_module {
                 "crates/core/src/reference/texture.wgsl",
                 "crates/core/src/math/microfacet.wgsl",
                 "crates/core/src/math/bsdf.wgsl",
+                "crates/core/src/math/coat.wgsl",
+                "crates/core/src/math/sheen.wgsl",
+                "crates/core/src/math/layers.wgsl",
                 "crates/core/src/environment.wgsl",
                 "crates/core/src/reference/surface.wgsl",
                 "crates/core/src/reference/light.wgsl",

@@ -5,9 +5,11 @@
 //! 2. `illum` 4, 6 or 7, or `d` < 1, or `Tf` → `Dielectric { ior: Ni (1.5 if absent), tint: Tf (white) }`,
 //!    or with `Pr` > 0 rough glass: `Pbr { base_color: Tf (white), roughness: Pr, ior: Ni (1.5),
 //!    transmission: 1 }`.
-//! 3. `Pr` or `Pm` (the PBR extension of MTL) → `Pbr { base_color: Kd (or Ks if non-zero, for a
-//!    metal), texture: map_Kd, metallic: Pm (1 with `illum 3`, else 0), roughness: Pr, else
-//!    √α with α = √(2/(Ns+2)) (Walter's Blinn–Phong match), else 0.5, ior: Ni (1.5) }`.
+//! 3. `Pr`, `Pm`, `Pc` or `Ps` (the PBR extension of MTL) → `Pbr { base_color: Kd (or Ks if
+//!    non-zero, for a metal), texture: map_Kd, metallic: Pm (1 with `illum 3`, else 0), roughness:
+//!    Pr, else √α with α = √(2/(Ns+2)) (Walter's Blinn–Phong match), else 0.5, ior: Ni (1.5),
+//!    clearcoat: Pc, clearcoat_roughness: Pcr, sheen_color: Ps (one value: grey) }`, the layer
+//!    values clamped to [0, 1].
 //! 4. `illum 3` → `Metal { albedo: Ks if non-zero else Kd, fuzz: √(2/(Ns+2)) (0 without Ns) }`.
 //! 5. otherwise → `Lambertian { albedo: Kd (0.8 grey if absent), texture: map_Kd }`.
 //!
@@ -336,6 +338,15 @@ fn rgb_param(m: &tobj::Material, key: &str) -> Option<Rgb> {
     })
 }
 
+/// `v` clamped to [0, 1] (0 if not finite).
+fn unit(v: f32) -> f32 {
+    if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
 fn is_nonzero(c: &Rgb) -> bool {
     c.iter().any(|&v| v > 0.0)
 }
@@ -369,7 +380,8 @@ pub fn material_from_mtl(m: &tobj::Material, texture: Option<usize>) -> Material
     let kd = m.diffuse.unwrap_or([0.8; 3]);
     let blinn_alpha = m.shininess.map(|ns| (2.0 / (ns.max(0.0) + 2.0)).sqrt());
     let (pm, pr) = (param(m, "Pm").map(|v| v[0]), param(m, "Pr").map(|v| v[0]));
-    if pm.is_some() || pr.is_some() {
+    let (pc, ps) = (param(m, "Pc").map(|v| v[0]), rgb_param(m, "Ps"));
+    if pm.is_some() || pr.is_some() || pc.is_some() || ps.is_some() {
         let metallic = pm
             .unwrap_or(if illum == 3 { 1.0 } else { 0.0 })
             .clamp(0.0, 1.0);
@@ -385,6 +397,9 @@ pub fn material_from_mtl(m: &tobj::Material, texture: Option<usize>) -> Material
             metallic,
             roughness: roughness.clamp(0.0, 1.0),
             ior: m.optical_density.filter(|n| *n >= 1.0).unwrap_or(1.5),
+            clearcoat: unit(pc.unwrap_or(0.0)),
+            clearcoat_roughness: unit(param(m, "Pcr").map_or(0.0, |v| v[0])),
+            sheen_color: ps.unwrap_or([0.0; 3]).map(unit),
             ..Default::default()
         }));
     }

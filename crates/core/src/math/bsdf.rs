@@ -1,10 +1,19 @@
-//! The `Pbr` material's BSDF (glTF 2.0 metallic-roughness, Appendix B, with exact dielectric
-//! Fresnel and real refraction), mirrored one-to-one in `bsdf.wgsl` beside it. Directions are
-//! in the shading frame (normal +z) and point away from the surface; `wo.z > 0`.
+//! The `Pbr` material's base BSDF (glTF 2.0 metallic-roughness, Appendix B, with exact dielectric
+//! Fresnel, real refraction and `KHR_materials_specular`), mirrored one-to-one in `bsdf.wgsl`
+//! beside it. The layers above it (clear coat, sheen) are `math::layers`. Directions are in the
+//! shading frame (normal +z) and point away from the surface; `wo.z > 0`.
 //!
 //! f = m · F_schlick(c, ωo·h) · k_ms · f_spec                      (metal)
 //!   + (1 − m) · [F(ωo·h) · f_spec + (1 − t)(1 − F(ωo·h)) · c/π]   (dielectric over diffuse)
 //!   + (1 − m) · t · c · f_walter                                  (rough refraction, ωi below)
+//!
+//! F is the dielectric's Fresnel as `KHR_materials_specular` shapes it, in Cycles' generalised form
+//! that keeps total internal reflection: with F_η the exact unpolarised Fresnel of relative index
+//! η and R0 = ((η − 1)/(η + 1))² its value at normal incidence,
+//!   F = F0′ + (F90′ − F0′) · (F_η − R0)/(1 − R0),  F0′ = min(R0 · specular_color, 1) · specular,
+//!   F90′ = specular,
+//! an RGB reflectance that is exactly F_η for the defaults (specular 1, white); the same F splits
+//! reflection from diffuse and transmission per channel.
 //!
 //! A thin-walled surface (a sheet without a volume behind it: glTF's transmission without
 //! `KHR_materials_volume`) lets light through without bending it: the slab's total reflectance
@@ -12,16 +21,17 @@
 //! sheet) replaces F for the transmitted part's reflection, and its transmission is the GGX
 //! reflection lobe mirrored to the other side, (1 − R') D G2 / (4 cosθo) with ωi's z flipped.
 //!
-//! with f_spec = D G2 / (4 cosθo cosθi) (GGX, height-correlated Smith), F the unpolarised dielectric
-//! Fresnel of relative index η, f_walter Walter et al. 2007's BTDF (its own 1 − F, and 1/η² for
-//! radiance), and k_ms = 1 + c (1/E(μo) − 1) Turquin 2019's multiple-scattering compensation of the
-//! conductor, E the white conductor's directional albedo (`microfacet::energy_table`).
+//! with f_spec = D G2 / (4 cosθo cosθi) (GGX, height-correlated Smith), f_walter Walter et al.
+//! 2007's BTDF (its own 1 − F, and 1/η² for radiance), and k_ms = 1 + c (1/E(μo) − 1) Turquin
+//! 2019's multiple-scattering compensation of the conductor, E the white conductor's directional
+//! albedo (`microfacet::energy_table`).
 //!
 //! Sampling is one-sample MIS over three strategies picked with probabilities that depend on ωo
-//! only (so the pdf of any ωi can be evaluated for MIS with light sampling):
-//!   q_r = m + (1 − m)(1 − t) F(cosθo)  visible-normal reflection,
-//!   q_g = (1 − m) t                    visible normal, then reflect with F(ωo·m) or refract,
-//!   q_d = (1 − m)(1 − t)(1 − F(cosθo)) cosine-weighted diffuse,
+//! only (so the pdf of any ωi can be evaluated for MIS with light sampling), F̄ the mean of F's
+//! channels:
+//!   q_r = m + (1 − m)(1 − t) F̄(cosθo)  visible-normal reflection,
+//!   q_g = (1 − m) t                    visible normal, then reflect with F̄(ωo·m) or refract,
+//!   q_d = (1 − m)(1 − t)(1 − F̄(cosθo)) cosine-weighted diffuse,
 //! and the weight is f cosθi / Σ q_k p_k(ωi) (these sum to 1).
 
 /// The WGSL twin of this module, `bsdf.wgsl` beside it (composed into the kernels by
@@ -44,16 +54,40 @@ pub struct Pbr {
     pub transmission: f32,
     /// Turquin's factor k_ms for the conductor lobe.
     pub ms: Vec3,
+    /// The dielectric's reflectance at normal incidence, F0′ (`KHR_materials_specular`).
+    pub f0: Vec3,
+    /// The dielectric's reflectance at grazing incidence, F90′.
+    pub f90: f32,
     pub q_reflect: f32,
     pub q_glass: f32,
     /// Thin-walled transmission (see above).
     pub thin: bool,
 }
 
+/// R0 = ((η − 1)/(η + 1))², the exact Fresnel at normal incidence (the same from either side).
+pub fn normal_reflectance(eta: f32) -> f32 {
+    let r = (eta - 1.0) / (eta + 1.0);
+    r * r
+}
+
+/// F of the module doc: the exact Fresnel remapped from [R0, 1] onto [F0′, F90′].
+pub fn fresnel_specular(cos: f32, eta: f32, f0: Vec3, f90: f32) -> Vec3 {
+    let r0 = normal_reflectance(eta);
+    let x = if r0 < 1.0 {
+        ((fresnel_dielectric(cos, eta) - r0) / (1.0 - r0)).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    f0 + (Vec3::splat(f90) - f0) * x
+}
+
+fn mean(v: Vec3) -> f32 {
+    (v.x + v.y + v.z) * (1.0 / 3.0)
+}
+
 /// The Fresnel reflectance the transmissive part uses: the interface's, or a thin sheet's 2R/(1+R).
-fn glass_fresnel(cos: f32, eta: f32, thin: bool) -> f32 {
-    let r = fresnel_dielectric(cos, eta);
-    if thin { 2.0 * r / (1.0 + r) } else { r }
+fn glass_fresnel(f: Vec3, thin: bool) -> Vec3 {
+    if thin { 2.0 * f / (Vec3::ONE + f) } else { f }
 }
 
 /// A direction drawn from the BSDF, with f cosθi / pdf and the pdf (solid angle).
@@ -75,19 +109,33 @@ impl Pbr {
         cos_o: f32,
         energy: f32,
     ) -> Self {
-        let m = metallic;
-        let t = transmission;
-        let fs = fresnel_dielectric(cos_o, eta);
         Pbr {
             base,
-            metallic: m,
+            metallic,
             alpha: alpha_of_roughness(roughness),
             eta,
-            transmission: t,
+            transmission,
             ms: Vec3::ONE + base * (1.0 / energy.max(1e-3) - 1.0),
+            f0: Vec3::splat(normal_reflectance(eta)),
+            f90: 1.0,
+            q_reflect: 0.0,
+            q_glass: 0.0,
+            thin: false,
+        }
+        .with_specular(Vec3::ONE, 1.0, cos_o)
+    }
+
+    /// This surface with `KHR_materials_specular`'s colour and strength (see above).
+    pub fn with_specular(self, color: Vec3, specular: f32, cos_o: f32) -> Self {
+        let (m, t) = (self.metallic, self.transmission);
+        let f0 = (normal_reflectance(self.eta) * color).min(Vec3::ONE) * specular;
+        let fs = mean(fresnel_specular(cos_o, self.eta, f0, specular));
+        Pbr {
+            f0,
+            f90: specular,
             q_reflect: m + (1.0 - m) * (1.0 - t) * fs,
             q_glass: (1.0 - m) * t,
-            thin: false,
+            ..self
         }
     }
 
@@ -98,6 +146,10 @@ impl Pbr {
 
     fn q_diffuse(&self) -> f32 {
         (1.0 - self.q_reflect - self.q_glass).max(0.0)
+    }
+
+    fn fresnel(&self, cos: f32) -> Vec3 {
+        fresnel_specular(cos, self.eta, self.f0, self.f90)
     }
 
     /// f · |cosθi| and the pdf of `sample` at `wi`.
@@ -116,14 +168,14 @@ impl Pbr {
             let spec_cos = d * ggx_g2(wo, wi, a) / (4.0 * wo.z);
             let pdf_reflect = ggx_g1(wo, a) * d / (4.0 * wo.z);
             let f_metal = fresnel_schlick(self.base, woh) * self.ms;
-            let f_d = fresnel_dielectric(woh, self.eta);
-            let f_g = glass_fresnel(woh, self.eta, self.thin);
+            let f_d = self.fresnel(woh);
+            let f_g = glass_fresnel(f_d, self.thin);
             let diffuse = self.base * (wi.z * std::f32::consts::FRAC_1_PI);
             let layer = (1.0 - t) * f_d + t * f_g;
             let f = f_metal * (m * spec_cos)
-                + (Vec3::splat(layer * spec_cos) + diffuse * ((1.0 - t) * (1.0 - f_d))) * (1.0 - m);
+                + (layer * spec_cos + diffuse * (1.0 - t) * (Vec3::ONE - f_d)) * (1.0 - m);
             let pdf = self.q_reflect * pdf_reflect
-                + self.q_glass * pdf_reflect * f_g
+                + self.q_glass * pdf_reflect * mean(f_g)
                 + self.q_diffuse() * wi.z * std::f32::consts::FRAC_1_PI;
             return (f, pdf);
         }
@@ -138,10 +190,10 @@ impl Pbr {
                 return (Vec3::ZERO, 0.0);
             }
             let d = ggx_d(h, a);
-            let t_g = 1.0 - glass_fresnel(woh, self.eta, true);
+            let t_g = Vec3::ONE - glass_fresnel(self.fresnel(woh), true);
             let spec_cos = d * ggx_g2(wo, mirrored, a) / (4.0 * wo.z);
-            let pdf = self.q_glass * ggx_g1(wo, a) * d / (4.0 * wo.z) * t_g;
-            return (self.base * ((1.0 - m) * t * t_g * spec_cos), pdf);
+            let pdf = self.q_glass * ggx_g1(wo, a) * d / (4.0 * wo.z) * mean(t_g);
+            return (self.base * t_g * ((1.0 - m) * t * spec_cos), pdf);
         }
         let mut h = (wo + wi * self.eta).normalize_or_zero();
         if h.z < 0.0 {
@@ -151,54 +203,51 @@ impl Pbr {
         if !(woh > 0.0 && wih < 0.0) {
             return (Vec3::ZERO, 0.0);
         }
-        let f_d = fresnel_dielectric(woh, self.eta);
+        let t_d = Vec3::ONE - self.fresnel(woh);
         let sqrt_denom = wih + woh / self.eta;
         let denom = sqrt_denom * sqrt_denom;
         let d = ggx_d(h, a);
-        let ft_cos = d * ggx_g2(wo, wi, a) * (1.0 - f_d) * (wih * woh).abs()
-            / (wo.z * denom * self.eta * self.eta);
-        let pdf = self.q_glass * vndf_pdf(wo, h, a) * (1.0 - f_d) * wih.abs() / denom;
-        (self.base * ((1.0 - m) * t * ft_cos), pdf)
+        let ft_cos =
+            d * ggx_g2(wo, wi, a) * (wih * woh).abs() / (wo.z * denom * self.eta * self.eta);
+        let pdf = self.q_glass * vndf_pdf(wo, h, a) * mean(t_d) * wih.abs() / denom;
+        (self.base * t_d * ((1.0 - m) * t * ft_cos), pdf)
+    }
+
+    /// The direction `sample` draws for three uniform numbers, or `None` where it draws none.
+    pub fn sample_direction(&self, wo: Vec3, u_lobe: f32, u1: f32, u2: f32) -> Option<Vec3> {
+        // A reflection below the horizon or a refraction above it is no sample (`eval` would read
+        // it as the other event, whose density it does not have).
+        if u_lobe < self.q_reflect + self.q_glass {
+            let m = sample_vndf(wo, self.alpha, u1, u2);
+            let reflects = u_lobe < self.q_reflect
+                || (u_lobe - self.q_reflect)
+                    < mean(glass_fresnel(self.fresnel(wo.dot(m)), self.thin)) * self.q_glass;
+            if reflects || self.thin {
+                let wi = 2.0 * wo.dot(m) * m - wo;
+                if wi.z <= 0.0 {
+                    return None;
+                }
+                return Some(if reflects {
+                    wi
+                } else {
+                    Vec3::new(wi.x, wi.y, -wi.z)
+                });
+            }
+            let wi = refract(-wo, m, self.eta);
+            return (wi.z < 0.0).then_some(wi);
+        }
+        let r = u1.sqrt();
+        let phi = std::f32::consts::TAU * u2;
+        Some(Vec3::new(
+            r * phi.cos(),
+            r * phi.sin(),
+            (1.0 - u1).max(0.0).sqrt(),
+        ))
     }
 
     /// A direction for three uniform numbers, or `None` where the sample carries nothing.
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u1: f32, u2: f32) -> Option<BsdfSample> {
-        // A reflection below the horizon or a refraction above it is no sample (`eval` would read
-        // it as the other event, whose density it does not have).
-        let wi = if u_lobe < self.q_reflect {
-            let m = sample_vndf(wo, self.alpha, u1, u2);
-            let wi = 2.0 * wo.dot(m) * m - wo;
-            if wi.z <= 0.0 {
-                return None;
-            }
-            wi
-        } else if u_lobe < self.q_reflect + self.q_glass {
-            let m = sample_vndf(wo, self.alpha, u1, u2);
-            let f = glass_fresnel(wo.dot(m), self.eta, self.thin);
-            if (u_lobe - self.q_reflect) < f * self.q_glass {
-                let wi = 2.0 * wo.dot(m) * m - wo;
-                if wi.z <= 0.0 {
-                    return None;
-                }
-                wi
-            } else if self.thin {
-                let wi = 2.0 * wo.dot(m) * m - wo;
-                if wi.z <= 0.0 {
-                    return None;
-                }
-                Vec3::new(wi.x, wi.y, -wi.z)
-            } else {
-                let wi = refract(-wo, m, self.eta);
-                if wi.z >= 0.0 {
-                    return None;
-                }
-                wi
-            }
-        } else {
-            let r = u1.sqrt();
-            let phi = std::f32::consts::TAU * u2;
-            Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
-        };
+        let wi = self.sample_direction(wo, u_lobe, u1, u2)?;
         let (f, pdf) = self.eval(wo, wi);
         let weight = f / pdf;
         (pdf > 0.0 && weight.is_finite()).then_some(BsdfSample { wi, weight, pdf })
@@ -209,8 +258,7 @@ impl Pbr {
 mod tests {
     use super::*;
     use crate::math::microfacet::{energy_lookup, energy_table};
-    use crate::math::rng::Rng;
-    use crate::math::stats::{chi2_limit, pearson};
+    use crate::math::stats::{check_sphere_sampling, estimate};
 
     fn pbr(metallic: f32, roughness: f32, eta: f32, transmission: f32, cos_o: f32) -> Pbr {
         let energy = energy_lookup(energy_table(), cos_o, roughness);
@@ -229,35 +277,6 @@ mod tests {
         Vec3::new((1.0 - cos_o * cos_o).sqrt(), 0.0, cos_o)
     }
 
-    const THETA_BINS: usize = 20;
-    const PHI_BINS: usize = 24;
-
-    fn bin_of(w: Vec3) -> usize {
-        let c = ((w.z + 1.0) * 0.5 * THETA_BINS as f32).clamp(0.0, THETA_BINS as f32 - 1.0);
-        let phi = w.y.atan2(w.x).rem_euclid(std::f32::consts::TAU);
-        let p = (phi / std::f32::consts::TAU * PHI_BINS as f32).min(PHI_BINS as f32 - 1.0);
-        c as usize * PHI_BINS + p as usize
-    }
-
-    /// Each (cosθ, φ) bin's probability: the pdf integrated by a 24 × 24 midpoint rule.
-    fn expected_masses(b: &Pbr, wo: Vec3) -> Vec<f64> {
-        const SUB: usize = 24;
-        let mut masses = vec![0.0f64; THETA_BINS * PHI_BINS];
-        let dc = 2.0 / (THETA_BINS * SUB) as f64;
-        let dphi = std::f64::consts::TAU / (PHI_BINS * SUB) as f64;
-        for i in 0..THETA_BINS * SUB {
-            let c = -1.0 + (i as f64 + 0.5) * dc;
-            let s = (1.0 - c * c).max(0.0).sqrt();
-            for j in 0..PHI_BINS * SUB {
-                let phi = (j as f64 + 0.5) * dphi;
-                let wi = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, c as f32);
-                let (_, pdf) = b.eval(wo, wi);
-                masses[(i / SUB) * PHI_BINS + j / SUB] += f64::from(pdf) * dc * dphi;
-            }
-        }
-        masses
-    }
-
     /// The sampled directions follow the pdf `eval` reports, including the mass of samples that
     /// produce nothing (refraction blocked by total internal reflection): chi-square over 480
     /// sphere bins plus that outcome, Šidák-corrected over the five configurations.
@@ -273,32 +292,16 @@ mod tests {
             ("thin-walled rough glass", 0.0, 0.4, 1.5, 1.0, 0.6),
             ("half-transmissive thin sheet", 0.0, 0.5, 1.5, 0.5, 0.7),
         ];
-        let n = 400_000usize;
         for (k, &(what, m, r, eta, t, cos_o)) in cases.iter().enumerate() {
             let b = pbr(m, r, eta, t, cos_o).thin_walled(what.contains("thin"));
             let wo = wo_at(cos_o);
-            let mut counts = vec![0.0f64; THETA_BINS * PHI_BINS + 1];
-            let mut rng = Rng::new(k as u32, 0, 77);
-            for _ in 0..n {
-                let (a, u1, u2) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
-                match b.sample(wo, a, u1, u2) {
-                    Some(s) => counts[bin_of(s.wi)] += 1.0,
-                    None => counts[THETA_BINS * PHI_BINS] += 1.0,
-                }
-            }
-            let masses = expected_masses(&b, wo);
-            let total: f64 = masses.iter().sum();
-            assert!(
-                total <= 1.0 + 5e-3,
-                "{what}: the pdf integrates to {total} > 1"
-            );
-            let mut expected: Vec<f64> = masses.iter().map(|p| p * n as f64).collect();
-            expected.push((1.0 - total).max(0.0) * n as f64);
-            let (x, dof) = pearson(&counts, &expected);
-            let limit = chi2_limit(dof, cases.len(), 1e-3);
-            assert!(
-                x < limit,
-                "{what}: chi-square {x:.1} over {dof} dof exceeds {limit:.1}"
+            check_sphere_sampling(
+                what,
+                400_000,
+                cases.len(),
+                k as u32,
+                |a, u1, u2| b.sample(wo, a, u1, u2).map(|s| s.wi),
+                |wi| b.eval(wo, wi).1,
             );
         }
     }
@@ -306,21 +309,11 @@ mod tests {
     /// Energy a white surface returns for light from `wo`: E[f cos / pdf], with refracted samples'
     /// 1/η² radiance scaling undone (it moves radiance, not energy). Returns (mean, standard error).
     fn albedo(b: &Pbr, wo: Vec3, n: usize) -> (f64, f64) {
-        let mut rng = Rng::new(3, 0, 11);
-        let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
-        for _ in 0..n {
-            let (a, u1, u2) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
-            let w = match b.sample(wo, a, u1, u2) {
-                Some(s) if s.wi.z < 0.0 && !b.thin => f64::from(s.weight.x * b.eta * b.eta),
-                Some(s) => f64::from(s.weight.x),
-                None => 0.0,
-            };
-            sum += w;
-            sum_sq += w * w;
-        }
-        let mean = sum / n as f64;
-        let var = (sum_sq / n as f64 - mean * mean).max(0.0);
-        (mean, (var / n as f64).sqrt())
+        estimate(n, 3, |a, u1, u2| match b.sample(wo, a, u1, u2) {
+            Some(s) if s.wi.z < 0.0 && !b.thin => f64::from(s.weight.x * b.eta * b.eta),
+            Some(s) => f64::from(s.weight.x),
+            None => 0.0,
+        })
     }
 
     /// White furnace of the BSDF itself: a white rough conductor keeps at least 0.9 of the energy
@@ -385,5 +378,44 @@ mod tests {
         assert!(e < 0.8, "E(0.2, 1) = {e}");
         let e0 = energy_lookup(energy_table(), 0.9, 0.0);
         assert!((e0 - 1.0).abs() < 2e-3, "a mirror keeps everything: {e0}");
+    }
+
+    /// `KHR_materials_specular`: the defaults keep the exact Fresnel (total internal reflection
+    /// included); strength 0 removes the dielectric's reflection, so a white diffuse base then
+    /// returns everything (a white furnace at 1); a colour scales F0 per channel.
+    #[test]
+    fn specular_reshapes_the_dielectric_fresnel() {
+        for eta in [1.5, 1.0 / 1.5, 1.33, 2.4] {
+            for k in 0..=50 {
+                let cos = k as f32 / 50.0;
+                let exact = fresnel_dielectric(cos, eta);
+                let f = fresnel_specular(cos, eta, Vec3::splat(normal_reflectance(eta)), 1.0);
+                assert!(
+                    (f - Vec3::splat(exact)).abs().max_element() < 1e-6,
+                    "η {eta} cos {cos}"
+                );
+                if exact == 1.0 {
+                    let tinted = fresnel_specular(cos, eta, Vec3::splat(0.1), 0.6);
+                    assert_eq!(tinted, Vec3::splat(0.6), "TIR keeps F90′");
+                }
+            }
+        }
+        let f0 = fresnel_specular(1.0, 1.5, Vec3::new(0.04, 0.02, 0.0), 1.0);
+        assert!((f0 - Vec3::new(0.04, 0.02, 0.0)).abs().max_element() < 1e-6);
+        assert_eq!(
+            fresnel_specular(0.7, 1.0, Vec3::ZERO, 0.0),
+            Vec3::ZERO,
+            "IOR 1"
+        );
+        for cos_o in [0.1, 0.5, 1.0] {
+            for roughness in [0.1, 0.6] {
+                let b = pbr(0.0, roughness, 1.5, 0.0, cos_o).with_specular(Vec3::ONE, 0.0, cos_o);
+                let (e, se) = albedo(&b, wo_at(cos_o), 100_000);
+                assert!(
+                    (e - 1.0).abs() <= 4.0 * se + 1e-4,
+                    "specular 0 over white, r {roughness} cos {cos_o}: {e:.5} ± {se:.5}"
+                );
+            }
+        }
     }
 }

@@ -1,10 +1,14 @@
-// The PBR material's BSDF; mirrors crates/core/src/math/bsdf.rs (equations there).
+// The PBR material's base BSDF (with KHR_materials_specular); mirrors crates/core/src/math/bsdf.rs
+// (equations there).
 
 struct PbrBsdf {
     base: vec3<f32>,
     metallic: f32,
     ms: vec3<f32>,
     alpha: f32,
+    // The dielectric's reflectance at normal incidence F0′ and at grazing incidence F90′.
+    f0: vec3<f32>,
+    f90: f32,
     eta: f32,
     transmission: f32,
     q_reflect: f32,
@@ -12,18 +16,54 @@ struct PbrBsdf {
     thin: bool,
 }
 
+// R0 = ((η − 1)/(η + 1))², the exact Fresnel at normal incidence.
+fn normal_reflectance(eta: f32) -> f32 {
+    let r = (eta - 1.0) / (eta + 1.0);
+    return r * r;
+}
+
+// The exact Fresnel remapped from [R0, 1] onto [F0′, F90′] (KHR_materials_specular, Cycles' form).
+fn fresnel_specular(cos_in: f32, eta: f32, f0: vec3<f32>, f90: f32) -> vec3<f32> {
+    let r0 = normal_reflectance(eta);
+    var x = 1.0;
+    if (r0 < 1.0) {
+        x = clamp((fresnel_dielectric(cos_in, eta) - r0) / (1.0 - r0), 0.0, 1.0);
+    }
+    return f0 + (vec3(f90) - f0) * x;
+}
+
+fn mean3(v: vec3<f32>) -> f32 {
+    return (v.x + v.y + v.z) * (1.0 / 3.0);
+}
+
 // The transmissive part's Fresnel: the interface's, or a thin sheet's 2R/(1+R).
-fn glass_fresnel(cos_in: f32, eta: f32, thin: bool) -> f32 {
-    let r = fresnel_dielectric(cos_in, eta);
-    return select(r, 2.0 * r / (1.0 + r), thin);
+fn glass_fresnel(f: vec3<f32>, thin: bool) -> vec3<f32> {
+    return select(f, 2.0 * f / (vec3(1.0) + f), thin);
 }
 
 fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmission: f32, cos_o: f32, energy: f32) -> PbrBsdf {
-    let fs = fresnel_dielectric(cos_o, eta);
-    let m = metallic;
-    let t = transmission;
-    return PbrBsdf(base, m, vec3(1.0) + base * (1.0 / max(energy, 1e-3) - 1.0), alpha_of_roughness(roughness),
-                   eta, t, m + (1.0 - m) * (1.0 - t) * fs, (1.0 - m) * t, false);
+    var b: PbrBsdf;
+    b.base = base;
+    b.metallic = metallic;
+    b.ms = vec3(1.0) + base * (1.0 / max(energy, 1e-3) - 1.0);
+    b.alpha = alpha_of_roughness(roughness);
+    b.eta = eta;
+    b.transmission = transmission;
+    b.thin = false;
+    return pbr_with_specular(b, vec3(1.0), 1.0, cos_o);
+}
+
+// b with KHR_materials_specular's colour and strength.
+fn pbr_with_specular(b_in: PbrBsdf, color: vec3<f32>, specular: f32, cos_o: f32) -> PbrBsdf {
+    var b = b_in;
+    let m = b.metallic;
+    let t = b.transmission;
+    b.f0 = min(normal_reflectance(b.eta) * color, vec3(1.0)) * specular;
+    b.f90 = specular;
+    let fs = mean3(fresnel_specular(cos_o, b.eta, b.f0, specular));
+    b.q_reflect = m + (1.0 - m) * (1.0 - t) * fs;
+    b.q_glass = (1.0 - m) * t;
+    return b;
 }
 
 // f |cos θi| in xyz and the sampling pdf in w.
@@ -50,12 +90,12 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
         let spec_cos = d * ggx_g2(wo, wi, a) / (4.0 * wo.z);
         let pdf_reflect = ggx_g1(wo, a) * d / (4.0 * wo.z);
         let f_metal = fresnel_schlick(b.base, woh) * b.ms;
-        let f_d = fresnel_dielectric(woh, b.eta);
-        let f_g = glass_fresnel(woh, b.eta, b.thin);
+        let f_d = fresnel_specular(woh, b.eta, b.f0, b.f90);
+        let f_g = glass_fresnel(f_d, b.thin);
         let diffuse = b.base * (wi.z * (1.0 / PI));
         let layer = (1.0 - t) * f_d + t * f_g;
-        let f = f_metal * (m * spec_cos) + (vec3(layer * spec_cos) + diffuse * ((1.0 - t) * (1.0 - f_d))) * (1.0 - m);
-        let pdf = b.q_reflect * pdf_reflect + b.q_glass * pdf_reflect * f_g + q_diffuse * wi.z * (1.0 / PI);
+        let f = f_metal * (m * spec_cos) + (layer * spec_cos + diffuse * (1.0 - t) * (vec3(1.0) - f_d)) * (1.0 - m);
+        let pdf = b.q_reflect * pdf_reflect + b.q_glass * pdf_reflect * mean3(f_g) + q_diffuse * wi.z * (1.0 / PI);
         return vec4(f, pdf);
     }
     if (wi.z == 0.0 || b.q_glass <= 0.0) {
@@ -74,10 +114,10 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
             return vec4(0.0);
         }
         let d_t = ggx_d(h_t, a);
-        let t_g = 1.0 - glass_fresnel(woh_t, b.eta, true);
+        let t_g = vec3(1.0) - glass_fresnel(fresnel_specular(woh_t, b.eta, b.f0, b.f90), true);
         let spec_t = d_t * ggx_g2(wo, mirrored, a) / (4.0 * wo.z);
-        let pdf_t = b.q_glass * ggx_g1(wo, a) * d_t / (4.0 * wo.z) * t_g;
-        return vec4(b.base * ((1.0 - m) * t * t_g * spec_t), pdf_t);
+        let pdf_t = b.q_glass * ggx_g1(wo, a) * d_t / (4.0 * wo.z) * mean3(t_g);
+        return vec4(b.base * t_g * ((1.0 - m) * t * spec_t), pdf_t);
     }
     let hs = wo + wi * b.eta;
     let len2 = dot(hs, hs);
@@ -93,13 +133,13 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
     if (!(woh > 0.0 && wih < 0.0)) {
         return vec4(0.0);
     }
-    let f_d = fresnel_dielectric(woh, b.eta);
+    let t_d = vec3(1.0) - fresnel_specular(woh, b.eta, b.f0, b.f90);
     let sqrt_denom = wih + woh / b.eta;
     let denom = sqrt_denom * sqrt_denom;
     let d = ggx_d(h, a);
-    let ft_cos = d * ggx_g2(wo, wi, a) * (1.0 - f_d) * abs(wih * woh) / (wo.z * denom * b.eta * b.eta);
-    let pdf = b.q_glass * vndf_pdf(wo, h, a) * (1.0 - f_d) * abs(wih) / denom;
-    return vec4(b.base * ((1.0 - m) * t * ft_cos), pdf);
+    let ft_cos = d * ggx_g2(wo, wi, a) * abs(wih * woh) / (wo.z * denom * b.eta * b.eta);
+    let pdf = b.q_glass * vndf_pdf(wo, h, a) * mean3(t_d) * abs(wih) / denom;
+    return vec4(b.base * t_d * ((1.0 - m) * t * ft_cos), pdf);
 }
 
 struct BsdfSample {
@@ -110,42 +150,44 @@ struct BsdfSample {
     valid: bool,
 }
 
-fn pbr_sample(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32) -> BsdfSample {
-    var none: BsdfSample;
-    none.valid = false;
-    var wi: vec3<f32>;
+// The direction pbr_sample draws for three uniform numbers in xyz, w = 0 where it draws none.
+fn pbr_sample_direction(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32) -> vec4<f32> {
     if (u_lobe < b.q_reflect + b.q_glass) {
         let m = sample_vndf(wo, b.alpha, u1, u2);
         var reflects = u_lobe < b.q_reflect;
         if (!reflects) {
-            reflects = (u_lobe - b.q_reflect) < glass_fresnel(dot(wo, m), b.eta, b.thin) * b.q_glass;
+            let f = glass_fresnel(fresnel_specular(dot(wo, m), b.eta, b.f0, b.f90), b.thin);
+            reflects = (u_lobe - b.q_reflect) < mean3(f) * b.q_glass;
         }
-        if (reflects) {
-            wi = 2.0 * dot(wo, m) * m - wo;
+        if (reflects || b.thin) {
+            var wi = 2.0 * dot(wo, m) * m - wo;
             if (wi.z <= 0.0) {
-                return none;
+                return vec4(0.0);
             }
-        } else if (b.thin) {
-            wi = 2.0 * dot(wo, m) * m - wo;
-            if (wi.z <= 0.0) {
-                return none;
+            if (!reflects) {
+                wi.z = -wi.z;
             }
-            wi.z = -wi.z;
-        } else {
-            wi = refract_dir(-wo, m, b.eta);
-            if (wi.z >= 0.0) {
-                return none;
-            }
+            return vec4(wi, 1.0);
         }
-    } else {
-        let r = sqrt(u1);
-        let phi = TAU * u2;
-        wi = vec3(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)));
+        let wi = refract_dir(-wo, m, b.eta);
+        return vec4(wi, select(0.0, 1.0, wi.z < 0.0));
     }
-    let e = pbr_eval(b, wo, wi);
+    let r = sqrt(u1);
+    let phi = TAU * u2;
+    return vec4(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)), 1.0);
+}
+
+fn pbr_sample(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32) -> BsdfSample {
+    var out: BsdfSample;
+    out.valid = false;
+    let d = pbr_sample_direction(b, wo, u_lobe, u1, u2);
+    if (d.w == 0.0) {
+        return out;
+    }
+    let e = pbr_eval(b, wo, d.xyz);
     let weight = e.xyz / e.w;
     if (!(e.w > 0.0) || !is_finite3(weight)) {
-        return none;
+        return out;
     }
-    return BsdfSample(wi, e.w, weight, true);
+    return BsdfSample(d.xyz, e.w, weight, true);
 }

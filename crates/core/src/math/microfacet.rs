@@ -86,7 +86,7 @@ pub fn fresnel_schlick(f0: Vec3, cos: f32) -> Vec3 {
 }
 
 /// Side of the directional-albedo table: `ENERGY_SIDE` roughnesses × `ENERGY_SIDE` cosines.
-pub const ENERGY_SIDE: usize = 32;
+pub const ENERGY_SIDE: usize = 64;
 
 /// E(μ, roughness): the directional albedo of a white GGX conductor (F = 1) with single scattering,
 /// ∫ D G2 / (4 cosθ_o) dω_i = E_{m ~ D_ωo}[G2 / G1], at cosines μ_j = (j + ½)/N and roughnesses
@@ -94,30 +94,47 @@ pub const ENERGY_SIDE: usize = 32;
 /// warp (each entry's quadrature error is below 1e-3); the kernels read the same table.
 pub fn energy_table() -> &'static [f32] {
     static TABLE: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
-    TABLE.get_or_init(|| {
-        const Q: usize = 64;
-        let mut table = Vec::with_capacity(ENERGY_SIDE * ENERGY_SIDE);
-        for i in 0..ENERGY_SIDE {
-            let alpha = alpha_of_roughness(i as f32 / (ENERGY_SIDE - 1) as f32);
-            for j in 0..ENERGY_SIDE {
-                let mu = (j as f32 + 0.5) / ENERGY_SIDE as f32;
-                let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-                let mut sum = 0.0f64;
-                for a in 0..Q {
-                    for b in 0..Q {
-                        let u1 = (a as f32 + 0.5) / Q as f32;
-                        let u2 = (b as f32 + 0.5) / Q as f32;
-                        let m = sample_vndf(wo, alpha, u1, u2);
-                        let wi = 2.0 * wo.dot(m) * m - wo;
-                        if wi.z > 0.0 {
-                            sum += f64::from(ggx_g2(wo, wi, alpha) / ggx_g1(wo, alpha));
-                        }
-                    }
+    TABLE.get_or_init(|| visible_normal_albedo(|_, _| 1.0))
+}
+
+/// A directional-albedo table laid out as `energy_table`: entry (roughness r_i, cosine μ_j) holds
+/// `f(r_i, μ_j)`.
+pub fn tabulate(f: impl Fn(f32, f32) -> f32 + Sync) -> Vec<f32> {
+    use rayon::prelude::*;
+    (0..ENERGY_SIDE * ENERGY_SIDE)
+        .into_par_iter()
+        .map(|k| {
+            let roughness = (k / ENERGY_SIDE) as f32 / (ENERGY_SIDE - 1) as f32;
+            f(
+                roughness,
+                ((k % ENERGY_SIDE) as f32 + 0.5) / ENERGY_SIDE as f32,
+            )
+        })
+        .collect()
+}
+
+/// The single-scattering albedo of a GGX reflector whose Fresnel is `fresnel(ωo·m)`:
+/// E_{m ~ D_ωo}[F(ωo·m) G2 / G1] by a 64 × 64 midpoint rule over the visible-normal warp.
+pub fn visible_normal_albedo(fresnel: impl Fn(f32, f32) -> f32 + Sync) -> Vec<f32> {
+    const Q: usize = 64;
+    tabulate(|roughness, mu| {
+        let alpha = alpha_of_roughness(roughness);
+        let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+        let mut sum = 0.0f64;
+        for a in 0..Q {
+            for b in 0..Q {
+                let u1 = (a as f32 + 0.5) / Q as f32;
+                let u2 = (b as f32 + 0.5) / Q as f32;
+                let m = sample_vndf(wo, alpha, u1, u2);
+                let wi = 2.0 * wo.dot(m) * m - wo;
+                if wi.z > 0.0 {
+                    sum += f64::from(
+                        fresnel(wo.dot(m), roughness) * ggx_g2(wo, wi, alpha) / ggx_g1(wo, alpha),
+                    );
                 }
-                table.push((sum / (Q * Q) as f64) as f32);
             }
         }
-        table
+        (sum / (Q * Q) as f64) as f32
     })
 }
 

@@ -2,7 +2,7 @@
 // Directions in the shading frame (normal +z).
 
 const MIN_ALPHA: f32 = 1.0e-3;
-const ENERGY_SIDE: u32 = 32u;
+const ENERGY_SIDE: u32 = 64u;
 
 fn alpha_of_roughness(roughness: f32) -> f32 {
     let r = clamp(roughness, 0.0, 1.0);
@@ -67,8 +67,8 @@ fn fresnel_schlick(f0: vec3<f32>, cos_in: f32) -> vec3<f32> {
     return f0 + (vec3(1.0) - f0) * (x2 * x2 * x);
 }
 
-// Bilinear lookup of the white conductor's albedo table (binding ggx_energy).
-fn energy_lookup(mu: f32, roughness: f32) -> f32 {
+// Bilinear lookup of table `table` of albedo_tables (core::math::layers::albedo_tables).
+fn albedo_lookup(table: u32, mu: f32, roughness: f32) -> f32 {
     let n = f32(ENERGY_SIDE);
     let x = clamp(mu * n - 0.5, 0.0, n - 1.0);
     let y = clamp(roughness * (n - 1.0), 0.0, n - 1.0);
@@ -76,12 +76,17 @@ fn energy_lookup(mu: f32, roughness: f32) -> f32 {
     let y0 = min(floor(y), n - 2.0);
     let fx = x - x0;
     let fy = y - y0;
-    let i = u32(y0) * ENERGY_SIDE + u32(x0);
-    let a = ggx_energy[i];
-    let b = ggx_energy[i + 1u];
-    let c = ggx_energy[i + ENERGY_SIDE];
-    let d = ggx_energy[i + ENERGY_SIDE + 1u];
+    let i = table * ENERGY_SIDE * ENERGY_SIDE + u32(y0) * ENERGY_SIDE + u32(x0);
+    let a = albedo_tables[i];
+    let b = albedo_tables[i + 1u];
+    let c = albedo_tables[i + ENERGY_SIDE];
+    let d = albedo_tables[i + ENERGY_SIDE + 1u];
     let lo = a + (b - a) * fx;
     let hi = c + (d - c) * fx;
     return lo + (hi - lo) * fy;
+}
+
+// The white GGX conductor's albedo E(μ, roughness) (the first table).
+fn energy_lookup(mu: f32, roughness: f32) -> f32 {
+    return albedo_lookup(0u, mu, roughness);
 }

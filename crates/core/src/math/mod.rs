@@ -3,13 +3,17 @@
 //! `rng.wgsl` (PCG and Owen-scrambled Sobol samplers), `sampling.rs` of
 //! `sampling.wgsl` (directions, Fresnel, colour), `intersect.rs` of `intersect.wgsl` (watertight
 //! triangle and slab tests, ray offsets), `microfacet.rs` of `microfacet.wgsl` (GGX) and `bsdf.rs` of
-//! `bsdf.wgsl` (the PBR material). The CPU reference (`crate::reference`), emitters, the
+//! `bsdf.wgsl` (the PBR material's base), `coat.rs`, `sheen.rs` and `layers.rs` of theirs (the clear
+//! coat, the sheen and the stack they form over the base). The CPU reference (`crate::reference`), emitters, the
 //! denoiser and the loaders use them.
 
 pub mod bsdf;
+pub mod coat;
 pub mod intersect;
+pub mod layers;
 pub mod microfacet;
 pub mod rng;
 pub mod sampling;
+pub mod sheen;
 #[cfg(test)]
 pub(crate) mod stats;

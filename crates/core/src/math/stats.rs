@@ -81,6 +81,86 @@ pub fn pearson(counts: &[f64], expected: &[f64]) -> (f64, usize) {
     (x, bins.saturating_sub(1).max(1))
 }
 
+const THETA_BINS: usize = 20;
+const PHI_BINS: usize = 24;
+
+/// The (cosθ, φ) bin of a direction on the sphere: 20 × 24 bins of equal solid angle.
+fn sphere_bin(w: glam::Vec3) -> usize {
+    let c = ((w.z + 1.0) * 0.5 * THETA_BINS as f32).clamp(0.0, THETA_BINS as f32 - 1.0);
+    let phi = w.y.atan2(w.x).rem_euclid(std::f32::consts::TAU);
+    let p = (phi / std::f32::consts::TAU * PHI_BINS as f32).min(PHI_BINS as f32 - 1.0);
+    c as usize * PHI_BINS + p as usize
+}
+
+/// Each sphere bin's probability under `pdf` (solid angle), by a 24 × 24 midpoint rule per bin.
+fn sphere_masses(pdf: impl Fn(glam::Vec3) -> f32) -> Vec<f64> {
+    const SUB: usize = 24;
+    let mut masses = vec![0.0f64; THETA_BINS * PHI_BINS];
+    let dc = 2.0 / (THETA_BINS * SUB) as f64;
+    let dphi = std::f64::consts::TAU / (PHI_BINS * SUB) as f64;
+    for i in 0..THETA_BINS * SUB {
+        let c = -1.0 + (i as f64 + 0.5) * dc;
+        let s = (1.0 - c * c).max(0.0).sqrt();
+        for j in 0..PHI_BINS * SUB {
+            let phi = (j as f64 + 0.5) * dphi;
+            let wi = glam::Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, c as f32);
+            masses[(i / SUB) * PHI_BINS + j / SUB] += f64::from(pdf(wi)) * dc * dphi;
+        }
+    }
+    masses
+}
+
+/// Checks that `n` directions drawn by `sample` (from three uniform numbers; `None`: no sample)
+/// follow `pdf`, including the mass of the draws that produce nothing: chi-square over 480 sphere
+/// bins plus that outcome, Šidák-corrected over `tests` such checks at α = 1e-3. Panics naming
+/// `what`; also checks the pdf integrates to at most 1.
+pub fn check_sphere_sampling(
+    what: &str,
+    n: usize,
+    tests: usize,
+    seed: u32,
+    sample: impl Fn(f32, f32, f32) -> Option<glam::Vec3>,
+    pdf: impl Fn(glam::Vec3) -> f32,
+) {
+    let mut counts = vec![0.0f64; THETA_BINS * PHI_BINS + 1];
+    let mut rng = super::rng::Rng::new(seed, 0, 77);
+    for _ in 0..n {
+        let (a, u1, u2) = (rng.next_f32(), rng.next_f32(), rng.next_f32());
+        match sample(a, u1, u2) {
+            Some(wi) => counts[sphere_bin(wi)] += 1.0,
+            None => counts[THETA_BINS * PHI_BINS] += 1.0,
+        }
+    }
+    let masses = sphere_masses(pdf);
+    let total: f64 = masses.iter().sum();
+    assert!(
+        total <= 1.0 + 5e-3,
+        "{what}: the pdf integrates to {total} > 1"
+    );
+    let mut expected: Vec<f64> = masses.iter().map(|p| p * n as f64).collect();
+    expected.push((1.0 - total).max(0.0) * n as f64);
+    let (x, dof) = pearson(&counts, &expected);
+    let limit = chi2_limit(dof, tests, 1e-3);
+    assert!(
+        x < limit,
+        "{what}: chi-square {x:.1} over {dof} dof exceeds {limit:.1}"
+    );
+}
+
+/// The mean of `f` over `n` triples of uniform numbers, and its standard error.
+pub fn estimate(n: usize, seed: u32, f: impl Fn(f32, f32, f32) -> f64) -> (f64, f64) {
+    let mut rng = super::rng::Rng::new(seed, 0, 11);
+    let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        let w = f(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        sum += w;
+        sum_sq += w * w;
+    }
+    let mean = sum / n as f64;
+    let var = (sum_sq / n as f64 - mean * mean).max(0.0);
+    (mean, (var / n as f64).sqrt())
+}
+
 #[cfg(test)]
 mod tests {
     #[test]

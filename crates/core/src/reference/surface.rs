@@ -1,6 +1,6 @@
 //! The BSDF at a path vertex, dispatched on the material kind, as `surface.wgsl` beside it (its
 //! twin) computes it. The lobes: Lambert (here), fuzzy metal and smooth glass (`math::sampling`),
-//! glTF metallic-roughness (`math::bsdf`). Metal and glass are delta-like: lights are not sampled
+//! glTF metallic-roughness under its coat and sheen (`math::layers` over `math::bsdf`). Metal and glass are delta-like: lights are not sampled
 //! at them, and their samples carry pdf 0, so an emitter they reach counts fully (MIS weight 1).
 //!
 //! Lambert: f = albedo/π, sampled cosine-weighted, so f cosθ / p = albedo and p = cosθ/π.
@@ -15,7 +15,7 @@ use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{DielectricLobe, Material, MetalLobe, PbrLobe, THIN_WALLED};
 use crate::material_kind::MaterialKind;
 use crate::math::bsdf::Pbr;
-use crate::math::microfacet::energy_lookup;
+use crate::math::layers::{Layered, Layers, TABLE_CONDUCTOR, albedo_lookup};
 use crate::math::rng::Rng;
 use crate::math::sampling::{onb, sample_cosine_hemisphere, sample_dielectric, sample_metal};
 
@@ -28,9 +28,9 @@ pub enum Surface {
     Metal { albedo: Vec3, ns: Vec3, fuzz: f32 },
     /// Smooth glass about `ns` with η = n_transmitted / n_incident; refraction weighs `tint`/η².
     Dielectric { tint: Vec3, ns: Vec3, eta: f32 },
-    /// The PBR BSDF in the frame (t, b, n), with ωo there.
+    /// The PBR BSDF (its layers over its base) in the frame (t, b, n), with ωo there.
     Pbr {
-        bsdf: Pbr,
+        bsdf: Layered,
         frame: [Vec3; 3],
         wo: Vec3,
     },
@@ -98,7 +98,7 @@ impl Surface {
     pub fn transmits(&self) -> bool {
         match self {
             Surface::Dielectric { .. } => true,
-            Surface::Pbr { bsdf, .. } => bsdf.transmission > 0.0,
+            Surface::Pbr { bsdf, .. } => bsdf.base.transmission > 0.0,
             _ => false,
         }
     }
@@ -190,18 +190,27 @@ fn pbr_surface(
     } else {
         1.0 / lobe.ior
     };
-    let energy = energy_lookup(&scene.ggx_energy, wo_local.z, roughness);
+    let tables = &scene.albedo_tables;
+    let energy = albedo_lookup(tables, TABLE_CONDUCTOR, wo_local.z, roughness);
+    let base = Pbr::new(
+        base,
+        metallic,
+        roughness,
+        eta,
+        lobe.transmission,
+        wo_local.z,
+        energy,
+    )
+    .with_specular(Vec3::from(lobe.specular_color), lobe.specular, wo_local.z)
+    .thin_walled(thin);
+    let layers = Layers {
+        clearcoat: lobe.clearcoat,
+        clearcoat_roughness: lobe.clearcoat_roughness,
+        sheen_color: Vec3::from(lobe.sheen_color),
+        sheen_roughness: lobe.sheen_roughness,
+    };
     Surface::Pbr {
-        bsdf: Pbr::new(
-            base,
-            metallic,
-            roughness,
-            eta,
-            lobe.transmission,
-            wo_local.z,
-            energy,
-        )
-        .thin_walled(thin),
+        bsdf: Layered::new(base, &layers, tables, wo_local.z),
         frame: [t, b, n],
         wo: wo_local,
     }

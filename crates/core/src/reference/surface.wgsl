@@ -1,6 +1,7 @@
 // The BSDF at a path vertex, dispatched on the material kind (MAT_*); mirrors
 // crates/core/src/reference/surface.rs. The lobes: Lambert (here), fuzzy metal and smooth glass
-// (math/sampling.wgsl), glTF metallic-roughness (math/bsdf.wgsl). Metal and glass are delta-like
+// (math/sampling.wgsl), glTF metallic-roughness under its coat and sheen (math/layers.wgsl over
+// math/bsdf.wgsl). Metal and glass are delta-like
 // lobes: lights are not sampled at them, and the pdf their samples carry is 0, so an emitter they
 // reach counts fully.
 
@@ -22,7 +23,7 @@ struct Surface {
     fuzz: f32,
     // Glass: n_transmitted / n_incident.
     eta: f32,
-    bsdf: PbrBsdf,
+    bsdf: Layered,
 }
 
 // The PBR surface at a hit seen from wo: shading frame ns unless wo lies below it, then ng.
@@ -34,15 +35,18 @@ fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f3
     // A thin sheet looks the same from both sides.
     let thin = (material.flags & THIN_WALLED) != 0u;
     let eta = select(1.0 / lobe.ior, lobe.ior, front || thin);
-    let energy = energy_lookup(wo_local.z, roughness);
+    let energy = albedo_lookup(TABLE_CONDUCTOR, wo_local.z, roughness);
     var s: Surface;
     s.kind = MAT_PBR;
     s.t = basis.t;
     s.b = basis.b;
     s.n = n;
     s.wo = wo_local;
-    s.bsdf = pbr_bsdf(base, metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
-    s.bsdf.thin = thin;
+    var b = pbr_bsdf(base, metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
+    b = pbr_with_specular(b, lobe.specular_color, lobe.specular, wo_local.z);
+    b.thin = thin;
+    s.bsdf = layered_bsdf(b, lobe.clearcoat, lobe.clearcoat_roughness, lobe.sheen_color,
+                          lobe.sheen_roughness, wo_local.z);
     return s;
 }
 
@@ -76,14 +80,14 @@ fn surface_is_delta(s: Surface) -> bool {
 
 // Whether the lobe may send a path below the geometric surface.
 fn surface_transmits(s: Surface) -> bool {
-    return s.kind == MAT_DIELECTRIC || (HAS_PBR && s.kind == MAT_PBR && s.bsdf.transmission > 0.0);
+    return s.kind == MAT_DIELECTRIC || (HAS_PBR && s.kind == MAT_PBR && s.bsdf.base.transmission > 0.0);
 }
 
 // f |cos θ| towards world direction wi (xyz) and the BSDF-sampling pdf of wi (w); zero for the
 // delta lobes (never asked).
 fn surface_eval(s: Surface, wi: vec3<f32>) -> vec4<f32> {
     if (HAS_PBR && s.kind == MAT_PBR) {
-        return pbr_eval(s.bsdf, s.wo, vec3(dot(wi, s.t), dot(wi, s.b), dot(wi, s.n)));
+        return layered_eval(s.bsdf, s.wo, vec3(dot(wi, s.t), dot(wi, s.b), dot(wi, s.n)));
     }
     let c = dot(wi, s.n);
     if (s.kind == MAT_LAMBERTIAN && c > 0.0) {
@@ -124,7 +128,7 @@ fn surface_sample(s: Surface, direction: vec3<f32>, ng: vec3<f32>, rng: ptr<func
         let u_lobe = rng_next(rng);
         let u1 = rng_next(rng);
         let u2 = rng_next(rng);
-        let b = pbr_sample(s.bsdf, s.wo, u_lobe, u1, u2);
+        let b = layered_sample(s.bsdf, s.wo, u_lobe, u1, u2);
         if (!b.valid) {
             out.valid = false;
             return out;

@@ -165,3 +165,49 @@ fn position_accessors_without_min_and_max_still_load() {
         assert_eq!(scene.objects[0].mesh, full.objects[0].mesh);
     }
 }
+
+/// `KHR_materials_specular`, `_clearcoat` and `_sheen` map onto the layers, even when the file
+/// requires them; out-of-range factors are clamped and absent ones take glTF's defaults.
+#[test]
+fn specular_clearcoat_and_sheen_map_onto_the_layers() {
+    let mut doc = document();
+    let next = [
+        "KHR_materials_specular",
+        "KHR_materials_clearcoat",
+        "KHR_materials_sheen",
+    ];
+    for ext in next {
+        doc["extensionsUsed"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!(ext));
+    }
+    doc["extensionsRequired"] = json!(next);
+    let ext = doc["materials"][0]["extensions"].as_object_mut().unwrap();
+    ext.insert(
+        "KHR_materials_specular".into(),
+        json!({"specularFactor": 0.5, "specularColorFactor": [1.5, 0.5, 0.25]}),
+    );
+    ext.insert(
+        "KHR_materials_clearcoat".into(),
+        json!({"clearcoatFactor": 0.8, "clearcoatRoughnessFactor": 1.5}),
+    );
+    ext.insert(
+        "KHR_materials_sheen".into(),
+        json!({"sheenColorFactor": [0.9, 0.2, -1.0], "sheenRoughnessFactor": 0.4}),
+    );
+    let scene = load(&embedded(doc), None).unwrap();
+    let Material::Pbr(p) = &scene.objects[0].material else {
+        panic!("PBR expected")
+    };
+    assert_eq!((p.specular, p.specular_color), (0.5, [1.5, 0.5, 0.25]));
+    assert_eq!((p.clearcoat, p.clearcoat_roughness), (0.8, 1.0), "clamped");
+    assert_eq!((p.sheen_color, p.sheen_roughness), ([0.9, 0.2, 0.0], 0.4));
+    rt_core::GpuScene::build(&scene).unwrap();
+    let plain = load(&embedded(document()), None).unwrap();
+    let Material::Pbr(p) = &plain.objects[0].material else {
+        panic!()
+    };
+    assert_eq!((p.specular, p.specular_color), (1.0, [1.0; 3]));
+    assert_eq!((p.clearcoat, p.sheen_color), (0.0, [0.0; 3]));
+}

@@ -271,6 +271,7 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
             p.attenuation_distance = on.then_some(d);
         });
     }
+    layer_fields(ui, p);
     ui.horizontal(|ui| {
         ui.label("Emission");
         ui.color_edit_button_rgb(&mut p.emission)
@@ -291,6 +292,33 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
         "An image (sRGB) multiplying the emission: a screen, a lamp's pattern",
     );
     alpha_fields(ui, p);
+}
+
+/// The dielectric's specular strength and tint, the clear coat and the sheen (glTF's
+/// `KHR_materials_specular`, `_clearcoat` and `_sheen`; Blender's Specular, Coat and Sheen).
+fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
+    ui.add(egui::Slider::new(&mut p.specular, 0.0..=1.0).text("specular"))
+        .on_hover_text("Scales the non-metal's reflection (1: what the IOR gives; 0: none)");
+    ui.horizontal(|ui| {
+        ui.label("Specular tint");
+        ui.color_edit_button_rgb(&mut p.specular_color)
+            .on_hover_text("Tints the non-metal's reflection at normal incidence");
+    });
+    ui.add(egui::Slider::new(&mut p.clearcoat, 0.0..=1.0).text("clear coat"))
+        .on_hover_text("A glossy varnish over everything (car paint, lacquered wood)");
+    if p.clearcoat > 0.0 {
+        ui.add(egui::Slider::new(&mut p.clearcoat_roughness, 0.0..=1.0).text("coat roughness"))
+            .on_hover_text("0: a mirror-like varnish; 1: a satin one");
+    }
+    ui.horizontal(|ui| {
+        ui.label("Sheen");
+        ui.color_edit_button_rgb(&mut p.sheen_color)
+            .on_hover_text("The soft rim of cloth and velvet at grazing angles (black: none)");
+    });
+    if p.sheen_color.iter().any(|&c| c > 0.0) {
+        ui.add(egui::Slider::new(&mut p.sheen_roughness, 0.0..=1.0).text("sheen roughness"))
+            .on_hover_text("0: a narrow rim; 1: a broad glow");
+    }
 }
 
 /// glTF's alpha mode: the base colour's alpha cutting holes (leaves, fences) or blending.

@@ -1,6 +1,8 @@
 //! Materials onto `Material::Pbr`: metallic-roughness, normal maps, emission, transmission, IOR,
 //! volume and alpha, with their textures (decoded once per image and sampler) and the
-//! `KHR_texture_transform` rt can honour.
+//! `KHR_texture_transform` rt can honour; the factors of `KHR_materials_specular`,
+//! `KHR_materials_clearcoat` and `KHR_materials_sheen` (their textures are not read yet: a warning
+//! names each one a file uses).
 
 use super::Loader;
 use super::buffers::read_uri;
@@ -141,6 +143,7 @@ impl Loader<'_> {
             }
         };
         let colour = |c: [f32; 3]| c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+        let layers = self.layers(m);
         let ior = m
             .ior()
             .filter(|i| i.is_finite() && *i >= 1.0)
@@ -172,7 +175,91 @@ impl Loader<'_> {
             alpha_mode,
             alpha: clamp01(base_color[3]),
             alpha_cutoff: if cutoff.is_finite() { cutoff } else { 0.5 },
+            ..layers
         })))
+    }
+
+    /// The factors of `KHR_materials_specular`, `_clearcoat` and `_sheen` (glTF's defaults where
+    /// absent or malformed, clamped to their ranges), with a warning for each texture of theirs.
+    fn layers(&self, m: &gltf::Material) -> Pbr {
+        let what = || {
+            format!(
+                "{}: material {}",
+                self.path.display(),
+                m.name()
+                    .map(|n| format!("'{n}'"))
+                    .or(m.index().map(|i| i.to_string()))
+                    .unwrap_or_else(|| "default".into())
+            )
+        };
+        let unit = |v: f32, default: f32| {
+            if v.is_finite() {
+                v.clamp(0.0, 1.0)
+            } else {
+                default
+            }
+        };
+        let mut out = Pbr::default();
+        let mut textures: Vec<&str> = Vec::new();
+        if let Some(s) = m.specular() {
+            out.specular = unit(s.specular_factor(), 1.0);
+            out.specular_color = s
+                .specular_color_factor()
+                .map(|c| if c.is_finite() { c.max(0.0) } else { 1.0 });
+            if s.specular_texture().is_some() {
+                textures.push("KHR_materials_specular's specularTexture");
+            }
+            if s.specular_color_texture().is_some() {
+                textures.push("KHR_materials_specular's specularColorTexture");
+            }
+        }
+        let number = |v: &gltf::json::Value, key: &str, default: f32| {
+            v.get(key)
+                .and_then(gltf::json::Value::as_f64)
+                .map_or(default, |x| unit(x as f32, default))
+        };
+        if let Some(c) = m.extension_value("KHR_materials_clearcoat") {
+            out.clearcoat = number(c, "clearcoatFactor", 0.0);
+            out.clearcoat_roughness = number(c, "clearcoatRoughnessFactor", 0.0);
+            for key in [
+                "clearcoatTexture",
+                "clearcoatRoughnessTexture",
+                "clearcoatNormalTexture",
+            ] {
+                if c.get(key).is_some() {
+                    textures.push(match key {
+                        "clearcoatTexture" => "KHR_materials_clearcoat's clearcoatTexture",
+                        "clearcoatRoughnessTexture" => {
+                            "KHR_materials_clearcoat's clearcoatRoughnessTexture"
+                        }
+                        _ => "KHR_materials_clearcoat's clearcoatNormalTexture",
+                    });
+                }
+            }
+        }
+        if let Some(s) = m.extension_value("KHR_materials_sheen") {
+            if let Some(c) = s.get("sheenColorFactor").and_then(|c| c.as_array())
+                && c.len() == 3
+            {
+                for (out, v) in out.sheen_color.iter_mut().zip(c) {
+                    *out = v.as_f64().map_or(0.0, |x| unit(x as f32, 0.0));
+                }
+            }
+            out.sheen_roughness = number(s, "sheenRoughnessFactor", 0.0);
+            if s.get("sheenColorTexture").is_some() {
+                textures.push("KHR_materials_sheen's sheenColorTexture");
+            }
+            if s.get("sheenRoughnessTexture").is_some() {
+                textures.push("KHR_materials_sheen's sheenRoughnessTexture");
+            }
+        }
+        for t in textures {
+            log::warn!(
+                "{}: rt does not read {t} yet: using its factor alone",
+                what()
+            );
+        }
+        out
     }
 }
 

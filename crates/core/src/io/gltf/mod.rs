@@ -7,14 +7,15 @@
 //! - the node hierarchy (TRS or matrices) of the default scene or the one asked for;
 //! - materials onto `Material::Pbr` (metallic-roughness with its textures and their samplers'
 //!   wrap modes and magnification filter, normal maps, emission with its texture and
-//!   `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`, alpha
-//!   MASK and BLEND; the base colour texture's `KHR_texture_transform` baked into the UVs);
+//!   `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`, the
+//!   factors of `_specular`, `_clearcoat` and `_sheen`, alpha MASK and BLEND; the base colour
+//!   texture's `KHR_texture_transform` baked into the UVs);
 //! - `KHR_lights_punctual` (candela and lux divided by 683 lm/W, as Blender's importer; spots with
 //!   glTF's own falloff) and the first perspective camera.
 //!
 //! Files that require an extension rt does not support get an error naming it. What rt does not
 //! map (texture transforms that differ from the base colour texture's, other UV sets,
-//! `KHR_materials_specular`, skins, morph targets) is ignored with a warning; occlusion textures
+//! the textures of specular, clear coat and sheen, skins, morph targets) is ignored with a warning; occlusion textures
 //! are not used (a path tracer computes occlusion). Every byte range is checked before it is
 //! read, so a broken file is an error naming the part at fault, never a panic.
 
@@ -41,8 +42,11 @@ pub use lights::LUMENS_PER_WATT;
 /// Extensions rt reads; a file may require only these.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_sheen",
+    "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_volume",
     "KHR_texture_transform",
@@ -107,6 +111,9 @@ fn load_unguarded(
     }
     let blob = unvalidated.blob;
     let mut root = unvalidated.document.into_json();
+    // Checked above against what rt reads: gltf-json's own list lacks some of those
+    // (`KHR_materials_volume`, `_specular`, `_clearcoat`, `_sheen`) and would refuse them.
+    root.extensions_required.clear();
     // gltf-json's validation reads primitives' accessors before checking their indices.
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
