@@ -304,7 +304,7 @@ fn the_binding_table_matches_every_tracing_kernel() {
 #[test]
 fn shared_constants_match_wgsl() {
     use rt_core::gpu_types::{self, NO_TEXTURE, light_kind};
-    use rt_core::math::layers;
+    use rt_core::math::{glass_energy, layers};
     use rt_core::{Filter, TextureSampler, Wrap};
     // The s-wrap bits of a sampler (t repeats), or its filter bit.
     let sampler_bits = |wrap: Wrap, filter: Filter| {
@@ -361,6 +361,10 @@ fn shared_constants_match_wgsl() {
         ("TABLE_CONDUCTOR", layers::TABLE_CONDUCTOR as u32),
         ("TABLE_COAT", layers::TABLE_COAT as u32),
         ("TABLE_SHEEN", layers::TABLE_SHEEN as u32),
+        ("TABLE_GLASS", layers::TABLE_GLASS as u32),
+        ("GLASS_MU", glass_energy::GLASS_MU as u32),
+        ("GLASS_ROUGHNESS", glass_energy::GLASS_ROUGHNESS as u32),
+        ("GLASS_IOR", glass_energy::GLASS_IOR as u32),
         // The sampler bits texture.wgsl decodes, as `TextureSampler::bits` packs them.
         (
             "WRAP_CLAMP",
@@ -380,6 +384,7 @@ fn shared_constants_match_wgsl() {
     for (wgsl, rust) in [
         ("MIN_ALPHA", rt_core::math::microfacet::MIN_ALPHA),
         ("COAT_IOR", rt_core::math::coat::COAT_IOR),
+        ("GLASS_MU_MIN", rt_core::math::glass_energy::MU_MIN),
         (
             "SHEEN_MIN_ROUGHNESS",
             rt_core::math::sheen::SHEEN_MIN_ROUGHNESS,

@@ -32,8 +32,10 @@ fn pbr_furnace(ctx: &rt_gpu::GpuContext, p: rt_core::material::Pbr, spp: u32) ->
 }
 
 /// White furnace on the GPU: a white rough metal sphere keeps ≥ 0.9 of the light at roughness
-/// {0, 0.1, 0.5, 1} and never more than 1; rough glass (with its internal bounces) never more
-/// than 1, and smooth glass all of it. Per pixel within z·σ (Šidák over all pixels and cases).
+/// {0, 0.1, 0.5, 1} and never more than 1; a white glass sphere (with its internal bounces) keeps
+/// ≥ 0.98 at every roughness (rough glass's multiple-scattering compensation) and never more than
+/// 1 beyond its table's 0.6% interpolation error. Per pixel within z·σ (Šidák over all pixels and
+/// cases).
 #[test]
 fn pbr_spheres_under_a_white_environment_conserve_energy() {
     use rt_core::material::Pbr;
@@ -53,13 +55,21 @@ fn pbr_spheres_under_a_white_environment_conserve_energy() {
             transmission: 1.0,
             ..Default::default()
         };
-        for (what, p, floor) in [
-            ("metal", metal, 0.9),
-            ("glass", glass, if roughness <= 0.1 { 0.97 } else { 0.0 }),
-        ] {
-            for (i, (mean, se)) in pbr_furnace(ctx, p, spp).into_iter().enumerate() {
+        for (what, p, floor) in [("metal", metal, 0.9), ("glass", glass, 0.98)] {
+            let ceiling = if what == "glass" { 1.006 } else { 1.001 };
+            let pixels = pbr_furnace(ctx, p, spp);
+            // The whole image too, where the standard error is small enough to see 2%.
+            let n = pixels.len() as f64;
+            let mean = pixels.iter().map(|p| p.0).sum::<f64>() / n;
+            let se = pixels.iter().map(|p| p.1 * p.1).sum::<f64>().sqrt() / n;
+            eprintln!("{what}, roughness {roughness}: the image keeps {mean:.4} ± {se:.4}");
+            assert!(
+                mean <= ceiling + z * se && mean >= floor - z * se,
+                "{what}, roughness {roughness}: the image keeps {mean:.4} ± {se:.4}"
+            );
+            for (i, (mean, se)) in pixels.into_iter().enumerate() {
                 assert!(
-                    mean <= 1.0 + z * se + 1e-3 && mean >= floor - z * se - 1e-3,
+                    mean <= ceiling + z * se && mean >= floor - z * se - 1e-3,
                     "{what}, roughness {roughness}: pixel {i} is {mean:.4} ± {se:.4} \
                      (should lie in [{floor}, 1])"
                 );

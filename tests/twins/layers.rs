@@ -1,18 +1,20 @@
 //! Twin tests of the PBR material's layers: the clear coat, the sheen and the stack they form over
-//! the base with `KHR_materials_specular` (`coat.wgsl`, `sheen.wgsl`, `layers.wgsl` ⇄ their `.rs`).
+//! the base with `KHR_materials_specular`, and rough glass's energy compensation (`coat.wgsl`,
+//! `sheen.wgsl`, `layers.wgsl`, `glass_energy.wgsl` ⇄ their `.rs`).
 
 use super::*;
 use rt_core::math::coat::{coat_eval, sample_coat};
+use rt_core::math::glass_energy::glass_energy;
 use rt_core::math::layers::{
-    Layered, Layers, TABLE_COAT, TABLE_SHEEN, albedo_lookup, albedo_tables,
+    Layered, Layers, TABLE_COAT, TABLE_GLASS, TABLE_SHEEN, albedo_lookup, albedo_tables,
 };
 use rt_core::math::sheen::{charlie_d, charlie_lambda, sample_sheen, sheen_alpha, sheen_eval};
 
-/// The coat's and the sheen's functions and their albedo tables, within rounding.
+/// The coat's and the sheen's functions, their albedo tables and rough glass's, within rounding.
 #[test]
 fn coat_and_sheen_match_their_twin() {
     let Some(ctx) = gpu() else { return };
-    let input = inputs(9, |rng| {
+    let input = inputs(10, |rng| {
         let mut wo = unit(rng);
         wo.z = wo.z.abs().max(1e-3);
         let wo = wo.normalize();
@@ -28,11 +30,13 @@ fn coat_and_sheen_match_their_twin() {
             0.1 + 0.9 * rng.next_f32(),
             rng.next_f32(),
             rng.next_f32(),
+            // η from 1/2.4 to 2.4, entering and leaving.
+            2.4f32.powf(2.0 * rng.next_f32() - 1.0),
         ])
     });
     let kernel = TwinKernel {
-        words_in: 9,
-        words_out: 14,
+        words_in: 10,
+        words_out: 15,
         body: "let wo = v3_in(item, 0u); let wi = v3_in(item, 3u); let r = f_in(item, 6u);
     let u1 = f_in(item, 7u); let u2 = f_in(item, 8u);
     let c = coat_eval(wo, wi, alpha_of_roughness(r));
@@ -46,19 +50,21 @@ fn coat_and_sheen_match_their_twin() {
     put3(item, 8u, sample_sheen(u1, u2));
     put(item, 11u, albedo_lookup(TABLE_COAT, wo.z, r));
     put(item, 12u, albedo_lookup(TABLE_SHEEN, wo.z, r));
-    put(item, 13u, albedo_lookup(TABLE_SHEEN, u1, u2));",
+    put(item, 13u, albedo_lookup(TABLE_SHEEN, u1, u2));
+    put(item, 14u, glass_energy(wo.z, r, f_in(item, 9u)));",
         sobol: false,
     };
     let gpu_out = kernel.run(ctx, &input);
     let tables = albedo_tables();
+    let glass = &tables[TABLE_GLASS * ENERGY_SIDE * ENERGY_SIDE..];
     Comparison {
-        name: "coat and sheen",
+        name: "coat, sheen and glass energy",
         rel: 2e-4,
         abs: 1e-5,
         exact_words: &[],
     }
-    .check(&gpu_out, 14, |item| {
-        let f = |k: usize| f32::from_bits(input[item * 9 + k]);
+    .check(&gpu_out, 15, |item| {
+        let f = |k: usize| f32::from_bits(input[item * 10 + k]);
         let wo = Vec3::new(f(0), f(1), f(2));
         let wi = Vec3::new(f(3), f(4), f(5));
         let (r, u1, u2) = (f(6), f(7), f(8));
@@ -81,6 +87,7 @@ fn coat_and_sheen_match_their_twin() {
             albedo_lookup(&tables, TABLE_COAT, wo.z, r),
             albedo_lookup(&tables, TABLE_SHEEN, wo.z, r),
             albedo_lookup(&tables, TABLE_SHEEN, u1, u2),
+            glass_energy(glass, wo.z, r, f(9)),
         ])
     });
 }
@@ -91,7 +98,7 @@ fn coat_and_sheen_match_their_twin() {
 #[test]
 fn layered_bsdf_matches_its_twin() {
     let Some(ctx) = gpu() else { return };
-    const WORDS: usize = 26;
+    const WORDS: usize = 27;
     let input = inputs(WORDS, |rng| {
         let mut wo = unit(rng);
         wo.z = wo.z.abs().max(1e-3);
@@ -122,6 +129,7 @@ fn layered_bsdf_matches_its_twin() {
         let sheen = some(rng, 0.6);
         words.extend([sheen, sheen * rng.next_f32(), sheen * rng.next_f32()]);
         words.push(rng.next_f32()); // sheen roughness
+        words.push(0.4 + 0.6 * rng.next_f32()); // the glass part's albedo
         bits(&words)
     });
     let kernel = TwinKernel {
@@ -133,6 +141,7 @@ fn layered_bsdf_matches_its_twin() {
                      energy_lookup(wo.z, r));
     b = pbr_with_specular(b, v3_in(item, 16u), f_in(item, 19u), wo.z);
     b.thin = f_in(item, 13u) > 0.5;
+    b = pbr_with_glass_energy(b, f_in(item, 26u));
     let l = layered_bsdf(b, f_in(item, 20u), f_in(item, 21u), v3_in(item, 22u), f_in(item, 25u), wo.z);
     let e = layered_eval(l, wo, wi);
     put3(item, 0u, e.xyz); put(item, 3u, e.w);
@@ -156,7 +165,8 @@ fn layered_bsdf_matches_its_twin() {
         let energy = energy_lookup(&tables, wo.z, r);
         let base = Pbr::new(v(6), f(9), r, f(11), f(12), wo.z, energy)
             .with_specular(v(16), f(19), wo.z)
-            .thin_walled(f(13) > 0.5);
+            .thin_walled(f(13) > 0.5)
+            .with_glass_energy(f(26));
         let layers = Layers {
             clearcoat: f(20),
             clearcoat_roughness: f(21),

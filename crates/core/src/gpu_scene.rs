@@ -45,7 +45,7 @@ pub struct GpuScene {
     pub env_height: u32,
     /// Turns about +y.
     pub env_rotation: f32,
-    /// The directional-albedo tables (`math::layers::albedo_tables`): conductor, coat, sheen.
+    /// The directional-albedo tables its materials read (`math::layers::albedo_tables_for`).
     pub albedo_tables: Vec<f32>,
     /// Per triangle (BVH order) three corner tangents (xyz, w the bitangent's sign), MikkTSpace,
     /// in world space; empty unless some normal-mapped object needs them.
@@ -246,7 +246,7 @@ impl GpuScene {
         }
         out.extent = triangle_extent(&out.triangles);
         out.light(scene)?;
-        out.albedo_tables = crate::math::layers::albedo_tables();
+        out.albedo_tables = crate::math::layers::albedo_tables_for(&out.materials);
         Ok(out)
     }
 
@@ -281,6 +281,7 @@ impl GpuScene {
             materials.push(material);
         }
         let mut out = GpuScene {
+            albedo_tables: crate::math::layers::albedo_tables_for(&materials),
             materials,
             features,
             ..self.clone()

@@ -11,6 +11,8 @@ struct PbrBsdf {
     f90: f32,
     eta: f32,
     transmission: f32,
+    // The transmissive part's multiple-scattering compensation (1: none).
+    k_glass: f32,
     q_reflect: f32,
     q_glass: f32,
     thin: bool,
@@ -50,7 +52,16 @@ fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmissi
     b.eta = eta;
     b.transmission = transmission;
     b.thin = false;
+    b.k_glass = 1.0;
     return pbr_with_specular(b, vec3(1.0), 1.0, cos_o);
+}
+
+// b with its transmissive part compensated for multiple scattering (albedo: that part's
+// single-scattering albedo at ωo).
+fn pbr_with_glass_energy(b_in: PbrBsdf, albedo: f32) -> PbrBsdf {
+    var b = b_in;
+    b.k_glass = 1.0 / max(albedo, 0.1);
+    return b;
 }
 
 // b with KHR_materials_specular's colour and strength.
@@ -93,7 +104,7 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
         let f_d = fresnel_specular(woh, b.eta, b.f0, b.f90);
         let f_g = glass_fresnel(f_d, b.thin);
         let diffuse = b.base * (wi.z * (1.0 / PI));
-        let layer = (1.0 - t) * f_d + t * f_g;
+        let layer = (1.0 - t) * f_d + (t * b.k_glass) * f_g;
         let f = f_metal * (m * spec_cos) + (layer * spec_cos + diffuse * (1.0 - t) * (vec3(1.0) - f_d)) * (1.0 - m);
         let pdf = b.q_reflect * pdf_reflect + b.q_glass * pdf_reflect * mean3(f_g) + q_diffuse * wi.z * (1.0 / PI);
         return vec4(f, pdf);
@@ -117,7 +128,7 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
         let t_g = vec3(1.0) - glass_fresnel(fresnel_specular(woh_t, b.eta, b.f0, b.f90), true);
         let spec_t = d_t * ggx_g2(wo, mirrored, a) / (4.0 * wo.z);
         let pdf_t = b.q_glass * ggx_g1(wo, a) * d_t / (4.0 * wo.z) * mean3(t_g);
-        return vec4(b.base * t_g * ((1.0 - m) * t * spec_t), pdf_t);
+        return vec4(b.base * t_g * ((1.0 - m) * t * b.k_glass * spec_t), pdf_t);
     }
     let hs = wo + wi * b.eta;
     let len2 = dot(hs, hs);
@@ -139,7 +150,7 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
     let d = ggx_d(h, a);
     let ft_cos = d * ggx_g2(wo, wi, a) * abs(wih * woh) / (wo.z * denom * b.eta * b.eta);
     let pdf = b.q_glass * vndf_pdf(wo, h, a) * mean3(t_d) * abs(wih) / denom;
-    return vec4(b.base * t_d * ((1.0 - m) * t * ft_cos), pdf);
+    return vec4(b.base * t_d * ((1.0 - m) * t * b.k_glass * ft_cos), pdf);
 }
 
 struct BsdfSample {

@@ -22,18 +22,58 @@ use glam::Vec3;
 
 use super::bsdf::{BsdfSample, Pbr};
 use super::coat::{coat_eval, coat_table, sample_coat};
+use super::glass_energy::{GLASS_TABLE, glass_table};
 use super::microfacet::{ENERGY_SIDE, alpha_of_roughness, energy_lookup, energy_table};
 use super::sheen::{sample_sheen, sheen_alpha, sheen_eval, sheen_table};
+use crate::gpu_types::{Material, PbrLobe};
+use crate::material_kind::MaterialKind;
 
-/// Which table of `albedo_tables` a lookup reads.
+/// Where each table of `albedo_tables` starts, in units of `ENERGY_SIDE²` entries.
 pub const TABLE_CONDUCTOR: usize = 0;
 pub const TABLE_COAT: usize = 1;
 pub const TABLE_SHEEN: usize = 2;
+/// Rough glass's two tables (`math::glass_energy`), entering then leaving.
+pub const TABLE_GLASS: usize = 3;
+const UNIT: usize = ENERGY_SIDE * ENERGY_SIDE;
 
 /// The directional-albedo tables the kernels read (binding `albedo_tables`), one after another:
-/// the white GGX conductor's (`microfacet::energy_table`), the coat's and the white sheen's.
+/// the white GGX conductor's (`microfacet::energy_table`), the coat's, the white sheen's and rough
+/// glass's (entering, leaving).
 pub fn albedo_tables() -> Vec<f32> {
-    [energy_table(), coat_table(), sheen_table()].concat()
+    [energy_table(), coat_table(), sheen_table(), glass_table()].concat()
+}
+
+/// `albedo_tables` with only the tables `materials` read filled in (the rest zero, never read):
+/// each table costs a fraction of a second to build on first use.
+pub fn albedo_tables_for(materials: &[Material]) -> Vec<f32> {
+    let mut out = vec![0.0; TABLE_GLASS * UNIT + 2 * GLASS_TABLE];
+    let lobes = materials
+        .iter()
+        .filter(|m| m.kind == MaterialKind::Pbr.tag())
+        .map(Material::lobe_of::<PbrLobe>);
+    let (mut pbr, mut coat, mut sheen, mut glass) = (false, false, false, false);
+    for l in lobes {
+        pbr = true;
+        coat |= l.clearcoat > 0.0;
+        sheen |= l.sheen_color.iter().any(|&c| c > 0.0);
+        glass |= l.transmission > 0.0;
+    }
+    let mut put = |unit: usize, table: &[f32]| {
+        out[unit * UNIT..unit * UNIT + table.len()].copy_from_slice(table);
+    };
+    if pbr {
+        put(TABLE_CONDUCTOR, energy_table());
+    }
+    if coat {
+        put(TABLE_COAT, coat_table());
+    }
+    if sheen {
+        put(TABLE_SHEEN, sheen_table());
+    }
+    if glass {
+        put(TABLE_GLASS, glass_table());
+    }
+    out
 }
 
 /// Bilinear lookup of table `table` of `albedo_tables`.

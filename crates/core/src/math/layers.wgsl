@@ -5,6 +5,7 @@
 const TABLE_CONDUCTOR: u32 = 0u;
 const TABLE_COAT: u32 = 1u;
 const TABLE_SHEEN: u32 = 2u;
+const TABLE_GLASS: u32 = 3u;
 
 struct Layered {
     base: PbrBsdf,

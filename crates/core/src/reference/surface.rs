@@ -15,7 +15,9 @@ use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{DielectricLobe, Material, MetalLobe, PbrLobe, THIN_WALLED};
 use crate::material_kind::MaterialKind;
 use crate::math::bsdf::Pbr;
-use crate::math::layers::{Layered, Layers, TABLE_CONDUCTOR, albedo_lookup};
+use crate::math::glass_energy::glass_energy;
+use crate::math::layers::{Layered, Layers, TABLE_CONDUCTOR, TABLE_GLASS, albedo_lookup};
+use crate::math::microfacet::ENERGY_SIDE;
 use crate::math::rng::Rng;
 use crate::math::sampling::{onb, sample_cosine_hemisphere, sample_dielectric, sample_metal};
 
@@ -203,6 +205,15 @@ fn pbr_surface(
     )
     .with_specular(Vec3::from(lobe.specular_color), lobe.specular, wo_local.z)
     .thin_walled(thin);
+    // Rough glass keeps its energy (a thin sheet's transmission is a mirrored conductor lobe).
+    let base = if lobe.transmission <= 0.0 {
+        base
+    } else if thin {
+        base.with_glass_energy(energy)
+    } else {
+        let glass = &tables[TABLE_GLASS * ENERGY_SIDE * ENERGY_SIDE..];
+        base.with_glass_energy(glass_energy(glass, wo_local.z, roughness, eta))
+    };
     let layers = Layers {
         clearcoat: lobe.clearcoat,
         clearcoat_roughness: lobe.clearcoat_roughness,

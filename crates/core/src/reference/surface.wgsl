@@ -45,6 +45,10 @@ fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f3
     var b = pbr_bsdf(base, metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
     b = pbr_with_specular(b, lobe.specular_color, lobe.specular, wo_local.z);
     b.thin = thin;
+    // Rough glass keeps its energy (a thin sheet's transmission is a mirrored conductor lobe).
+    if (lobe.transmission > 0.0) {
+        b = pbr_with_glass_energy(b, select(glass_energy(wo_local.z, roughness, eta), energy, thin));
+    }
     s.bsdf = layered_bsdf(b, lobe.clearcoat, lobe.clearcoat_roughness, lobe.sheen_color,
                           lobe.sheen_roughness, wo_local.z);
     return s;
