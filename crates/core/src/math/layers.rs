@@ -328,6 +328,7 @@ mod tests {
                     sheen_roughness: r,
                 };
                 let (e, se) = albedo(&stack(white, all, cos_o), wo, 0);
+                eprintln!("coat and sheen over white, r {r} cos {cos_o}: {e:.4} ± {se:.4}");
                 assert!(
                     e <= 1.0 + 4.0 * se + 1e-3 && e >= 0.98 - 4.0 * se,
                     "coat and sheen over white, r {r} cos {cos_o}: {e:.4} ± {se:.4}"
