@@ -33,44 +33,13 @@ fn pbr_materials_and_an_environment_match_mitsuba() {
     let image = render(ctx, &scene);
     let reference = data.join("reference.exr");
     assert_matches_reference(&image, &reference, "Mitsuba", 0.01, 0.05);
-    // Each object's own pixels (where a camera ray through the pixel's centre first lands), so
-    // a small object cannot hide behind the image's mean.
-    let gpu_scene = rt_core::GpuScene::build(&scene).unwrap();
-    let frame = rt_core::frame::frame_for(&scene, &gpu_scene).unwrap();
-    let theirs: Vec<[f32; 3]> = ::image::open(&reference)
-        .unwrap()
-        .to_rgb32f()
-        .pixels()
-        .map(|p| p.0)
-        .collect();
-    let mut sums = vec![(0.0f64, 0.0f64, 0usize); scene.objects.len()];
-    for y in 0..HEIGHT {
-        for x in 0..WIDTH {
-            let sx =
-                (2.0 * (x as f32 + 0.5) / WIDTH as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
-            let sy = (1.0 - 2.0 * (y as f32 + 0.5) / HEIGHT as f32) * frame.tan_half_vfov;
-            let direction = (sx * glam::Vec3::from(frame.cam_u)
-                + sy * glam::Vec3::from(frame.cam_v)
-                - glam::Vec3::from(frame.cam_w))
-            .normalize();
-            let hit =
-                rt_core::reference::trace(&gpu_scene, frame.cam_origin.into(), direction, f32::MAX);
-            if hit.triangle == u32::MAX {
-                continue;
-            }
-            let object = gpu_scene.triangles[hit.triangle as usize].material as usize;
-            let i = (y * WIDTH + x) as usize;
-            let sum = |p: [f32; 3]| p.iter().map(|&c| f64::from(c)).sum::<f64>();
-            sums[object].0 += sum([image.pixels[i][0], image.pixels[i][1], image.pixels[i][2]]);
-            sums[object].1 += sum(theirs[i]);
-            sums[object].2 += 1;
-        }
-    }
+    // Each object's own pixels, so a small object cannot hide behind the image's mean.
+    let sums = object_sums(&scene, &image, &reference);
     for (object, (ours, theirs, pixels)) in scene.objects.iter().zip(sums) {
         if pixels == 0 {
             continue;
         }
-        let difference = ours / theirs - 1.0;
+        let difference = ours.iter().sum::<f64>() / theirs.iter().sum::<f64>() - 1.0;
         eprintln!(
             "{}: {pixels} pixels, rt/Mitsuba {:+.2}%",
             object.name,

@@ -361,6 +361,50 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
     scene
 }
 
+/// Per object of `scene`: the sums of `image`'s and of the reference image's (`path`, an EXR of the
+/// same size) pixels that show it, per channel, and their count. A pixel shows the object a
+/// camera ray through its centre first lands on (the pinhole camera's).
+pub fn object_sums(
+    scene: &Scene,
+    image: &Image,
+    path: &std::path::Path,
+) -> Vec<([f64; 3], [f64; 3], usize)> {
+    let (width, height) = (image.width, image.height);
+    let gpu_scene = rt_core::GpuScene::build(scene).unwrap();
+    let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
+    let theirs: Vec<[f32; 3]> = ::image::open(path)
+        .unwrap_or_else(|e| panic!("reading {}: {e}", path.display()))
+        .to_rgb32f()
+        .pixels()
+        .map(|p| p.0)
+        .collect();
+    let mut sums = vec![([0.0f64; 3], [0.0f64; 3], 0usize); scene.objects.len()];
+    for y in 0..height {
+        for x in 0..width {
+            let sx =
+                (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
+            let sy = (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * frame.tan_half_vfov;
+            let direction = (sx * Vec3::from(frame.cam_u) + sy * Vec3::from(frame.cam_v)
+                - Vec3::from(frame.cam_w))
+            .normalize();
+            let hit =
+                rt_core::reference::trace(&gpu_scene, frame.cam_origin.into(), direction, f32::MAX);
+            if hit.triangle == u32::MAX {
+                continue;
+            }
+            let object = gpu_scene.triangles[hit.triangle as usize].material as usize;
+            let i = (y * width + x) as usize;
+            let s = &mut sums[object];
+            for c in 0..3 {
+                s.0[c] += f64::from(image.pixels[i][c]);
+                s.1[c] += f64::from(theirs[i][c]);
+            }
+            s.2 += 1;
+        }
+    }
+    sums
+}
+
 /// Compares a render with another renderer's reference image (`path`, an EXR of the same size):
 /// every channel's mean within `mean_tolerance` (relative), and at most 5% of the 32-px blocks
 /// off by more than `block_tolerance` (relative, on the sum of their channels; blocks dark in

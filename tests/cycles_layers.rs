@@ -1,0 +1,67 @@
+//! The clear coat, the sheen and `KHR_materials_specular` against Blender Cycles:
+//! `bench/cycles-layers.py` built a row of Principled spheres in Blender (a plain plastic, the same
+//! plastic under a clear coat, a specular-tinted dielectric at 70% specular strength, a velvet with
+//! a sheen, a coated steel), exported `scene.glb` with Blender's glTF exporter (which writes the
+//! three extensions) and rendered Cycles' 1024-spp `reference.exr` under a uniform grey world and a
+//! sun (the script's header says what was matched). rt renders the .glb under the same ambient
+//! radiance: every channel's mean within 2% of Cycles', and each object's pixels, per channel,
+//! within 5% — except the velvet, whose sheen Cycles models with Zeltner's microfibres where
+//! glTF specifies Charlie's distribution: measured +19% red, +16% green, +2% blue (at 1024 spp
+//! both; docs/quality.md), it must stay within 25%.
+
+mod common;
+
+use std::path::Path;
+
+use common::*;
+
+#[test]
+fn coat_sheen_and_specular_render_as_cycles_renders_them() {
+    let Some(ctx) = gpu() else { return };
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cycles-layers");
+    let mut scene = rt_core::io::gltf::load_gltf(&data.join("scene.glb"), None).unwrap();
+    let layered = |name: &str| {
+        let o = scene.objects.iter().find(|o| o.name == name).unwrap();
+        let rt_core::Material::Pbr(p) = &o.material else {
+            panic!("{name}: PBR expected")
+        };
+        (p.clearcoat, p.sheen_color, p.specular)
+    };
+    assert_eq!(layered("coated").0, 1.0, "the coat comes through");
+    assert_eq!(
+        layered("velvet").1,
+        [1.0, 0.8, 0.6],
+        "the sheen comes through"
+    );
+    assert!(
+        (layered("specular").2 - 0.7).abs() < 1e-6,
+        "the specular comes through"
+    );
+    scene.environment = None;
+    scene.ambient = [0.5; 3];
+    scene.settings = settings(320, 128, 256, 8);
+    let image = render(ctx, &scene);
+    let reference = data.join("reference.exr");
+    assert_matches_reference(&image, &reference, "Cycles", 0.02, 0.08);
+    for (object, (ours, theirs, pixels)) in scene
+        .objects
+        .iter()
+        .zip(object_sums(&scene, &image, &reference))
+    {
+        let tolerance = if object.name == "velvet" { 0.25 } else { 0.05 };
+        for c in 0..3 {
+            let difference = ours[c] / theirs[c] - 1.0;
+            eprintln!(
+                "{} channel {c}: {pixels} pixels, rt/Cycles {:+.2}%",
+                object.name,
+                100.0 * difference
+            );
+            assert!(
+                difference.abs() <= tolerance,
+                "{} channel {c}: rt differs from Cycles by {:+.2}% over its {pixels} pixels",
+                object.name,
+                100.0 * difference
+            );
+        }
+    }
+}
