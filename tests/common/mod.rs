@@ -395,9 +395,9 @@ pub fn object_sums(
             let object = gpu_scene.triangles[hit.triangle as usize].material as usize;
             let i = (y * width + x) as usize;
             let s = &mut sums[object];
-            for c in 0..3 {
-                s.0[c] += f64::from(image.pixels[i][c]);
-                s.1[c] += f64::from(theirs[i][c]);
+            for (c, (ours, reference)) in s.0.iter_mut().zip(&mut s.1).enumerate() {
+                *ours += f64::from(image.pixels[i][c]);
+                *reference += f64::from(theirs[i][c]);
             }
             s.2 += 1;
         }
