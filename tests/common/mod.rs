@@ -243,7 +243,8 @@ pub fn test_environment() -> rt_core::Environment {
     env
 }
 
-/// Every PBR feature: a textured plastic floor with a sheen, rough gold under a clear coat, rough
+/// Every PBR feature: a textured plastic floor with a sheen, a coat and specular images, rough
+/// gold under a clear coat, rough
 /// absorbing glass, smooth glass, a rough metal with an interpolated normal, an emissive PBR plate
 /// with a tinted specular strength, an area light and an
 /// environment map (so next-event estimation picks between emitters and the environment).
@@ -301,6 +302,16 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         metallic: 0.8,
         sheen_color: [0.6, 0.3, 0.2],
         sheen_roughness: 0.4,
+        // Every layer's image: bumps' red varies the coat, metal-rough's green its roughness.
+        clearcoat: 0.7,
+        clearcoat_roughness: 0.5,
+        clearcoat_texture: Some(1),
+        clearcoat_roughness_texture: Some(2),
+        sheen_color_texture: Some(0),
+        sheen_roughness_texture: Some(1),
+        specular: 0.8,
+        specular_texture: Some(1),
+        specular_color_texture: Some(0),
         ..Default::default()
     });
     scene.objects[1].material = pbr(Pbr {

@@ -235,7 +235,7 @@ fn delta_light_incidence_matches_its_twin() {
 fn the_surface_dispatch_matches_its_twin() {
     use rt_core::MaterialKind;
     use rt_core::gpu_types::{DielectricLobe, Material, MetalLobe, PbrLobe, THIN_WALLED};
-    use rt_core::reference::Surface;
+    use rt_core::reference::{PbrInputs, Surface};
     let Some(ctx) = gpu() else { return };
     const KINDS: [MaterialKind; 4] = [
         MaterialKind::Lambertian,
@@ -332,7 +332,7 @@ fn the_surface_dispatch_matches_its_twin() {
     }
     let d = v3_in(item, 25u); let ng = v3_in(item, 28u); let ns = v3_in(item, 31u);
     let wi = v3_in(item, 34u);
-    let s = material_surface(m, m.color, f_in(item, 5u), f_in(item, 6u), d, ng, ns, u_in(item, 37u) != 0u);
+    let s = material_surface(m, m.color, pbr_inputs_of_lobe(pbr_lobe(m)), d, ng, ns, u_in(item, 37u) != 0u);
     put_u(item, 0u, s.kind);
     put_u(item, 1u, u32(surface_is_delta(s)));
     put_u(item, 2u, u32(surface_transmits(s)));
@@ -366,7 +366,8 @@ fn the_surface_dispatch_matches_its_twin() {
             };
             m.lobe = std::array::from_fn(|k| std::array::from_fn(|j| f(5 + 4 * k + j)));
             let (d, ng, ns, wi) = (v(25), v(28), v(31), v(34));
-            let s = Surface::of_material(&scene, &m, (v(1), f(5), f(6)), d, ng, ns, w(37) != 0);
+            let inputs = PbrInputs::of_lobe(&m.lobe_of::<PbrLobe>());
+            let s = Surface::of_material(&scene, &m, v(1), &inputs, d, ng, ns, w(37) != 0);
             let kind = match s {
                 Surface::Lambert { .. } => MaterialKind::Lambertian,
                 Surface::Metal { .. } => MaterialKind::Metal,

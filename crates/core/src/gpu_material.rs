@@ -3,8 +3,9 @@
 
 use crate::error::{Error, Result};
 use crate::gpu_types::{
-    self, DielectricLobe, MetalLobe, PbrLobe, SAMPLER_BITS, SLOT_BASE, SLOT_EMISSION,
-    SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, TextureSlot,
+    self, DielectricLobe, MetalLobe, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT, SLOT_CLEARCOAT_ROUGHNESS,
+    SLOT_EMISSION, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, SLOT_SHEEN_COLOR, SLOT_SHEEN_ROUGHNESS,
+    SLOT_SPECULAR, SLOT_SPECULAR_COLOR, TextureSlot,
 };
 use crate::material::{AlphaMode, Material};
 use crate::scene::Scene;
@@ -38,7 +39,7 @@ pub(crate) fn object_material(
                 width: texture.width,
                 height: texture.height,
             };
-            material.samplers |= texture.sampler.bits() << (SAMPLER_BITS * SLOT_BASE);
+            material.set_sampler_bits(SLOT_BASE, texture.sampler.bits());
             features.textures = true;
         } else {
             log::warn!("{} has a texture but no UVs: rendering it white", label());
@@ -63,7 +64,7 @@ pub(crate) fn object_material(
         // Puts texture `t` into `slot`, with its sampler.
         let mut bind = |t: usize, slot: u32, material: &mut gpu_types::Material| {
             let texture = &scene.textures[t];
-            material.samplers |= texture.sampler.bits() << (SAMPLER_BITS * slot);
+            material.set_sampler_bits(slot, texture.sampler.bits());
             material.textures[slot as usize] = TextureSlot {
                 offset: texture_offsets[t],
                 width: texture.width,
@@ -74,8 +75,34 @@ pub(crate) fn object_material(
         if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
             bind(t, SLOT_METALLIC_ROUGHNESS, &mut material);
         }
-        if let Some(t) = slot(p.emission_texture, "emission texture")? {
-            bind(t, SLOT_EMISSION, &mut material);
+        for (t, name, gpu_slot) in [
+            (p.emission_texture, "emission texture", SLOT_EMISSION),
+            (p.clearcoat_texture, "clear coat texture", SLOT_CLEARCOAT),
+            (
+                p.clearcoat_roughness_texture,
+                "clear coat roughness texture",
+                SLOT_CLEARCOAT_ROUGHNESS,
+            ),
+            (
+                p.sheen_color_texture,
+                "sheen colour texture",
+                SLOT_SHEEN_COLOR,
+            ),
+            (
+                p.sheen_roughness_texture,
+                "sheen roughness texture",
+                SLOT_SHEEN_ROUGHNESS,
+            ),
+            (p.specular_texture, "specular texture", SLOT_SPECULAR),
+            (
+                p.specular_color_texture,
+                "specular colour texture",
+                SLOT_SPECULAR_COLOR,
+            ),
+        ] {
+            if let Some(t) = slot(t, name)? {
+                bind(t, gpu_slot, &mut material);
+            }
         }
         if let Some(t) = slot(p.normal_texture, "normal texture")? {
             match crate::tangents::mikktspace_tangents(mesh) {

@@ -104,13 +104,18 @@ pub struct Material {
     pub alpha: f32, // 112
     /// With `ALPHA_MASK`: coverage below this is a hole.
     pub alpha_cutoff: f32, // 116
-    /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot: slot `i` at bit `5 i`.
-    pub samplers: u32, // 120
-    pub _pad: u32, // 124
+    /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot, six slots a word:
+    /// slot `i` at bit `5 (i mod 6)` of word `i / 6`.
+    pub samplers: [u32; 2], // 120
     /// The images, indexed by `SLOT_*`: base colour (sRGB), metallic-roughness (B metal, G rough;
-    /// linear), tangent-space normals (linear), emission (sRGB).
-    pub textures: [TextureSlot; 4], // 128
+    /// linear), tangent-space normals (linear), emission (sRGB), then the layers' (`SLOT_*` says
+    /// which channel each reads).
+    pub textures: [TextureSlot; SLOTS], // 128
+    pub _pad: [u32; 2], // 248
 }
+
+/// How many texture slots a material has.
+pub const SLOTS: usize = 10;
 
 /// The size of `Material::lobe` in 16-byte words: the largest kind's block (`PbrLobe`).
 pub const LOBE_VEC4S: usize = 5;
@@ -125,9 +130,9 @@ impl Default for Material {
             lobe: [[0.0; 4]; LOBE_VEC4S],
             alpha: 1.0,
             alpha_cutoff: 0.0,
-            samplers: 0,
-            _pad: 0,
-            textures: [TextureSlot::NONE; 4],
+            samplers: [0; 2],
+            textures: [TextureSlot::NONE; SLOTS],
+            _pad: [0; 2],
         }
     }
 }
@@ -140,7 +145,15 @@ impl Material {
 
     /// Slot `slot`'s sampler bits.
     pub fn sampler_bits(&self, slot: u32) -> u32 {
-        (self.samplers >> (SAMPLER_BITS * slot)) & ((1 << SAMPLER_BITS) - 1)
+        (self.samplers[(slot / SLOTS_PER_WORD) as usize]
+            >> (SAMPLER_BITS * (slot % SLOTS_PER_WORD)))
+            & ((1 << SAMPLER_BITS) - 1)
+    }
+
+    /// Sets slot `slot`'s sampler bits.
+    pub fn set_sampler_bits(&mut self, slot: u32, bits: u32) {
+        self.samplers[(slot / SLOTS_PER_WORD) as usize] |=
+            bits << (SAMPLER_BITS * (slot % SLOTS_PER_WORD));
     }
 
     /// The parameter block of this material's kind, as `L` lays it out (the WGSL reads the same
@@ -222,13 +235,27 @@ pub const ALPHA_MASK: u32 = 2;
 /// stochastic transparency: a hashed coin per ray and triangle).
 pub const ALPHA_BLEND: u32 = 4;
 
-/// The texture slots: indices into `Material::textures`; slot `i`'s sampler lies at bit
-/// `SAMPLER_BITS * i` of `Material::samplers`.
+/// The texture slots: indices into `Material::textures` (`Material::sampler_bits` finds each one's
+/// sampler).
 pub const SLOT_BASE: u32 = 0;
 pub const SLOT_METALLIC_ROUGHNESS: u32 = 1;
 pub const SLOT_NORMAL: u32 = 2;
 pub const SLOT_EMISSION: u32 = 3;
+/// Red scales the clear coat's weight (linear).
+pub const SLOT_CLEARCOAT: u32 = 4;
+/// Green scales the clear coat's roughness (linear).
+pub const SLOT_CLEARCOAT_ROUGHNESS: u32 = 5;
+/// RGB scales the sheen's colour (sRGB).
+pub const SLOT_SHEEN_COLOR: u32 = 6;
+/// Alpha scales the sheen's roughness (linear).
+pub const SLOT_SHEEN_ROUGHNESS: u32 = 7;
+/// Alpha scales the specular strength (linear).
+pub const SLOT_SPECULAR: u32 = 8;
+/// RGB scales the specular colour (sRGB).
+pub const SLOT_SPECULAR_COLOR: u32 = 9;
 pub const SAMPLER_BITS: u32 = 5;
+/// Slots whose sampler bits share one word of `Material::samplers`.
+pub const SLOTS_PER_WORD: u32 = 6;
 /// A slot's sampler bits (`scene::TextureSampler::bits`): wrap s in bits 0–1 and t in 2–3
 /// (0 repeat, these two otherwise), bit 4 nearest filtering.
 pub const WRAP_CLAMP: u32 = 1;
@@ -456,8 +483,8 @@ pub fn layouts() -> Vec<StructLayout> {
                 alpha,
                 alpha_cutoff,
                 samplers,
-                _pad,
-                textures
+                textures,
+                _pad
             ]
         ),
         layout!("MetalLobe", MetalLobe, [fuzz]),

@@ -49,9 +49,9 @@ struct Material {
     lobe: array<vec4<f32>, 5>,  // 32: the kind's parameter block
     alpha: f32,              // 112: the coverage factor
     alpha_cutoff: f32,       // 116
-    samplers: u32,           // 120: SAMPLER_BITS a slot: wrap s, wrap t, nearest
-    _pad: u32,               // 124
-    textures: array<TextureSlot, 4>,  // 128: by SLOT_*
+    samplers: array<u32, 2>, // 120: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
+    textures: array<TextureSlot, 10>,  // 128: by SLOT_*
+    _pad: vec2<u32>,         // 248
 }
 
 // The kinds' parameter blocks: the words of Material.lobe in order (core::gpu_types::*Lobe).
@@ -100,7 +100,19 @@ const SLOT_BASE: u32 = 0u;
 const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
 const SLOT_NORMAL: u32 = 2u;
 const SLOT_EMISSION: u32 = 3u;
+const SLOT_CLEARCOAT: u32 = 4u;
+const SLOT_CLEARCOAT_ROUGHNESS: u32 = 5u;
+const SLOT_SHEEN_COLOR: u32 = 6u;
+const SLOT_SHEEN_ROUGHNESS: u32 = 7u;
+const SLOT_SPECULAR: u32 = 8u;
+const SLOT_SPECULAR_COLOR: u32 = 9u;
 const SAMPLER_BITS: u32 = 5u;
+const SLOTS_PER_WORD: u32 = 6u;
+
+// Slot `slot`'s sampler bits (its low SAMPLER_BITS bits; the rest are the next slots').
+fn sampler_bits(m: Material, slot: u32) -> u32 {
+    return m.samplers[slot / SLOTS_PER_WORD] >> (SAMPLER_BITS * (slot % SLOTS_PER_WORD));
+}
 
 // An environment texel with its alias-table entry (core::gpu_types::EnvTexel).
 struct EnvTexel {

@@ -80,6 +80,18 @@ pub struct Pbr {
     pub sheen_color: Rgb,
     /// The sheen's roughness in [0, 1] (α = roughness²).
     pub sheen_roughness: f32,
+    /// An image whose red channel (linear) multiplies `clearcoat`.
+    pub clearcoat_texture: Option<usize>,
+    /// An image whose green channel (linear) multiplies `clearcoat_roughness`.
+    pub clearcoat_roughness_texture: Option<usize>,
+    /// An sRGB image multiplying `sheen_color`.
+    pub sheen_color_texture: Option<usize>,
+    /// An image whose alpha multiplies `sheen_roughness`.
+    pub sheen_roughness_texture: Option<usize>,
+    /// An image whose alpha multiplies `specular`.
+    pub specular_texture: Option<usize>,
+    /// An sRGB image multiplying `specular_color`.
+    pub specular_color_texture: Option<usize>,
 }
 
 /// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
@@ -123,13 +135,19 @@ impl Default for Pbr {
             clearcoat_roughness: 0.0,
             sheen_color: [0.0; 3],
             sheen_roughness: 0.0,
+            clearcoat_texture: None,
+            clearcoat_roughness_texture: None,
+            sheen_color_texture: None,
+            sheen_roughness_texture: None,
+            specular_texture: None,
+            specular_color_texture: None,
         }
     }
 }
 
 impl Pbr {
     /// Every texture slot with its name, for index checks.
-    pub fn textures(&self) -> [(&'static str, Option<usize>); 4] {
+    pub fn textures(&self) -> [(&'static str, Option<usize>); 10] {
         [
             ("texture", self.texture),
             (
@@ -138,6 +156,15 @@ impl Pbr {
             ),
             ("normal_texture", self.normal_texture),
             ("emission_texture", self.emission_texture),
+            ("clearcoat_texture", self.clearcoat_texture),
+            (
+                "clearcoat_roughness_texture",
+                self.clearcoat_roughness_texture,
+            ),
+            ("sheen_color_texture", self.sheen_color_texture),
+            ("sheen_roughness_texture", self.sheen_roughness_texture),
+            ("specular_texture", self.specular_texture),
+            ("specular_color_texture", self.specular_color_texture),
         ]
     }
 

@@ -107,6 +107,12 @@ fn rich_scene() -> Scene {
         clearcoat_roughness: 0.15,
         sheen_color: [0.3, 0.2, 0.9],
         sheen_roughness: 0.45,
+        clearcoat_texture: Some(0),
+        clearcoat_roughness_texture: Some(0),
+        sheen_color_texture: Some(0),
+        sheen_roughness_texture: Some(0),
+        specular_texture: Some(0),
+        specular_color_texture: Some(0),
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,

@@ -10,11 +10,11 @@ use glam::{Vec2, Vec3};
 
 use super::hit::MISS;
 use super::light::{delta_lights_at, direct_light, escaped, power_heuristic};
-use super::surface::Surface;
-use super::texture::{Slot, base_color_texture, surface_emission};
+use super::surface::{PbrInputs, Surface};
+use super::texture::{Slot, base_color_texture, surface_emission, textured_pbr_inputs};
 use super::trace;
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{Frame, Hit, PbrLobe, SLOT_BASE, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL};
+use crate::gpu_types::{Frame, Hit, PbrLobe, SLOT_BASE, SLOT_NORMAL};
 use crate::material_kind::MaterialKind;
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::{self, Rng};
@@ -265,46 +265,44 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     } else {
         color
     };
-    let (mut metallic, mut roughness) = (0.0, 0.0);
+    let mut inputs = PbrInputs::default();
     if material.kind == MaterialKind::Pbr.tag() {
         let lobe = material.lobe_of::<PbrLobe>();
-        (metallic, roughness) = (lobe.metallic, lobe.roughness);
-        if let Some(uv) = uv {
-            if !material.texture(SLOT_METALLIC_ROUGHNESS).is_empty() {
-                let t = Slot::of(material, SLOT_METALLIC_ROUGHNESS).sample(scene, uv, false);
-                roughness *= t.y;
-                metallic *= t.z;
-            }
-            if !material.texture(SLOT_NORMAL).is_empty()
-                && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
-            {
-                let t = Slot::of(material, SLOT_NORMAL)
-                    .sample(scene, uv, false)
-                    .truncate();
-                let i = 3 * hit.triangle as usize;
-                let mapped = normal_mapped(
-                    n_interpolated,
-                    [
-                        scene.tangents[i],
-                        scene.tangents[i + 1],
-                        scene.tangents[i + 2],
-                    ],
-                    [b0, hit.b1, hit.b2],
-                    t,
-                    lobe.normal_scale,
-                );
-                ns = if mapped.dot(ng) < 0.0 {
-                    -mapped
-                } else {
-                    mapped
-                };
-            }
+        inputs = match uv {
+            Some(uv) => textured_pbr_inputs(scene, material, uv),
+            None => PbrInputs::of_lobe(&lobe),
+        };
+        if let Some(uv) = uv
+            && !material.texture(SLOT_NORMAL).is_empty()
+            && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
+        {
+            let t = Slot::of(material, SLOT_NORMAL)
+                .sample(scene, uv, false)
+                .truncate();
+            let i = 3 * hit.triangle as usize;
+            let mapped = normal_mapped(
+                n_interpolated,
+                [
+                    scene.tangents[i],
+                    scene.tangents[i + 1],
+                    scene.tangents[i + 2],
+                ],
+                [b0, hit.b1, hit.b2],
+                t,
+                lobe.normal_scale,
+            );
+            ns = if mapped.dot(ng) < 0.0 {
+                -mapped
+            } else {
+                mapped
+            };
         }
     }
     let surface = Surface::of_material(
         scene,
         material,
-        (color, metallic, roughness),
+        color,
+        &inputs,
         path.direction,
         ng,
         ns,

@@ -225,18 +225,12 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     if ((tri.has_normals & HAS_COLORS) != 0u) {
         color *= vertex_color(sh, vec3(b0, hit.b1, hit.b2));
     }
-    var metallic = 0.0;
-    var roughness = 0.0;
+    var inputs: PbrInputs;
     if (HAS_PBR && material.kind == MAT_PBR) {
         let lobe = pbr_lobe(material);
-        metallic = lobe.metallic;
-        roughness = lobe.roughness;
+        inputs = pbr_inputs_of_lobe(lobe);
         if (HAS_TEXTURES && tri.has_uvs != 0u) {
-            if (material.textures[SLOT_METALLIC_ROUGHNESS].offset != NO_TEXTURE) {
-                let t = material_texture(material, SLOT_METALLIC_ROUGHNESS, uv, false);
-                roughness *= t.y;
-                metallic *= t.z;
-            }
+            inputs = textured_pbr_inputs(material, uv);
             if (HAS_NORMAL_MAPS && material.textures[SLOT_NORMAL].offset != NO_TEXTURE && (tri.has_normals & HAS_NORMALS) != 0u) {
                 let t = material_texture(material, SLOT_NORMAL, uv, false).rgb;
                 let i = 3u * hit.triangle;
@@ -245,7 +239,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
             }
         }
     }
-    let surface = material_surface(material, color, metallic, roughness, direction, ng, ns, front);
+    let surface = material_surface(material, color, inputs, direction, ng, ns, front);
     if (!surface_is_delta(surface)) {
         if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
             if (defer_shadow) {

@@ -38,6 +38,36 @@ pub enum Surface {
     },
 }
 
+/// The PBR material's inputs at a hit: its lobe's factors times their textures
+/// (`texture::textured_pbr_inputs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PbrInputs {
+    pub metallic: f32,
+    pub roughness: f32,
+    pub specular: f32,
+    pub specular_color: Vec3,
+    pub clearcoat: f32,
+    pub clearcoat_roughness: f32,
+    pub sheen_color: Vec3,
+    pub sheen_roughness: f32,
+}
+
+impl PbrInputs {
+    /// The factors alone.
+    pub fn of_lobe(l: &PbrLobe) -> Self {
+        PbrInputs {
+            metallic: l.metallic,
+            roughness: l.roughness,
+            specular: l.specular,
+            specular_color: Vec3::from(l.specular_color),
+            clearcoat: l.clearcoat,
+            clearcoat_roughness: l.clearcoat_roughness,
+            sheen_color: Vec3::from(l.sheen_color),
+            sheen_roughness: l.sheen_roughness,
+        }
+    }
+}
+
 /// A direction drawn from a surface's lobe.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceSample {
@@ -51,14 +81,15 @@ pub struct SurfaceSample {
 
 impl Surface {
     /// The BSDF of `material` where a ray travelling along `direction` hit it: `color` is its
-    /// colour after textures and vertex colours, `metallic` and `roughness` the PBR inputs after
-    /// theirs, `ng` the geometric and `ns` the shading normal (both facing the ray), `front` the
-    /// side it hit.
+    /// colour after textures and vertex colours, `inputs` the PBR inputs after theirs (unused by
+    /// the other kinds), `ng` the geometric and `ns` the shading normal (both facing the ray),
+    /// `front` the side it hit.
     #[allow(clippy::too_many_arguments)]
     pub fn of_material(
         scene: &GpuScene,
         material: &Material,
-        (color, metallic, roughness): (Vec3, f32, f32),
+        color: Vec3,
+        inputs: &PbrInputs,
         direction: Vec3,
         ng: Vec3,
         ns: Vec3,
@@ -78,15 +109,9 @@ impl Surface {
                     eta: if front { ior } else { 1.0 / ior },
                 }
             }
-            Some(MaterialKind::Pbr) => pbr_surface(
-                scene,
-                material,
-                (color, metallic, roughness),
-                -direction,
-                ng,
-                ns,
-                front,
-            ),
+            Some(MaterialKind::Pbr) => {
+                pbr_surface(scene, material, color, inputs, -direction, ng, ns, front)
+            }
             _ => Surface::Lambert { albedo: color, ns },
         }
     }
@@ -172,10 +197,12 @@ impl Surface {
 
 /// The PBR surface at a hit seen from `wo` (world, pointing away): its shading frame is `ns`
 /// unless `wo` lies below it (an interpolated normal at a silhouette), then the true normal.
+#[allow(clippy::too_many_arguments)]
 fn pbr_surface(
     scene: &GpuScene,
     material: &Material,
-    (base, metallic, roughness): (Vec3, f32, f32),
+    base: Vec3,
+    inputs: &PbrInputs,
     wo: Vec3,
     ng: Vec3,
     ns: Vec3,
@@ -193,17 +220,18 @@ fn pbr_surface(
         1.0 / lobe.ior
     };
     let tables = &scene.albedo_tables;
+    let roughness = inputs.roughness;
     let energy = albedo_lookup(tables, TABLE_CONDUCTOR, wo_local.z, roughness);
     let base = Pbr::new(
         base,
-        metallic,
+        inputs.metallic,
         roughness,
         eta,
         lobe.transmission,
         wo_local.z,
         energy,
     )
-    .with_specular(Vec3::from(lobe.specular_color), lobe.specular, wo_local.z)
+    .with_specular(inputs.specular_color, inputs.specular, wo_local.z)
     .thin_walled(thin);
     // Rough glass keeps its energy (a thin sheet's transmission is a mirrored conductor lobe).
     let base = if lobe.transmission <= 0.0 {
@@ -215,10 +243,10 @@ fn pbr_surface(
         base.with_glass_energy(glass_energy(glass, wo_local.z, roughness, eta))
     };
     let layers = Layers {
-        clearcoat: lobe.clearcoat,
-        clearcoat_roughness: lobe.clearcoat_roughness,
-        sheen_color: Vec3::from(lobe.sheen_color),
-        sheen_roughness: lobe.sheen_roughness,
+        clearcoat: inputs.clearcoat,
+        clearcoat_roughness: inputs.clearcoat_roughness,
+        sheen_color: inputs.sheen_color,
+        sheen_roughness: inputs.sheen_roughness,
     };
     Surface::Pbr {
         bsdf: Layered::new(base, &layers, tables, wo_local.z),

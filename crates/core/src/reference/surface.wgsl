@@ -26,8 +26,27 @@ struct Surface {
     bsdf: Layered,
 }
 
+// The PBR material's inputs at a hit: its lobe's factors times their textures
+// (textured_pbr_inputs).
+struct PbrInputs {
+    metallic: f32,
+    roughness: f32,
+    specular: f32,
+    specular_color: vec3<f32>,
+    clearcoat: f32,
+    clearcoat_roughness: f32,
+    sheen_color: vec3<f32>,
+    sheen_roughness: f32,
+}
+
+// The factors alone.
+fn pbr_inputs_of_lobe(l: PbrLobe) -> PbrInputs {
+    return PbrInputs(l.metallic, l.roughness, l.specular, l.specular_color, l.clearcoat,
+                     l.clearcoat_roughness, l.sheen_color, l.sheen_roughness);
+}
+
 // The PBR surface at a hit seen from wo: shading frame ns unless wo lies below it, then ng.
-fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f32, wo: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
+fn pbr_surface(material: Material, base: vec3<f32>, inputs: PbrInputs, wo: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
     let lobe = pbr_lobe(material);
     let n = select(ng, ns, dot(wo, ns) > 0.0);
     let basis = onb(n);
@@ -35,6 +54,7 @@ fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f3
     // A thin sheet looks the same from both sides.
     let thin = (material.flags & THIN_WALLED) != 0u;
     let eta = select(1.0 / lobe.ior, lobe.ior, front || thin);
+    let roughness = inputs.roughness;
     let energy = albedo_lookup(TABLE_CONDUCTOR, wo_local.z, roughness);
     var s: Surface;
     s.kind = MAT_PBR;
@@ -42,23 +62,23 @@ fn pbr_surface(material: Material, base: vec3<f32>, metallic: f32, roughness: f3
     s.b = basis.b;
     s.n = n;
     s.wo = wo_local;
-    var b = pbr_bsdf(base, metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
-    b = pbr_with_specular(b, lobe.specular_color, lobe.specular, wo_local.z);
+    var b = pbr_bsdf(base, inputs.metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
+    b = pbr_with_specular(b, inputs.specular_color, inputs.specular, wo_local.z);
     b.thin = thin;
     // Rough glass keeps its energy (a thin sheet's transmission is a mirrored conductor lobe).
     if (lobe.transmission > 0.0) {
         b = pbr_with_glass_energy(b, select(glass_energy(wo_local.z, roughness, eta), energy, thin));
     }
-    s.bsdf = layered_bsdf(b, lobe.clearcoat, lobe.clearcoat_roughness, lobe.sheen_color,
-                          lobe.sheen_roughness, wo_local.z);
+    s.bsdf = layered_bsdf(b, inputs.clearcoat, inputs.clearcoat_roughness, inputs.sheen_color,
+                          inputs.sheen_roughness, wo_local.z);
     return s;
 }
 
 // The BSDF of `material` where a ray travelling along `direction` hit it: `color` is its colour
-// after textures and vertex colours, metallic and roughness the PBR inputs after theirs, ng the
-// geometric normal and ns the shading normal (both facing the ray), `front` the side it hit. A kind
-// whose lobe the kernel has compiled out scatters as Lambert.
-fn material_surface(material: Material, color: vec3<f32>, metallic: f32, roughness: f32,
+// after textures and vertex colours, `inputs` the PBR inputs after theirs (unused by the other
+// kinds), ng the geometric normal and ns the shading normal (both facing the ray), `front` the side
+// it hit. A kind whose lobe the kernel has compiled out scatters as Lambert.
+fn material_surface(material: Material, color: vec3<f32>, inputs: PbrInputs,
                     direction: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
     var s: Surface;
     s.kind = MAT_LAMBERTIAN;
@@ -72,7 +92,7 @@ fn material_surface(material: Material, color: vec3<f32>, metallic: f32, roughne
         s.kind = MAT_DIELECTRIC;
         s.eta = select(1.0 / ior, ior, front);
     } else if (HAS_PBR && material.kind == MAT_PBR) {
-        s = pbr_surface(material, color, metallic, roughness, -direction, ng, ns, front);
+        s = pbr_surface(material, color, inputs, -direction, ng, ns, front);
     }
     return s;
 }

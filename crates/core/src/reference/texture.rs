@@ -8,10 +8,12 @@ pub const WGSL: &str = include_str!("texture.wgsl");
 
 use glam::{Vec2, Vec3, Vec4};
 
+use super::surface::PbrInputs;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{
-    ALPHA_BLEND, ALPHA_MASK, FILTER_NEAREST, Material, SAMPLER_BITS, SLOT_BASE, SLOT_EMISSION,
-    Triangle, WRAP_CLAMP, WRAP_MIRROR,
+    ALPHA_BLEND, ALPHA_MASK, FILTER_NEAREST, Material, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT,
+    SLOT_CLEARCOAT_ROUGHNESS, SLOT_EMISSION, SLOT_METALLIC_ROUGHNESS, SLOT_SHEEN_COLOR,
+    SLOT_SHEEN_ROUGHNESS, SLOT_SPECULAR, SLOT_SPECULAR_COLOR, Triangle, WRAP_CLAMP, WRAP_MIRROR,
 };
 use crate::material_kind::MaterialKind;
 use crate::math::intersect::PreparedRay;
@@ -82,9 +84,42 @@ impl Slot {
             offset: t.offset,
             width: t.width,
             height: t.height,
-            bits: m.samplers >> (SAMPLER_BITS * slot),
+            bits: m.sampler_bits(slot),
         }
     }
+}
+
+/// The PBR inputs at `uv`: the lobe's factors times their images (metallic-roughness: blue and
+/// green; clear coat: red; its roughness: green; sheen colour: sRGB; its roughness: alpha;
+/// specular: alpha; specular colour: sRGB), as glTF reads them.
+pub fn textured_pbr_inputs(scene: &GpuScene, m: &Material, uv: Vec2) -> PbrInputs {
+    let mut p = PbrInputs::of_lobe(&m.lobe_of::<PbrLobe>());
+    let texel = |slot: u32, srgb: bool| {
+        (!m.texture(slot).is_empty()).then(|| Slot::of(m, slot).sample(scene, uv, srgb))
+    };
+    if let Some(t) = texel(SLOT_METALLIC_ROUGHNESS, false) {
+        p.roughness *= t.y;
+        p.metallic *= t.z;
+    }
+    if let Some(t) = texel(SLOT_CLEARCOAT, false) {
+        p.clearcoat *= t.x;
+    }
+    if let Some(t) = texel(SLOT_CLEARCOAT_ROUGHNESS, false) {
+        p.clearcoat_roughness *= t.y;
+    }
+    if let Some(t) = texel(SLOT_SHEEN_COLOR, true) {
+        p.sheen_color *= t.truncate();
+    }
+    if let Some(t) = texel(SLOT_SHEEN_ROUGHNESS, false) {
+        p.sheen_roughness *= t.w;
+    }
+    if let Some(t) = texel(SLOT_SPECULAR, false) {
+        p.specular *= t.w;
+    }
+    if let Some(t) = texel(SLOT_SPECULAR_COLOR, true) {
+        p.specular_color *= t.truncate();
+    }
+    p
 }
 
 /// The base colour image (sRGB) times PBR's factor (a Lambertian texture replaces the albedo).

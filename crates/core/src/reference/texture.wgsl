@@ -52,7 +52,7 @@ fn sample_slot(offset: u32, w: u32, h: u32, bits: u32, uv: vec2<f32>, srgb: bool
 // Material m's texture slot `slot` (SLOT_*) at uv.
 fn material_texture(m: Material, slot: u32, uv: vec2<f32>, srgb: bool) -> vec4<f32> {
     let t = m.textures[slot];
-    return sample_slot(t.offset, t.width, t.height, m.samplers >> (SAMPLER_BITS * slot), uv, srgb);
+    return sample_slot(t.offset, t.width, t.height, sampler_bits(m, slot), uv, srgb);
 }
 
 // The base colour image (sRGB), multiplied by the factor for PBR (a Lambertian texture replaces it).
@@ -133,4 +133,35 @@ fn stops_ray(ray: PreparedRay, tri: Triangle, i: u32, b1: f32, b2: f32) -> bool 
         return a > 0.5;
     }
     return a > alpha_coin(ray, i);
+}
+
+// The PBR inputs at uv: the lobe's factors times their images (metallic-roughness: blue and green;
+// clear coat: red; its roughness: green; sheen colour: sRGB; its roughness: alpha; specular: alpha;
+// specular colour: sRGB), as glTF reads them.
+fn textured_pbr_inputs(m: Material, uv: vec2<f32>) -> PbrInputs {
+    var p = pbr_inputs_of_lobe(pbr_lobe(m));
+    if (m.textures[SLOT_METALLIC_ROUGHNESS].offset != NO_TEXTURE) {
+        let t = material_texture(m, SLOT_METALLIC_ROUGHNESS, uv, false);
+        p.roughness *= t.y;
+        p.metallic *= t.z;
+    }
+    if (m.textures[SLOT_CLEARCOAT].offset != NO_TEXTURE) {
+        p.clearcoat *= material_texture(m, SLOT_CLEARCOAT, uv, false).x;
+    }
+    if (m.textures[SLOT_CLEARCOAT_ROUGHNESS].offset != NO_TEXTURE) {
+        p.clearcoat_roughness *= material_texture(m, SLOT_CLEARCOAT_ROUGHNESS, uv, false).y;
+    }
+    if (m.textures[SLOT_SHEEN_COLOR].offset != NO_TEXTURE) {
+        p.sheen_color *= material_texture(m, SLOT_SHEEN_COLOR, uv, true).rgb;
+    }
+    if (m.textures[SLOT_SHEEN_ROUGHNESS].offset != NO_TEXTURE) {
+        p.sheen_roughness *= material_texture(m, SLOT_SHEEN_ROUGHNESS, uv, false).a;
+    }
+    if (m.textures[SLOT_SPECULAR].offset != NO_TEXTURE) {
+        p.specular *= material_texture(m, SLOT_SPECULAR, uv, false).a;
+    }
+    if (m.textures[SLOT_SPECULAR_COLOR].offset != NO_TEXTURE) {
+        p.specular_color *= material_texture(m, SLOT_SPECULAR_COLOR, uv, true).rgb;
+    }
+    return p;
 }

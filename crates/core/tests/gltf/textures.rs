@@ -135,11 +135,10 @@ fn samplers_emissive_textures_and_alpha_modes_map_onto_the_material() {
     );
     // Clamp (1) on s, mirror (2) on t, nearest: 1 | 2 << 2 | 1 << 4 in the base and
     // metallic-roughness slots; the emission slot's sampler is the default (0).
+    use rt_core::gpu_types::{SLOT_BASE, SLOT_EMISSION, SLOT_METALLIC_ROUGHNESS};
     assert_eq!(
-        g.samplers,
-        0b11001
-            | 0b11001
-                << (rt_core::gpu_types::SAMPLER_BITS * rt_core::gpu_types::SLOT_METALLIC_ROUGHNESS)
+        [SLOT_BASE, SLOT_METALLIC_ROUGHNESS, SLOT_EMISSION].map(|s| g.sampler_bits(s)),
+        [0b11001, 0b11001, 0]
     );
     assert_ne!(
         g.texture(rt_core::gpu_types::SLOT_EMISSION).offset,
@@ -155,4 +154,86 @@ fn samplers_emissive_textures_and_alpha_modes_map_onto_the_material() {
     // A project keeps samplers, the emission image and the alpha mode.
     let back = through_a_project(&scene);
     assert_eq!(back, scene);
+}
+
+/// The layers' textures (`KHR_materials_specular`'s through the gltf crate, `_clearcoat`'s and
+/// `_sheen`'s from their JSON) map onto their slots and reach the GPU material; a texture index
+/// that does not exist is an error naming the field.
+#[test]
+fn the_layers_textures_map_onto_their_slots() {
+    use rt_core::gpu_types::{
+        NO_TEXTURE, SLOT_CLEARCOAT, SLOT_CLEARCOAT_ROUGHNESS, SLOT_SHEEN_COLOR,
+        SLOT_SHEEN_ROUGHNESS, SLOT_SPECULAR, SLOT_SPECULAR_COLOR,
+    };
+    let mut doc = document_with_image();
+    doc["samplers"] = json!([{"magFilter": 9728}]);
+    doc["textures"] = json!([{"source": 0}, {"source": 0, "sampler": 0}]);
+    for ext in [
+        "KHR_materials_specular",
+        "KHR_materials_clearcoat",
+        "KHR_materials_sheen",
+    ] {
+        doc["extensionsUsed"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!(ext));
+    }
+    let ext = doc["materials"][0]["extensions"].as_object_mut().unwrap();
+    ext.insert(
+        "KHR_materials_specular".into(),
+        json!({"specularTexture": {"index": 0}, "specularColorTexture": {"index": 1}}),
+    );
+    ext.insert(
+        "KHR_materials_clearcoat".into(),
+        json!({"clearcoatFactor": 1.0, "clearcoatTexture": {"index": 0},
+               "clearcoatRoughnessTexture": {"index": 1}}),
+    );
+    ext.insert(
+        "KHR_materials_sheen".into(),
+        json!({"sheenColorFactor": [1.0, 1.0, 1.0], "sheenColorTexture": {"index": 1},
+               "sheenRoughnessTexture": {"index": 0}}),
+    );
+    let scene = load(&embedded(doc.clone()), None).unwrap();
+    let Material::Pbr(p) = &scene.objects[0].material else {
+        panic!()
+    };
+    assert_eq!(
+        [
+            p.specular_texture,
+            p.specular_color_texture,
+            p.clearcoat_texture,
+            p.clearcoat_roughness_texture,
+            p.sheen_color_texture,
+            p.sheen_roughness_texture
+        ],
+        [Some(0), Some(1), Some(0), Some(1), Some(1), Some(0)],
+        "texture 1 is image 0 through the nearest sampler: a second decoding"
+    );
+    let gpu = rt_core::GpuScene::build(&scene).unwrap();
+    let g = &gpu.materials[0];
+    for slot in [
+        SLOT_CLEARCOAT,
+        SLOT_CLEARCOAT_ROUGHNESS,
+        SLOT_SHEEN_COLOR,
+        SLOT_SHEEN_ROUGHNESS,
+        SLOT_SPECULAR,
+        SLOT_SPECULAR_COLOR,
+    ] {
+        assert_ne!(g.texture(slot).offset, NO_TEXTURE, "slot {slot}");
+    }
+    // Nearest filtering (bit 4) where texture 1 is bound, in both sampler words.
+    assert_eq!(
+        [
+            SLOT_CLEARCOAT_ROUGHNESS,
+            SLOT_SHEEN_COLOR,
+            SLOT_SPECULAR_COLOR,
+            SLOT_SPECULAR
+        ]
+        .map(|s| g.sampler_bits(s) & 16),
+        [16, 16, 16, 0]
+    );
+    doc["materials"][0]["extensions"]["KHR_materials_sheen"]["sheenColorTexture"] =
+        json!({"index": 7});
+    let e = load(&embedded(doc), None).unwrap_err().to_string();
+    assert!(e.contains("sheenColorTexture"), "{e}");
 }

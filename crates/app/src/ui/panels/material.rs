@@ -271,7 +271,7 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
             p.attenuation_distance = on.then_some(d);
         });
     }
-    layer_fields(ui, p);
+    layer_fields(ui, p, textures);
     ui.horizontal(|ui| {
         ui.label("Emission");
         ui.color_edit_button_rgb(&mut p.emission)
@@ -296,7 +296,7 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
 
 /// The dielectric's specular strength and tint, the clear coat and the sheen (glTF's
 /// `KHR_materials_specular`, `_clearcoat` and `_sheen`; Blender's Specular, Coat and Sheen).
-fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
+fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
     ui.add(egui::Slider::new(&mut p.specular, 0.0..=1.0).text("specular"))
         .on_hover_text("Scales the non-metal's reflection (1: what the IOR gives; 0: none)");
     ui.horizontal(|ui| {
@@ -319,6 +319,49 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
         ui.add(egui::Slider::new(&mut p.sheen_roughness, 0.0..=1.0).text("sheen roughness"))
             .on_hover_text("0: a narrow rim; 1: a broad glow");
     }
+    // The layers' images, as glTF packs them.
+    ui.collapsing("Layer images", |ui| {
+        for (label, id, slot, hover) in [
+            (
+                "Specular image",
+                "pbr specular image",
+                &mut p.specular_texture,
+                "Its alpha scales the specular strength",
+            ),
+            (
+                "Specular tint image",
+                "pbr specular tint image",
+                &mut p.specular_color_texture,
+                "An sRGB image tinting the specular colour",
+            ),
+            (
+                "Coat image",
+                "pbr coat image",
+                &mut p.clearcoat_texture,
+                "Its red channel scales the clear coat",
+            ),
+            (
+                "Coat roughness image",
+                "pbr coat roughness image",
+                &mut p.clearcoat_roughness_texture,
+                "Its green channel scales the coat's roughness",
+            ),
+            (
+                "Sheen image",
+                "pbr sheen image",
+                &mut p.sheen_color_texture,
+                "An sRGB image multiplying the sheen colour",
+            ),
+            (
+                "Sheen roughness image",
+                "pbr sheen roughness image",
+                &mut p.sheen_roughness_texture,
+                "Its alpha scales the sheen's roughness",
+            ),
+        ] {
+            texture_slot(ui, label, id, slot, textures, hover);
+        }
+    });
 }
 
 /// glTF's alpha mode: the base colour's alpha cutting holes (leaves, fences) or blending.

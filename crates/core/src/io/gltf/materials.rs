@@ -1,8 +1,7 @@
 //! Materials onto `Material::Pbr`: metallic-roughness, normal maps, emission, transmission, IOR,
 //! volume and alpha, with their textures (decoded once per image and sampler) and the
-//! `KHR_texture_transform` rt can honour; the factors of `KHR_materials_specular`,
-//! `KHR_materials_clearcoat` and `KHR_materials_sheen` (their textures are not read yet: a warning
-//! names each one a file uses).
+//! `KHR_texture_transform` rt can honour; `KHR_materials_specular`, `KHR_materials_clearcoat` and
+//! `KHR_materials_sheen` with their textures (the coat's own normal map excepted, with a warning).
 
 use super::Loader;
 use super::buffers::read_uri;
@@ -55,7 +54,7 @@ impl Loader<'_> {
     /// `baked` the one baked into the mesh's UVs (the base colour texture's).
     fn slot(
         &mut self,
-        info: Option<(gltf::Texture, u32, Option<UvTransform>)>,
+        info: Option<SlotInfo>,
         baked: Option<UvTransform>,
         what: &str,
     ) -> std::result::Result<Option<usize>, String> {
@@ -82,18 +81,6 @@ impl Loader<'_> {
 
     pub(super) fn material(&mut self, m: &gltf::Material) -> std::result::Result<Material, String> {
         let pbr = m.pbr_metallic_roughness();
-        fn info<'a>(
-            i: Option<gltf::texture::Info<'a>>,
-        ) -> Option<(gltf::Texture<'a>, u32, Option<UvTransform>)> {
-            i.map(|i| {
-                let t = i.texture_transform().map(|t| UvTransform {
-                    offset: t.offset(),
-                    rotation: t.rotation(),
-                    scale: t.scale(),
-                });
-                (i.texture(), i.tex_coord(), t)
-            })
-        }
         let base_color = pbr.base_color_factor();
         let base_info = info(pbr.base_color_texture());
         let baked = base_info.as_ref().and_then(|i| i.2);
@@ -143,7 +130,7 @@ impl Loader<'_> {
             }
         };
         let colour = |c: [f32; 3]| c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
-        let layers = self.layers(m);
+        let layers = self.layers(m, baked)?;
         let ior = m
             .ior()
             .filter(|i| i.is_finite() && *i >= 1.0)
@@ -179,19 +166,14 @@ impl Loader<'_> {
         })))
     }
 
-    /// The factors of `KHR_materials_specular`, `_clearcoat` and `_sheen` (glTF's defaults where
-    /// absent or malformed, clamped to their ranges), with a warning for each texture of theirs.
-    fn layers(&self, m: &gltf::Material) -> Pbr {
-        let what = || {
-            format!(
-                "{}: material {}",
-                self.path.display(),
-                m.name()
-                    .map(|n| format!("'{n}'"))
-                    .or(m.index().map(|i| i.to_string()))
-                    .unwrap_or_else(|| "default".into())
-            )
-        };
+    /// `KHR_materials_specular`, `_clearcoat` and `_sheen`: their factors (glTF's defaults where
+    /// absent or malformed, clamped to their ranges) and textures (`baked`: the base colour
+    /// texture's transform, see `slot`).
+    fn layers(
+        &mut self,
+        m: &gltf::Material,
+        baked: Option<UvTransform>,
+    ) -> std::result::Result<Pbr, String> {
         let unit = |v: f32, default: f32| {
             if v.is_finite() {
                 v.clamp(0.0, 1.0)
@@ -200,18 +182,18 @@ impl Loader<'_> {
             }
         };
         let mut out = Pbr::default();
-        let mut textures: Vec<&str> = Vec::new();
         if let Some(s) = m.specular() {
             out.specular = unit(s.specular_factor(), 1.0);
             out.specular_color = s
                 .specular_color_factor()
                 .map(|c| if c.is_finite() { c.max(0.0) } else { 1.0 });
-            if s.specular_texture().is_some() {
-                textures.push("KHR_materials_specular's specularTexture");
-            }
-            if s.specular_color_texture().is_some() {
-                textures.push("KHR_materials_specular's specularColorTexture");
-            }
+            out.specular_texture =
+                self.slot(info(s.specular_texture()), baked, "specular texture")?;
+            out.specular_color_texture = self.slot(
+                info(s.specular_color_texture()),
+                baked,
+                "specular colour texture",
+            )?;
         }
         let number = |v: &gltf::json::Value, key: &str, default: f32| {
             v.get(key)
@@ -221,20 +203,16 @@ impl Loader<'_> {
         if let Some(c) = m.extension_value("KHR_materials_clearcoat") {
             out.clearcoat = number(c, "clearcoatFactor", 0.0);
             out.clearcoat_roughness = number(c, "clearcoatRoughnessFactor", 0.0);
-            for key in [
-                "clearcoatTexture",
-                "clearcoatRoughnessTexture",
-                "clearcoatNormalTexture",
-            ] {
-                if c.get(key).is_some() {
-                    textures.push(match key {
-                        "clearcoatTexture" => "KHR_materials_clearcoat's clearcoatTexture",
-                        "clearcoatRoughnessTexture" => {
-                            "KHR_materials_clearcoat's clearcoatRoughnessTexture"
-                        }
-                        _ => "KHR_materials_clearcoat's clearcoatNormalTexture",
-                    });
-                }
+            out.clearcoat_texture = self.json_slot(c, "clearcoatTexture", baked)?;
+            out.clearcoat_roughness_texture =
+                self.json_slot(c, "clearcoatRoughnessTexture", baked)?;
+            if c.get("clearcoatNormalTexture").is_some() {
+                log::warn!(
+                    "{}: material {}: rt does not read KHR_materials_clearcoat's \
+                     clearcoatNormalTexture yet: the coat follows the base's shading normal",
+                    self.path.display(),
+                    m.index().map_or("default".into(), |i| i.to_string())
+                );
             }
         }
         if let Some(s) = m.extension_value("KHR_materials_sheen") {
@@ -246,21 +224,69 @@ impl Loader<'_> {
                 }
             }
             out.sheen_roughness = number(s, "sheenRoughnessFactor", 0.0);
-            if s.get("sheenColorTexture").is_some() {
-                textures.push("KHR_materials_sheen's sheenColorTexture");
-            }
-            if s.get("sheenRoughnessTexture").is_some() {
-                textures.push("KHR_materials_sheen's sheenRoughnessTexture");
-            }
+            out.sheen_color_texture = self.json_slot(s, "sheenColorTexture", baked)?;
+            out.sheen_roughness_texture = self.json_slot(s, "sheenRoughnessTexture", baked)?;
         }
-        for t in textures {
-            log::warn!(
-                "{}: rt does not read {t} yet: using its factor alone",
-                what()
-            );
-        }
-        out
+        Ok(out)
     }
+
+    /// The texture an extension's `textureInfo` at `key` names (its index, UV set and
+    /// `KHR_texture_transform`); a malformed one is an error naming it.
+    fn json_slot(
+        &mut self,
+        extension: &gltf::json::Value,
+        key: &str,
+        baked: Option<UvTransform>,
+    ) -> std::result::Result<Option<usize>, String> {
+        let Some(v) = extension.get(key) else {
+            return Ok(None);
+        };
+        let index = v.get("index").and_then(gltf::json::Value::as_u64);
+        let texture = index.and_then(|i| self.document.textures().nth(i as usize));
+        let Some(texture) = texture else {
+            return Err(format!("{key}: no texture {index:?} in the file"));
+        };
+        let tex_coord = v
+            .get("texCoord")
+            .and_then(gltf::json::Value::as_u64)
+            .unwrap_or(0) as u32;
+        let transform = v
+            .get("extensions")
+            .and_then(|e| e.get("KHR_texture_transform"))
+            .map(|t| {
+                let pair = |key: &str, default: [f32; 2]| {
+                    t.get(key)
+                        .and_then(|p| p.as_array())
+                        .filter(|p| p.len() == 2)
+                        .map_or(default, |p| {
+                            [0, 1].map(|i| p[i].as_f64().map_or(default[i], |x| x as f32))
+                        })
+                };
+                UvTransform {
+                    offset: pair("offset", [0.0, 0.0]),
+                    rotation: t
+                        .get("rotation")
+                        .and_then(gltf::json::Value::as_f64)
+                        .unwrap_or(0.0) as f32,
+                    scale: pair("scale", [1.0, 1.0]),
+                }
+            });
+        self.slot(Some((texture, tex_coord, transform)), baked, key)
+    }
+}
+
+/// A texture slot as `Loader::slot` takes it: the texture, its UV set and its transform.
+type SlotInfo<'a> = (gltf::Texture<'a>, u32, Option<UvTransform>);
+
+fn info(i: Option<gltf::texture::Info<'_>>) -> Option<SlotInfo<'_>> {
+    i.map(|i| {
+        let t = i.texture_transform().map(|t| UvTransform {
+            offset: t.offset(),
+            rotation: t.rotation(),
+            scale: t.scale(),
+        });
+        (i.texture(), i.tex_coord(), t)
+    })
 }
 
 /// A `KHR_texture_transform`: offset, rotation (radians) and scale.

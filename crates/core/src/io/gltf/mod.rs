@@ -7,15 +7,15 @@
 //! - the node hierarchy (TRS or matrices) of the default scene or the one asked for;
 //! - materials onto `Material::Pbr` (metallic-roughness with its textures and their samplers'
 //!   wrap modes and magnification filter, normal maps, emission with its texture and
-//!   `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`, the
-//!   factors of `_specular`, `_clearcoat` and `_sheen`, alpha MASK and BLEND; the base colour
-//!   texture's `KHR_texture_transform` baked into the UVs);
+//!   `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`,
+//!   `_specular`, `_clearcoat` and `_sheen` with their textures, alpha MASK and BLEND; the base
+//!   colour texture's `KHR_texture_transform` baked into the UVs);
 //! - `KHR_lights_punctual` (candela and lux divided by 683 lm/W, as Blender's importer; spots with
 //!   glTF's own falloff) and the first perspective camera.
 //!
 //! Files that require an extension rt does not support get an error naming it. What rt does not
 //! map (texture transforms that differ from the base colour texture's, other UV sets,
-//! the textures of specular, clear coat and sheen, skins, morph targets) is ignored with a warning; occlusion textures
+//! the clear coat's own normal map, skins, morph targets) is ignored with a warning; occlusion textures
 //! are not used (a path tracer computes occlusion). Every byte range is checked before it is
 //! read, so a broken file is an error naming the part at fault, never a panic.
 
@@ -152,6 +152,7 @@ fn load_unguarded(
         camera: None,
         base,
         read_file,
+        document: doc,
     };
     let chosen = match scene {
         Some(i) => doc.scenes().nth(i).ok_or_else(|| {
@@ -275,4 +276,6 @@ struct Loader<'a> {
     camera: Option<(crate::camera::Camera, Option<f32>)>,
     base: &'a Path,
     read_file: &'a dyn Fn(&Path) -> Result<Vec<u8>>,
+    /// For the textures extensions name by index (`KHR_materials_clearcoat`, `_sheen`).
+    document: &'a gltf::Document,
 }
