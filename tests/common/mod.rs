@@ -312,6 +312,8 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         specular: 0.8,
         specular_texture: Some(1),
         specular_color_texture: Some(0),
+        clearcoat_normal_texture: Some(1),
+        clearcoat_normal_scale: 0.5,
         ..Default::default()
     });
     scene.objects[1].material = pbr(Pbr {

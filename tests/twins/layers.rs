@@ -98,7 +98,7 @@ fn coat_and_sheen_match_their_twin() {
 #[test]
 fn layered_bsdf_matches_its_twin() {
     let Some(ctx) = gpu() else { return };
-    const WORDS: usize = 27;
+    const WORDS: usize = 28;
     let input = inputs(WORDS, |rng| {
         let mut wo = unit(rng);
         wo.z = wo.z.abs().max(1e-3);
@@ -130,6 +130,12 @@ fn layered_bsdf_matches_its_twin() {
         words.extend([sheen, sheen * rng.next_f32(), sheen * rng.next_f32()]);
         words.push(rng.next_f32()); // sheen roughness
         words.push(0.4 + 0.6 * rng.next_f32()); // the glass part's albedo
+        // Half the coats in a frame of their own, tilted up to 0.5 rad.
+        words.push(if rng.next_f32() < 0.5 {
+            0.5 * rng.next_f32()
+        } else {
+            0.0
+        });
         bits(&words)
     });
     let kernel = TwinKernel {
@@ -142,7 +148,13 @@ fn layered_bsdf_matches_its_twin() {
     b = pbr_with_specular(b, v3_in(item, 16u), f_in(item, 19u), wo.z);
     b.thin = f_in(item, 13u) > 0.5;
     b = pbr_with_glass_energy(b, f_in(item, 26u));
-    let l = layered_bsdf(b, f_in(item, 20u), f_in(item, 21u), v3_in(item, 22u), f_in(item, 25u), wo.z);
+    let tilt = f_in(item, 27u);
+    let c = cos(tilt);
+    let sn = sin(tilt);
+    // A rotation about x by `tilt` (columns), the coat's own frame where tilt ≠ 0.
+    let m = mat3x3(vec3(1.0, 0.0, 0.0), vec3(0.0, c, sn), vec3(0.0, -sn, c));
+    let l = layered_bsdf(b, f_in(item, 20u), f_in(item, 21u), v3_in(item, 22u), f_in(item, 25u), wo,
+                         tilt != 0.0, m);
     let e = layered_eval(l, wo, wi);
     put3(item, 0u, e.xyz); put(item, 3u, e.w);
     let s = layered_sample(l, wo, f_in(item, 14u), f_in(item, 15u), f_in(item, 6u));
@@ -172,8 +184,9 @@ fn layered_bsdf_matches_its_twin() {
             clearcoat_roughness: f(21),
             sheen_color: v(22),
             sheen_roughness: f(25),
+            coat_frame: (f(27) != 0.0).then(|| glam::Mat3::from_rotation_x(f(27))),
         };
-        let l = Layered::new(base, &layers, &tables, wo.z);
+        let l = Layered::new(base, &layers, &tables, wo);
         let (e, pdf) = l.eval(wo, wi);
         let sample = l.sample(wo, f(14), f(15), f(6));
         let (f_s, pdf_s) = l.eval(wo, wi_gpu);

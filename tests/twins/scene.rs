@@ -243,7 +243,7 @@ fn the_surface_dispatch_matches_its_twin() {
         MaterialKind::Dielectric,
         MaterialKind::Pbr,
     ];
-    let input = inputs(38, |rng| {
+    let input = inputs(41, |rng| {
         let kind = KINDS[(rng.next_f32() * 4.0) as usize % 4];
         let color = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
         let mut m = Material {
@@ -295,7 +295,8 @@ fn the_surface_dispatch_matches_its_twin() {
                     clearcoat: if layered { rng.next_f32() } else { 0.0 },
                     // From 0.1, as the base's roughness.
                     clearcoat_roughness: 0.1 + 0.9 * rng.next_f32(),
-                    _pad: [0.0; 2],
+                    clearcoat_normal_scale: 1.0,
+                    _pad: 0.0,
                 })
             }
             _ => {}
@@ -319,10 +320,17 @@ fn the_surface_dispatch_matches_its_twin() {
             words.extend(bits(&v.to_array()));
         }
         words.push(u32::from(rng.next_f32() < 0.7));
+        // Half the coats with a normal of their own (a coat normal map's), leaning off ns.
+        let coat_normal = if rng.next_f32() < 0.5 {
+            (ns + 0.3 * unit(rng)).normalize()
+        } else {
+            Vec3::ZERO
+        };
+        words.extend(bits(&coat_normal.to_array()));
         words
     });
     let kernel = TwinKernel {
-        words_in: 38,
+        words_in: 41,
         words_out: 15,
         body: "var m: Material;
     m.kind = u_in(item, 0u); m.color = v3_in(item, 1u); m.flags = u_in(item, 4u);
@@ -332,7 +340,9 @@ fn the_surface_dispatch_matches_its_twin() {
     }
     let d = v3_in(item, 25u); let ng = v3_in(item, 28u); let ns = v3_in(item, 31u);
     let wi = v3_in(item, 34u);
-    let s = material_surface(m, m.color, pbr_inputs_of_lobe(pbr_lobe(m)), d, ng, ns, u_in(item, 37u) != 0u);
+    var inputs = pbr_inputs_of_lobe(pbr_lobe(m));
+    inputs.coat_normal = v3_in(item, 38u);
+    let s = material_surface(m, m.color, inputs, d, ng, ns, u_in(item, 37u) != 0u);
     put_u(item, 0u, s.kind);
     put_u(item, 1u, u32(surface_is_delta(s)));
     put_u(item, 2u, u32(surface_transmits(s)));
@@ -355,7 +365,7 @@ fn the_surface_dispatch_matches_its_twin() {
     let mut per_kind = [0usize; 5];
     let rows: Vec<Vec<u32>> = (0..ITEMS)
         .map(|item| {
-            let w = |k: usize| input[item * 38 + k];
+            let w = |k: usize| input[item * 41 + k];
             let f = |k: usize| f32::from_bits(w(k));
             let v = |k: usize| Vec3::new(f(k), f(k + 1), f(k + 2));
             let mut m = Material {
@@ -366,7 +376,10 @@ fn the_surface_dispatch_matches_its_twin() {
             };
             m.lobe = std::array::from_fn(|k| std::array::from_fn(|j| f(5 + 4 * k + j)));
             let (d, ng, ns, wi) = (v(25), v(28), v(31), v(34));
-            let inputs = PbrInputs::of_lobe(&m.lobe_of::<PbrLobe>());
+            let inputs = PbrInputs {
+                coat_normal: v(38),
+                ..PbrInputs::of_lobe(&m.lobe_of::<PbrLobe>())
+            };
             let s = Surface::of_material(&scene, &m, v(1), &inputs, d, ng, ns, w(37) != 0);
             let kind = match s {
                 Surface::Lambert { .. } => MaterialKind::Lambertian,

@@ -3,9 +3,9 @@
 
 use crate::error::{Error, Result};
 use crate::gpu_types::{
-    self, DielectricLobe, MetalLobe, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT, SLOT_CLEARCOAT_ROUGHNESS,
-    SLOT_EMISSION, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, SLOT_SHEEN_COLOR, SLOT_SHEEN_ROUGHNESS,
-    SLOT_SPECULAR, SLOT_SPECULAR_COLOR, TextureSlot,
+    self, DielectricLobe, MetalLobe, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT, SLOT_CLEARCOAT_NORMAL,
+    SLOT_CLEARCOAT_ROUGHNESS, SLOT_EMISSION, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL,
+    SLOT_SHEEN_COLOR, SLOT_SHEEN_ROUGHNESS, SLOT_SPECULAR, SLOT_SPECULAR_COLOR, TextureSlot,
 };
 use crate::material::{AlphaMode, Material};
 use crate::scene::Scene;
@@ -104,17 +104,26 @@ pub(crate) fn object_material(
                 bind(t, gpu_slot, &mut material);
             }
         }
-        if let Some(t) = slot(p.normal_texture, "normal texture")? {
-            match crate::tangents::mikktspace_tangents(mesh) {
-                Some(t_corners) => {
-                    bind(t, SLOT_NORMAL, &mut material);
-                    tangents = Some(t_corners);
-                    features.normal_maps = true;
-                }
-                None => log::warn!(
-                    "{}: no tangents (it needs normals and UVs): ignoring its normal map",
+        for (t, name, gpu_slot) in [
+            (p.normal_texture, "normal texture", SLOT_NORMAL),
+            (
+                p.clearcoat_normal_texture,
+                "clear coat normal texture",
+                SLOT_CLEARCOAT_NORMAL,
+            ),
+        ] {
+            let Some(t) = slot(t, name)? else { continue };
+            if tangents.is_none() {
+                tangents = crate::tangents::mikktspace_tangents(mesh);
+            }
+            if tangents.is_some() {
+                bind(t, gpu_slot, &mut material);
+                features.normal_maps = true;
+            } else {
+                log::warn!(
+                    "{}: no tangents (it needs normals and UVs): ignoring its {name}",
                     label()
-                ),
+                );
             }
         }
         // Coverage comes from the factor and the base colour texture: without UVs only the factor.
@@ -173,7 +182,8 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
                 sheen_roughness: p.sheen_roughness,
                 clearcoat: p.clearcoat,
                 clearcoat_roughness: p.clearcoat_roughness,
-                _pad: [0.0; 2],
+                clearcoat_normal_scale: p.clearcoat_normal_scale,
+                _pad: 0.0,
             });
         }
     }

@@ -111,11 +111,11 @@ pub struct Material {
     /// linear), tangent-space normals (linear), emission (sRGB), then the layers' (`SLOT_*` says
     /// which channel each reads).
     pub textures: [TextureSlot; SLOTS], // 128
-    pub _pad: [u32; 2], // 248
+    pub _pad: [u32; 3], // 260
 }
 
 /// How many texture slots a material has.
-pub const SLOTS: usize = 10;
+pub const SLOTS: usize = 11;
 
 /// The size of `Material::lobe` in 16-byte words: the largest kind's block (`PbrLobe`).
 pub const LOBE_VEC4S: usize = 5;
@@ -132,7 +132,7 @@ impl Default for Material {
             alpha_cutoff: 0.0,
             samplers: [0; 2],
             textures: [TextureSlot::NONE; SLOTS],
-            _pad: [0; 2],
+            _pad: [0; 3],
         }
     }
 }
@@ -223,7 +223,9 @@ pub struct PbrLobe {
     pub clearcoat: f32, // 64
     /// The clear coat's roughness in [0, 1] (α = roughness²).
     pub clearcoat_roughness: f32, // 68
-    pub _pad: [f32; 2], // 72
+    /// The coat's normal map's xy scale.
+    pub clearcoat_normal_scale: f32, // 72
+    pub _pad: f32, // 76
 }
 impl Lobe for PbrLobe {}
 
@@ -253,6 +255,8 @@ pub const SLOT_SHEEN_ROUGHNESS: u32 = 7;
 pub const SLOT_SPECULAR: u32 = 8;
 /// RGB scales the specular colour (sRGB).
 pub const SLOT_SPECULAR_COLOR: u32 = 9;
+/// The clear coat's own tangent-space normal map (linear).
+pub const SLOT_CLEARCOAT_NORMAL: u32 = 10;
 pub const SAMPLER_BITS: u32 = 5;
 /// Slots whose sampler bits share one word of `Material::samplers`.
 pub const SLOTS_PER_WORD: u32 = 6;
@@ -505,6 +509,7 @@ pub fn layouts() -> Vec<StructLayout> {
                 sheen_roughness,
                 clearcoat,
                 clearcoat_roughness,
+                clearcoat_normal_scale,
                 _pad
             ]
         ),

@@ -50,8 +50,8 @@ struct Material {
     alpha: f32,              // 112: the coverage factor
     alpha_cutoff: f32,       // 116
     samplers: array<u32, 2>, // 120: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
-    textures: array<TextureSlot, 10>,  // 128: by SLOT_*
-    _pad: vec2<u32>,         // 248
+    textures: array<TextureSlot, 11>,  // 128: by SLOT_*
+    _pad: array<u32, 3>,     // 260
 }
 
 // The kinds' parameter blocks: the words of Material.lobe in order (core::gpu_types::*Lobe).
@@ -76,7 +76,8 @@ struct PbrLobe {
     sheen_roughness: f32,    // 60
     clearcoat: f32,          // 64: 0: no coat
     clearcoat_roughness: f32,  // 68
-    _pad: vec2<f32>,         // 72
+    clearcoat_normal_scale: f32,  // 72
+    _pad: f32,               // 76
 }
 
 fn metal_lobe(m: Material) -> MetalLobe {
@@ -90,7 +91,7 @@ fn dielectric_lobe(m: Material) -> DielectricLobe {
 fn pbr_lobe(m: Material) -> PbrLobe {
     return PbrLobe(m.lobe[0].x, m.lobe[0].y, m.lobe[0].z, m.lobe[0].w, m.lobe[1].xyz, m.lobe[1].w,
                    m.lobe[2].xyz, m.lobe[2].w, m.lobe[3].xyz, m.lobe[3].w, m.lobe[4].x, m.lobe[4].y,
-                   m.lobe[4].zw);
+                   m.lobe[4].z, m.lobe[4].w);
 }
 
 const THIN_WALLED: u32 = 1u;
@@ -106,6 +107,7 @@ const SLOT_SHEEN_COLOR: u32 = 6u;
 const SLOT_SHEEN_ROUGHNESS: u32 = 7u;
 const SLOT_SPECULAR: u32 = 8u;
 const SLOT_SPECULAR_COLOR: u32 = 9u;
+const SLOT_CLEARCOAT_NORMAL: u32 = 10u;
 const SAMPLER_BITS: u32 = 5u;
 const SLOTS_PER_WORD: u32 = 6u;
 

@@ -92,6 +92,11 @@ pub struct Pbr {
     pub specular_texture: Option<usize>,
     /// An sRGB image multiplying `specular_color`.
     pub specular_color_texture: Option<usize>,
+    /// The clear coat's own tangent-space normal map (as `normal_texture`); without one the coat
+    /// follows the interpolated normal, not the base's normal map (glTF's rule).
+    pub clearcoat_normal_texture: Option<usize>,
+    /// Scales the coat's normal map's x and y.
+    pub clearcoat_normal_scale: f32,
 }
 
 /// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
@@ -141,13 +146,15 @@ impl Default for Pbr {
             sheen_roughness_texture: None,
             specular_texture: None,
             specular_color_texture: None,
+            clearcoat_normal_texture: None,
+            clearcoat_normal_scale: 1.0,
         }
     }
 }
 
 impl Pbr {
     /// Every texture slot with its name, for index checks.
-    pub fn textures(&self) -> [(&'static str, Option<usize>); 10] {
+    pub fn textures(&self) -> [(&'static str, Option<usize>); 11] {
         [
             ("texture", self.texture),
             (
@@ -165,6 +172,7 @@ impl Pbr {
             ("sheen_roughness_texture", self.sheen_roughness_texture),
             ("specular_texture", self.specular_texture),
             ("specular_color_texture", self.specular_color_texture),
+            ("clearcoat_normal_texture", self.clearcoat_normal_texture),
         ]
     }
 
@@ -267,6 +275,12 @@ impl Pbr {
         colour("specular_color", &self.specular_color)?;
         if !(self.ior.is_finite() && self.ior >= 1.0) {
             return Err(format!("{what}: pbr ior must be >= 1, got {}", self.ior));
+        }
+        if !self.clearcoat_normal_scale.is_finite() {
+            return Err(format!(
+                "{what}: pbr clearcoat_normal_scale must be finite, got {}",
+                self.clearcoat_normal_scale
+            ));
         }
         if !self.normal_scale.is_finite() {
             return Err(format!(

@@ -113,6 +113,8 @@ fn rich_scene() -> Scene {
         sheen_roughness_texture: Some(0),
         specular_texture: Some(0),
         specular_color_texture: Some(0),
+        clearcoat_normal_texture: Some(0),
+        clearcoat_normal_scale: 0.5,
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,

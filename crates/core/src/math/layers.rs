@@ -10,6 +10,10 @@
 //! E_coat)(max(s_c) E_sheen + (1 − max(s_c) E_sheen) E_base) ≤ 1 whenever the base keeps E_base ≤ 1.
 //! The base's transmission passes through both scalings.
 //!
+//! The coat has a shading frame of its own (glTF: it ignores the base's normal map and may have
+//! its own): `coat_frame` rotates the base's frame into it, and f_coat and E_coat read ωo and ωi
+//! there.
+//!
 //! Sampling picks the coat with q_c = c E_coat(μo), the sheen with q_s = (1 − q_c) max(s_c)
 //! E_sheen(μo), the base otherwise (its own lobes then), and weighs by the whole f cosθi over the
 //! mixture's pdf q_c p_coat + q_s p_sheen + (1 − q_c − q_s) p_base.
@@ -18,7 +22,7 @@
 /// `rt_gpu::shaders`).
 pub const WGSL: &str = include_str!("layers.wgsl");
 
-use glam::Vec3;
+use glam::{Mat3, Vec3};
 
 use super::bsdf::{BsdfSample, Pbr};
 use super::coat::{coat_eval, coat_table, sample_coat};
@@ -88,6 +92,9 @@ pub struct Layers {
     pub clearcoat_roughness: f32,
     pub sheen_color: Vec3,
     pub sheen_roughness: f32,
+    /// The coat's frame, as the matrix taking a direction in the base's frame to the coat's
+    /// (`None`: the base's).
+    pub coat_frame: Option<Mat3>,
 }
 
 /// The layered BSDF at one shading point, as seen from one `wo`.
@@ -104,11 +111,13 @@ pub struct Layered {
     pub below_sheen: f32,
     pub q_coat: f32,
     pub q_sheen: f32,
+    pub coat_frame: Option<Mat3>,
 }
 
 impl Layered {
-    /// `base` under `layers`, seen from a direction at cosine `cos_o` (tables: `albedo_tables`).
-    pub fn new(base: Pbr, layers: &Layers, tables: &[f32], cos_o: f32) -> Self {
+    /// `base` under `layers`, seen from `wo` (in the base's frame; tables: `albedo_tables`).
+    pub fn new(base: Pbr, layers: &Layers, tables: &[f32], wo: Vec3) -> Self {
+        let cos_o = wo.z;
         let mut l = Layered {
             base,
             coat: layers.clearcoat,
@@ -119,10 +128,12 @@ impl Layered {
             below_sheen: 1.0,
             q_coat: 0.0,
             q_sheen: 0.0,
+            coat_frame: layers.coat_frame,
         };
         if l.coat > 0.0 {
+            let cos_coat = l.in_coat_frame(wo).z.max(0.0);
             l.q_coat =
-                l.coat * albedo_lookup(tables, TABLE_COAT, cos_o, layers.clearcoat_roughness);
+                l.coat * albedo_lookup(tables, TABLE_COAT, cos_coat, layers.clearcoat_roughness);
             l.below_coat = 1.0 - l.q_coat;
         }
         let s = l.sheen.max_element();
@@ -138,13 +149,25 @@ impl Layered {
         (1.0 - self.q_coat - self.q_sheen).max(0.0)
     }
 
+    /// A direction of the base's frame in the coat's.
+    fn in_coat_frame(&self, w: Vec3) -> Vec3 {
+        match self.coat_frame {
+            Some(m) => m * w,
+            None => w,
+        }
+    }
+
     /// f · |cosθi| and the pdf of `sample` at `wi`.
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         let (fb, pb) = self.base.eval(wo, wi);
         let mut f = fb * (self.below_coat * self.below_sheen);
         let mut pdf = self.q_base() * pb;
         if self.coat > 0.0 {
-            let (fc, pc) = coat_eval(wo, wi, self.coat_alpha);
+            let (fc, pc) = coat_eval(
+                self.in_coat_frame(wo),
+                self.in_coat_frame(wi),
+                self.coat_alpha,
+            );
             f += Vec3::splat(self.coat * fc);
             pdf += self.q_coat * pc;
         }
@@ -158,7 +181,12 @@ impl Layered {
     /// A direction for three uniform numbers, or `None` where the sample carries nothing.
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u1: f32, u2: f32) -> Option<BsdfSample> {
         let wi = if u_lobe < self.q_coat {
-            sample_coat(wo, self.coat_alpha, u1, u2)?
+            let wi = sample_coat(self.in_coat_frame(wo), self.coat_alpha, u1, u2)?;
+            match self.coat_frame {
+                // Back to the base's frame: the rotation's inverse is its transpose.
+                Some(m) => m.transpose() * wi,
+                None => wi,
+            }
         } else if u_lobe < self.q_coat + self.q_sheen {
             sample_sheen(u1, u2)
         } else {
@@ -194,7 +222,7 @@ mod tests {
             specular,
             cos_o,
         );
-        Layered::new(base, &layers, &tables, cos_o)
+        Layered::new(base, &layers, &tables, wo_at(cos_o))
     }
 
     fn coat(clearcoat: f32, clearcoat_roughness: f32) -> Layers {
@@ -233,6 +261,12 @@ mod tests {
             clearcoat_roughness: 0.4,
             sheen_color: Vec3::new(0.6, 0.4, 0.2),
             sheen_roughness: 0.3,
+            coat_frame: None,
+        };
+        // A coat whose normal leans 0.4 rad away from the base's (its own normal map).
+        let tilted = Layers {
+            coat_frame: Some(Mat3::from_rotation_x(0.4)),
+            ..coat(1.0, 0.2)
         };
         let cases = [
             (
@@ -259,6 +293,11 @@ mod tests {
                 "every layer over rough glass",
                 stack(glass, every, 0.8),
                 0.8,
+            ),
+            (
+                "a tilted coat over plastic",
+                stack(plastic, tilted, 0.6),
+                0.6,
             ),
         ];
         for (k, (what, l, cos_o)) in cases.iter().enumerate() {
@@ -326,6 +365,7 @@ mod tests {
                     clearcoat_roughness: r,
                     sheen_color: Vec3::ONE,
                     sheen_roughness: r,
+                    coat_frame: None,
                 };
                 let (e, se) = albedo(&stack(white, all, cos_o), wo, 0);
                 eprintln!("coat and sheen over white, r {r} cos {cos_o}: {e:.4} ± {se:.4}");

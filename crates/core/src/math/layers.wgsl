@@ -17,12 +17,25 @@ struct Layered {
     below_sheen: f32,
     q_coat: f32,
     q_sheen: f32,
+    // Whether the coat has a frame of its own, and the matrix taking the base's frame to it.
+    coat_own_frame: bool,
+    coat_frame: mat3x3<f32>,
 }
 
-// base under a coat (weight, roughness) and a sheen (colour, roughness), seen at cosine cos_o.
+// A direction of the base's frame in the coat's.
+fn in_coat_frame(l: Layered, w: vec3<f32>) -> vec3<f32> {
+    return select(w, l.coat_frame * w, l.coat_own_frame);
+}
+
+// base under a coat (weight, roughness, frame) and a sheen (colour, roughness), seen from wo (in
+// the base's frame).
 fn layered_bsdf(base: PbrBsdf, clearcoat: f32, clearcoat_roughness: f32, sheen_color: vec3<f32>,
-                sheen_roughness: f32, cos_o: f32) -> Layered {
+                sheen_roughness: f32, wo: vec3<f32>, coat_own_frame: bool,
+                coat_frame: mat3x3<f32>) -> Layered {
+    let cos_o = wo.z;
     var l: Layered;
+    l.coat_own_frame = coat_own_frame;
+    l.coat_frame = coat_frame;
     l.base = base;
     l.coat = clearcoat;
     l.coat_alpha = alpha_of_roughness(clearcoat_roughness);
@@ -33,7 +46,8 @@ fn layered_bsdf(base: PbrBsdf, clearcoat: f32, clearcoat_roughness: f32, sheen_c
     l.q_coat = 0.0;
     l.q_sheen = 0.0;
     if (l.coat > 0.0) {
-        l.q_coat = l.coat * albedo_lookup(TABLE_COAT, cos_o, clearcoat_roughness);
+        let cos_coat = max(in_coat_frame(l, wo).z, 0.0);
+        l.q_coat = l.coat * albedo_lookup(TABLE_COAT, cos_coat, clearcoat_roughness);
         l.below_coat = 1.0 - l.q_coat;
     }
     let s = max(max(sheen_color.x, sheen_color.y), sheen_color.z);
@@ -51,7 +65,7 @@ fn layered_eval(l: Layered, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
     var f = e.xyz * (l.below_coat * l.below_sheen);
     var pdf = max(1.0 - l.q_coat - l.q_sheen, 0.0) * e.w;
     if (l.coat > 0.0) {
-        let c = coat_eval(wo, wi, l.coat_alpha);
+        let c = coat_eval(in_coat_frame(l, wo), in_coat_frame(l, wi), l.coat_alpha);
         f += vec3(l.coat * c.x);
         pdf += l.q_coat * c.y;
     }
@@ -67,7 +81,9 @@ fn layered_sample(l: Layered, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32) -> B
     out.valid = false;
     var d: vec4<f32>;
     if (u_lobe < l.q_coat) {
-        d = sample_coat(wo, l.coat_alpha, u1, u2);
+        d = sample_coat(in_coat_frame(l, wo), l.coat_alpha, u1, u2);
+        // Back to the base's frame: the rotation's inverse is its transpose.
+        d = vec4(select(d.xyz, transpose(l.coat_frame) * d.xyz, l.coat_own_frame), d.w);
     } else if (u_lobe < l.q_coat + l.q_sheen) {
         d = vec4(sample_sheen(u1, u2), 1.0);
     } else {

@@ -14,7 +14,7 @@ use super::surface::{PbrInputs, Surface};
 use super::texture::{Slot, base_color_texture, surface_emission, textured_pbr_inputs};
 use super::trace;
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{Frame, Hit, PbrLobe, SLOT_BASE, SLOT_NORMAL};
+use crate::gpu_types::{Frame, Hit, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT_NORMAL, SLOT_NORMAL};
 use crate::material_kind::MaterialKind;
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::{self, Rng};
@@ -272,30 +272,29 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
             Some(uv) => textured_pbr_inputs(scene, material, uv),
             None => PbrInputs::of_lobe(&lobe),
         };
-        if let Some(uv) = uv
-            && !material.texture(SLOT_NORMAL).is_empty()
-            && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
-        {
-            let t = Slot::of(material, SLOT_NORMAL)
-                .sample(scene, uv, false)
-                .truncate();
+        // The normal a tangent-space map in `slot` gives, facing the ray.
+        let mapped = |slot: u32, scale: f32| {
+            let uv = uv?;
+            if material.texture(slot).is_empty()
+                || tri.has_normals & crate::gpu_types::HAS_NORMALS == 0
+            {
+                return None;
+            }
+            let t = Slot::of(material, slot).sample(scene, uv, false).truncate();
             let i = 3 * hit.triangle as usize;
-            let mapped = normal_mapped(
-                n_interpolated,
-                [
-                    scene.tangents[i],
-                    scene.tangents[i + 1],
-                    scene.tangents[i + 2],
-                ],
-                [b0, hit.b1, hit.b2],
-                t,
-                lobe.normal_scale,
-            );
-            ns = if mapped.dot(ng) < 0.0 {
-                -mapped
-            } else {
-                mapped
-            };
+            let corners = [
+                scene.tangents[i],
+                scene.tangents[i + 1],
+                scene.tangents[i + 2],
+            ];
+            let n = normal_mapped(n_interpolated, corners, [b0, hit.b1, hit.b2], t, scale);
+            Some(if n.dot(ng) < 0.0 { -n } else { n })
+        };
+        // The coat ignores the base's normal map (glTF): its own map, else the smooth normal.
+        inputs.coat_normal =
+            mapped(SLOT_CLEARCOAT_NORMAL, lobe.clearcoat_normal_scale).unwrap_or(ns);
+        if let Some(n) = mapped(SLOT_NORMAL, lobe.normal_scale) {
+            ns = n;
         }
     }
     let surface = Surface::of_material(

@@ -229,13 +229,24 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     if (HAS_PBR && material.kind == MAT_PBR) {
         let lobe = pbr_lobe(material);
         inputs = pbr_inputs_of_lobe(lobe);
+        // The coat ignores the base's normal map (glTF): its own map, else the smooth normal.
+        inputs.coat_normal = ns;
         if (HAS_TEXTURES && tri.has_uvs != 0u) {
             inputs = textured_pbr_inputs(material, uv);
-            if (HAS_NORMAL_MAPS && material.textures[SLOT_NORMAL].offset != NO_TEXTURE && (tri.has_normals & HAS_NORMALS) != 0u) {
-                let t = material_texture(material, SLOT_NORMAL, uv, false).rgb;
+            inputs.coat_normal = ns;
+            if (HAS_NORMAL_MAPS && (tri.has_normals & HAS_NORMALS) != 0u) {
                 let i = 3u * hit.triangle;
-                let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], vec3(b0, hit.b1, hit.b2), t, lobe.normal_scale);
-                ns = select(mapped, -mapped, dot(mapped, ng) < 0.0);
+                let bary = vec3(b0, hit.b1, hit.b2);
+                if (material.textures[SLOT_CLEARCOAT_NORMAL].offset != NO_TEXTURE) {
+                    let t = material_texture(material, SLOT_CLEARCOAT_NORMAL, uv, false).rgb;
+                    let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], bary, t, lobe.clearcoat_normal_scale);
+                    inputs.coat_normal = select(mapped, -mapped, dot(mapped, ng) < 0.0);
+                }
+                if (material.textures[SLOT_NORMAL].offset != NO_TEXTURE) {
+                    let t = material_texture(material, SLOT_NORMAL, uv, false).rgb;
+                    let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], bary, t, lobe.normal_scale);
+                    ns = select(mapped, -mapped, dot(mapped, ng) < 0.0);
+                }
             }
         }
     }

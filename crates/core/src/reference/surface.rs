@@ -9,7 +9,7 @@
 /// `rt_gpu::shaders`).
 pub const WGSL: &str = include_str!("surface.wgsl");
 
-use glam::Vec3;
+use glam::{Mat3, Vec3};
 
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{DielectricLobe, Material, MetalLobe, PbrLobe, THIN_WALLED};
@@ -50,6 +50,9 @@ pub struct PbrInputs {
     pub clearcoat_roughness: f32,
     pub sheen_color: Vec3,
     pub sheen_roughness: f32,
+    /// The clear coat's shading normal (world space, facing the ray; zero: the base's): glTF's
+    /// coat ignores the base's normal map and may have its own.
+    pub coat_normal: Vec3,
 }
 
 impl PbrInputs {
@@ -64,6 +67,7 @@ impl PbrInputs {
             clearcoat_roughness: l.clearcoat_roughness,
             sheen_color: Vec3::from(l.sheen_color),
             sheen_roughness: l.sheen_roughness,
+            coat_normal: Vec3::ZERO,
         }
     }
 }
@@ -247,10 +251,28 @@ fn pbr_surface(
         clearcoat_roughness: inputs.clearcoat_roughness,
         sheen_color: inputs.sheen_color,
         sheen_roughness: inputs.sheen_roughness,
+        coat_frame: coat_frame(inputs, wo, ng, [t, b, n]),
     };
     Surface::Pbr {
-        bsdf: Layered::new(base, &layers, tables, wo_local.z),
+        bsdf: Layered::new(base, &layers, tables, wo_local),
         frame: [t, b, n],
         wo: wo_local,
     }
+}
+
+/// The coat's frame in the base's (`Layers::coat_frame`): about the coat's normal (the true
+/// normal where `wo` lies below it), `None` where that is the base's normal or there is no coat.
+fn coat_frame(inputs: &PbrInputs, wo: Vec3, ng: Vec3, base: [Vec3; 3]) -> Option<Mat3> {
+    let nc = inputs.coat_normal;
+    if inputs.clearcoat <= 0.0 || nc == Vec3::ZERO || nc == base[2] {
+        return None;
+    }
+    let nc = if wo.dot(nc) > 0.0 { nc } else { ng };
+    if nc == base[2] {
+        return None;
+    }
+    let (tc, bc) = onb(nc);
+    // Rows: the coat's axes in the base's frame.
+    let row = |a: Vec3| Vec3::new(a.dot(base[0]), a.dot(base[1]), a.dot(base[2]));
+    Some(Mat3::from_cols(row(tc), row(bc), row(nc)).transpose())
 }

@@ -37,12 +37,42 @@ struct PbrInputs {
     clearcoat_roughness: f32,
     sheen_color: vec3<f32>,
     sheen_roughness: f32,
+    // The clear coat's shading normal (world space, facing the ray; zero: the base's).
+    coat_normal: vec3<f32>,
 }
 
 // The factors alone.
 fn pbr_inputs_of_lobe(l: PbrLobe) -> PbrInputs {
     return PbrInputs(l.metallic, l.roughness, l.specular, l.specular_color, l.clearcoat,
-                     l.clearcoat_roughness, l.sheen_color, l.sheen_roughness);
+                     l.clearcoat_roughness, l.sheen_color, l.sheen_roughness, vec3(0.0));
+}
+
+// The coat's frame (coat_frame in surface.rs): whether it has one of its own (about its normal,
+// the true normal where wo lies below it), and the matrix taking the base's frame (t, b, n) to it.
+struct CoatFrame {
+    own: bool,
+    m: mat3x3<f32>,
+}
+
+fn coat_frame(inputs: PbrInputs, wo: vec3<f32>, ng: vec3<f32>, t: vec3<f32>, b: vec3<f32>, n: vec3<f32>) -> CoatFrame {
+    var out: CoatFrame;
+    out.own = false;
+    var nc = inputs.coat_normal;
+    if (inputs.clearcoat <= 0.0 || all(nc == vec3(0.0)) || all(nc == n)) {
+        return out;
+    }
+    nc = select(ng, nc, dot(wo, nc) > 0.0);
+    if (all(nc == n)) {
+        return out;
+    }
+    let basis = onb(nc);
+    // Rows: the coat's axes in the base's frame (WGSL's constructor takes columns).
+    let r0 = vec3(dot(basis.t, t), dot(basis.t, b), dot(basis.t, n));
+    let r1 = vec3(dot(basis.b, t), dot(basis.b, b), dot(basis.b, n));
+    let r2 = vec3(dot(nc, t), dot(nc, b), dot(nc, n));
+    out.own = true;
+    out.m = transpose(mat3x3(r0, r1, r2));
+    return out;
 }
 
 // The PBR surface at a hit seen from wo: shading frame ns unless wo lies below it, then ng.
@@ -69,8 +99,9 @@ fn pbr_surface(material: Material, base: vec3<f32>, inputs: PbrInputs, wo: vec3<
     if (lobe.transmission > 0.0) {
         b = pbr_with_glass_energy(b, select(glass_energy(wo_local.z, roughness, eta), energy, thin));
     }
+    let cf = coat_frame(inputs, wo, ng, basis.t, basis.b, n);
     s.bsdf = layered_bsdf(b, inputs.clearcoat, inputs.clearcoat_roughness, inputs.sheen_color,
-                          inputs.sheen_roughness, wo_local.z);
+                          inputs.sheen_roughness, wo_local, cf.own, cf.m);
     return s;
 }
 

@@ -186,7 +186,8 @@ fn the_layers_textures_map_onto_their_slots() {
     ext.insert(
         "KHR_materials_clearcoat".into(),
         json!({"clearcoatFactor": 1.0, "clearcoatTexture": {"index": 0},
-               "clearcoatRoughnessTexture": {"index": 1}}),
+               "clearcoatRoughnessTexture": {"index": 1},
+               "clearcoatNormalTexture": {"index": 0, "scale": 0.25}}),
     );
     ext.insert(
         "KHR_materials_sheen".into(),
@@ -209,9 +210,14 @@ fn the_layers_textures_map_onto_their_slots() {
         [Some(0), Some(1), Some(0), Some(1), Some(1), Some(0)],
         "texture 1 is image 0 through the nearest sampler: a second decoding"
     );
+    assert_eq!(
+        (p.clearcoat_normal_texture, p.clearcoat_normal_scale),
+        (Some(0), 0.25)
+    );
     let gpu = rt_core::GpuScene::build(&scene).unwrap();
     let g = &gpu.materials[0];
     for slot in [
+        rt_core::gpu_types::SLOT_CLEARCOAT_NORMAL,
         SLOT_CLEARCOAT,
         SLOT_CLEARCOAT_ROUGHNESS,
         SLOT_SHEEN_COLOR,

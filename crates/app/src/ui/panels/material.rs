@@ -347,6 +347,13 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
                 "Its green channel scales the coat's roughness",
             ),
             (
+                "Coat normal map",
+                "pbr coat normal map",
+                &mut p.clearcoat_normal_texture,
+                "The coat's own bumps (tangent space); without one the coat stays smooth over \
+                 the base's normal map",
+            ),
+            (
                 "Sheen image",
                 "pbr sheen image",
                 &mut p.sheen_color_texture,

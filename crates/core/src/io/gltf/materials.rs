@@ -1,7 +1,7 @@
 //! Materials onto `Material::Pbr`: metallic-roughness, normal maps, emission, transmission, IOR,
 //! volume and alpha, with their textures (decoded once per image and sampler) and the
 //! `KHR_texture_transform` rt can honour; `KHR_materials_specular`, `KHR_materials_clearcoat` and
-//! `KHR_materials_sheen` with their textures (the coat's own normal map excepted, with a warning).
+//! `KHR_materials_sheen` with their textures (the coat's own normal map included).
 
 use super::Loader;
 use super::buffers::read_uri;
@@ -206,14 +206,13 @@ impl Loader<'_> {
             out.clearcoat_texture = self.json_slot(c, "clearcoatTexture", baked)?;
             out.clearcoat_roughness_texture =
                 self.json_slot(c, "clearcoatRoughnessTexture", baked)?;
-            if c.get("clearcoatNormalTexture").is_some() {
-                log::warn!(
-                    "{}: material {}: rt does not read KHR_materials_clearcoat's \
-                     clearcoatNormalTexture yet: the coat follows the base's shading normal",
-                    self.path.display(),
-                    m.index().map_or("default".into(), |i| i.to_string())
-                );
-            }
+            out.clearcoat_normal_texture = self.json_slot(c, "clearcoatNormalTexture", baked)?;
+            out.clearcoat_normal_scale = c
+                .get("clearcoatNormalTexture")
+                .and_then(|t| t.get("scale"))
+                .and_then(gltf::json::Value::as_f64)
+                .map_or(1.0, |x| x as f32)
+                .clamp(-1e3, 1e3);
         }
         if let Some(s) = m.extension_value("KHR_materials_sheen") {
             if let Some(c) = s.get("sheenColorFactor").and_then(|c| c.as_array())

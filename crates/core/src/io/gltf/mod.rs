@@ -15,7 +15,7 @@
 //!
 //! Files that require an extension rt does not support get an error naming it. What rt does not
 //! map (texture transforms that differ from the base colour texture's, other UV sets,
-//! the clear coat's own normal map, skins, morph targets) is ignored with a warning; occlusion textures
+//! skins, morph targets) is ignored with a warning; occlusion textures
 //! are not used (a path tracer computes occlusion). Every byte range is checked before it is
 //! read, so a broken file is an error naming the part at fault, never a panic.
 
