@@ -257,3 +257,34 @@ fn the_assimp_gltf2_corpus_loads_or_fails_cleanly() {
         }
     }
 }
+
+/// Khronos' ClearCoatTest (in assimp-testmodels): its coated column gets coats, with their
+/// textures (partial coating, roughness variations) and the coat's own normal maps.
+#[test]
+fn the_clear_coat_test_model_loads_its_coats() {
+    let Some(dir) = corpus() else {
+        assert!(std::env::var_os("CI").is_none(), "CI: assimp-testmodels missing");
+        return;
+    };
+    let scene = load_gltf(&dir.join("ClearCoat-glTF/ClearCoatTest.gltf"), None).unwrap();
+    let coats: Vec<_> = scene
+        .objects
+        .iter()
+        .filter_map(|o| match &o.material {
+            rt_core::Material::Pbr(p) if p.clearcoat > 0.0 => Some(p),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(coats.len(), 6, "one coated sample per row");
+    assert!(coats.iter().any(|p| p.clearcoat_texture.is_some()));
+    assert!(coats.iter().any(|p| p.clearcoat_roughness_texture.is_some()));
+    assert_eq!(
+        coats
+            .iter()
+            .filter(|p| p.clearcoat_normal_texture.is_some())
+            .count(),
+        2,
+        "the coat normal map and the shared normal map rows"
+    );
+    rt_core::GpuScene::build(&scene).unwrap();
+}
