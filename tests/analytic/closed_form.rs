@@ -80,6 +80,39 @@ fn lens_filling_emitter_shows_its_radiance() {
     );
 }
 
+/// glTF's clear coat attenuates emission: a lens-filling emitter under a smooth full coat, seen
+/// along its normal, shows its radiance times 1 − F(1) = 0.96 (a coat of index 1.5 reflects 4% at
+/// normal incidence); its black base with specular 0 reflects nothing.
+#[test]
+fn a_clear_coat_attenuates_emission_by_its_fresnel() {
+    let Some(ctx) = gpu() else { return };
+    let coated = pbr(rt_core::material::Pbr {
+        base_color: [0.0; 3],
+        specular: 0.0,
+        emission: [0.5, 1.0, 2.0],
+        emission_strength: 3.0,
+        clearcoat: 1.0,
+        clearcoat_roughness: 0.0,
+        ..Default::default()
+    });
+    let scene = scene(
+        vec![object(
+            "emitter",
+            quad(Vec3::new(0.0, 0.0, -1.0), Vec3::Z, 100.0),
+            coated,
+        )],
+        camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 1.0),
+        [0.0; 3],
+        settings(8, 8, 4, 1),
+    );
+    assert_all_pixels(
+        &render(ctx, &scene),
+        [1.5 * 0.96, 3.0 * 0.96, 6.0 * 0.96],
+        6e-3,
+        "an emitter under a clear coat",
+    );
+}
+
 #[test]
 fn back_of_an_emitter_is_black() {
     let Some(ctx) = gpu() else { return };

@@ -357,6 +357,8 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
             emission_strength: 3.0,
             specular: 0.6,
             specular_color: [1.0, 0.5, 2.0],
+            // Its emission passes a coat, towards the camera and towards light sampling alike.
+            clearcoat: 0.6,
             ..Default::default()
         }),
     );

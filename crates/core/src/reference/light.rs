@@ -107,7 +107,7 @@ pub fn sample_light(
         * distance
         * distance
         / cos_l;
-    let mut le = surface_emission(scene, material, tri, chosen, b1, b2);
+    let mut le = surface_emission(scene, material, tri, chosen, (b1, b2), cos_l);
     if material.flags & (ALPHA_MASK | ALPHA_BLEND) != 0 {
         le *= coverage(scene, material, tri, chosen, b1, b2);
     }

@@ -68,7 +68,7 @@ fn sample_light(p: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> Lig
     // BSDF sampling finds there on average).
     let material = materials[tri.material];
     let p_light = (1.0 - frame.env_pick) * luminance(material.emission) * frame.emitter_power_inv * distance * distance / cos_l;
-    var le = surface_emission(material, tri, chosen, b.y, b.z);
+    var le = surface_emission(material, tri, chosen, b.y, b.z, cos_l);
     if (HAS_ALPHA && (material.flags & (ALPHA_MASK | ALPHA_BLEND)) != 0u) {
         le *= coverage(material, tri, chosen, b.y, b.z);
     }

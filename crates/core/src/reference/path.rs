@@ -192,7 +192,15 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         }
     }
     if front {
-        let le = surface_emission(scene, material, tri, hit.triangle, hit.b1, hit.b2);
+        let cos_out = -path.direction.dot(ng_raw.normalize());
+        let le = surface_emission(
+            scene,
+            material,
+            tri,
+            hit.triangle,
+            (hit.b1, hit.b2),
+            cos_out,
+        );
         let mut weight = 1.0;
         if frame.emitter_count > 0 && path.prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
             let cos_l = -path.direction.dot(ng_raw.normalize());

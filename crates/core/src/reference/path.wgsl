@@ -194,7 +194,8 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
             let p_light = (1.0 - frame.env_pick) * luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
             weight = select(power_heuristic((*path).prev_bsdf_pdf, p_light), 0.0, frame.light_strategy == 1u);
         }
-        let emitted = (*path).beta * surface_emission(material, tri, hit.triangle, hit.b1, hit.b2) * weight;
+        let cos_out = -dot(direction, normalize(ng_raw));
+        let emitted = (*path).beta * surface_emission(material, tri, hit.triangle, hit.b1, hit.b2, cos_out) * weight;
         (*path).radiance += select(clamp_bounced(emitted), emitted, depth == 0u);
         if (WRITE_AOVS && depth == 0u) {
             aov_emission = emitted;

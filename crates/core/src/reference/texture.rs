@@ -17,6 +17,7 @@ use crate::gpu_types::{
 };
 use crate::material_kind::MaterialKind;
 use crate::math::intersect::PreparedRay;
+use crate::math::layers::{TABLE_COAT, albedo_lookup};
 use crate::math::sampling::srgb_to_linear;
 
 /// A texel index on an axis of `n` texels after the wrap mode (repeat, clamp or mirror).
@@ -137,22 +138,38 @@ fn uv_at(scene: &GpuScene, i: u32, b1: f32, b2: f32) -> Vec2 {
     Vec2::from(sh.uv0) * (1.0 - b1 - b2) + Vec2::from(sh.uv1) * b1 + Vec2::from(sh.uv2) * b2
 }
 
-/// The light triangle `i` emits at (b1, b2): the emission factor times the emission image.
+/// The light a surface emits at the barycentrics (b1, b2) of triangle `i` towards a direction at
+/// cosine `cos` to its normal: the material's emission times its emission image, under a clear
+/// coat times what the coat lets through, 1 − c E_coat(cos) (glTF: emission is attenuated by the
+/// coat; E_coat the coat's albedo from `math::coat`, by reciprocity what it reflects of light
+/// arriving from that direction is what it keeps of light leaving towards it).
 pub fn surface_emission(
     scene: &GpuScene,
     m: &Material,
     tri: &Triangle,
     i: u32,
-    b1: f32,
-    b2: f32,
+    (b1, b2): (f32, f32),
+    cos: f32,
 ) -> Vec3 {
-    let e = Vec3::from(m.emission);
-    if m.texture(SLOT_EMISSION).is_empty() || tri.has_uvs == 0 {
-        return e;
+    let mut e = Vec3::from(m.emission);
+    if !m.texture(SLOT_EMISSION).is_empty() && tri.has_uvs != 0 {
+        e *= Slot::of(m, SLOT_EMISSION)
+            .sample(scene, uv_at(scene, i, b1, b2), true)
+            .truncate();
     }
-    e * Slot::of(m, SLOT_EMISSION)
-        .sample(scene, uv_at(scene, i, b1, b2), true)
-        .truncate()
+    if m.kind == MaterialKind::Pbr.tag() {
+        let lobe = m.lobe_of::<PbrLobe>();
+        if lobe.clearcoat > 0.0 {
+            let coat = albedo_lookup(
+                &scene.albedo_tables,
+                TABLE_COAT,
+                cos,
+                lobe.clearcoat_roughness,
+            );
+            e *= 1.0 - lobe.clearcoat * coat;
+        }
+    }
+    e
 }
 
 /// The coverage at (b1, b2) of triangle `i`: the base colour's alpha (factor times image); with

@@ -61,16 +61,23 @@ fn base_color_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
     return t * select(vec3(1.0), m.color, m.kind == MAT_PBR);
 }
 
-// The light a surface emits at the barycentrics (b1, b2) of triangle i: the material's emission
-// times its emission image.
-fn surface_emission(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32) -> vec3<f32> {
-    if (!HAS_TEXTURES || m.textures[SLOT_EMISSION].offset == NO_TEXTURE || tri.has_uvs == 0u) {
-        return m.emission;
+// The light a surface emits at the barycentrics (b1, b2) of triangle i towards a direction at
+// cosine cos_out to its normal: the material's emission times its emission image, under a clear
+// coat times 1 − c E_coat(cos_out) (texture.rs says why).
+fn surface_emission(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32, cos_out: f32) -> vec3<f32> {
+    var e = m.emission;
+    if (HAS_TEXTURES && m.textures[SLOT_EMISSION].offset != NO_TEXTURE && tri.has_uvs != 0u) {
+        let sh = shading[i];
+        let uv = sh.uv0 * (1.0 - b1 - b2) + sh.uv1 * b1 + sh.uv2 * b2;
+        e *= material_texture(m, SLOT_EMISSION, uv, true).rgb;
     }
-    let sh = shading[i];
-    let uv = sh.uv0 * (1.0 - b1 - b2) + sh.uv1 * b1 + sh.uv2 * b2;
-    let t = material_texture(m, SLOT_EMISSION, uv, true);
-    return m.emission * t.rgb;
+    if (HAS_PBR && m.kind == MAT_PBR) {
+        let lobe = pbr_lobe(m);
+        if (lobe.clearcoat > 0.0) {
+            e *= 1.0 - lobe.clearcoat * albedo_lookup(TABLE_COAT, cos_out, lobe.clearcoat_roughness);
+        }
+    }
+    return e;
 }
 
 // The coverage of triangle i's surface at (b1, b2): the alpha of the base colour factor times its

@@ -263,7 +263,10 @@ fn the_assimp_gltf2_corpus_loads_or_fails_cleanly() {
 #[test]
 fn the_clear_coat_test_model_loads_its_coats() {
     let Some(dir) = corpus() else {
-        assert!(std::env::var_os("CI").is_none(), "CI: assimp-testmodels missing");
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI: assimp-testmodels missing"
+        );
         return;
     };
     let scene = load_gltf(&dir.join("ClearCoat-glTF/ClearCoatTest.gltf"), None).unwrap();
@@ -277,7 +280,11 @@ fn the_clear_coat_test_model_loads_its_coats() {
         .collect();
     assert_eq!(coats.len(), 6, "one coated sample per row");
     assert!(coats.iter().any(|p| p.clearcoat_texture.is_some()));
-    assert!(coats.iter().any(|p| p.clearcoat_roughness_texture.is_some()));
+    assert!(
+        coats
+            .iter()
+            .any(|p| p.clearcoat_roughness_texture.is_some())
+    );
     assert_eq!(
         coats
             .iter()
