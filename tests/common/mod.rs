@@ -359,6 +359,9 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
             specular_color: [1.0, 0.5, 2.0],
             // Its emission passes a coat, towards the camera and towards light sampling alike.
             clearcoat: 0.6,
+            // And some of its diffuse light goes through, greener.
+            diffuse_transmission: 0.5,
+            diffuse_transmission_color: [0.4, 1.0, 0.3],
             ..Default::default()
         }),
     );

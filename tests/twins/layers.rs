@@ -98,7 +98,7 @@ fn coat_and_sheen_match_their_twin() {
 #[test]
 fn layered_bsdf_matches_its_twin() {
     let Some(ctx) = gpu() else { return };
-    const WORDS: usize = 28;
+    const WORDS: usize = 32;
     let input = inputs(WORDS, |rng| {
         let mut wo = unit(rng);
         wo.z = wo.z.abs().max(1e-3);
@@ -136,6 +136,9 @@ fn layered_bsdf_matches_its_twin() {
         } else {
             0.0
         });
+        // Diffuse transmission on a third, with its colour.
+        words.push(some(rng, 0.3));
+        words.extend([rng.next_f32(), rng.next_f32(), rng.next_f32()]);
         bits(&words)
     });
     let kernel = TwinKernel {
@@ -148,6 +151,7 @@ fn layered_bsdf_matches_its_twin() {
     b = pbr_with_specular(b, v3_in(item, 16u), f_in(item, 19u), wo.z);
     b.thin = f_in(item, 13u) > 0.5;
     b = pbr_with_glass_energy(b, f_in(item, 26u));
+    b = pbr_with_diffuse_transmission(b, f_in(item, 28u), v3_in(item, 29u));
     let tilt = f_in(item, 27u);
     let c = cos(tilt);
     let sn = sin(tilt);
@@ -178,7 +182,8 @@ fn layered_bsdf_matches_its_twin() {
         let base = Pbr::new(v(6), f(9), r, f(11), f(12), wo.z, energy)
             .with_specular(v(16), f(19), wo.z)
             .thin_walled(f(13) > 0.5)
-            .with_glass_energy(f(26));
+            .with_glass_energy(f(26))
+            .with_diffuse_transmission(f(28), v(29));
         let layers = Layers {
             clearcoat: f(20),
             clearcoat_roughness: f(21),

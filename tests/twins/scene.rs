@@ -243,7 +243,7 @@ fn the_surface_dispatch_matches_its_twin() {
         MaterialKind::Dielectric,
         MaterialKind::Pbr,
     ];
-    let input = inputs(41, |rng| {
+    let input = inputs(45, |rng| {
         let kind = KINDS[(rng.next_f32() * 4.0) as usize % 4];
         let color = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
         let mut m = Material {
@@ -296,6 +296,8 @@ fn the_surface_dispatch_matches_its_twin() {
                     // From 0.1, as the base's roughness.
                     clearcoat_roughness: 0.1 + 0.9 * rng.next_f32(),
                     clearcoat_normal_scale: 1.0,
+                    diffuse_transmission: if layered { rng.next_f32() } else { 0.0 },
+                    diffuse_transmission_color: [rng.next_f32(), rng.next_f32(), 1.0],
                     _pad: 0.0,
                 })
             }
@@ -330,19 +332,19 @@ fn the_surface_dispatch_matches_its_twin() {
         words
     });
     let kernel = TwinKernel {
-        words_in: 41,
+        words_in: 45,
         words_out: 15,
         body: "var m: Material;
     m.kind = u_in(item, 0u); m.color = v3_in(item, 1u); m.flags = u_in(item, 4u);
-    for (var k = 0u; k < 5u; k++) {
+    for (var k = 0u; k < 6u; k++) {
         let o = 5u + 4u * k;
         m.lobe[k] = vec4(f_in(item, o), f_in(item, o + 1u), f_in(item, o + 2u), f_in(item, o + 3u));
     }
-    let d = v3_in(item, 25u); let ng = v3_in(item, 28u); let ns = v3_in(item, 31u);
-    let wi = v3_in(item, 34u);
+    let d = v3_in(item, 29u); let ng = v3_in(item, 32u); let ns = v3_in(item, 35u);
+    let wi = v3_in(item, 38u);
     var inputs = pbr_inputs_of_lobe(pbr_lobe(m));
-    inputs.coat_normal = v3_in(item, 38u);
-    let s = material_surface(m, m.color, inputs, d, ng, ns, u_in(item, 37u) != 0u);
+    inputs.coat_normal = v3_in(item, 42u);
+    let s = material_surface(m, m.color, inputs, d, ng, ns, u_in(item, 41u) != 0u);
     put_u(item, 0u, s.kind);
     put_u(item, 1u, u32(surface_is_delta(s)));
     put_u(item, 2u, u32(surface_transmits(s)));
@@ -365,7 +367,7 @@ fn the_surface_dispatch_matches_its_twin() {
     let mut per_kind = [0usize; 5];
     let rows: Vec<Vec<u32>> = (0..ITEMS)
         .map(|item| {
-            let w = |k: usize| input[item * 41 + k];
+            let w = |k: usize| input[item * 45 + k];
             let f = |k: usize| f32::from_bits(w(k));
             let v = |k: usize| Vec3::new(f(k), f(k + 1), f(k + 2));
             let mut m = Material {
@@ -375,12 +377,12 @@ fn the_surface_dispatch_matches_its_twin() {
                 ..Default::default()
             };
             m.lobe = std::array::from_fn(|k| std::array::from_fn(|j| f(5 + 4 * k + j)));
-            let (d, ng, ns, wi) = (v(25), v(28), v(31), v(34));
+            let (d, ng, ns, wi) = (v(29), v(32), v(35), v(38));
             let inputs = PbrInputs {
-                coat_normal: v(38),
+                coat_normal: v(42),
                 ..PbrInputs::of_lobe(&m.lobe_of::<PbrLobe>())
             };
-            let s = Surface::of_material(&scene, &m, v(1), &inputs, d, ng, ns, w(37) != 0);
+            let s = Surface::of_material(&scene, &m, v(1), &inputs, d, ng, ns, w(41) != 0);
             let kind = match s {
                 Surface::Lambert { .. } => MaterialKind::Lambertian,
                 Surface::Metal { .. } => MaterialKind::Metal,

@@ -183,6 +183,8 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
                 clearcoat: p.clearcoat,
                 clearcoat_roughness: p.clearcoat_roughness,
                 clearcoat_normal_scale: p.clearcoat_normal_scale,
+                diffuse_transmission: p.diffuse_transmission,
+                diffuse_transmission_color: p.diffuse_transmission_color,
                 _pad: 0.0,
             });
         }

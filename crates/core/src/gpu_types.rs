@@ -101,24 +101,24 @@ pub struct Material {
     /// The kind's parameter block, written and read only as that kind's block type (`lobe_of`).
     pub lobe: [[f32; 4]; LOBE_VEC4S], // 32
     /// The coverage factor (times the base colour image's alpha).
-    pub alpha: f32, // 112
+    pub alpha: f32, // 128
     /// With `ALPHA_MASK`: coverage below this is a hole.
-    pub alpha_cutoff: f32, // 116
+    pub alpha_cutoff: f32, // 132
     /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot, six slots a word:
     /// slot `i` at bit `5 (i mod 6)` of word `i / 6`.
-    pub samplers: [u32; 2], // 120
+    pub samplers: [u32; 2], // 136
     /// The images, indexed by `SLOT_*`: base colour (sRGB), metallic-roughness (B metal, G rough;
     /// linear), tangent-space normals (linear), emission (sRGB), then the layers' (`SLOT_*` says
     /// which channel each reads).
-    pub textures: [TextureSlot; SLOTS], // 128
-    pub _pad: [u32; 3], // 260
+    pub textures: [TextureSlot; SLOTS], // 144
+    pub _pad: [u32; 3], // 276
 }
 
 /// How many texture slots a material has.
 pub const SLOTS: usize = 11;
 
 /// The size of `Material::lobe` in 16-byte words: the largest kind's block (`PbrLobe`).
-pub const LOBE_VEC4S: usize = 5;
+pub const LOBE_VEC4S: usize = 6;
 
 impl Default for Material {
     fn default() -> Self {
@@ -225,7 +225,12 @@ pub struct PbrLobe {
     pub clearcoat_roughness: f32, // 68
     /// The coat's normal map's xy scale.
     pub clearcoat_normal_scale: f32, // 72
-    pub _pad: f32, // 76
+    /// `KHR_materials_diffuse_transmission`: the share of the diffuse lobe sent through to the
+    /// other side, in [0, 1].
+    pub diffuse_transmission: f32, // 76
+    /// The colour of the diffusely transmitted light.
+    pub diffuse_transmission_color: [f32; 3], // 80
+    pub _pad: f32, // 92
 }
 impl Lobe for PbrLobe {}
 
@@ -510,6 +515,8 @@ pub fn layouts() -> Vec<StructLayout> {
                 clearcoat,
                 clearcoat_roughness,
                 clearcoat_normal_scale,
+                diffuse_transmission,
+                diffuse_transmission_color,
                 _pad
             ]
         ),

@@ -46,12 +46,12 @@ struct Material {
     kind: u32,               // 12
     emission: vec3<f32>,     // 16
     flags: u32,              // 28: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND
-    lobe: array<vec4<f32>, 5>,  // 32: the kind's parameter block
-    alpha: f32,              // 112: the coverage factor
-    alpha_cutoff: f32,       // 116
-    samplers: array<u32, 2>, // 120: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
-    textures: array<TextureSlot, 11>,  // 128: by SLOT_*
-    _pad: array<u32, 3>,     // 260
+    lobe: array<vec4<f32>, 6>,  // 32: the kind's parameter block
+    alpha: f32,              // 128: the coverage factor
+    alpha_cutoff: f32,       // 132
+    samplers: array<u32, 2>, // 136: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
+    textures: array<TextureSlot, 11>,  // 144: by SLOT_*
+    _pad: array<u32, 3>,     // 276
 }
 
 // The kinds' parameter blocks: the words of Material.lobe in order (core::gpu_types::*Lobe).
@@ -77,7 +77,9 @@ struct PbrLobe {
     clearcoat: f32,          // 64: 0: no coat
     clearcoat_roughness: f32,  // 68
     clearcoat_normal_scale: f32,  // 72
-    _pad: f32,               // 76
+    diffuse_transmission: f32,  // 76: KHR_materials_diffuse_transmission's share
+    diffuse_transmission_color: vec3<f32>,  // 80
+    _pad: f32,               // 92
 }
 
 fn metal_lobe(m: Material) -> MetalLobe {
@@ -91,7 +93,7 @@ fn dielectric_lobe(m: Material) -> DielectricLobe {
 fn pbr_lobe(m: Material) -> PbrLobe {
     return PbrLobe(m.lobe[0].x, m.lobe[0].y, m.lobe[0].z, m.lobe[0].w, m.lobe[1].xyz, m.lobe[1].w,
                    m.lobe[2].xyz, m.lobe[2].w, m.lobe[3].xyz, m.lobe[3].w, m.lobe[4].x, m.lobe[4].y,
-                   m.lobe[4].z, m.lobe[4].w);
+                   m.lobe[4].z, m.lobe[4].w, m.lobe[5].xyz, m.lobe[5].w);
 }
 
 const THIN_WALLED: u32 = 1u;

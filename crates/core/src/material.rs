@@ -97,6 +97,11 @@ pub struct Pbr {
     pub clearcoat_normal_texture: Option<usize>,
     /// Scales the coat's normal map's x and y.
     pub clearcoat_normal_scale: f32,
+    /// `KHR_materials_diffuse_transmission`'s factor in [0, 1]: the share of the diffuse lobe that
+    /// leaves through the other side, cosine-distributed (leaves, paper, lampshades).
+    pub diffuse_transmission: f32,
+    /// The colour of the diffusely transmitted light (each channel ≥ 0).
+    pub diffuse_transmission_color: Rgb,
 }
 
 /// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
@@ -148,6 +153,8 @@ impl Default for Pbr {
             specular_color_texture: None,
             clearcoat_normal_texture: None,
             clearcoat_normal_scale: 1.0,
+            diffuse_transmission: 0.0,
+            diffuse_transmission_color: [1.0; 3],
         }
     }
 }
@@ -260,6 +267,7 @@ impl Pbr {
         unit("clearcoat", self.clearcoat)?;
         unit("clearcoat_roughness", self.clearcoat_roughness)?;
         unit("sheen_roughness", self.sheen_roughness)?;
+        unit("diffuse_transmission", self.diffuse_transmission)?;
         for c in self.sheen_color {
             unit("sheen_color", c)?;
         }
@@ -273,6 +281,10 @@ impl Pbr {
         colour("attenuation_color", &self.attenuation_color)?;
         colour("emission", &self.emission)?;
         colour("specular_color", &self.specular_color)?;
+        colour(
+            "diffuse_transmission_color",
+            &self.diffuse_transmission_color,
+        )?;
         if !(self.ior.is_finite() && self.ior >= 1.0) {
             return Err(format!("{what}: pbr ior must be >= 1, got {}", self.ior));
         }

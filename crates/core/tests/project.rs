@@ -115,6 +115,8 @@ fn rich_scene() -> Scene {
         specular_color_texture: Some(0),
         clearcoat_normal_texture: Some(0),
         clearcoat_normal_scale: 0.5,
+        diffuse_transmission: 0.35,
+        diffuse_transmission_color: [0.2, 0.9, 0.1],
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,

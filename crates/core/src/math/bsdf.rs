@@ -6,6 +6,12 @@
 //! f = m · F_schlick(c, ωo·h) · k_ms · f_spec                      (metal)
 //!   + (1 − m) · [F(ωo·h) · f_spec + (1 − t)(1 − F(ωo·h)) · c/π]   (dielectric over diffuse)
 //!   + (1 − m) · t · c · f_walter                                  (rough refraction, ωi below)
+//!   + (1 − m)(1 − t) d (1 − F(cosθo)) c_d/π                       (diffuse transmission, ωi below)
+//!
+//! where the diffuse lobe above keeps 1 − d of its weight: `KHR_materials_diffuse_transmission`
+//! sends the share d of the diffuse lobe through to the other side, cosine-distributed, with its
+//! own colour c_d in place of the base colour (its 1 − F at the view direction, as no half vector
+//! joins the two sides).
 //!
 //! F is the dielectric's Fresnel as `KHR_materials_specular` shapes it, in Cycles' generalised form
 //! that keeps total internal reflection: with F_η the exact unpolarised Fresnel of relative index
@@ -33,7 +39,7 @@
 //! channels:
 //!   q_r = m + (1 − m)(1 − t) F̄(cosθo)  visible-normal reflection,
 //!   q_g = (1 − m) t                    visible normal, then reflect with F̄(ωo·m) or refract,
-//!   q_d = (1 − m)(1 − t)(1 − F̄(cosθo)) cosine-weighted diffuse,
+//!   q_d = (1 − m)(1 − t)(1 − F̄(cosθo)) cosine-weighted diffuse, above with 1 − d, below with d,
 //! and the weight is f cosθi / Σ q_k p_k(ωi) (these sum to 1).
 
 /// The WGSL twin of this module, `bsdf.wgsl` beside it (composed into the kernels by
@@ -62,6 +68,9 @@ pub struct Pbr {
     pub f90: f32,
     /// The transmissive part's multiple-scattering compensation k_glass (1: none).
     pub k_glass: f32,
+    /// The diffuse lobe's transmitted share d and its colour c_d.
+    pub diffuse_transmission: f32,
+    pub diffuse_transmission_color: Vec3,
     pub q_reflect: f32,
     pub q_glass: f32,
     /// Thin-walled transmission (see above).
@@ -123,6 +132,8 @@ impl Pbr {
             f0: Vec3::splat(normal_reflectance(eta)),
             f90: 1.0,
             k_glass: 1.0,
+            diffuse_transmission: 0.0,
+            diffuse_transmission_color: Vec3::ONE,
             q_reflect: 0.0,
             q_glass: 0.0,
             thin: false,
@@ -147,6 +158,15 @@ impl Pbr {
     /// This surface, thin-walled.
     pub fn thin_walled(self, thin: bool) -> Self {
         Pbr { thin, ..self }
+    }
+
+    /// This surface with `KHR_materials_diffuse_transmission`'s share and colour (see above).
+    pub fn with_diffuse_transmission(self, share: f32, color: Vec3) -> Self {
+        Pbr {
+            diffuse_transmission: share,
+            diffuse_transmission_color: color,
+            ..self
+        }
     }
 
     /// This surface with its transmissive part compensated for multiple scattering, `albedo` being
@@ -186,14 +206,33 @@ impl Pbr {
             let f_g = glass_fresnel(f_d, self.thin);
             let diffuse = self.base * (wi.z * std::f32::consts::FRAC_1_PI);
             let layer = (1.0 - t) * f_d + (t * self.k_glass) * f_g;
+            let kept = 1.0 - self.diffuse_transmission;
             let f = f_metal * (m * spec_cos)
-                + (layer * spec_cos + diffuse * (1.0 - t) * (Vec3::ONE - f_d)) * (1.0 - m);
+                + (layer * spec_cos + diffuse * ((1.0 - t) * kept) * (Vec3::ONE - f_d)) * (1.0 - m);
             let pdf = self.q_reflect * pdf_reflect
                 + self.q_glass * pdf_reflect * mean(f_g)
-                + self.q_diffuse() * wi.z * std::f32::consts::FRAC_1_PI;
+                + self.q_diffuse() * kept * wi.z * std::f32::consts::FRAC_1_PI;
             return (f, pdf);
         }
-        if wi.z == 0.0 || self.q_glass <= 0.0 {
+        if wi.z == 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let (f, pdf) = self.eval_glass(wo, wi);
+        let d = self.diffuse_transmission;
+        if d <= 0.0 {
+            return (f, pdf);
+        }
+        let c = -wi.z * std::f32::consts::FRAC_1_PI;
+        let through = self.diffuse_transmission_color
+            * (Vec3::ONE - self.fresnel(wo.z))
+            * ((1.0 - m) * (1.0 - t) * d * c);
+        (f + through, pdf + self.q_diffuse() * d * c)
+    }
+
+    /// The transmissive part's f · |cosθi| and pdf for `wi` below the surface.
+    fn eval_glass(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        let (m, t, a) = (self.metallic, self.transmission, self.alpha);
+        if self.q_glass <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
         if self.thin {
@@ -258,10 +297,14 @@ impl Pbr {
         }
         let r = u1.sqrt();
         let phi = std::f32::consts::TAU * u2;
+        let z = (1.0 - u1).max(0.0).sqrt();
+        // The diffuse lobe's transmitted share goes below, with what is left of u_lobe.
+        let u = (u_lobe - self.q_reflect - self.q_glass) / self.q_diffuse();
+        let below = u >= 1.0 - self.diffuse_transmission;
         Some(Vec3::new(
             r * phi.cos(),
             r * phi.sin(),
-            (1.0 - u1).max(0.0).sqrt(),
+            if below { -z } else { z },
         ))
     }
 
@@ -312,9 +355,16 @@ mod tests {
             ("rough glass from inside", 0.0, 0.6, 1.0 / 1.5, 1.0, 0.8),
             ("thin-walled rough glass", 0.0, 0.4, 1.5, 1.0, 0.6),
             ("half-transmissive thin sheet", 0.0, 0.5, 1.5, 0.5, 0.7),
+            ("a leaf: diffuse transmission", 0.0, 0.6, 1.5, 0.0, 0.6),
+            ("a leaf over half glass", 0.0, 0.4, 1.5, 0.5, 0.8),
         ];
         for (k, &(what, m, r, eta, t, cos_o)) in cases.iter().enumerate() {
             let b = pbr(m, r, eta, t, cos_o).thin_walled(what.contains("thin"));
+            let b = if what.contains("leaf") {
+                b.with_diffuse_transmission(0.6, Vec3::new(0.3, 0.9, 0.2))
+            } else {
+                b
+            };
             let wo = wo_at(cos_o);
             check_sphere_sampling(
                 what,
@@ -446,6 +496,40 @@ mod tests {
                 assert!(
                     (e - 1.0).abs() <= 4.0 * se + 1e-4,
                     "specular 0 over white, r {roughness} cos {cos_o}: {e:.5} ± {se:.5}"
+                );
+            }
+        }
+    }
+
+    /// `KHR_materials_diffuse_transmission`: a white diffuse surface with specular 0 keeps all the
+    /// light, split d : 1 − d between the two sides (the transmitted part tinted by its own colour).
+    #[test]
+    fn diffuse_transmission_splits_the_diffuse_lobe() {
+        for cos_o in [0.2, 0.7, 1.0] {
+            for d in [0.0, 0.3, 1.0] {
+                let b = pbr(0.0, 0.5, 1.5, 0.0, cos_o)
+                    .with_specular(Vec3::ONE, 0.0, cos_o)
+                    .with_diffuse_transmission(d, Vec3::new(1.0, 0.5, 0.0));
+                let wo = wo_at(cos_o);
+                let side = |channel: usize, below: bool| {
+                    estimate(100_000, 7, |a, u1, u2| match b.sample(wo, a, u1, u2) {
+                        Some(s) if (s.wi.z < 0.0) == below => f64::from(s.weight[channel]),
+                        _ => 0.0,
+                    })
+                };
+                let (up, se_up) = side(0, false);
+                let (down, se_down) = side(0, true);
+                let (down_g, _) = side(1, true);
+                let (down_b, _) = side(2, true);
+                let d = f64::from(d);
+                assert!(
+                    (up - (1.0 - d)).abs() <= 4.0 * se_up + 1e-4
+                        && (down - d).abs() <= 4.0 * se_down + 1e-4,
+                    "d {d}, cos {cos_o}: {up:.4} above, {down:.4} below"
+                );
+                assert!(
+                    (down_g - 0.5 * d).abs() <= 4.0 * se_down + 1e-4 && down_b == 0.0,
+                    "d {d}, cos {cos_o}: the transmitted light takes its own colour"
                 );
             }
         }

@@ -13,6 +13,9 @@ struct PbrBsdf {
     transmission: f32,
     // The transmissive part's multiple-scattering compensation (1: none).
     k_glass: f32,
+    // The diffuse lobe's transmitted share and its colour (KHR_materials_diffuse_transmission).
+    diffuse_transmission: f32,
+    diffuse_transmission_color: vec3<f32>,
     q_reflect: f32,
     q_glass: f32,
     thin: bool,
@@ -53,7 +56,17 @@ fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmissi
     b.transmission = transmission;
     b.thin = false;
     b.k_glass = 1.0;
+    b.diffuse_transmission = 0.0;
+    b.diffuse_transmission_color = vec3(1.0);
     return pbr_with_specular(b, vec3(1.0), 1.0, cos_o);
+}
+
+// b with KHR_materials_diffuse_transmission's share and colour.
+fn pbr_with_diffuse_transmission(b_in: PbrBsdf, share: f32, color: vec3<f32>) -> PbrBsdf {
+    var b = b_in;
+    b.diffuse_transmission = share;
+    b.diffuse_transmission_color = color;
+    return b;
 }
 
 // b with its transmissive part compensated for multiple scattering (albedo: that part's
@@ -105,11 +118,30 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
         let f_g = glass_fresnel(f_d, b.thin);
         let diffuse = b.base * (wi.z * (1.0 / PI));
         let layer = (1.0 - t) * f_d + (t * b.k_glass) * f_g;
-        let f = f_metal * (m * spec_cos) + (layer * spec_cos + diffuse * (1.0 - t) * (vec3(1.0) - f_d)) * (1.0 - m);
-        let pdf = b.q_reflect * pdf_reflect + b.q_glass * pdf_reflect * mean3(f_g) + q_diffuse * wi.z * (1.0 / PI);
+        let kept = 1.0 - b.diffuse_transmission;
+        let f = f_metal * (m * spec_cos) + (layer * spec_cos + diffuse * ((1.0 - t) * kept) * (vec3(1.0) - f_d)) * (1.0 - m);
+        let pdf = b.q_reflect * pdf_reflect + b.q_glass * pdf_reflect * mean3(f_g) + q_diffuse * kept * wi.z * (1.0 / PI);
         return vec4(f, pdf);
     }
-    if (wi.z == 0.0 || b.q_glass <= 0.0) {
+    if (wi.z == 0.0) {
+        return vec4(0.0);
+    }
+    var e = pbr_eval_glass(b, wo, wi);
+    let d = b.diffuse_transmission;
+    if (d > 0.0) {
+        let c = -wi.z * (1.0 / PI);
+        let through = b.diffuse_transmission_color * (vec3(1.0) - fresnel_specular(wo.z, b.eta, b.f0, b.f90)) * ((1.0 - m) * (1.0 - t) * d * c);
+        e += vec4(through, q_diffuse * d * c);
+    }
+    return e;
+}
+
+// The transmissive part's f |cos θi| and pdf for wi below the surface.
+fn pbr_eval_glass(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
+    let m = b.metallic;
+    let t = b.transmission;
+    let a = b.alpha;
+    if (b.q_glass <= 0.0) {
         return vec4(0.0);
     }
     if (b.thin) {
@@ -185,7 +217,11 @@ fn pbr_sample_direction(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32
     }
     let r = sqrt(u1);
     let phi = TAU * u2;
-    return vec4(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u1, 0.0)), 1.0);
+    let z = sqrt(max(1.0 - u1, 0.0));
+    // The diffuse lobe's transmitted share goes below, with what is left of u_lobe.
+    let u = (u_lobe - b.q_reflect - b.q_glass) / max(1.0 - b.q_reflect - b.q_glass, 0.0);
+    let below = u >= 1.0 - b.diffuse_transmission;
+    return vec4(r * cos(phi), r * sin(phi), select(z, -z, below), 1.0);
 }
 
 fn pbr_sample(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32) -> BsdfSample {

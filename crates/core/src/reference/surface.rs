@@ -53,6 +53,8 @@ pub struct PbrInputs {
     /// The clear coat's shading normal (world space, facing the ray; zero: the base's): glTF's
     /// coat ignores the base's normal map and may have its own.
     pub coat_normal: Vec3,
+    pub diffuse_transmission: f32,
+    pub diffuse_transmission_color: Vec3,
 }
 
 impl PbrInputs {
@@ -68,6 +70,8 @@ impl PbrInputs {
             sheen_color: Vec3::from(l.sheen_color),
             sheen_roughness: l.sheen_roughness,
             coat_normal: Vec3::ZERO,
+            diffuse_transmission: l.diffuse_transmission,
+            diffuse_transmission_color: Vec3::from(l.diffuse_transmission_color),
         }
     }
 }
@@ -129,7 +133,9 @@ impl Surface {
     pub fn transmits(&self) -> bool {
         match self {
             Surface::Dielectric { .. } => true,
-            Surface::Pbr { bsdf, .. } => bsdf.base.transmission > 0.0,
+            Surface::Pbr { bsdf, .. } => {
+                bsdf.base.transmission > 0.0 || bsdf.base.diffuse_transmission > 0.0
+            }
             _ => false,
         }
     }
@@ -236,6 +242,10 @@ fn pbr_surface(
         energy,
     )
     .with_specular(inputs.specular_color, inputs.specular, wo_local.z)
+    .with_diffuse_transmission(
+        inputs.diffuse_transmission,
+        inputs.diffuse_transmission_color,
+    )
     .thin_walled(thin);
     // Rough glass keeps its energy (a thin sheet's transmission is a mirrored conductor lobe).
     let base = if lobe.transmission <= 0.0 {

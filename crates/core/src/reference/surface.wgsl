@@ -39,12 +39,15 @@ struct PbrInputs {
     sheen_roughness: f32,
     // The clear coat's shading normal (world space, facing the ray; zero: the base's).
     coat_normal: vec3<f32>,
+    diffuse_transmission: f32,
+    diffuse_transmission_color: vec3<f32>,
 }
 
 // The factors alone.
 fn pbr_inputs_of_lobe(l: PbrLobe) -> PbrInputs {
     return PbrInputs(l.metallic, l.roughness, l.specular, l.specular_color, l.clearcoat,
-                     l.clearcoat_roughness, l.sheen_color, l.sheen_roughness, vec3(0.0));
+                     l.clearcoat_roughness, l.sheen_color, l.sheen_roughness, vec3(0.0),
+                     l.diffuse_transmission, l.diffuse_transmission_color);
 }
 
 // The coat's frame (coat_frame in surface.rs): whether it has one of its own (about its normal,
@@ -94,6 +97,7 @@ fn pbr_surface(material: Material, base: vec3<f32>, inputs: PbrInputs, wo: vec3<
     s.wo = wo_local;
     var b = pbr_bsdf(base, inputs.metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
     b = pbr_with_specular(b, inputs.specular_color, inputs.specular, wo_local.z);
+    b = pbr_with_diffuse_transmission(b, inputs.diffuse_transmission, inputs.diffuse_transmission_color);
     b.thin = thin;
     // Rough glass keeps its energy (a thin sheet's transmission is a mirrored conductor lobe).
     if (lobe.transmission > 0.0) {
@@ -135,7 +139,8 @@ fn surface_is_delta(s: Surface) -> bool {
 
 // Whether the lobe may send a path below the geometric surface.
 fn surface_transmits(s: Surface) -> bool {
-    return s.kind == MAT_DIELECTRIC || (HAS_PBR && s.kind == MAT_PBR && s.bsdf.base.transmission > 0.0);
+    return s.kind == MAT_DIELECTRIC || (HAS_PBR && s.kind == MAT_PBR
+        && (s.bsdf.base.transmission > 0.0 || s.bsdf.base.diffuse_transmission > 0.0));
 }
 
 // f |cos θ| towards world direction wi (xyz) and the BSDF-sampling pdf of wi (w); zero for the

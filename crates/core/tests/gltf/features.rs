@@ -166,7 +166,8 @@ fn position_accessors_without_min_and_max_still_load() {
     }
 }
 
-/// `KHR_materials_specular`, `_clearcoat` and `_sheen` map onto the layers, even when the file
+/// `KHR_materials_specular`, `_clearcoat`, `_sheen` and `_diffuse_transmission` map onto the
+/// material, even when the file
 /// requires them; out-of-range factors are clamped and absent ones take glTF's defaults.
 #[test]
 fn specular_clearcoat_and_sheen_map_onto_the_layers() {
@@ -175,6 +176,7 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
         "KHR_materials_specular",
         "KHR_materials_clearcoat",
         "KHR_materials_sheen",
+        "KHR_materials_diffuse_transmission",
     ];
     for ext in next {
         doc["extensionsUsed"]
@@ -196,6 +198,10 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
         "KHR_materials_sheen".into(),
         json!({"sheenColorFactor": [0.9, 0.2, -1.0], "sheenRoughnessFactor": 0.4}),
     );
+    ext.insert(
+        "KHR_materials_diffuse_transmission".into(),
+        json!({"diffuseTransmissionFactor": 0.25, "diffuseTransmissionColorFactor": [0.5, 1.0, 0.0]}),
+    );
     let scene = load(&embedded(doc), None).unwrap();
     let Material::Pbr(p) = &scene.objects[0].material else {
         panic!("PBR expected")
@@ -203,6 +209,10 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
     assert_eq!((p.specular, p.specular_color), (0.5, [1.5, 0.5, 0.25]));
     assert_eq!((p.clearcoat, p.clearcoat_roughness), (0.8, 1.0), "clamped");
     assert_eq!((p.sheen_color, p.sheen_roughness), ([0.9, 0.2, 0.0], 0.4));
+    assert_eq!(
+        (p.diffuse_transmission, p.diffuse_transmission_color),
+        (0.25, [0.5, 1.0, 0.0])
+    );
     rt_core::GpuScene::build(&scene).unwrap();
     let plain = load(&embedded(document()), None).unwrap();
     let Material::Pbr(p) = &plain.objects[0].material else {

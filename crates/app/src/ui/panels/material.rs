@@ -319,6 +319,15 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
         ui.add(egui::Slider::new(&mut p.sheen_roughness, 0.0..=1.0).text("sheen roughness"))
             .on_hover_text("0: a narrow rim; 1: a broad glow");
     }
+    ui.add(egui::Slider::new(&mut p.diffuse_transmission, 0.0..=1.0).text("diffuse transmission"))
+        .on_hover_text("Light through a thin diffuse sheet: leaves, paper, lampshades");
+    if p.diffuse_transmission > 0.0 {
+        ui.horizontal(|ui| {
+            ui.label("Transmitted colour");
+            ui.color_edit_button_rgb(&mut p.diffuse_transmission_color)
+                .on_hover_text("The colour of the light that comes through");
+        });
+    }
     // The layers' images, as glTF packs them.
     ui.collapsing("Layer images", |ui| {
         for (label, id, slot, hover) in [

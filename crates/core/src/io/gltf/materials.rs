@@ -1,7 +1,8 @@
 //! Materials onto `Material::Pbr`: metallic-roughness, normal maps, emission, transmission, IOR,
 //! volume and alpha, with their textures (decoded once per image and sampler) and the
 //! `KHR_texture_transform` rt can honour; `KHR_materials_specular`, `KHR_materials_clearcoat` and
-//! `KHR_materials_sheen` with their textures (the coat's own normal map included).
+//! `KHR_materials_sheen` with their textures (the coat's own normal map included), and
+//! `KHR_materials_diffuse_transmission`'s factors (its textures with a warning).
 
 use super::Loader;
 use super::buffers::read_uri;
@@ -225,6 +226,34 @@ impl Loader<'_> {
             out.sheen_roughness = number(s, "sheenRoughnessFactor", 0.0);
             out.sheen_color_texture = self.json_slot(s, "sheenColorTexture", baked)?;
             out.sheen_roughness_texture = self.json_slot(s, "sheenRoughnessTexture", baked)?;
+        }
+        if let Some(d) = m.extension_value("KHR_materials_diffuse_transmission") {
+            out.diffuse_transmission = number(d, "diffuseTransmissionFactor", 0.0);
+            if let Some(c) = d
+                .get("diffuseTransmissionColorFactor")
+                .and_then(|c| c.as_array())
+                && c.len() == 3
+            {
+                for (out, v) in out.diffuse_transmission_color.iter_mut().zip(c) {
+                    *out = v
+                        .as_f64()
+                        .filter(|x| x.is_finite())
+                        .map_or(1.0, |x| (x as f32).max(0.0));
+                }
+            }
+            for key in [
+                "diffuseTransmissionTexture",
+                "diffuseTransmissionColorTexture",
+            ] {
+                if d.get(key).is_some() {
+                    log::warn!(
+                        "{}: material {}: rt does not read KHR_materials_diffuse_transmission's \
+                         {key} yet: using its factor alone",
+                        self.path.display(),
+                        m.index().map_or("default".into(), |i| i.to_string())
+                    );
+                }
+            }
         }
         Ok(out)
     }
