@@ -29,6 +29,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from cycles_settings import match_rt
+
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
 WIDTH, HEIGHT, DEPTH = 320, 128, 8
@@ -97,23 +99,8 @@ def build(bpy):
 
 
 def render_cycles(bpy, scene, spp, out):
-    scene.render.engine = "CYCLES"
-    c = scene.cycles
-    c.device = "CPU"
-    c.samples = spp
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.pixel_filter_type = "BOX"
-    scene.render.filter_size = 1.0
-    c.max_bounces = DEPTH - 1
-    c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = DEPTH - 1
-    c.transparent_max_bounces = DEPTH - 1
-    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-    c.blur_glossy = 0.0
-    c.caustics_reflective = c.caustics_refractive = True
-    c.seed = 3
+    match_rt(scene, spp, DEPTH)
     scene.view_layers[0].use_pass_object_index = True
-    scene.view_settings.view_transform = "Standard"
     settings = scene.render.image_settings
     if hasattr(settings, "media_type"):  # Blender 5: multilayer is a media type
         settings.media_type = "MULTI_LAYER_IMAGE"

@@ -33,6 +33,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from cycles_settings import match_rt
+
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
 WIDTH, HEIGHT, DEPTH = 256, 192, 8
@@ -106,22 +108,7 @@ def direction_to_euler(d):
 
 
 def render_cycles(bpy, scene, spp, out):
-    scene.render.engine = "CYCLES"
-    c = scene.cycles
-    c.device = "CPU"
-    c.samples = spp
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.pixel_filter_type = "BOX"
-    scene.render.filter_size = 1.0
-    c.max_bounces = DEPTH - 1
-    c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = DEPTH - 1
-    c.transparent_max_bounces = DEPTH - 1
-    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-    c.blur_glossy = 0.0
-    c.caustics_reflective = c.caustics_refractive = True
-    c.seed = 3
-    scene.view_settings.view_transform = "Standard"
+    match_rt(scene, spp, DEPTH)
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
     scene.render.filepath = str(out)

@@ -192,46 +192,12 @@ fn layered_bsdf_matches_its_twin() {
             coat_frame: (f(27) != 0.0).then(|| glam::Mat3::from_rotation_x(f(27))),
         };
         let l = Layered::new(base, &layers, &tables, wo);
-        let (e, pdf) = l.eval(wo, wi);
         let sample = l.sample(wo, f(14), f(15), f(6));
-        let (f_s, pdf_s) = l.eval(wo, wi_gpu);
-        let (wi_s, w, p) = match sample {
-            Some(_) => (wi_gpu, f_s / pdf_s, pdf_s),
-            None => (Vec3::ZERO, Vec3::ZERO, 0.0),
-        };
-        let mut out = bits(&[e.x, e.y, e.z, pdf]);
-        out.push(u32::from(sample.is_some()));
-        out.extend(bits(&[
-            wi_s.x, wi_s.y, wi_s.z, w.x, w.y, w.z, p, l.q_coat, l.q_sheen,
-        ]));
+        let mut out = bsdf_row(|w| l.eval(wo, w), wi, sample.is_some(), wi_gpu);
+        out.extend(bits(&[l.q_coat, l.q_sheen]));
         (out, sample.map(|s| s.wi))
     };
-    let mut other_branch = 0;
-    let (mut gpu_kept, mut rust_kept) = (Vec::new(), Vec::new());
-    for item in 0..ITEMS {
-        let g = &gpu_out[item * 14..(item + 1) * 14];
-        let wi_gpu = Vec3::new(
-            f32::from_bits(g[5]),
-            f32::from_bits(g[6]),
-            f32::from_bits(g[7]),
-        );
-        let (r, wi_rust) = rust(item, wi_gpu);
-        let same = match wi_rust {
-            Some(wi) => g[4] == 1 && wi.abs_diff_eq(wi_gpu, 1e-3),
-            None => g[4] == 0,
-        };
-        if !same {
-            other_branch += 1;
-            continue;
-        }
-        gpu_kept.extend_from_slice(g);
-        rust_kept.push(r);
-    }
-    eprintln!("layered bsdf: {other_branch} of {ITEMS} samples took another lobe");
-    assert!(
-        other_branch * 500 <= ITEMS,
-        "{other_branch} of {ITEMS} samples took another lobe on the GPU"
-    );
+    let (gpu_kept, rust_kept) = same_lobe_rows("layered bsdf", &gpu_out, 14, rust);
     // Every layer is exercised: items with a coat, with a sheen, and samples drawn.
     let coated = rust_kept
         .iter()

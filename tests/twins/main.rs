@@ -346,3 +346,66 @@ impl Comparison {
         eprintln!("{}: worst relative difference {worst:e}", self.name);
     }
 }
+
+/// The rows of a BSDF twin test to compare, whose GPU output holds per item a sample's validity at
+/// word 4 and its direction at words 5–7: `rust(item, wi_gpu)` gives the Rust twin's row (its
+/// sample evaluated at the GPU's direction, so a narrow lobe's pdf does not magnify the
+/// direction's last-bit differences) and the Rust sample's own direction. An item whose sample
+/// took another lobe on the two sides (a threshold met within a last-bit difference of a Fresnel
+/// term) is set aside and counted: at most one in 500 may.
+pub(crate) fn same_lobe_rows(
+    name: &str,
+    gpu_out: &[u32],
+    words: usize,
+    rust: impl Fn(usize, Vec3) -> (Vec<u32>, Option<Vec3>),
+) -> (Vec<u32>, Vec<Vec<u32>>) {
+    let mut other_branch = 0;
+    let (mut gpu_kept, mut rust_kept) = (Vec::new(), Vec::new());
+    for item in 0..ITEMS {
+        let g = &gpu_out[item * words..(item + 1) * words];
+        let wi_gpu = Vec3::new(
+            f32::from_bits(g[5]),
+            f32::from_bits(g[6]),
+            f32::from_bits(g[7]),
+        );
+        let (r, wi_rust) = rust(item, wi_gpu);
+        let same = match wi_rust {
+            Some(wi) => g[4] == 1 && wi.abs_diff_eq(wi_gpu, 1e-3),
+            None => g[4] == 0,
+        };
+        if !same {
+            other_branch += 1;
+            continue;
+        }
+        gpu_kept.extend_from_slice(g);
+        rust_kept.push(r);
+    }
+    eprintln!("{name}: {other_branch} of {ITEMS} samples took another lobe");
+    assert!(
+        other_branch * 500 <= ITEMS,
+        "{name}: {other_branch} of {ITEMS} samples took another lobe on the GPU"
+    );
+    (gpu_kept, rust_kept)
+}
+
+/// The head of a BSDF twin test's Rust row (words 0–11): f·cos and pdf towards `wi`, whether the
+/// sample drew a direction, and if so the GPU's direction with the weight and pdf there (see
+/// `same_lobe_rows`).
+pub(crate) fn bsdf_row(
+    eval: impl Fn(Vec3) -> (Vec3, f32),
+    wi: Vec3,
+    drawn: bool,
+    wi_gpu: Vec3,
+) -> Vec<u32> {
+    let (e, pdf) = eval(wi);
+    let (f_s, pdf_s) = eval(wi_gpu);
+    let (wi_s, w, p) = if drawn {
+        (wi_gpu, f_s / pdf_s, pdf_s)
+    } else {
+        (Vec3::ZERO, Vec3::ZERO, 0.0)
+    };
+    let mut out = bits(&[e.x, e.y, e.z, pdf]);
+    out.push(u32::from(drawn));
+    out.extend(bits(&[wi_s.x, wi_s.y, wi_s.z, w.x, w.y, w.z, p]));
+    out
+}

@@ -278,55 +278,13 @@ fn pbr_bsdf_matches_its_twin() {
         let r = f(10);
         let energy = energy_lookup(table, wo.z, r);
         let b = Pbr::new(base, f(9), r, f(11), f(12), wo.z, energy).thin_walled(f(13) > 0.5);
-        let (e, pdf) = b.eval(wo, wi);
         let sample = b.sample(wo, f(14), f(15), f(6));
-        let (f_s, pdf_s) = b.eval(wo, wi_gpu);
-        let (wi_s, w, p) = match sample {
-            Some(_) => (wi_gpu, f_s / pdf_s, pdf_s),
-            None => (Vec3::ZERO, Vec3::ZERO, 0.0),
-        };
-        let mut out = bits(&[e.x, e.y, e.z, pdf]);
-        out.push(u32::from(sample.is_some()));
-        out.extend(bits(&[
-            wi_s.x,
-            wi_s.y,
-            wi_s.z,
-            w.x,
-            w.y,
-            w.z,
-            p,
-            b.q_reflect,
-        ]));
+        let mut out = bsdf_row(|w| b.eval(wo, w), wi, sample.is_some(), wi_gpu);
+        out.extend(bits(&[b.q_reflect]));
         out.extend(bits(&[b.ms.x, b.ms.y, b.ms.z]));
         (out, sample.map(|s| s.wi))
     };
-    // Items whose sampled direction took another branch on the two sides are set aside.
-    let mut other_branch = 0;
-    let (mut gpu_kept, mut rust_kept) = (Vec::new(), Vec::new());
-    for item in 0..ITEMS {
-        let g = &gpu_out[item * 16..(item + 1) * 16];
-        let wi_gpu = Vec3::new(
-            f32::from_bits(g[5]),
-            f32::from_bits(g[6]),
-            f32::from_bits(g[7]),
-        );
-        let (r, wi_rust) = rust(item, wi_gpu);
-        let same = match wi_rust {
-            Some(wi) => g[4] == 1 && wi.abs_diff_eq(wi_gpu, 1e-3),
-            None => g[4] == 0,
-        };
-        if !same {
-            other_branch += 1;
-            continue;
-        }
-        gpu_kept.extend_from_slice(g);
-        rust_kept.push(r);
-    }
-    eprintln!("pbr bsdf: {other_branch} of {ITEMS} samples took another lobe");
-    assert!(
-        other_branch * 500 <= ITEMS,
-        "{other_branch} of {ITEMS} samples took another lobe on the GPU"
-    );
+    let (gpu_kept, rust_kept) = same_lobe_rows("pbr bsdf", &gpu_out, 16, rust);
     // Every kind of outcome is exercised: samples drawn and refused, transmission and reflection.
     let drawn = rust_kept.iter().filter(|r| r[4] == 1).count();
     let below = rust_kept
