@@ -39,7 +39,8 @@ fn eta_of(k: usize) -> f32 {
     (1.0 + z) / (1.0 - z)
 }
 
-/// E(μ, r, η) by the module's quadrature.
+/// E(μ, r, η) by the module's quadrature (its second coordinate over half the circle, as
+/// `microfacet::visible_normal_albedo` says why).
 fn albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
     const Q: usize = 24;
     let alpha = alpha_of_roughness(roughness);
@@ -47,7 +48,7 @@ fn albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
     let g1 = ggx_g1(wo, alpha);
     let mut sum = 0.0f64;
     for a in 0..Q {
-        for b in 0..Q {
+        for b in Q / 4..3 * Q / 4 {
             let m = sample_vndf(
                 wo,
                 alpha,
@@ -67,7 +68,7 @@ fn albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
             }
         }
     }
-    (sum / (Q * Q) as f64) as f32
+    (sum / (Q * Q / 2) as f64) as f32
 }
 
 /// The entering table followed by the leaving one, entry ((k · GLASS_ROUGHNESS) + i) · GLASS_MU + j

@@ -114,7 +114,9 @@ pub fn tabulate(f: impl Fn(f32, f32) -> f32 + Sync) -> Vec<f32> {
 }
 
 /// The single-scattering albedo of a GGX reflector whose Fresnel is `fresnel(ωo·m)`:
-/// E_{m ~ D_ωo}[F(ωo·m) G2 / G1] by a 64 × 64 midpoint rule over the visible-normal warp.
+/// E_{m ~ D_ωo}[F(ωo·m) G2 / G1] by a 64 × 64 midpoint rule over the visible-normal warp, its
+/// second coordinate (φ = 2π u2) over the half circle u2 ∈ [¼, ¾): the integrand is symmetric about
+/// the plane of ωo, which the warp's φ → π − φ mirrors, so the other half repeats it exactly.
 pub fn visible_normal_albedo(fresnel: impl Fn(f32, f32) -> f32 + Sync) -> Vec<f32> {
     const Q: usize = 64;
     tabulate(|roughness, mu| {
@@ -122,7 +124,7 @@ pub fn visible_normal_albedo(fresnel: impl Fn(f32, f32) -> f32 + Sync) -> Vec<f3
         let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
         let mut sum = 0.0f64;
         for a in 0..Q {
-            for b in 0..Q {
+            for b in Q / 4..3 * Q / 4 {
                 let u1 = (a as f32 + 0.5) / Q as f32;
                 let u2 = (b as f32 + 0.5) / Q as f32;
                 let m = sample_vndf(wo, alpha, u1, u2);
@@ -134,7 +136,7 @@ pub fn visible_normal_albedo(fresnel: impl Fn(f32, f32) -> f32 + Sync) -> Vec<f3
                 }
             }
         }
-        (sum / (Q * Q) as f64) as f32
+        (sum / (Q * Q / 2) as f64) as f32
     })
 }
 
