@@ -322,6 +322,9 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         roughness: 0.5,
         clearcoat: 0.8,
         clearcoat_roughness: 0.15,
+        // Under the coat, a thin film on the gold.
+        iridescence: 0.7,
+        iridescence_thickness_max: 450.0,
         ..Default::default()
     });
     scene.objects[2].material = pbr(Pbr {

@@ -98,7 +98,7 @@ fn coat_and_sheen_match_their_twin() {
 #[test]
 fn layered_bsdf_matches_its_twin() {
     let Some(ctx) = gpu() else { return };
-    const WORDS: usize = 32;
+    const WORDS: usize = 35;
     let input = inputs(WORDS, |rng| {
         let mut wo = unit(rng);
         wo.z = wo.z.abs().max(1e-3);
@@ -139,6 +139,8 @@ fn layered_bsdf_matches_its_twin() {
         // Diffuse transmission on a third, with its colour.
         words.push(some(rng, 0.3));
         words.extend([rng.next_f32(), rng.next_f32(), rng.next_f32()]);
+        // A thin film on half: weight, index, thickness (nm).
+        words.extend([some(rng, 0.5), 1.0 + rng.next_f32(), 800.0 * rng.next_f32()]);
         bits(&words)
     });
     let kernel = TwinKernel {
@@ -152,6 +154,7 @@ fn layered_bsdf_matches_its_twin() {
     b.thin = f_in(item, 13u) > 0.5;
     b = pbr_with_glass_energy(b, f_in(item, 26u));
     b = pbr_with_diffuse_transmission(b, f_in(item, 28u), v3_in(item, 29u));
+    b = pbr_with_iridescence(b, f_in(item, 32u), f_in(item, 33u), f_in(item, 34u));
     let tilt = f_in(item, 27u);
     let c = cos(tilt);
     let sn = sin(tilt);
@@ -183,7 +186,8 @@ fn layered_bsdf_matches_its_twin() {
             .with_specular(v(16), f(19), wo.z)
             .thin_walled(f(13) > 0.5)
             .with_glass_energy(f(26))
-            .with_diffuse_transmission(f(28), v(29));
+            .with_diffuse_transmission(f(28), v(29))
+            .with_iridescence(f(32), f(33), f(34));
         let layers = Layers {
             clearcoat: f(20),
             clearcoat_roughness: f(21),

@@ -185,6 +185,10 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
                 clearcoat_normal_scale: p.clearcoat_normal_scale,
                 diffuse_transmission: p.diffuse_transmission,
                 diffuse_transmission_color: p.diffuse_transmission_color,
+                iridescence: p.iridescence,
+                iridescence_ior: p.iridescence_ior,
+                iridescence_thickness_min: p.iridescence_thickness_min,
+                iridescence_thickness_max: p.iridescence_thickness_max,
                 _pad: 0.0,
             });
         }

@@ -101,24 +101,24 @@ pub struct Material {
     /// The kind's parameter block, written and read only as that kind's block type (`lobe_of`).
     pub lobe: [[f32; 4]; LOBE_VEC4S], // 32
     /// The coverage factor (times the base colour image's alpha).
-    pub alpha: f32, // 128
+    pub alpha: f32, // 144
     /// With `ALPHA_MASK`: coverage below this is a hole.
-    pub alpha_cutoff: f32, // 132
+    pub alpha_cutoff: f32, // 148
     /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot, six slots a word:
     /// slot `i` at bit `5 (i mod 6)` of word `i / 6`.
-    pub samplers: [u32; 2], // 136
+    pub samplers: [u32; 2], // 152
     /// The images, indexed by `SLOT_*`: base colour (sRGB), metallic-roughness (B metal, G rough;
     /// linear), tangent-space normals (linear), emission (sRGB), then the layers' (`SLOT_*` says
     /// which channel each reads).
-    pub textures: [TextureSlot; SLOTS], // 144
-    pub _pad: [u32; 3], // 276
+    pub textures: [TextureSlot; SLOTS], // 160
+    pub _pad: [u32; 3], // 292
 }
 
 /// How many texture slots a material has.
 pub const SLOTS: usize = 11;
 
 /// The size of `Material::lobe` in 16-byte words: the largest kind's block (`PbrLobe`).
-pub const LOBE_VEC4S: usize = 6;
+pub const LOBE_VEC4S: usize = 7;
 
 impl Default for Material {
     fn default() -> Self {
@@ -230,7 +230,14 @@ pub struct PbrLobe {
     pub diffuse_transmission: f32, // 76
     /// The colour of the diffusely transmitted light.
     pub diffuse_transmission_color: [f32; 3], // 80
-    pub _pad: f32, // 92
+    /// `KHR_materials_iridescence`'s weight in [0, 1] (`math::iridescence`).
+    pub iridescence: f32, // 92
+    /// The thin film's index of refraction.
+    pub iridescence_ior: f32, // 96
+    /// The film's thickness in nanometres (its image's green picks between these two).
+    pub iridescence_thickness_min: f32, // 100
+    pub iridescence_thickness_max: f32, // 104
+    pub _pad: f32, // 108
 }
 impl Lobe for PbrLobe {}
 
@@ -517,6 +524,10 @@ pub fn layouts() -> Vec<StructLayout> {
                 clearcoat_normal_scale,
                 diffuse_transmission,
                 diffuse_transmission_color,
+                iridescence,
+                iridescence_ior,
+                iridescence_thickness_min,
+                iridescence_thickness_max,
                 _pad
             ]
         ),

@@ -46,12 +46,12 @@ struct Material {
     kind: u32,               // 12
     emission: vec3<f32>,     // 16
     flags: u32,              // 28: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND
-    lobe: array<vec4<f32>, 6>,  // 32: the kind's parameter block
-    alpha: f32,              // 128: the coverage factor
-    alpha_cutoff: f32,       // 132
-    samplers: array<u32, 2>, // 136: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
-    textures: array<TextureSlot, 11>,  // 144: by SLOT_*
-    _pad: array<u32, 3>,     // 276
+    lobe: array<vec4<f32>, 7>,  // 32: the kind's parameter block
+    alpha: f32,              // 144: the coverage factor
+    alpha_cutoff: f32,       // 148
+    samplers: array<u32, 2>, // 152: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
+    textures: array<TextureSlot, 11>,  // 160: by SLOT_*
+    _pad: array<u32, 3>,     // 292
 }
 
 // The kinds' parameter blocks: the words of Material.lobe in order (core::gpu_types::*Lobe).
@@ -79,7 +79,11 @@ struct PbrLobe {
     clearcoat_normal_scale: f32,  // 72
     diffuse_transmission: f32,  // 76: KHR_materials_diffuse_transmission's share
     diffuse_transmission_color: vec3<f32>,  // 80
-    _pad: f32,               // 92
+    iridescence: f32,        // 92: KHR_materials_iridescence's weight
+    iridescence_ior: f32,    // 96
+    iridescence_thickness_min: f32,  // 100: nm
+    iridescence_thickness_max: f32,  // 104
+    _pad: f32,               // 108
 }
 
 fn metal_lobe(m: Material) -> MetalLobe {
@@ -93,7 +97,8 @@ fn dielectric_lobe(m: Material) -> DielectricLobe {
 fn pbr_lobe(m: Material) -> PbrLobe {
     return PbrLobe(m.lobe[0].x, m.lobe[0].y, m.lobe[0].z, m.lobe[0].w, m.lobe[1].xyz, m.lobe[1].w,
                    m.lobe[2].xyz, m.lobe[2].w, m.lobe[3].xyz, m.lobe[3].w, m.lobe[4].x, m.lobe[4].y,
-                   m.lobe[4].z, m.lobe[4].w, m.lobe[5].xyz, m.lobe[5].w);
+                   m.lobe[4].z, m.lobe[4].w, m.lobe[5].xyz, m.lobe[5].w,
+                   m.lobe[6].x, m.lobe[6].y, m.lobe[6].z, m.lobe[6].w);
 }
 
 const THIN_WALLED: u32 = 1u;

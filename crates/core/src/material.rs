@@ -102,6 +102,15 @@ pub struct Pbr {
     pub diffuse_transmission: f32,
     /// The colour of the diffusely transmitted light (each channel ≥ 0).
     pub diffuse_transmission_color: Rgb,
+    /// `KHR_materials_iridescence`'s weight in [0, 1]: a thin film over the surface whose
+    /// interference colours its reflection (soap bubbles, oil, anodised metal).
+    pub iridescence: f32,
+    /// The film's index of refraction (≥ 1; glTF's default 1.3).
+    pub iridescence_ior: f32,
+    /// The film's thickness range in nanometres (glTF's defaults 100 and 400); without an image
+    /// the film is `iridescence_thickness_max` thick.
+    pub iridescence_thickness_min: f32,
+    pub iridescence_thickness_max: f32,
 }
 
 /// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
@@ -155,6 +164,10 @@ impl Default for Pbr {
             clearcoat_normal_scale: 1.0,
             diffuse_transmission: 0.0,
             diffuse_transmission_color: [1.0; 3],
+            iridescence: 0.0,
+            iridescence_ior: 1.3,
+            iridescence_thickness_min: 100.0,
+            iridescence_thickness_max: 400.0,
         }
     }
 }
@@ -268,6 +281,23 @@ impl Pbr {
         unit("clearcoat_roughness", self.clearcoat_roughness)?;
         unit("sheen_roughness", self.sheen_roughness)?;
         unit("diffuse_transmission", self.diffuse_transmission)?;
+        unit("iridescence", self.iridescence)?;
+        if !(self.iridescence_ior.is_finite() && self.iridescence_ior >= 1.0) {
+            return Err(format!(
+                "{what}: pbr iridescence_ior must be >= 1, got {}",
+                self.iridescence_ior
+            ));
+        }
+        for (name, d) in [
+            ("iridescence_thickness_min", self.iridescence_thickness_min),
+            ("iridescence_thickness_max", self.iridescence_thickness_max),
+        ] {
+            if !(d.is_finite() && d >= 0.0) {
+                return Err(format!(
+                    "{what}: pbr {name} must be finite and >= 0 (nanometres), got {d}"
+                ));
+            }
+        }
         for c in self.sheen_color {
             unit("sheen_color", c)?;
         }

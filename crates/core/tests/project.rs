@@ -117,6 +117,10 @@ fn rich_scene() -> Scene {
         clearcoat_normal_scale: 0.5,
         diffuse_transmission: 0.35,
         diffuse_transmission_color: [0.2, 0.9, 0.1],
+        iridescence: 0.9,
+        iridescence_ior: 1.8,
+        iridescence_thickness_min: 50.0,
+        iridescence_thickness_max: 700.0,
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,

@@ -32,6 +32,10 @@ pub const FILES: &[(&str, &str)] = &[
     ("crates/core/src/math/bsdf.wgsl", rt_core::math::bsdf::WGSL),
     ("crates/core/src/math/coat.wgsl", rt_core::math::coat::WGSL),
     (
+        "crates/core/src/math/iridescence.wgsl",
+        rt_core::math::iridescence::WGSL,
+    ),
+    (
         "crates/core/src/math/glass_energy.wgsl",
         rt_core::math::glass_energy::WGSL,
     ),
@@ -112,6 +116,7 @@ macro_rules! tracing_module {
                 "crates/core/src/math/microfacet.wgsl",
                 "crates/core/src/math/bsdf.wgsl",
                 "crates/core/src/math/coat.wgsl",
+                "crates/core/src/math/iridescence.wgsl",
                 "crates/core/src/math/glass_energy.wgsl",
                 "crates/core/src/math/sheen.wgsl",
                 "crates/core/src/math/layers.wgsl",

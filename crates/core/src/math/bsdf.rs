@@ -19,7 +19,10 @@
 //!   F = F0′ + (F90′ − F0′) · (F_η − R0)/(1 − R0),  F0′ = min(R0 · specular_color, 1) · specular,
 //!   F90′ = specular,
 //! an RGB reflectance that is exactly F_η for the defaults (specular 1, white); the same F splits
-//! reflection from diffuse and transmission per channel.
+//! reflection from diffuse and transmission per channel. A thin film (`KHR_materials_iridescence`,
+//! weight i) replaces F by mix(F, F_film, i) on the outside of a dielectric, and the conductor's
+//! Schlick term likewise, F_film being `math::iridescence`'s reflectance of the film over that
+//! base.
 //!
 //! A thin-walled surface (a sheet without a volume behind it: glTF's transmission without
 //! `KHR_materials_volume`) lets light through without bending it: the slab's total reflectance
@@ -48,6 +51,7 @@ pub const WGSL: &str = include_str!("bsdf.wgsl");
 
 use glam::Vec3;
 
+use super::iridescence::thin_film_fresnel;
 use super::microfacet::*;
 use super::sampling::{fresnel_dielectric, refract};
 
@@ -71,6 +75,10 @@ pub struct Pbr {
     /// The diffuse lobe's transmitted share d and its colour c_d.
     pub diffuse_transmission: f32,
     pub diffuse_transmission_color: Vec3,
+    /// The thin film's weight, index and thickness (nm).
+    pub iridescence: f32,
+    pub film_ior: f32,
+    pub film_thickness: f32,
     pub q_reflect: f32,
     pub q_glass: f32,
     /// Thin-walled transmission (see above).
@@ -134,6 +142,9 @@ impl Pbr {
             k_glass: 1.0,
             diffuse_transmission: 0.0,
             diffuse_transmission_color: Vec3::ONE,
+            iridescence: 0.0,
+            film_ior: 1.0,
+            film_thickness: 0.0,
             q_reflect: 0.0,
             q_glass: 0.0,
             thin: false,
@@ -169,6 +180,27 @@ impl Pbr {
         }
     }
 
+    /// This surface under `KHR_materials_iridescence`'s thin film (weight, index, thickness in nm).
+    pub fn with_iridescence(self, weight: f32, film_ior: f32, thickness: f32) -> Self {
+        Pbr {
+            iridescence: weight,
+            film_ior,
+            film_thickness: thickness,
+            ..self
+        }
+    }
+
+    /// The conductor's Fresnel at `cos`, under the film if there is one.
+    fn metal_fresnel(&self, cos: f32) -> Vec3 {
+        let f = fresnel_schlick(self.base, cos);
+        if self.iridescence > 0.0 {
+            let film = thin_film_fresnel(cos, self.film_ior, self.film_thickness, self.base);
+            f.lerp(film, self.iridescence)
+        } else {
+            f
+        }
+    }
+
     /// This surface with its transmissive part compensated for multiple scattering, `albedo` being
     /// that part's single-scattering directional albedo at ωo (see above).
     pub fn with_glass_energy(self, albedo: f32) -> Self {
@@ -183,7 +215,14 @@ impl Pbr {
     }
 
     fn fresnel(&self, cos: f32) -> Vec3 {
-        fresnel_specular(cos, self.eta, self.f0, self.f90)
+        let f = fresnel_specular(cos, self.eta, self.f0, self.f90);
+        // The film lies on the outside (a thin sheet has two outsides).
+        if self.iridescence > 0.0 && self.eta >= 1.0 {
+            let film = thin_film_fresnel(cos, self.film_ior, self.film_thickness, self.f0);
+            f.lerp(film, self.iridescence)
+        } else {
+            f
+        }
     }
 
     /// f · |cosθi| and the pdf of `sample` at `wi`.
@@ -201,7 +240,7 @@ impl Pbr {
             let d = ggx_d(h, a);
             let spec_cos = d * ggx_g2(wo, wi, a) / (4.0 * wo.z);
             let pdf_reflect = ggx_g1(wo, a) * d / (4.0 * wo.z);
-            let f_metal = fresnel_schlick(self.base, woh) * self.ms;
+            let f_metal = self.metal_fresnel(woh) * self.ms;
             let f_d = self.fresnel(woh);
             let f_g = glass_fresnel(f_d, self.thin);
             let diffuse = self.base * (wi.z * std::f32::consts::FRAC_1_PI);
@@ -357,11 +396,15 @@ mod tests {
             ("half-transmissive thin sheet", 0.0, 0.5, 1.5, 0.5, 0.7),
             ("a leaf: diffuse transmission", 0.0, 0.6, 1.5, 0.0, 0.6),
             ("a leaf over half glass", 0.0, 0.4, 1.5, 0.5, 0.8),
+            ("an iridescent half-metal", 0.5, 0.4, 1.5, 0.0, 0.7),
+            ("iridescent rough glass", 0.0, 0.3, 1.5, 1.0, 0.5),
         ];
         for (k, &(what, m, r, eta, t, cos_o)) in cases.iter().enumerate() {
             let b = pbr(m, r, eta, t, cos_o).thin_walled(what.contains("thin"));
             let b = if what.contains("leaf") {
                 b.with_diffuse_transmission(0.6, Vec3::new(0.3, 0.9, 0.2))
+            } else if what.contains("iridescent") {
+                b.with_iridescence(0.8, 1.3, 350.0)
             } else {
                 b
             };
@@ -531,6 +574,32 @@ mod tests {
                     (down_g - 0.5 * d).abs() <= 4.0 * se_down + 1e-4 && down_b == 0.0,
                     "d {d}, cos {cos_o}: the transmitted light takes its own colour"
                 );
+            }
+        }
+    }
+
+    /// A thin film changes the colour of a reflection, not its energy beyond 1: a white rough
+    /// metal and white rough glass under an iridescent film keep at most everything.
+    #[test]
+    fn an_iridescent_film_never_adds_energy() {
+        for cos_o in [0.1, 0.5, 1.0] {
+            for (m, t) in [(1.0, 0.0), (0.0, 1.0)] {
+                for d in [150.0, 400.0, 700.0] {
+                    let b = pbr(m, 0.5, 1.5, t, cos_o).with_iridescence(1.0, 1.3, d);
+                    for c in 0..3 {
+                        let (e, se) = estimate(50_000, 9, |a, u1, u2| {
+                            match b.sample(wo_at(cos_o), a, u1, u2) {
+                                Some(s) if s.wi.z < 0.0 => f64::from(s.weight[c] * b.eta * b.eta),
+                                Some(s) => f64::from(s.weight[c]),
+                                None => 0.0,
+                            }
+                        });
+                        assert!(
+                            e <= 1.0 + 4.0 * se + 2e-3,
+                            "metal {m}, d {d} nm, cos {cos_o}, channel {c}: {e:.4} ± {se:.4}"
+                        );
+                    }
+                }
             }
         }
     }

@@ -16,6 +16,10 @@ struct PbrBsdf {
     // The diffuse lobe's transmitted share and its colour (KHR_materials_diffuse_transmission).
     diffuse_transmission: f32,
     diffuse_transmission_color: vec3<f32>,
+    // The thin film's weight, index and thickness (nm; KHR_materials_iridescence).
+    iridescence: f32,
+    film_ior: f32,
+    film_thickness: f32,
     q_reflect: f32,
     q_glass: f32,
     thin: bool,
@@ -58,7 +62,37 @@ fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmissi
     b.k_glass = 1.0;
     b.diffuse_transmission = 0.0;
     b.diffuse_transmission_color = vec3(1.0);
+    b.iridescence = 0.0;
+    b.film_ior = 1.0;
+    b.film_thickness = 0.0;
     return pbr_with_specular(b, vec3(1.0), 1.0, cos_o);
+}
+
+// b under KHR_materials_iridescence's thin film (weight, index, thickness in nm).
+fn pbr_with_iridescence(b_in: PbrBsdf, weight: f32, film_ior: f32, thickness: f32) -> PbrBsdf {
+    var b = b_in;
+    b.iridescence = weight;
+    b.film_ior = film_ior;
+    b.film_thickness = thickness;
+    return b;
+}
+
+// The conductor's Fresnel at cos_in, under the film if there is one.
+fn pbr_metal_fresnel(b: PbrBsdf, cos_in: f32) -> vec3<f32> {
+    let f = fresnel_schlick(b.base, cos_in);
+    if (b.iridescence > 0.0) {
+        return mix(f, thin_film_fresnel(cos_in, b.film_ior, b.film_thickness, b.base), b.iridescence);
+    }
+    return f;
+}
+
+// The dielectric's Fresnel (bsdf.rs's F), under the film on the outside.
+fn pbr_fresnel(b: PbrBsdf, cos_in: f32) -> vec3<f32> {
+    let f = fresnel_specular(cos_in, b.eta, b.f0, b.f90);
+    if (b.iridescence > 0.0 && b.eta >= 1.0) {
+        return mix(f, thin_film_fresnel(cos_in, b.film_ior, b.film_thickness, b.f0), b.iridescence);
+    }
+    return f;
 }
 
 // b with KHR_materials_diffuse_transmission's share and colour.
@@ -113,8 +147,8 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
         let d = ggx_d(h, a);
         let spec_cos = d * ggx_g2(wo, wi, a) / (4.0 * wo.z);
         let pdf_reflect = ggx_g1(wo, a) * d / (4.0 * wo.z);
-        let f_metal = fresnel_schlick(b.base, woh) * b.ms;
-        let f_d = fresnel_specular(woh, b.eta, b.f0, b.f90);
+        let f_metal = pbr_metal_fresnel(b, woh) * b.ms;
+        let f_d = pbr_fresnel(b, woh);
         let f_g = glass_fresnel(f_d, b.thin);
         let diffuse = b.base * (wi.z * (1.0 / PI));
         let layer = (1.0 - t) * f_d + (t * b.k_glass) * f_g;
@@ -130,7 +164,7 @@ fn pbr_eval(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
     let d = b.diffuse_transmission;
     if (d > 0.0) {
         let c = -wi.z * (1.0 / PI);
-        let through = b.diffuse_transmission_color * (vec3(1.0) - fresnel_specular(wo.z, b.eta, b.f0, b.f90)) * ((1.0 - m) * (1.0 - t) * d * c);
+        let through = b.diffuse_transmission_color * (vec3(1.0) - pbr_fresnel(b, wo.z)) * ((1.0 - m) * (1.0 - t) * d * c);
         e += vec4(through, q_diffuse * d * c);
     }
     return e;
@@ -157,7 +191,7 @@ fn pbr_eval_glass(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
             return vec4(0.0);
         }
         let d_t = ggx_d(h_t, a);
-        let t_g = vec3(1.0) - glass_fresnel(fresnel_specular(woh_t, b.eta, b.f0, b.f90), true);
+        let t_g = vec3(1.0) - glass_fresnel(pbr_fresnel(b, woh_t), true);
         let spec_t = d_t * ggx_g2(wo, mirrored, a) / (4.0 * wo.z);
         let pdf_t = b.q_glass * ggx_g1(wo, a) * d_t / (4.0 * wo.z) * mean3(t_g);
         return vec4(b.base * t_g * ((1.0 - m) * t * b.k_glass * spec_t), pdf_t);
@@ -176,7 +210,7 @@ fn pbr_eval_glass(b: PbrBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec4<f32> {
     if (!(woh > 0.0 && wih < 0.0)) {
         return vec4(0.0);
     }
-    let t_d = vec3(1.0) - fresnel_specular(woh, b.eta, b.f0, b.f90);
+    let t_d = vec3(1.0) - pbr_fresnel(b, woh);
     let sqrt_denom = wih + woh / b.eta;
     let denom = sqrt_denom * sqrt_denom;
     let d = ggx_d(h, a);
@@ -199,7 +233,7 @@ fn pbr_sample_direction(b: PbrBsdf, wo: vec3<f32>, u_lobe: f32, u1: f32, u2: f32
         let m = sample_vndf(wo, b.alpha, u1, u2);
         var reflects = u_lobe < b.q_reflect;
         if (!reflects) {
-            let f = glass_fresnel(fresnel_specular(dot(wo, m), b.eta, b.f0, b.f90), b.thin);
+            let f = glass_fresnel(pbr_fresnel(b, dot(wo, m)), b.thin);
             reflects = (u_lobe - b.q_reflect) < mean3(f) * b.q_glass;
         }
         if (reflects || b.thin) {

@@ -3,15 +3,16 @@
 //! `rng.wgsl` (PCG and Owen-scrambled Sobol samplers), `sampling.rs` of
 //! `sampling.wgsl` (directions, Fresnel, colour), `intersect.rs` of `intersect.wgsl` (watertight
 //! triangle and slab tests, ray offsets), `microfacet.rs` of `microfacet.wgsl` (GGX) and `bsdf.rs` of
-//! `bsdf.wgsl` (the PBR material's base), `coat.rs`, `sheen.rs`, `layers.rs` and `glass_energy.rs` of
-//! theirs (the clear coat, the sheen, the stack they form over the base, rough glass's energy
-//! compensation). The CPU reference (`crate::reference`), emitters, the
+//! `bsdf.wgsl` (the PBR material's base), `coat.rs`, `sheen.rs`, `layers.rs`, `glass_energy.rs` and
+//! `iridescence.rs` of theirs (the clear coat, the sheen, the stack they form over the base, rough
+//! glass's energy compensation, thin-film interference). The CPU reference (`crate::reference`), emitters, the
 //! denoiser and the loaders use them.
 
 pub mod bsdf;
 pub mod coat;
 pub mod glass_energy;
 pub mod intersect;
+pub mod iridescence;
 pub mod layers;
 pub mod microfacet;
 pub mod rng;

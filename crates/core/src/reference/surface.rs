@@ -55,6 +55,10 @@ pub struct PbrInputs {
     pub coat_normal: Vec3,
     pub diffuse_transmission: f32,
     pub diffuse_transmission_color: Vec3,
+    pub iridescence: f32,
+    pub iridescence_ior: f32,
+    /// The film's thickness (nm).
+    pub iridescence_thickness: f32,
 }
 
 impl PbrInputs {
@@ -72,6 +76,9 @@ impl PbrInputs {
             coat_normal: Vec3::ZERO,
             diffuse_transmission: l.diffuse_transmission,
             diffuse_transmission_color: Vec3::from(l.diffuse_transmission_color),
+            iridescence: l.iridescence,
+            iridescence_ior: l.iridescence_ior,
+            iridescence_thickness: l.iridescence_thickness_max,
         }
     }
 }
@@ -245,6 +252,11 @@ fn pbr_surface(
     .with_diffuse_transmission(
         inputs.diffuse_transmission,
         inputs.diffuse_transmission_color,
+    )
+    .with_iridescence(
+        inputs.iridescence,
+        inputs.iridescence_ior,
+        inputs.iridescence_thickness,
     )
     .thin_walled(thin);
     // Rough glass keeps its energy (a thin sheet's transmission is a mirrored conductor lobe).

@@ -41,13 +41,18 @@ struct PbrInputs {
     coat_normal: vec3<f32>,
     diffuse_transmission: f32,
     diffuse_transmission_color: vec3<f32>,
+    iridescence: f32,
+    iridescence_ior: f32,
+    // The film's thickness (nm).
+    iridescence_thickness: f32,
 }
 
 // The factors alone.
 fn pbr_inputs_of_lobe(l: PbrLobe) -> PbrInputs {
     return PbrInputs(l.metallic, l.roughness, l.specular, l.specular_color, l.clearcoat,
                      l.clearcoat_roughness, l.sheen_color, l.sheen_roughness, vec3(0.0),
-                     l.diffuse_transmission, l.diffuse_transmission_color);
+                     l.diffuse_transmission, l.diffuse_transmission_color, l.iridescence,
+                     l.iridescence_ior, l.iridescence_thickness_max);
 }
 
 // The coat's frame (coat_frame in surface.rs): whether it has one of its own (about its normal,
@@ -98,6 +103,7 @@ fn pbr_surface(material: Material, base: vec3<f32>, inputs: PbrInputs, wo: vec3<
     var b = pbr_bsdf(base, inputs.metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
     b = pbr_with_specular(b, inputs.specular_color, inputs.specular, wo_local.z);
     b = pbr_with_diffuse_transmission(b, inputs.diffuse_transmission, inputs.diffuse_transmission_color);
+    b = pbr_with_iridescence(b, inputs.iridescence, inputs.iridescence_ior, inputs.iridescence_thickness);
     b.thin = thin;
     // Rough glass keeps its energy (a thin sheet's transmission is a mirrored conductor lobe).
     if (lobe.transmission > 0.0) {

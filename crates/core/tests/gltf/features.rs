@@ -166,8 +166,8 @@ fn position_accessors_without_min_and_max_still_load() {
     }
 }
 
-/// `KHR_materials_specular`, `_clearcoat`, `_sheen` and `_diffuse_transmission` map onto the
-/// material, even when the file
+/// `KHR_materials_specular`, `_clearcoat`, `_sheen`, `_diffuse_transmission` and `_iridescence`
+/// map onto the material, even when the file
 /// requires them; out-of-range factors are clamped and absent ones take glTF's defaults.
 #[test]
 fn specular_clearcoat_and_sheen_map_onto_the_layers() {
@@ -177,6 +177,7 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
         "KHR_materials_clearcoat",
         "KHR_materials_sheen",
         "KHR_materials_diffuse_transmission",
+        "KHR_materials_iridescence",
     ];
     for ext in next {
         doc["extensionsUsed"]
@@ -199,6 +200,11 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
         json!({"sheenColorFactor": [0.9, 0.2, -1.0], "sheenRoughnessFactor": 0.4}),
     );
     ext.insert(
+        "KHR_materials_iridescence".into(),
+        json!({"iridescenceFactor": 0.75, "iridescenceIor": 1.4,
+               "iridescenceThicknessMaximum": 520.0}),
+    );
+    ext.insert(
         "KHR_materials_diffuse_transmission".into(),
         json!({"diffuseTransmissionFactor": 0.25, "diffuseTransmissionColorFactor": [0.5, 1.0, 0.0]}),
     );
@@ -212,6 +218,16 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
     assert_eq!(
         (p.diffuse_transmission, p.diffuse_transmission_color),
         (0.25, [0.5, 1.0, 0.0])
+    );
+    assert_eq!(
+        (
+            p.iridescence,
+            p.iridescence_ior,
+            p.iridescence_thickness_min,
+            p.iridescence_thickness_max
+        ),
+        (0.75, 1.4, 100.0, 520.0),
+        "the minimum thickness defaults to 100 nm"
     );
     rt_core::GpuScene::build(&scene).unwrap();
     let plain = load(&embedded(document()), None).unwrap();

@@ -328,6 +328,17 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
                 .on_hover_text("The colour of the light that comes through");
         });
     }
+    ui.add(egui::Slider::new(&mut p.iridescence, 0.0..=1.0).text("iridescence"))
+        .on_hover_text("A thin film's rainbow: soap bubbles, oil on water, anodised metal");
+    if p.iridescence > 0.0 {
+        ui.add(egui::Slider::new(&mut p.iridescence_ior, 1.0..=3.0).text("film IOR"))
+            .on_hover_text("The film's index of refraction (soap 1.33, oil 1.5)");
+        ui.add(
+            egui::Slider::new(&mut p.iridescence_thickness_max, 0.0..=1200.0)
+                .text("film thickness (nm)"),
+        )
+        .on_hover_text("Thicker films cycle through more colours");
+    }
     // The layers' images, as glTF packs them.
     ui.collapsing("Layer images", |ui| {
         for (label, id, slot, hover) in [

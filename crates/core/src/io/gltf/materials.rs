@@ -1,8 +1,9 @@
 //! Materials onto `Material::Pbr`: metallic-roughness, normal maps, emission, transmission, IOR,
 //! volume and alpha, with their textures (decoded once per image and sampler) and the
 //! `KHR_texture_transform` rt can honour; `KHR_materials_specular`, `KHR_materials_clearcoat` and
-//! `KHR_materials_sheen` with their textures (the coat's own normal map included), and
-//! `KHR_materials_diffuse_transmission`'s factors (its textures with a warning).
+//! `KHR_materials_sheen` with their textures (the coat's own normal map included), and the factors
+//! of `KHR_materials_diffuse_transmission` and `KHR_materials_iridescence` (their textures with a
+//! warning).
 
 use super::Loader;
 use super::buffers::read_uri;
@@ -226,6 +227,28 @@ impl Loader<'_> {
             out.sheen_roughness = number(s, "sheenRoughnessFactor", 0.0);
             out.sheen_color_texture = self.json_slot(s, "sheenColorTexture", baked)?;
             out.sheen_roughness_texture = self.json_slot(s, "sheenRoughnessTexture", baked)?;
+        }
+        if let Some(i) = m.extension_value("KHR_materials_iridescence") {
+            out.iridescence = number(i, "iridescenceFactor", 0.0);
+            let positive = |key: &str, default: f32| {
+                i.get(key)
+                    .and_then(gltf::json::Value::as_f64)
+                    .filter(|x| x.is_finite())
+                    .map_or(default, |x| (x as f32).max(0.0))
+            };
+            out.iridescence_ior = positive("iridescenceIor", 1.3).max(1.0);
+            out.iridescence_thickness_min = positive("iridescenceThicknessMinimum", 100.0);
+            out.iridescence_thickness_max = positive("iridescenceThicknessMaximum", 400.0);
+            for key in ["iridescenceTexture", "iridescenceThicknessTexture"] {
+                if i.get(key).is_some() {
+                    log::warn!(
+                        "{}: material {}: rt does not read KHR_materials_iridescence's {key} \
+                         yet: using its factor and maximum thickness",
+                        self.path.display(),
+                        m.index().map_or("default".into(), |i| i.to_string())
+                    );
+                }
+            }
         }
         if let Some(d) = m.extension_value("KHR_materials_diffuse_transmission") {
             out.diffuse_transmission = number(d, "diffuseTransmissionFactor", 0.0);

@@ -8,8 +8,8 @@
 //! - materials onto `Material::Pbr` (metallic-roughness with its textures and their samplers'
 //!   wrap modes and magnification filter, normal maps, emission with its texture and
 //!   `KHR_materials_emissive_strength`, `KHR_materials_transmission`, `_ior`, `_volume`,
-//!   `_specular`, `_clearcoat` and `_sheen` with their textures, `_diffuse_transmission`'s
-//!   factors, alpha MASK and BLEND; the base
+//!   `_specular`, `_clearcoat` and `_sheen` with their textures, the factors of
+//!   `_diffuse_transmission` and `_iridescence`, alpha MASK and BLEND; the base
 //!   colour texture's `KHR_texture_transform` baked into the UVs);
 //! - `KHR_lights_punctual` (candela and lux divided by 683 lm/W, as Blender's importer; spots with
 //!   glTF's own falloff) and the first perspective camera.
@@ -47,6 +47,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_diffuse_transmission",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_iridescence",
     "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_materials_transmission",
