@@ -3,8 +3,9 @@
 Cycles, per object: builds a row of spheres in Blender's `bpy` with Principled BSDFs (a plain red
 plastic as the control; the same plastic under a clear coat; a specular-tinted, half-strength
 dielectric; a velvet with a sheen; a steel with a coat), exports them with Blender's glTF exporter
-(which writes the three extensions), renders Cycles' reference on the CPU and rt from the .glb,
-and compares each object's pixels (Cycles' object-index pass marks them) and the image.
+(which writes the three extensions; the script adds the film of a sixth, thin-film sphere as
+KHR_materials_iridescence, which the exporter does not write), renders Cycles' reference on the
+CPU and rt from the .glb, and compares each object's pixels (Cycles' object-index pass marks them) and the image.
 
 Matched on purpose:
   - light: a uniform grey world in Cycles and the same ambient radiance in rt (`--ambient`; glTF has
@@ -33,20 +34,25 @@ from cycles_settings import match_rt
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
-WIDTH, HEIGHT, DEPTH = 320, 128, 8
+WIDTH, HEIGHT, DEPTH = 384, 128, 8
 AMBIENT = 0.5
+# The thin film: Blender's exporter does not write Principled's Thin Film as
+# KHR_materials_iridescence, so `add_film` adds the same film to the exported file.
+FILM_NM, FILM_IOR = 400.0, 1.33
 
 # name, x, Principled inputs
 SPHERES = [
-    ("plastic", -2.4, {"Base Color": (0.7, 0.1, 0.1, 1), "Roughness": 0.5}),
-    ("coated", -1.2, {"Base Color": (0.7, 0.1, 0.1, 1), "Roughness": 0.5,
+    ("plastic", -3.0, {"Base Color": (0.7, 0.1, 0.1, 1), "Roughness": 0.5}),
+    ("coated", -1.8, {"Base Color": (0.7, 0.1, 0.1, 1), "Roughness": 0.5,
                       "Coat Weight": 1.0, "Coat Roughness": 0.05}),
-    ("specular", 0.0, {"Base Color": (0.1, 0.3, 0.1, 1), "Roughness": 0.3,
-                       "Specular IOR Level": 0.35, "Specular Tint": (1.0, 0.6, 0.3, 1)}),
-    ("velvet", 1.2, {"Base Color": (0.1, 0.1, 0.4, 1), "Roughness": 0.8,
+    ("specular", -0.6, {"Base Color": (0.1, 0.3, 0.1, 1), "Roughness": 0.3,
+                        "Specular IOR Level": 0.35, "Specular Tint": (1.0, 0.6, 0.3, 1)}),
+    ("velvet", 0.6, {"Base Color": (0.1, 0.1, 0.4, 1), "Roughness": 0.8,
                      "Sheen Weight": 1.0, "Sheen Tint": (1.0, 0.8, 0.6, 1), "Sheen Roughness": 0.5}),
-    ("coated steel", 2.4, {"Base Color": (0.8, 0.8, 0.8, 1), "Metallic": 1.0, "Roughness": 0.5,
+    ("coated steel", 1.8, {"Base Color": (0.8, 0.8, 0.8, 1), "Metallic": 1.0, "Roughness": 0.5,
                            "Coat Weight": 0.8, "Coat Roughness": 0.1}),
+    ("soap film", 3.0, {"Base Color": (0.05, 0.05, 0.05, 1), "Roughness": 0.2,
+                        "Thin Film Thickness": FILM_NM, "Thin Film IOR": FILM_IOR}),
 ]
 
 
@@ -98,6 +104,28 @@ def build(bpy):
     return scene
 
 
+def add_film(glb):
+    """Writes KHR_materials_iridescence (the film Blender's Principled BSDF has) into the .glb's
+    "soap film" material, in place."""
+    import json
+    import struct
+
+    data = glb.read_bytes()
+    length = struct.unpack("<I", data[12:16])[0]
+    doc = json.loads(data[20:20 + length])
+    rest = data[20 + length:]
+    for m in doc["materials"]:
+        if m["name"] == "soap film":
+            m.setdefault("extensions", {})["KHR_materials_iridescence"] = {
+                "iridescenceFactor": 1.0, "iridescenceIor": FILM_IOR,
+                "iridescenceThicknessMaximum": FILM_NM}
+    doc.setdefault("extensionsUsed", []).append("KHR_materials_iridescence")
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    chunk = struct.pack("<I", len(text)) + b"JSON" + text
+    glb.write_bytes(struct.pack("<III", 0x46546C67, 2, 12 + len(chunk) + len(rest)) + chunk + rest)
+
+
 def render_cycles(bpy, scene, spp, out):
     match_rt(scene, spp, DEPTH)
     scene.view_layers[0].use_pass_object_index = True
@@ -145,6 +173,7 @@ def main():
     scene = build(bpy)
     bpy.ops.export_scene.gltf(filepath=str(out / "scene.glb"), export_format="GLB",
                               export_lights=True, export_cameras=True, export_yup=True)
+    add_film(out / "scene.glb")
     started = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         render_cycles(bpy, scene, args.spp, Path(tmp) / "cycles.exr")

@@ -1,8 +1,9 @@
-//! The clear coat, the sheen and `KHR_materials_specular` against Blender Cycles:
+//! The clear coat, the sheen, `KHR_materials_specular` and the thin film against Blender Cycles:
 //! `bench/cycles-layers.py` built a row of Principled spheres in Blender (a plain plastic, the same
 //! plastic under a clear coat, a specular-tinted dielectric at 70% specular strength, a velvet with
-//! a sheen, a coated steel), exported `scene.glb` with Blender's glTF exporter (which writes the
-//! three extensions) and rendered Cycles' 1024-spp `reference.exr` under a uniform grey world and a
+//! a sheen, a coated steel, a dark dielectric under a 400 nm soap film), exported `scene.glb` with
+//! Blender's glTF exporter (which writes the first three extensions; the script adds the film as
+//! `KHR_materials_iridescence`) and rendered Cycles' 1024-spp `reference.exr` under a uniform grey world and a
 //! sun (the script's header says what was matched). rt renders the .glb under the same ambient
 //! radiance: every channel's mean within 2% of Cycles', and each object's pixels, per channel,
 //! within 5% — except the velvet, whose sheen Cycles models with Zeltner's microfibres where
@@ -25,7 +26,7 @@ fn coat_sheen_and_specular_render_as_cycles_renders_them() {
         let rt_core::Material::Pbr(p) = &o.material else {
             panic!("{name}: PBR expected")
         };
-        (p.clearcoat, p.sheen_color, p.specular)
+        (p.clearcoat, p.sheen_color, p.specular, p.iridescence)
     };
     assert_eq!(layered("coated").0, 1.0, "the coat comes through");
     assert_eq!(
@@ -37,9 +38,10 @@ fn coat_sheen_and_specular_render_as_cycles_renders_them() {
         (layered("specular").2 - 0.7).abs() < 1e-6,
         "the specular comes through"
     );
+    assert_eq!(layered("soap film").3, 1.0, "the film comes through");
     scene.environment = None;
     scene.ambient = [0.5; 3];
-    scene.settings = settings(320, 128, 256, 8);
+    scene.settings = settings(384, 128, 256, 8);
     let image = render(ctx, &scene);
     let reference = data.join("reference.exr");
     assert_matches_reference(&image, &reference, "Cycles", 0.02, 0.08);
