@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
-"""rt's clear coat, sheen and specular (KHR_materials_clearcoat, _sheen, _specular) against Blender
-Cycles, per object: builds a row of spheres in Blender's `bpy` with Principled BSDFs (a plain red
-plastic as the control; the same plastic under a clear coat; a specular-tinted, half-strength
-dielectric; a velvet with a sheen; a steel with a coat), exports them with Blender's glTF exporter
-(which writes the three extensions; the script adds the film of a sixth, thin-film sphere as
-KHR_materials_iridescence, which the exporter does not write), renders Cycles' reference on the
-CPU and rt from the .glb, and compares each object's pixels (Cycles' object-index pass marks them) and the image.
+"""rt's clear coat, sheen, specular, thin film and anisotropy (KHR_materials_clearcoat, _sheen,
+_specular, _iridescence, _anisotropy) against Blender Cycles, per object: builds a row of spheres in
+Blender's `bpy` with Principled BSDFs (a plain red plastic as the control; the same plastic under a
+clear coat; a specular-tinted, half-strength dielectric; a velvet with a sheen; a steel with a
+coat; a dark dielectric under a soap film; a brushed steel, anisotropic along its UV tangents),
+exports them with Blender's glTF exporter (which writes the coat, sheen, specular and anisotropy;
+`patch` adds the film as KHR_materials_iridescence, which the exporter does not write, and maps
+the brushed steel's Anisotropic onto glTF's parameters, see below), renders Cycles' reference on
+the CPU and rt from the .glb, and compares each object's pixels (Cycles' object-index pass marks
+them) and the image.
 
 Matched on purpose:
   - light: a uniform grey world in Cycles and the same ambient radiance in rt (`--ambient`; glTF has
@@ -14,7 +17,12 @@ Matched on purpose:
   - what Cycles models differently from the glTF extensions, reported rather than hidden (see
     docs/quality.md): its sheen is Zeltner's microfibre model, not Charlie; its coat is a layer
     with its own tint and refraction of the base's light; the exporter maps Specular IOR Level and
-    Tint onto specularFactor and specularColorFactor, and Cycles keeps F90 = 1 where glTF scales it.
+    Tint onto specularFactor and specularColorFactor, and Cycles keeps F90 = 1 where glTF scales it;
+  - anisotropy: Cycles widens the GGX lobe as α_x = α/a, α_y = α·a with a = √(1 − 0.9·Anisotropic),
+    glTF as α_t = mix(α, 1, s²), α_b = α, and the exporter copies Anisotropic into
+    anisotropyStrength; `patch` sets the brushed steel's roughness and strength to the glTF values
+    whose widths are Cycles' (r = √α_y, s = √((α_x − α_y)/(1 − α_y))), so both render one lobe.
+    Its tangents are the UV map's (MikkTSpace) in both: a Tangent node in Cycles.
 
 Needs: Python 3.13 with `pip install bpy==5.2.3 OpenEXR`, and a release rt-cli.
 
@@ -34,25 +42,29 @@ from cycles_settings import match_rt
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
-WIDTH, HEIGHT, DEPTH = 384, 128, 8
+WIDTH, HEIGHT, DEPTH = 448, 128, 8
 AMBIENT = 0.5
 # The thin film: Blender's exporter does not write Principled's Thin Film as
-# KHR_materials_iridescence, so `add_film` adds the same film to the exported file.
+# KHR_materials_iridescence, so `patch` adds the same film to the exported file.
 FILM_NM, FILM_IOR = 400.0, 1.33
+# The brushed steel's Principled roughness and Anisotropic.
+BRUSHED_ROUGHNESS, BRUSHED_ANISOTROPIC = 0.5, 0.8
 
 # name, x, Principled inputs
 SPHERES = [
-    ("plastic", -3.0, {"Base Color": (0.7, 0.1, 0.1, 1), "Roughness": 0.5}),
-    ("coated", -1.8, {"Base Color": (0.7, 0.1, 0.1, 1), "Roughness": 0.5,
+    ("plastic", -3.6, {"Base Color": (0.7, 0.1, 0.1, 1), "Roughness": 0.5}),
+    ("coated", -2.4, {"Base Color": (0.7, 0.1, 0.1, 1), "Roughness": 0.5,
                       "Coat Weight": 1.0, "Coat Roughness": 0.05}),
-    ("specular", -0.6, {"Base Color": (0.1, 0.3, 0.1, 1), "Roughness": 0.3,
+    ("specular", -1.2, {"Base Color": (0.1, 0.3, 0.1, 1), "Roughness": 0.3,
                         "Specular IOR Level": 0.35, "Specular Tint": (1.0, 0.6, 0.3, 1)}),
-    ("velvet", 0.6, {"Base Color": (0.1, 0.1, 0.4, 1), "Roughness": 0.8,
+    ("velvet", 0.0, {"Base Color": (0.1, 0.1, 0.4, 1), "Roughness": 0.8,
                      "Sheen Weight": 1.0, "Sheen Tint": (1.0, 0.8, 0.6, 1), "Sheen Roughness": 0.5}),
-    ("coated steel", 1.8, {"Base Color": (0.8, 0.8, 0.8, 1), "Metallic": 1.0, "Roughness": 0.5,
+    ("coated steel", 1.2, {"Base Color": (0.8, 0.8, 0.8, 1), "Metallic": 1.0, "Roughness": 0.5,
                            "Coat Weight": 0.8, "Coat Roughness": 0.1}),
-    ("soap film", 3.0, {"Base Color": (0.05, 0.05, 0.05, 1), "Roughness": 0.2,
+    ("soap film", 2.4, {"Base Color": (0.05, 0.05, 0.05, 1), "Roughness": 0.2,
                         "Thin Film Thickness": FILM_NM, "Thin Film IOR": FILM_IOR}),
+    ("brushed steel", 3.6, {"Base Color": (0.8, 0.8, 0.8, 1), "Metallic": 1.0,
+                            "Roughness": BRUSHED_ROUGHNESS, "Anisotropic": BRUSHED_ANISOTROPIC}),
 ]
 
 
@@ -81,6 +93,11 @@ def build(bpy):
         bsdf = m.node_tree.nodes["Principled BSDF"]
         for key, value in inputs.items():
             bsdf.inputs[key].default_value = value
+        if "Anisotropic" in inputs:
+            # Along the UV map's tangents, as glTF's anisotropy (rt's MikkTSpace tangents).
+            tangent = m.node_tree.nodes.new("ShaderNodeTangent")
+            tangent.direction_type = "UV_MAP"
+            m.node_tree.links.new(tangent.outputs["Tangent"], bsdf.inputs["Tangent"])
         obj.data.materials.append(m)
     bpy.ops.object.light_add(type="SUN", rotation=(math.radians(40), 0, math.radians(-30)))
     sun = bpy.context.object.data
@@ -104,9 +121,18 @@ def build(bpy):
     return scene
 
 
-def add_film(glb):
+def gltf_anisotropy(roughness, anisotropic):
+    """The glTF roughness and anisotropyStrength whose GGX widths are Cycles' for a Principled
+    roughness and Anisotropic (see the module doc)."""
+    alpha = roughness * roughness
+    aspect = math.sqrt(1.0 - 0.9 * anisotropic)
+    alpha_x, alpha_y = alpha / aspect, alpha * aspect
+    return math.sqrt(alpha_y), math.sqrt((alpha_x - alpha_y) / (1.0 - alpha_y))
+
+
+def patch(glb):
     """Writes KHR_materials_iridescence (the film Blender's Principled BSDF has) into the .glb's
-    "soap film" material, in place."""
+    "soap film" material and Cycles' anisotropic widths into the "brushed steel", in place."""
     import json
     import struct
 
@@ -119,6 +145,10 @@ def add_film(glb):
             m.setdefault("extensions", {})["KHR_materials_iridescence"] = {
                 "iridescenceFactor": 1.0, "iridescenceIor": FILM_IOR,
                 "iridescenceThicknessMaximum": FILM_NM}
+        if m["name"] == "brushed steel":
+            roughness, strength = gltf_anisotropy(BRUSHED_ROUGHNESS, BRUSHED_ANISOTROPIC)
+            m["pbrMetallicRoughness"]["roughnessFactor"] = roughness
+            m["extensions"]["KHR_materials_anisotropy"]["anisotropyStrength"] = strength
     doc.setdefault("extensionsUsed", []).append("KHR_materials_iridescence")
     text = json.dumps(doc).encode()
     text += b" " * (-len(text) % 4)
@@ -173,7 +203,7 @@ def main():
     scene = build(bpy)
     bpy.ops.export_scene.gltf(filepath=str(out / "scene.glb"), export_format="GLB",
                               export_lights=True, export_cameras=True, export_yup=True)
-    add_film(out / "scene.glb")
+    patch(out / "scene.glb")
     started = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         render_cycles(bpy, scene, args.spp, Path(tmp) / "cycles.exr")

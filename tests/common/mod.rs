@@ -243,9 +243,9 @@ pub fn test_environment() -> rt_core::Environment {
     env
 }
 
-/// Every PBR feature: a textured plastic floor with a sheen, a coat and specular images, rough
-/// gold under a clear coat, rough
-/// absorbing glass, smooth glass, a rough metal with an interpolated normal, an emissive PBR plate
+/// Every PBR feature: a textured, brushed (anisotropic) plastic floor with a sheen, a coat and
+/// specular images, rough gold under a clear coat and a thin film, rough anisotropic absorbing
+/// glass, smooth glass, a rough metal with an interpolated normal, an emissive PBR plate
 /// with a tinted specular strength, an area light and an
 /// environment map (so next-event estimation picks between emitters and the environment).
 pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
@@ -314,6 +314,10 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         specular_color_texture: Some(0),
         clearcoat_normal_texture: Some(1),
         clearcoat_normal_scale: 0.5,
+        // Brushed along directions the bumps' red and green turn, by strengths their blue scales.
+        anisotropy: 0.7,
+        anisotropy_rotation: 0.5,
+        anisotropy_texture: Some(1),
         ..Default::default()
     });
     scene.objects[1].material = pbr(Pbr {
@@ -325,6 +329,9 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         // Under the coat, a thin film on the gold.
         iridescence: 0.7,
         iridescence_thickness_max: 450.0,
+        // The film's weight and thickness vary with images.
+        iridescence_texture: Some(0),
+        iridescence_thickness_texture: Some(2),
         ..Default::default()
     });
     scene.objects[2].material = pbr(Pbr {
@@ -333,6 +340,9 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
         transmission: 1.0,
         attenuation_color: [0.6, 0.8, 0.9],
         attenuation_distance: Some(0.5),
+        // Rough glass brushed around the sphere, splitting light into colours.
+        anisotropy: 0.6,
+        dispersion: 0.8,
         ..Default::default()
     });
     let mut smooth_glass = object(
@@ -365,6 +375,8 @@ pub fn pbr_scene_with_environment(width: u32, height: u32) -> Scene {
             // And some of its diffuse light goes through, greener.
             diffuse_transmission: 0.5,
             diffuse_transmission_color: [0.4, 1.0, 0.3],
+            diffuse_transmission_texture: Some(1),
+            diffuse_transmission_color_texture: Some(0),
             ..Default::default()
         }),
     );
@@ -390,6 +402,37 @@ pub fn object_sums(
     image: &Image,
     path: &std::path::Path,
 ) -> Vec<([f64; 3], [f64; 3], usize)> {
+    region_sums(scene, image, path, scene.objects.len(), |object, _, _| {
+        Some(object)
+    })
+}
+
+/// As `object_sums`, for the pixels of object `name` in `tile` × `tile` squares of the image:
+/// entry (y / tile) · ⌈width / tile⌉ + x / tile.
+pub fn object_tile_sums(
+    scene: &Scene,
+    image: &Image,
+    path: &std::path::Path,
+    name: &str,
+    tile: u32,
+) -> Vec<([f64; 3], [f64; 3], usize)> {
+    let wanted = scene.objects.iter().position(|o| o.name == name).unwrap();
+    let across = image.width.div_ceil(tile);
+    let regions = (across * image.height.div_ceil(tile)) as usize;
+    region_sums(scene, image, path, regions, |object, x, y| {
+        (object == wanted).then_some(((y / tile) * across + x / tile) as usize)
+    })
+}
+
+/// Sums of `image`'s and the reference's pixels per region, `region(object, x, y)` naming the
+/// region of the pixel that shows `object` (`object_sums`).
+fn region_sums(
+    scene: &Scene,
+    image: &Image,
+    path: &std::path::Path,
+    regions: usize,
+    region: impl Fn(usize, u32, u32) -> Option<usize>,
+) -> Vec<([f64; 3], [f64; 3], usize)> {
     let (width, height) = (image.width, image.height);
     let gpu_scene = rt_core::GpuScene::build(scene).unwrap();
     let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
@@ -399,7 +442,7 @@ pub fn object_sums(
         .pixels()
         .map(|p| p.0)
         .collect();
-    let mut sums = vec![([0.0f64; 3], [0.0f64; 3], 0usize); scene.objects.len()];
+    let mut sums = vec![([0.0f64; 3], [0.0f64; 3], 0usize); regions];
     for y in 0..height {
         for x in 0..width {
             let sx =
@@ -414,8 +457,11 @@ pub fn object_sums(
                 continue;
             }
             let object = gpu_scene.triangles[hit.triangle as usize].material as usize;
+            let Some(r) = region(object, x, y) else {
+                continue;
+            };
             let i = (y * width + x) as usize;
-            let s = &mut sums[object];
+            let s = &mut sums[r];
             for (c, (ours, reference)) in s.0.iter_mut().zip(&mut s.1).enumerate() {
                 *ours += f64::from(image.pixels[i][c]);
                 *reference += f64::from(theirs[i][c]);

@@ -125,13 +125,19 @@ fn sampling_functions_match_their_twin() {
 #[test]
 fn microfacet_functions_match_their_twin() {
     let Some(ctx) = gpu() else { return };
-    let input = inputs(10, |rng| {
+    let input = inputs(11, |rng| {
         let mut wo = unit(rng);
         wo.z = wo.z.abs().max(1e-3);
         let wo = wo.normalize();
         let mut wi = unit(rng);
         wi.z = wi.z.abs();
         let roughness = rng.next_f32();
+        // Half the items anisotropic.
+        let strength = if rng.next_f32() < 0.5 {
+            0.0
+        } else {
+            rng.next_f32()
+        };
         bits(&[
             wo.x,
             wo.y,
@@ -143,16 +149,19 @@ fn microfacet_functions_match_their_twin() {
             rng.next_f32(),
             rng.next_f32(),
             rng.next_f32(),
+            strength,
         ])
     });
     let kernel = TwinKernel {
-        words_in: 10,
-        words_out: 12,
+        words_in: 11,
+        words_out: 14,
         body: "let wo = v3_in(item, 0u); let wi = v3_in(item, 3u); let r = f_in(item, 6u);
     let u1 = f_in(item, 7u); let u2 = f_in(item, 8u);
-    let a = alpha_of_roughness(r);
+    let a = anisotropic_alpha(r, f_in(item, 10u));
     let m = sample_vndf(wo, a, u1, u2);
-    put(item, 0u, a);
+    put(item, 0u, a.x);
+    put(item, 12u, a.y);
+    put(item, 13u, equivalent_roughness(a));
     put(item, 1u, ggx_d(normalize(wo + wi), a));
     put(item, 2u, ggx_lambda(wi, a));
     put(item, 3u, ggx_g1(wo, a));
@@ -172,15 +181,15 @@ fn microfacet_functions_match_their_twin() {
         abs: 1e-5,
         exact_words: &[],
     }
-    .check(&gpu_out, 12, |item| {
-        let f = |k: usize| f32::from_bits(input[item * 10 + k]);
+    .check(&gpu_out, 14, |item| {
+        let f = |k: usize| f32::from_bits(input[item * 11 + k]);
         let wo = Vec3::new(f(0), f(1), f(2));
         let wi = Vec3::new(f(3), f(4), f(5));
         let (r, u1, u2) = (f(6), f(7), f(8));
-        let a = alpha_of_roughness(r);
+        let a = anisotropic_alpha(r, f(10));
         let m = sample_vndf(wo, a, u1, u2);
         bits(&[
-            a,
+            a.x,
             ggx_d((wo + wi).normalize(), a),
             ggx_lambda(wi, a),
             ggx_g1(wo, a),
@@ -194,6 +203,8 @@ fn microfacet_functions_match_their_twin() {
             fresnel_schlick(Vec3::splat(f(9)), wo.z).x,
             energy_lookup(table, wo.z, r),
             energy_lookup(table, u2, u1),
+            a.y,
+            equivalent_roughness(a),
         ])
     });
 }
@@ -205,7 +216,7 @@ fn microfacet_functions_match_their_twin() {
 #[test]
 fn pbr_bsdf_matches_its_twin() {
     let Some(ctx) = gpu() else { return };
-    let input = inputs(16, |rng| {
+    let input = inputs(17, |rng| {
         let mut wo = unit(rng);
         wo.z = wo.z.abs().max(1e-3);
         let wo = wo.normalize();
@@ -245,15 +256,22 @@ fn pbr_bsdf_matches_its_twin() {
             thin,
             rng.next_f32(),
             rng.next_f32(),
+            // A third of the items anisotropic.
+            if rng.next_f32() < 0.67 {
+                0.0
+            } else {
+                rng.next_f32()
+            },
         ])
     });
     let kernel = TwinKernel {
-        words_in: 16,
+        words_in: 17,
         words_out: 16,
         body: "let wo = v3_in(item, 0u); let wi = v3_in(item, 3u); let base = v3_in(item, 6u);
     let r = f_in(item, 10u);
     var b = pbr_bsdf(base, f_in(item, 9u), r, f_in(item, 11u), f_in(item, 12u), wo.z,
                      energy_lookup(wo.z, r));
+    b = pbr_anisotropic(b, anisotropic_alpha(r, f_in(item, 16u)));
     b.thin = f_in(item, 13u) > 0.5;
     let e = pbr_eval(b, wo, wi);
     put3(item, 0u, e.xyz); put(item, 3u, e.w);
@@ -271,13 +289,15 @@ fn pbr_bsdf_matches_its_twin() {
     // direction `wi_gpu` (checked against the Rust sample's own direction first): a narrow lobe's
     // pdf would otherwise magnify the direction's last-bit differences into per cents.
     let rust = |item: usize, wi_gpu: Vec3| {
-        let f = |k: usize| f32::from_bits(input[item * 16 + k]);
+        let f = |k: usize| f32::from_bits(input[item * 17 + k]);
         let wo = Vec3::new(f(0), f(1), f(2));
         let wi = Vec3::new(f(3), f(4), f(5));
         let base = Vec3::new(f(6), f(7), f(8));
         let r = f(10);
         let energy = energy_lookup(table, wo.z, r);
-        let b = Pbr::new(base, f(9), r, f(11), f(12), wo.z, energy).thin_walled(f(13) > 0.5);
+        let b = Pbr::new(base, f(9), r, f(11), f(12), wo.z, energy)
+            .anisotropic(anisotropic_alpha(r, f(16)))
+            .thin_walled(f(13) > 0.5);
         let sample = b.sample(wo, f(14), f(15), f(6));
         let mut out = bsdf_row(|w| b.eval(wo, w), wi, sample.is_some(), wi_gpu);
         out.extend(bits(&[b.q_reflect]));

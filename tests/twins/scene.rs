@@ -243,7 +243,7 @@ fn the_surface_dispatch_matches_its_twin() {
         MaterialKind::Dielectric,
         MaterialKind::Pbr,
     ];
-    let input = inputs(49, |rng| {
+    let input = inputs(56, |rng| {
         let kind = KINDS[(rng.next_f32() * 4.0) as usize % 4];
         let color = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
         let mut m = Material {
@@ -302,7 +302,14 @@ fn the_surface_dispatch_matches_its_twin() {
                     iridescence_ior: 1.0 + rng.next_f32(),
                     iridescence_thickness_min: 100.0,
                     iridescence_thickness_max: 100.0 + 400.0 * rng.next_f32(),
-                    _pad: 0.0,
+                    anisotropy: if layered && rng.next_f32() < 0.5 {
+                        rng.next_f32()
+                    } else {
+                        0.0
+                    },
+                    anisotropy_rotation: 0.0,
+                    dispersion: 0.0,
+                    _pad: [0.0; 2],
                 })
             }
             _ => {}
@@ -333,22 +340,30 @@ fn the_surface_dispatch_matches_its_twin() {
             Vec3::ZERO
         };
         words.extend(bits(&coat_normal.to_array()));
+        // The direction of anisotropy (world space, off ns; zero a quarter of the time: onb's).
+        let direction = if rng.next_f32() < 0.75 {
+            unit(rng)
+        } else {
+            Vec3::ZERO
+        };
+        words.extend(bits(&direction.to_array()));
         words
     });
     let kernel = TwinKernel {
-        words_in: 49,
+        words_in: 56,
         words_out: 15,
         body: "var m: Material;
     m.kind = u_in(item, 0u); m.color = v3_in(item, 1u); m.flags = u_in(item, 4u);
-    for (var k = 0u; k < 7u; k++) {
+    for (var k = 0u; k < 8u; k++) {
         let o = 5u + 4u * k;
         m.lobe[k] = vec4(f_in(item, o), f_in(item, o + 1u), f_in(item, o + 2u), f_in(item, o + 3u));
     }
-    let d = v3_in(item, 33u); let ng = v3_in(item, 36u); let ns = v3_in(item, 39u);
-    let wi = v3_in(item, 42u);
+    let d = v3_in(item, 37u); let ng = v3_in(item, 40u); let ns = v3_in(item, 43u);
+    let wi = v3_in(item, 46u);
     var inputs = pbr_inputs_of_lobe(pbr_lobe(m));
-    inputs.coat_normal = v3_in(item, 46u);
-    let s = material_surface(m, m.color, inputs, d, ng, ns, u_in(item, 45u) != 0u);
+    inputs.coat_normal = v3_in(item, 50u);
+    inputs.anisotropy_direction = v3_in(item, 53u);
+    let s = material_surface(m, m.color, inputs, d, ng, ns, u_in(item, 49u) != 0u);
     put_u(item, 0u, s.kind);
     put_u(item, 1u, u32(surface_is_delta(s)));
     put_u(item, 2u, u32(surface_transmits(s)));
@@ -371,7 +386,7 @@ fn the_surface_dispatch_matches_its_twin() {
     let mut per_kind = [0usize; 5];
     let rows: Vec<Vec<u32>> = (0..ITEMS)
         .map(|item| {
-            let w = |k: usize| input[item * 49 + k];
+            let w = |k: usize| input[item * 56 + k];
             let f = |k: usize| f32::from_bits(w(k));
             let v = |k: usize| Vec3::new(f(k), f(k + 1), f(k + 2));
             let mut m = Material {
@@ -381,12 +396,13 @@ fn the_surface_dispatch_matches_its_twin() {
                 ..Default::default()
             };
             m.lobe = std::array::from_fn(|k| std::array::from_fn(|j| f(5 + 4 * k + j)));
-            let (d, ng, ns, wi) = (v(33), v(36), v(39), v(42));
+            let (d, ng, ns, wi) = (v(37), v(40), v(43), v(46));
             let inputs = PbrInputs {
-                coat_normal: v(46),
+                coat_normal: v(50),
+                anisotropy_direction: v(53),
                 ..PbrInputs::of_lobe(&m.lobe_of::<PbrLobe>())
             };
-            let s = Surface::of_material(&scene, &m, v(1), &inputs, d, ng, ns, w(45) != 0);
+            let s = Surface::of_material(&scene, &m, v(1), &inputs, d, ng, ns, w(49) != 0);
             let kind = match s {
                 Surface::Lambert { .. } => MaterialKind::Lambertian,
                 Surface::Metal { .. } => MaterialKind::Metal,

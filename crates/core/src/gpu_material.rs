@@ -3,9 +3,11 @@
 
 use crate::error::{Error, Result};
 use crate::gpu_types::{
-    self, DielectricLobe, MetalLobe, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT, SLOT_CLEARCOAT_NORMAL,
-    SLOT_CLEARCOAT_ROUGHNESS, SLOT_EMISSION, SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL,
-    SLOT_SHEEN_COLOR, SLOT_SHEEN_ROUGHNESS, SLOT_SPECULAR, SLOT_SPECULAR_COLOR, TextureSlot,
+    self, DielectricLobe, MetalLobe, PbrLobe, SLOT_ANISOTROPY, SLOT_BASE, SLOT_CLEARCOAT,
+    SLOT_CLEARCOAT_NORMAL, SLOT_CLEARCOAT_ROUGHNESS, SLOT_DIFFUSE_TRANSMISSION,
+    SLOT_DIFFUSE_TRANSMISSION_COLOR, SLOT_EMISSION, SLOT_IRIDESCENCE, SLOT_IRIDESCENCE_THICKNESS,
+    SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, SLOT_SHEEN_COLOR, SLOT_SHEEN_ROUGHNESS, SLOT_SPECULAR,
+    SLOT_SPECULAR_COLOR, TextureSlot,
 };
 use crate::material::{AlphaMode, Material};
 use crate::scene::Scene;
@@ -99,6 +101,27 @@ pub(crate) fn object_material(
                 "specular colour texture",
                 SLOT_SPECULAR_COLOR,
             ),
+            (p.anisotropy_texture, "anisotropy texture", SLOT_ANISOTROPY),
+            (
+                p.diffuse_transmission_texture,
+                "diffuse transmission texture",
+                SLOT_DIFFUSE_TRANSMISSION,
+            ),
+            (
+                p.diffuse_transmission_color_texture,
+                "diffuse transmission colour texture",
+                SLOT_DIFFUSE_TRANSMISSION_COLOR,
+            ),
+            (
+                p.iridescence_texture,
+                "iridescence texture",
+                SLOT_IRIDESCENCE,
+            ),
+            (
+                p.iridescence_thickness_texture,
+                "iridescence thickness texture",
+                SLOT_IRIDESCENCE_THICKNESS,
+            ),
         ] {
             if let Some(t) = slot(t, name)? {
                 bind(t, gpu_slot, &mut material);
@@ -125,6 +148,21 @@ pub(crate) fn object_material(
                     label()
                 );
             }
+        }
+        // The direction of anisotropy is given in the tangent frame.
+        if p.anisotropy > 0.0 && tangents.is_none() {
+            tangents = crate::tangents::mikktspace_tangents(mesh);
+            if tangents.is_none() {
+                log::warn!(
+                    "{}: no tangents (it needs normals and UVs): its anisotropy follows an \
+                     arbitrary direction",
+                    label()
+                );
+            }
+        }
+        if tangents.is_some() {
+            material.flags |= gpu_types::TANGENTS;
+            features.normal_maps = true;
         }
         // Coverage comes from the factor and the base colour texture: without UVs only the factor.
         let base_textured = !material.texture(SLOT_BASE).is_empty();
@@ -189,7 +227,10 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
                 iridescence_ior: p.iridescence_ior,
                 iridescence_thickness_min: p.iridescence_thickness_min,
                 iridescence_thickness_max: p.iridescence_thickness_max,
-                _pad: 0.0,
+                anisotropy: p.anisotropy,
+                anisotropy_rotation: p.anisotropy_rotation,
+                dispersion: p.dispersion,
+                _pad: [0.0; 2],
             });
         }
     }

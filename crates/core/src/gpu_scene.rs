@@ -274,8 +274,8 @@ impl GpuScene {
         for (object, old) in scene.objects.iter().zip(&self.materials) {
             let (material, tangents) =
                 object_material(scene, object, &texture_offsets, &mut features)?;
-            let had_normal_map = !old.texture(crate::gpu_types::SLOT_NORMAL).is_empty();
-            if tangents.is_some() != had_normal_map {
+            let had_tangents = old.flags & crate::gpu_types::TANGENTS != 0;
+            if tangents.is_some() != had_tangents {
                 return Ok(None);
             }
             materials.push(material);

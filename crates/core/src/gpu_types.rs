@@ -96,29 +96,29 @@ pub struct Material {
     /// emission image.
     pub emission: [f32; 3], // 16
     /// Bit 0 (`THIN_WALLED`) thin-walled transmission; bits 1–2 (`ALPHA_MASK`, `ALPHA_BLEND`) the
-    /// alpha mode.
+    /// alpha mode; bit 3 (`TANGENTS`) its triangles carry tangents (`GpuScene::tangents`).
     pub flags: u32, // 28
     /// The kind's parameter block, written and read only as that kind's block type (`lobe_of`).
     pub lobe: [[f32; 4]; LOBE_VEC4S], // 32
     /// The coverage factor (times the base colour image's alpha).
-    pub alpha: f32, // 144
+    pub alpha: f32, // 160
     /// With `ALPHA_MASK`: coverage below this is a hole.
-    pub alpha_cutoff: f32, // 148
+    pub alpha_cutoff: f32, // 164
     /// Each texture slot's sampler (`TextureSampler::bits`), 5 bits a slot, six slots a word:
     /// slot `i` at bit `5 (i mod 6)` of word `i / 6`.
-    pub samplers: [u32; 2], // 152
+    pub samplers: [u32; 3], // 168
     /// The images, indexed by `SLOT_*`: base colour (sRGB), metallic-roughness (B metal, G rough;
     /// linear), tangent-space normals (linear), emission (sRGB), then the layers' (`SLOT_*` says
     /// which channel each reads).
-    pub textures: [TextureSlot; SLOTS], // 160
-    pub _pad: [u32; 3], // 292
+    pub textures: [TextureSlot; SLOTS], // 180
+    pub _pad: [u32; 3], // 372
 }
 
 /// How many texture slots a material has.
-pub const SLOTS: usize = 11;
+pub const SLOTS: usize = 16;
 
 /// The size of `Material::lobe` in 16-byte words: the largest kind's block (`PbrLobe`).
-pub const LOBE_VEC4S: usize = 7;
+pub const LOBE_VEC4S: usize = 8;
 
 impl Default for Material {
     fn default() -> Self {
@@ -130,7 +130,7 @@ impl Default for Material {
             lobe: [[0.0; 4]; LOBE_VEC4S],
             alpha: 1.0,
             alpha_cutoff: 0.0,
-            samplers: [0; 2],
+            samplers: [0; 3],
             textures: [TextureSlot::NONE; SLOTS],
             _pad: [0; 3],
         }
@@ -237,7 +237,15 @@ pub struct PbrLobe {
     /// The film's thickness in nanometres (its image's green picks between these two).
     pub iridescence_thickness_min: f32, // 100
     pub iridescence_thickness_max: f32, // 104
-    pub _pad: f32, // 108
+    /// `KHR_materials_anisotropy`'s strength in [0, 1] (`microfacet::anisotropic_alpha`), times
+    /// its image's blue.
+    pub anisotropy: f32, // 108
+    /// The direction of anisotropy: radians counter-clockwise from the tangent (after its image's
+    /// direction).
+    pub anisotropy_rotation: f32, // 112
+    /// `KHR_materials_dispersion`'s 20 / V_d (`math::dispersion`; 0: none).
+    pub dispersion: f32, // 116
+    pub _pad: [f32; 2], // 120
 }
 impl Lobe for PbrLobe {}
 
@@ -248,6 +256,8 @@ pub const ALPHA_MASK: u32 = 2;
 /// The surface stops a ray with probability equal to its coverage (glTF's BLEND, rendered as
 /// stochastic transparency: a hashed coin per ray and triangle).
 pub const ALPHA_BLEND: u32 = 4;
+/// The material's triangles have MikkTSpace tangents (normal maps, anisotropy).
+pub const TANGENTS: u32 = 8;
 
 /// The texture slots: indices into `Material::textures` (`Material::sampler_bits` finds each one's
 /// sampler).
@@ -269,6 +279,17 @@ pub const SLOT_SPECULAR: u32 = 8;
 pub const SLOT_SPECULAR_COLOR: u32 = 9;
 /// The clear coat's own tangent-space normal map (linear).
 pub const SLOT_CLEARCOAT_NORMAL: u32 = 10;
+/// Red and green: the direction of anisotropy in the tangent frame ((2r − 1, 2g − 1)); blue scales
+/// its strength (linear).
+pub const SLOT_ANISOTROPY: u32 = 11;
+/// Alpha scales the diffuse transmission (linear).
+pub const SLOT_DIFFUSE_TRANSMISSION: u32 = 12;
+/// RGB scales the diffusely transmitted colour (sRGB).
+pub const SLOT_DIFFUSE_TRANSMISSION_COLOR: u32 = 13;
+/// Red scales the thin film's weight (linear).
+pub const SLOT_IRIDESCENCE: u32 = 14;
+/// Green picks the film's thickness between its minimum and maximum (linear).
+pub const SLOT_IRIDESCENCE_THICKNESS: u32 = 15;
 pub const SAMPLER_BITS: u32 = 5;
 /// Slots whose sampler bits share one word of `Material::samplers`.
 pub const SLOTS_PER_WORD: u32 = 6;
@@ -528,6 +549,9 @@ pub fn layouts() -> Vec<StructLayout> {
                 iridescence_ior,
                 iridescence_thickness_min,
                 iridescence_thickness_max,
+                anisotropy,
+                anisotropy_rotation,
+                dispersion,
                 _pad
             ]
         ),

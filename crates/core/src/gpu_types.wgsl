@@ -45,13 +45,13 @@ struct Material {
     color: vec3<f32>,        // 0: albedo, metal reflectance, glass tint or PBR base colour
     kind: u32,               // 12
     emission: vec3<f32>,     // 16
-    flags: u32,              // 28: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND
-    lobe: array<vec4<f32>, 7>,  // 32: the kind's parameter block
-    alpha: f32,              // 144: the coverage factor
-    alpha_cutoff: f32,       // 148
-    samplers: array<u32, 2>, // 152: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
-    textures: array<TextureSlot, 11>,  // 160: by SLOT_*
-    _pad: array<u32, 3>,     // 292
+    flags: u32,              // 28: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND, 3 TANGENTS
+    lobe: array<vec4<f32>, 8>,  // 32: the kind's parameter block
+    alpha: f32,              // 160: the coverage factor
+    alpha_cutoff: f32,       // 164
+    samplers: array<u32, 3>, // 168: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
+    textures: array<TextureSlot, 16>,  // 180: by SLOT_*
+    _pad: array<u32, 3>,     // 372
 }
 
 // The kinds' parameter blocks: the words of Material.lobe in order (core::gpu_types::*Lobe).
@@ -83,7 +83,10 @@ struct PbrLobe {
     iridescence_ior: f32,    // 96
     iridescence_thickness_min: f32,  // 100: nm
     iridescence_thickness_max: f32,  // 104
-    _pad: f32,               // 108
+    anisotropy: f32,         // 108: KHR_materials_anisotropy's strength
+    anisotropy_rotation: f32,  // 112: radians from the tangent
+    dispersion: f32,         // 116: KHR_materials_dispersion's 20 / V_d
+    _pad: array<f32, 2>,     // 120
 }
 
 fn metal_lobe(m: Material) -> MetalLobe {
@@ -98,12 +101,14 @@ fn pbr_lobe(m: Material) -> PbrLobe {
     return PbrLobe(m.lobe[0].x, m.lobe[0].y, m.lobe[0].z, m.lobe[0].w, m.lobe[1].xyz, m.lobe[1].w,
                    m.lobe[2].xyz, m.lobe[2].w, m.lobe[3].xyz, m.lobe[3].w, m.lobe[4].x, m.lobe[4].y,
                    m.lobe[4].z, m.lobe[4].w, m.lobe[5].xyz, m.lobe[5].w,
-                   m.lobe[6].x, m.lobe[6].y, m.lobe[6].z, m.lobe[6].w);
+                   m.lobe[6].x, m.lobe[6].y, m.lobe[6].z, m.lobe[6].w, m.lobe[7].x,
+                   m.lobe[7].y, array<f32, 2>(0.0, 0.0));
 }
 
 const THIN_WALLED: u32 = 1u;
 const ALPHA_MASK: u32 = 2u;
 const ALPHA_BLEND: u32 = 4u;
+const TANGENTS: u32 = 8u;
 const SLOT_BASE: u32 = 0u;
 const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
 const SLOT_NORMAL: u32 = 2u;
@@ -115,6 +120,11 @@ const SLOT_SHEEN_ROUGHNESS: u32 = 7u;
 const SLOT_SPECULAR: u32 = 8u;
 const SLOT_SPECULAR_COLOR: u32 = 9u;
 const SLOT_CLEARCOAT_NORMAL: u32 = 10u;
+const SLOT_ANISOTROPY: u32 = 11u;
+const SLOT_DIFFUSE_TRANSMISSION: u32 = 12u;
+const SLOT_DIFFUSE_TRANSMISSION_COLOR: u32 = 13u;
+const SLOT_IRIDESCENCE: u32 = 14u;
+const SLOT_IRIDESCENCE_THICKNESS: u32 = 15u;
 const SAMPLER_BITS: u32 = 5u;
 const SLOTS_PER_WORD: u32 = 6u;
 

@@ -118,12 +118,14 @@ impl GpuScene {
             }
         }
         for (i, m) in self.materials.iter().enumerate() {
-            for (what, slot) in [
-                ("texture", SLOT_BASE),
-                ("metallic-roughness texture", SLOT_METALLIC_ROUGHNESS),
-                ("normal texture", SLOT_NORMAL),
-                ("emission texture", SLOT_EMISSION),
-            ] {
+            for slot in 0..crate::gpu_types::SLOTS as u32 {
+                let what = match slot {
+                    SLOT_BASE => "texture".to_string(),
+                    SLOT_METALLIC_ROUGHNESS => "metallic-roughness texture".to_string(),
+                    SLOT_NORMAL => "normal texture".to_string(),
+                    SLOT_EMISSION => "emission texture".to_string(),
+                    _ => format!("texture slot {slot}"),
+                };
                 let TextureSlot {
                     offset,
                     width: w,
@@ -140,9 +142,9 @@ impl GpuScene {
                     ));
                 }
             }
-            if !m.texture(SLOT_NORMAL).is_empty() && self.tangents.len() != 3 * triangles {
+            if m.flags & crate::gpu_types::TANGENTS != 0 && self.tangents.len() != 3 * triangles {
                 return Err(format!(
-                    "material {i} is normal-mapped but there are {} tangents for {triangles} triangles",
+                    "material {i} has tangents but there are {} tangents for {triangles} triangles",
                     self.tangents.len()
                 ));
             }

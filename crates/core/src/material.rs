@@ -111,6 +111,27 @@ pub struct Pbr {
     /// the film is `iridescence_thickness_max` thick.
     pub iridescence_thickness_min: f32,
     pub iridescence_thickness_max: f32,
+    /// `KHR_materials_anisotropy`'s strength in [0, 1]: the highlight stretches along the direction
+    /// of anisotropy, its GGX width there growing from α to 1 as strength² (brushed metal).
+    /// Needs the mesh's tangents (normals and UVs).
+    pub anisotropy: f32,
+    /// The direction of anisotropy in radians, counter-clockwise from the mesh's tangent.
+    pub anisotropy_rotation: f32,
+    /// An image whose red and green (linear) give the direction in the tangent frame (2c − 1, then
+    /// rotated by `anisotropy_rotation`) and whose blue multiplies `anisotropy`.
+    pub anisotropy_texture: Option<usize>,
+    /// `KHR_materials_dispersion`: 20 / V_d (V_d the Abbe number; 0: none, glass ~0.3, diamond
+    /// ~0.9): a transmissive volume's index varies with the wavelength (`math::dispersion`).
+    pub dispersion: f32,
+    /// An image whose alpha multiplies `diffuse_transmission`.
+    pub diffuse_transmission_texture: Option<usize>,
+    /// An sRGB image multiplying `diffuse_transmission_color`.
+    pub diffuse_transmission_color_texture: Option<usize>,
+    /// An image whose red multiplies `iridescence`.
+    pub iridescence_texture: Option<usize>,
+    /// An image whose green picks the film's thickness, from `iridescence_thickness_min` (0) to
+    /// `iridescence_thickness_max` (1).
+    pub iridescence_thickness_texture: Option<usize>,
 }
 
 /// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
@@ -168,13 +189,21 @@ impl Default for Pbr {
             iridescence_ior: 1.3,
             iridescence_thickness_min: 100.0,
             iridescence_thickness_max: 400.0,
+            anisotropy: 0.0,
+            anisotropy_rotation: 0.0,
+            anisotropy_texture: None,
+            dispersion: 0.0,
+            diffuse_transmission_texture: None,
+            diffuse_transmission_color_texture: None,
+            iridescence_texture: None,
+            iridescence_thickness_texture: None,
         }
     }
 }
 
 impl Pbr {
     /// Every texture slot with its name, for index checks.
-    pub fn textures(&self) -> [(&'static str, Option<usize>); 11] {
+    pub fn textures(&self) -> [(&'static str, Option<usize>); 16] {
         [
             ("texture", self.texture),
             (
@@ -193,6 +222,20 @@ impl Pbr {
             ("specular_texture", self.specular_texture),
             ("specular_color_texture", self.specular_color_texture),
             ("clearcoat_normal_texture", self.clearcoat_normal_texture),
+            ("anisotropy_texture", self.anisotropy_texture),
+            (
+                "diffuse_transmission_texture",
+                self.diffuse_transmission_texture,
+            ),
+            (
+                "diffuse_transmission_color_texture",
+                self.diffuse_transmission_color_texture,
+            ),
+            ("iridescence_texture", self.iridescence_texture),
+            (
+                "iridescence_thickness_texture",
+                self.iridescence_thickness_texture,
+            ),
         ]
     }
 
@@ -282,6 +325,19 @@ impl Pbr {
         unit("sheen_roughness", self.sheen_roughness)?;
         unit("diffuse_transmission", self.diffuse_transmission)?;
         unit("iridescence", self.iridescence)?;
+        unit("anisotropy", self.anisotropy)?;
+        if !(self.dispersion.is_finite() && self.dispersion >= 0.0) {
+            return Err(format!(
+                "{what}: pbr dispersion must be finite and >= 0 (20 / Abbe number), got {}",
+                self.dispersion
+            ));
+        }
+        if !self.anisotropy_rotation.is_finite() {
+            return Err(format!(
+                "{what}: pbr anisotropy_rotation must be finite (radians), got {}",
+                self.anisotropy_rotation
+            ));
+        }
         if !(self.iridescence_ior.is_finite() && self.iridescence_ior >= 1.0) {
             return Err(format!(
                 "{what}: pbr iridescence_ior must be >= 1, got {}",

@@ -15,7 +15,7 @@ pub struct SceneFeatures {
     pub nee: bool,
     /// Point, spot or directional lights (always sampled directly).
     pub delta_lights: bool,
-    /// PBR normal maps (the kernel reads `GpuScene::tangents`).
+    /// PBR normal maps or anisotropy: tangents (the kernel reads `GpuScene::tangents`).
     pub normal_maps: bool,
     /// An environment map (sampled directly, and by MIS with the BSDF).
     pub environment: bool,

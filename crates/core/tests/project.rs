@@ -121,6 +121,14 @@ fn rich_scene() -> Scene {
         iridescence_ior: 1.8,
         iridescence_thickness_min: 50.0,
         iridescence_thickness_max: 700.0,
+        anisotropy: 0.55,
+        anisotropy_rotation: -1.25,
+        anisotropy_texture: Some(0),
+        diffuse_transmission_texture: Some(0),
+        diffuse_transmission_color_texture: Some(0),
+        iridescence_texture: Some(0),
+        iridescence_thickness_texture: Some(0),
+        dispersion: 0.4,
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,

@@ -36,6 +36,10 @@ pub const FILES: &[(&str, &str)] = &[
         rt_core::math::iridescence::WGSL,
     ),
     (
+        "crates/core/src/math/dispersion.wgsl",
+        rt_core::math::dispersion::WGSL,
+    ),
+    (
         "crates/core/src/math/glass_energy.wgsl",
         rt_core::math::glass_energy::WGSL,
     ),
@@ -117,6 +121,7 @@ macro_rules! tracing_module {
                 "crates/core/src/math/bsdf.wgsl",
                 "crates/core/src/math/coat.wgsl",
                 "crates/core/src/math/iridescence.wgsl",
+                "crates/core/src/math/dispersion.wgsl",
                 "crates/core/src/math/glass_energy.wgsl",
                 "crates/core/src/math/sheen.wgsl",
                 "crates/core/src/math/layers.wgsl",

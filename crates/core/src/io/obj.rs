@@ -5,11 +5,12 @@
 //! 2. `illum` 4, 6 or 7, or `d` < 1, or `Tf` → `Dielectric { ior: Ni (1.5 if absent), tint: Tf (white) }`,
 //!    or with `Pr` > 0 rough glass: `Pbr { base_color: Tf (white), roughness: Pr, ior: Ni (1.5),
 //!    transmission: 1 }`.
-//! 3. `Pr`, `Pm`, `Pc` or `Ps` (the PBR extension of MTL) → `Pbr { base_color: Kd (or Ks if
+//! 3. `Pr`, `Pm`, `Pc`, `Ps` or `aniso` (the PBR extension of MTL) → `Pbr { base_color: Kd (or Ks if
 //!    non-zero, for a metal), texture: map_Kd, metallic: Pm (1 with `illum 3`, else 0), roughness:
 //!    Pr, else √α with α = √(2/(Ns+2)) (Walter's Blinn–Phong match), else 0.5, ior: Ni (1.5),
-//!    clearcoat: Pc, clearcoat_roughness: Pcr, sheen_color: Ps (one value: grey) }`, the layer
-//!    values clamped to [0, 1].
+//!    clearcoat: Pc, clearcoat_roughness: Pcr, sheen_color: Ps (one value: grey), anisotropy:
+//!    aniso, anisotropy_rotation: 2π anisor (a fraction of a turn, as Blender reads it) }`, the
+//!    layer values clamped to [0, 1].
 //! 4. `illum 3` → `Metal { albedo: Ks if non-zero else Kd, fuzz: √(2/(Ns+2)) (0 without Ns) }`.
 //! 5. otherwise → `Lambertian { albedo: Kd (0.8 grey if absent), texture: map_Kd }`.
 //!
@@ -381,7 +382,8 @@ pub fn material_from_mtl(m: &tobj::Material, texture: Option<usize>) -> Material
     let blinn_alpha = m.shininess.map(|ns| (2.0 / (ns.max(0.0) + 2.0)).sqrt());
     let (pm, pr) = (param(m, "Pm").map(|v| v[0]), param(m, "Pr").map(|v| v[0]));
     let (pc, ps) = (param(m, "Pc").map(|v| v[0]), rgb_param(m, "Ps"));
-    if pm.is_some() || pr.is_some() || pc.is_some() || ps.is_some() {
+    let aniso = param(m, "aniso").map(|v| v[0]);
+    if pm.is_some() || pr.is_some() || pc.is_some() || ps.is_some() || aniso.is_some() {
         let metallic = pm
             .unwrap_or(if illum == 3 { 1.0 } else { 0.0 })
             .clamp(0.0, 1.0);
@@ -400,6 +402,13 @@ pub fn material_from_mtl(m: &tobj::Material, texture: Option<usize>) -> Material
             clearcoat: unit(pc.unwrap_or(0.0)),
             clearcoat_roughness: unit(param(m, "Pcr").map_or(0.0, |v| v[0])),
             sheen_color: ps.unwrap_or([0.0; 3]).map(unit),
+            anisotropy: unit(aniso.unwrap_or(0.0)),
+            anisotropy_rotation: param(m, "anisor")
+                .map(|v| v[0])
+                .filter(|v| v.is_finite())
+                .map_or(0.0, |v| {
+                    (v * std::f32::consts::TAU).rem_euclid(std::f32::consts::TAU)
+                }),
             ..Default::default()
         }));
     }

@@ -5,7 +5,8 @@ struct PbrBsdf {
     base: vec3<f32>,
     metallic: f32,
     ms: vec3<f32>,
-    alpha: f32,
+    // The GGX widths along the shading frame's x (the direction of anisotropy) and y.
+    alpha: vec2<f32>,
     // The dielectric's reflectance at normal incidence F0′ and at grazing incidence F90′.
     f0: vec3<f32>,
     f90: f32,
@@ -55,7 +56,7 @@ fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmissi
     b.base = base;
     b.metallic = metallic;
     b.ms = vec3(1.0) + base * (1.0 / max(energy, 1e-3) - 1.0);
-    b.alpha = alpha_of_roughness(roughness);
+    b.alpha = vec2(alpha_of_roughness(roughness));
     b.eta = eta;
     b.transmission = transmission;
     b.thin = false;
@@ -66,6 +67,13 @@ fn pbr_bsdf(base: vec3<f32>, metallic: f32, roughness: f32, eta: f32, transmissi
     b.film_ior = 1.0;
     b.film_thickness = 0.0;
     return pbr_with_specular(b, vec3(1.0), 1.0, cos_o);
+}
+
+// b with anisotropic widths (α_x, α_y) (anisotropic_alpha).
+fn pbr_anisotropic(b_in: PbrBsdf, alpha: vec2<f32>) -> PbrBsdf {
+    var b = b_in;
+    b.alpha = alpha;
+    return b;
 }
 
 // b under KHR_materials_iridescence's thin film (weight, index, thickness in nm).

@@ -13,7 +13,7 @@
 /// `rt_gpu::shaders`).
 pub const WGSL: &str = include_str!("coat.wgsl");
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::microfacet::{ggx_d, ggx_g1, ggx_g2, sample_vndf, visible_normal_albedo};
 use super::sampling::fresnel_dielectric;
@@ -31,14 +31,15 @@ pub fn coat_eval(wo: Vec3, wi: Vec3, alpha: f32) -> (f32, f32) {
     if woh <= 0.0 {
         return (0.0, 0.0);
     }
-    let d = ggx_d(h, alpha);
-    let f = fresnel_dielectric(woh, COAT_IOR) * d * ggx_g2(wo, wi, alpha) / (4.0 * wo.z);
-    (f, ggx_g1(wo, alpha) * d / (4.0 * wo.z))
+    let a = Vec2::splat(alpha);
+    let d = ggx_d(h, a);
+    let f = fresnel_dielectric(woh, COAT_IOR) * d * ggx_g2(wo, wi, a) / (4.0 * wo.z);
+    (f, ggx_g1(wo, a) * d / (4.0 * wo.z))
 }
 
 /// A reflected visible normal for two uniform numbers, `None` below the horizon.
 pub fn sample_coat(wo: Vec3, alpha: f32, u1: f32, u2: f32) -> Option<Vec3> {
-    let m = sample_vndf(wo, alpha, u1, u2);
+    let m = sample_vndf(wo, Vec2::splat(alpha), u1, u2);
     let wi = 2.0 * wo.dot(m) * m - wo;
     (wi.z > 0.0).then_some(wi)
 }

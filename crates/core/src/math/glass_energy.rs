@@ -18,7 +18,7 @@
 /// `rt_gpu::shaders`).
 pub const WGSL: &str = include_str!("glass_energy.wgsl");
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::microfacet::{alpha_of_roughness, ggx_g1, ggx_g2, sample_vndf};
 use super::sampling::{fresnel_dielectric, refract};
@@ -43,7 +43,7 @@ fn eta_of(k: usize) -> f32 {
 /// `microfacet::visible_normal_albedo` says why).
 fn albedo(mu: f32, roughness: f32, eta: f32) -> f32 {
     const Q: usize = 24;
-    let alpha = alpha_of_roughness(roughness);
+    let alpha = Vec2::splat(alpha_of_roughness(roughness));
     let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
     let g1 = ggx_g1(wo, alpha);
     let mut sum = 0.0f64;

@@ -16,6 +16,7 @@ use super::trace;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Frame, Hit, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT_NORMAL, SLOT_NORMAL};
 use crate::material_kind::MaterialKind;
+use crate::math::dispersion::{channel_ior, pick_channel};
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::{self, Rng};
 use crate::math::sampling::*;
@@ -75,6 +76,21 @@ pub fn normal_mapped(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], t: Vec3, scal
     if len > 0.0 { mapped / len } else { n }
 }
 
+/// The direction of anisotropy `d` (in the tangent frame: x along the tangent, y the bitangent) in
+/// world space, about the shading normal `n`, with the frame of `normal_mapped`; zero where the
+/// corners' tangents vanish.
+pub fn anisotropy_tangent(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], d: Vec3) -> Vec3 {
+    let tangent = Vec3::from_slice(&corners[0]) * b[0]
+        + Vec3::from_slice(&corners[1]) * b[1]
+        + Vec3::from_slice(&corners[2]) * b[2];
+    let tangent = (tangent - n * n.dot(tangent)).normalize_or_zero();
+    if tangent == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let bitangent = n.cross(tangent) * corners[0][3];
+    tangent * d.x + bitangent * d.y
+}
+
 /// The firefly clamp (`frame.clamp_max`, 0 off): light reaching the camera after `bounces`
 /// scatterings, if any, is scaled down so that its largest channel is at most the clamp; light
 /// seen directly (no bounce) stays exact. Biased: it removes energy.
@@ -121,6 +137,9 @@ pub struct PathState {
     pub direction: Vec3,
     /// The throughput: the product of f·cosθ/p over the vertices so far.
     pub beta: Vec3,
+    /// The hero channel a dispersive surface chose (`math::dispersion`): 0 none yet, 1–3 red,
+    /// green, blue; the path then carries that channel alone.
+    pub channel: u32,
     pub radiance: Vec3,
     /// Density of the BSDF sample that led here, 0 after the camera or a specular bounce.
     pub prev_bsdf_pdf: f32,
@@ -155,6 +174,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         origin,
         direction,
         beta: Vec3::ONE,
+        channel: 0,
         radiance: Vec3::ZERO,
         prev_bsdf_pdf: 0.0,
         depth: 0,
@@ -303,6 +323,38 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
             mapped(SLOT_CLEARCOAT_NORMAL, lobe.clearcoat_normal_scale).unwrap_or(ns);
         if let Some(n) = mapped(SLOT_NORMAL, lobe.normal_scale) {
             ns = n;
+        }
+        // A dispersive volume: the path keeps one channel, refracting at its wavelength.
+        if lobe.dispersion > 0.0
+            && lobe.transmission > 0.0
+            && material.flags & crate::gpu_types::THIN_WALLED == 0
+        {
+            if path.channel == 0 {
+                let (channel, mask) = pick_channel(path.rng.next_f32());
+                path.channel = channel;
+                path.beta *= mask;
+            }
+            inputs.ior = channel_ior(lobe.ior, lobe.dispersion, path.channel);
+        }
+        if inputs.anisotropy > 0.0 {
+            inputs.anisotropy_direction = if material.flags & crate::gpu_types::TANGENTS != 0
+                && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
+            {
+                let i = 3 * hit.triangle as usize;
+                let corners = [
+                    scene.tangents[i],
+                    scene.tangents[i + 1],
+                    scene.tangents[i + 2],
+                ];
+                anisotropy_tangent(
+                    ns,
+                    corners,
+                    [b0, hit.b1, hit.b2],
+                    inputs.anisotropy_direction,
+                )
+            } else {
+                Vec3::ZERO
+            };
         }
     }
     let surface = Surface::of_material(

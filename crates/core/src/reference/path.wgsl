@@ -27,6 +27,8 @@ struct PathState {
     // Density of the BSDF sample that led here; 0 after the camera or a specular bounce.
     prev_bsdf_pdf: f32,
     beta: vec3<f32>,
+    // The hero channel (math/dispersion.wgsl): 0 none yet, 1–3 red, green, blue.
+    channel: u32,
     radiance: vec3<f32>,
 }
 
@@ -113,7 +115,7 @@ fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<v
 // A new path through pixel (x, y): its camera ray.
 fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     let cam = camera_ray_origin_dir(x, y, rng);
-    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), vec3(0.0));
+    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0));
 }
 
 // The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
@@ -136,6 +138,20 @@ fn normal_mapped(n: vec3<f32>, t0: vec4<f32>, t1: vec4<f32>, t2: vec4<f32>, b: v
     let mapped = tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
     let l = length(mapped);
     return select(n, mapped / l, l > 0.0);
+}
+
+// The direction of anisotropy d (tangent frame) in world space about n (path.rs
+// `anisotropy_tangent`); zero where the corners' tangents vanish.
+fn anisotropy_tangent(n: vec3<f32>, t0: vec4<f32>, t1: vec4<f32>, t2: vec4<f32>, b: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
+    let blended = t0.xyz * b.x + t1.xyz * b.y + t2.xyz * b.z;
+    let ortho = blended - n * dot(n, blended);
+    let len2 = dot(ortho, ortho);
+    if (!(len2 > 0.0)) {
+        return vec3(0.0);
+    }
+    let tangent = ortho * inverseSqrt(len2);
+    let bitangent = cross(n, tangent) * t0.w;
+    return tangent * d.x + bitangent * d.y;
 }
 
 // The vertex where `path`'s ray found `hit`: adds the light it sees there, samples the next
@@ -249,6 +265,22 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
                     ns = select(mapped, -mapped, dot(mapped, ng) < 0.0);
                 }
             }
+        }
+        // A dispersive volume: the path keeps one channel, refracting at its wavelength.
+        if (lobe.dispersion > 0.0 && lobe.transmission > 0.0 && (material.flags & THIN_WALLED) == 0u) {
+            if ((*path).channel == 0u) {
+                (*path).channel = pick_channel(rng_next(rng));
+                (*path).beta *= channel_mask((*path).channel);
+            }
+            inputs.ior = channel_ior(lobe.ior, lobe.dispersion, (*path).channel);
+        }
+        if (inputs.anisotropy > 0.0) {
+            var d = vec3(0.0);
+            if (HAS_NORMAL_MAPS && (material.flags & TANGENTS) != 0u && (tri.has_normals & HAS_NORMALS) != 0u) {
+                let i = 3u * hit.triangle;
+                d = anisotropy_tangent(ns, tangents[i], tangents[i + 1u], tangents[i + 2u], vec3(b0, hit.b1, hit.b2), inputs.anisotropy_direction);
+            }
+            inputs.anisotropy_direction = d;
         }
     }
     let surface = material_surface(material, color, inputs, direction, ng, ns, front);

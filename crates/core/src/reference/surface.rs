@@ -17,11 +17,14 @@ use crate::material_kind::MaterialKind;
 use crate::math::bsdf::Pbr;
 use crate::math::glass_energy::glass_energy;
 use crate::math::layers::{Layered, Layers, TABLE_CONDUCTOR, TABLE_GLASS, albedo_lookup};
-use crate::math::microfacet::ENERGY_SIDE;
+use crate::math::microfacet::{ENERGY_SIDE, anisotropic_alpha, equivalent_roughness};
 use crate::math::rng::Rng;
 use crate::math::sampling::{onb, sample_cosine_hemisphere, sample_dielectric, sample_metal};
 
 /// How a surface point scatters: its lobe and that lobe's parameters.
+// A value on the stack of each path vertex: boxing the large PBR variant would allocate per vertex
+// on the CPU backend's hot path.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug)]
 pub enum Surface {
     /// f = albedo/π about `ns`.
@@ -59,6 +62,15 @@ pub struct PbrInputs {
     pub iridescence_ior: f32,
     /// The film's thickness (nm).
     pub iridescence_thickness: f32,
+    /// The index of refraction here: the material's, or its hero channel's under dispersion
+    /// (`math::dispersion`, set by `shade_vertex`).
+    pub ior: f32,
+    /// `KHR_materials_anisotropy`'s strength (after its image).
+    pub anisotropy: f32,
+    /// The direction of anisotropy: (cos, sin, 0) in the tangent frame as the material gives it,
+    /// in world space once `shade_vertex` has turned it by the hit's tangents (`anisotropy_tangent`;
+    /// zero where there are none: the shading frame's own x).
+    pub anisotropy_direction: Vec3,
 }
 
 impl PbrInputs {
@@ -79,6 +91,13 @@ impl PbrInputs {
             iridescence: l.iridescence,
             iridescence_ior: l.iridescence_ior,
             iridescence_thickness: l.iridescence_thickness_max,
+            ior: l.ior,
+            anisotropy: l.anisotropy,
+            anisotropy_direction: Vec3::new(
+                l.anisotropy_rotation.cos(),
+                l.anisotropy_rotation.sin(),
+                0.0,
+            ),
         }
     }
 }
@@ -212,6 +231,18 @@ impl Surface {
     }
 }
 
+/// The tangent and bitangent of the shading frame about `n`: along the direction of anisotropy
+/// (made orthogonal to `n`) where the surface is anisotropic and has one, else `onb`'s.
+fn shading_frame(n: Vec3, inputs: &PbrInputs) -> (Vec3, Vec3) {
+    let d = inputs.anisotropy_direction;
+    let t = (d - n * n.dot(d)).normalize_or_zero();
+    if inputs.anisotropy > 0.0 && t != Vec3::ZERO {
+        (t, n.cross(t))
+    } else {
+        onb(n)
+    }
+}
+
 /// The PBR surface at a hit seen from `wo` (world, pointing away): its shading frame is `ns`
 /// unless `wo` lies below it (an interpolated normal at a silhouette), then the true normal.
 #[allow(clippy::too_many_arguments)]
@@ -227,17 +258,23 @@ fn pbr_surface(
 ) -> Surface {
     let lobe = material.lobe_of::<PbrLobe>();
     let n = if wo.dot(ns) > 0.0 { ns } else { ng };
-    let (t, b) = onb(n);
+    let (t, b) = shading_frame(n, inputs);
     let wo_local = Vec3::new(wo.dot(t), wo.dot(b), wo.dot(n));
     // A thin sheet looks the same from both sides.
     let thin = material.flags & THIN_WALLED != 0;
     let eta = if front || thin {
-        lobe.ior
+        inputs.ior
     } else {
-        1.0 / lobe.ior
+        1.0 / inputs.ior
     };
     let tables = &scene.albedo_tables;
-    let roughness = inputs.roughness;
+    let alpha = anisotropic_alpha(inputs.roughness, inputs.anisotropy);
+    // An anisotropic surface's energy tables are those of its mean width.
+    let roughness = if inputs.anisotropy > 0.0 {
+        equivalent_roughness(alpha)
+    } else {
+        inputs.roughness
+    };
     let energy = albedo_lookup(tables, TABLE_CONDUCTOR, wo_local.z, roughness);
     let base = Pbr::new(
         base,
@@ -248,6 +285,7 @@ fn pbr_surface(
         wo_local.z,
         energy,
     )
+    .anisotropic(alpha)
     .with_specular(inputs.specular_color, inputs.specular, wo_local.z)
     .with_diffuse_transmission(
         inputs.diffuse_transmission,

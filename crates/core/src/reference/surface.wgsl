@@ -45,6 +45,12 @@ struct PbrInputs {
     iridescence_ior: f32,
     // The film's thickness (nm).
     iridescence_thickness: f32,
+    // The index of refraction here: the material's, or its hero channel's under dispersion.
+    ior: f32,
+    // KHR_materials_anisotropy's strength, and its direction: (cos, sin, 0) in the tangent frame,
+    // in world space once shade_vertex has turned it (zero without tangents: the frame's own x).
+    anisotropy: f32,
+    anisotropy_direction: vec3<f32>,
 }
 
 // The factors alone.
@@ -52,7 +58,21 @@ fn pbr_inputs_of_lobe(l: PbrLobe) -> PbrInputs {
     return PbrInputs(l.metallic, l.roughness, l.specular, l.specular_color, l.clearcoat,
                      l.clearcoat_roughness, l.sheen_color, l.sheen_roughness, vec3(0.0),
                      l.diffuse_transmission, l.diffuse_transmission_color, l.iridescence,
-                     l.iridescence_ior, l.iridescence_thickness_max);
+                     l.iridescence_ior, l.iridescence_thickness_max, l.ior, l.anisotropy,
+                     vec3(cos(l.anisotropy_rotation), sin(l.anisotropy_rotation), 0.0));
+}
+
+// The shading frame's tangent about n (surface.rs `shading_frame`): along the direction of
+// anisotropy where the surface has one, else onb's.
+fn shading_frame(n: vec3<f32>, inputs: PbrInputs) -> Basis {
+    let d = inputs.anisotropy_direction;
+    let o = d - n * dot(n, d);
+    let len2 = dot(o, o);
+    if (inputs.anisotropy > 0.0 && len2 > 0.0) {
+        let t = o * inverseSqrt(len2);
+        return Basis(t, cross(n, t));
+    }
+    return onb(n);
 }
 
 // The coat's frame (coat_frame in surface.rs): whether it has one of its own (about its normal,
@@ -87,12 +107,14 @@ fn coat_frame(inputs: PbrInputs, wo: vec3<f32>, ng: vec3<f32>, t: vec3<f32>, b: 
 fn pbr_surface(material: Material, base: vec3<f32>, inputs: PbrInputs, wo: vec3<f32>, ng: vec3<f32>, ns: vec3<f32>, front: bool) -> Surface {
     let lobe = pbr_lobe(material);
     let n = select(ng, ns, dot(wo, ns) > 0.0);
-    let basis = onb(n);
+    let basis = shading_frame(n, inputs);
     let wo_local = vec3(dot(wo, basis.t), dot(wo, basis.b), dot(wo, n));
     // A thin sheet looks the same from both sides.
     let thin = (material.flags & THIN_WALLED) != 0u;
-    let eta = select(1.0 / lobe.ior, lobe.ior, front || thin);
-    let roughness = inputs.roughness;
+    let eta = select(1.0 / inputs.ior, inputs.ior, front || thin);
+    let alpha = anisotropic_alpha(inputs.roughness, inputs.anisotropy);
+    // An anisotropic surface's energy tables are those of its mean width.
+    let roughness = select(inputs.roughness, equivalent_roughness(alpha), inputs.anisotropy > 0.0);
     let energy = albedo_lookup(TABLE_CONDUCTOR, wo_local.z, roughness);
     var s: Surface;
     s.kind = MAT_PBR;
@@ -101,6 +123,7 @@ fn pbr_surface(material: Material, base: vec3<f32>, inputs: PbrInputs, wo: vec3<
     s.n = n;
     s.wo = wo_local;
     var b = pbr_bsdf(base, inputs.metallic, roughness, eta, lobe.transmission, wo_local.z, energy);
+    b = pbr_anisotropic(b, alpha);
     b = pbr_with_specular(b, inputs.specular_color, inputs.specular, wo_local.z);
     b = pbr_with_diffuse_transmission(b, inputs.diffuse_transmission, inputs.diffuse_transmission_color);
     b = pbr_with_iridescence(b, inputs.iridescence, inputs.iridescence_ior, inputs.iridescence_thickness);

@@ -11,9 +11,11 @@ use glam::{Vec2, Vec3, Vec4};
 use super::surface::PbrInputs;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{
-    ALPHA_BLEND, ALPHA_MASK, FILTER_NEAREST, Material, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT,
-    SLOT_CLEARCOAT_ROUGHNESS, SLOT_EMISSION, SLOT_METALLIC_ROUGHNESS, SLOT_SHEEN_COLOR,
-    SLOT_SHEEN_ROUGHNESS, SLOT_SPECULAR, SLOT_SPECULAR_COLOR, Triangle, WRAP_CLAMP, WRAP_MIRROR,
+    ALPHA_BLEND, ALPHA_MASK, FILTER_NEAREST, Material, PbrLobe, SLOT_ANISOTROPY, SLOT_BASE,
+    SLOT_CLEARCOAT, SLOT_CLEARCOAT_ROUGHNESS, SLOT_DIFFUSE_TRANSMISSION,
+    SLOT_DIFFUSE_TRANSMISSION_COLOR, SLOT_EMISSION, SLOT_IRIDESCENCE, SLOT_IRIDESCENCE_THICKNESS,
+    SLOT_METALLIC_ROUGHNESS, SLOT_SHEEN_COLOR, SLOT_SHEEN_ROUGHNESS, SLOT_SPECULAR,
+    SLOT_SPECULAR_COLOR, Triangle, WRAP_CLAMP, WRAP_MIRROR,
 };
 use crate::material_kind::MaterialKind;
 use crate::math::intersect::PreparedRay;
@@ -92,7 +94,9 @@ impl Slot {
 
 /// The PBR inputs at `uv`: the lobe's factors times their images (metallic-roughness: blue and
 /// green; clear coat: red; its roughness: green; sheen colour: sRGB; its roughness: alpha;
-/// specular: alpha; specular colour: sRGB), as glTF reads them.
+/// specular: alpha; specular colour: sRGB; anisotropy: red-green direction, blue strength;
+/// diffuse transmission: alpha; its colour: sRGB; thin film: red; its thickness: green between the
+/// minimum and the maximum), as glTF reads them.
 pub fn textured_pbr_inputs(scene: &GpuScene, m: &Material, uv: Vec2) -> PbrInputs {
     let mut p = PbrInputs::of_lobe(&m.lobe_of::<PbrLobe>());
     let texel = |slot: u32, srgb: bool| {
@@ -120,7 +124,42 @@ pub fn textured_pbr_inputs(scene: &GpuScene, m: &Material, uv: Vec2) -> PbrInput
     if let Some(t) = texel(SLOT_SPECULAR_COLOR, true) {
         p.specular_color *= t.truncate();
     }
+    if let Some(t) = texel(SLOT_DIFFUSE_TRANSMISSION, false) {
+        p.diffuse_transmission *= t.w;
+    }
+    if let Some(t) = texel(SLOT_DIFFUSE_TRANSMISSION_COLOR, true) {
+        p.diffuse_transmission_color *= t.truncate();
+    }
+    if let Some(t) = texel(SLOT_IRIDESCENCE, false) {
+        p.iridescence *= t.x;
+    }
+    if let Some(t) = texel(SLOT_IRIDESCENCE_THICKNESS, false) {
+        let l = m.lobe_of::<PbrLobe>();
+        p.iridescence_thickness = l.iridescence_thickness_min
+            + (l.iridescence_thickness_max - l.iridescence_thickness_min) * t.y;
+    }
+    if let Some(t) = texel(SLOT_ANISOTROPY, false) {
+        p.anisotropy *= t.z;
+        p.anisotropy_direction = rotate_direction(p.anisotropy_direction, t.x, t.y);
+    }
     p
+}
+
+/// The direction of anisotropy `rotated` (cos, sin of the material's rotation) applied to an
+/// anisotropy image's direction (2r − 1, 2g − 1); an image direction of length zero reads as the
+/// tangent's, (1, 0).
+pub fn rotate_direction(rotated: Vec3, r: f32, g: f32) -> Vec3 {
+    let d = Vec2::new(2.0 * r - 1.0, 2.0 * g - 1.0);
+    let d = if d.length_squared() > 0.0 {
+        d.normalize()
+    } else {
+        Vec2::X
+    };
+    Vec3::new(
+        rotated.x * d.x - rotated.y * d.y,
+        rotated.y * d.x + rotated.x * d.y,
+        0.0,
+    )
 }
 
 /// The base colour image (sRGB) times PBR's factor (a Lambertian texture replaces the albedo).

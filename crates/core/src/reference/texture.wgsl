@@ -170,5 +170,33 @@ fn textured_pbr_inputs(m: Material, uv: vec2<f32>) -> PbrInputs {
     if (m.textures[SLOT_SPECULAR_COLOR].offset != NO_TEXTURE) {
         p.specular_color *= material_texture(m, SLOT_SPECULAR_COLOR, uv, true).rgb;
     }
+    if (m.textures[SLOT_DIFFUSE_TRANSMISSION].offset != NO_TEXTURE) {
+        p.diffuse_transmission *= material_texture(m, SLOT_DIFFUSE_TRANSMISSION, uv, false).a;
+    }
+    if (m.textures[SLOT_DIFFUSE_TRANSMISSION_COLOR].offset != NO_TEXTURE) {
+        p.diffuse_transmission_color *= material_texture(m, SLOT_DIFFUSE_TRANSMISSION_COLOR, uv, true).rgb;
+    }
+    if (m.textures[SLOT_IRIDESCENCE].offset != NO_TEXTURE) {
+        p.iridescence *= material_texture(m, SLOT_IRIDESCENCE, uv, false).r;
+    }
+    if (m.textures[SLOT_IRIDESCENCE_THICKNESS].offset != NO_TEXTURE) {
+        let l = pbr_lobe(m);
+        let g = material_texture(m, SLOT_IRIDESCENCE_THICKNESS, uv, false).g;
+        p.iridescence_thickness = l.iridescence_thickness_min + (l.iridescence_thickness_max - l.iridescence_thickness_min) * g;
+    }
+    if (m.textures[SLOT_ANISOTROPY].offset != NO_TEXTURE) {
+        let t = material_texture(m, SLOT_ANISOTROPY, uv, false);
+        p.anisotropy *= t.z;
+        p.anisotropy_direction = rotate_direction(p.anisotropy_direction, t.x, t.y);
+    }
     return p;
+}
+
+// The material's rotation (cos, sin) applied to an anisotropy image's direction (texture.rs
+// `rotate_direction`); a zero-length image direction reads as (1, 0).
+fn rotate_direction(rotated: vec3<f32>, r: f32, g: f32) -> vec3<f32> {
+    var d = vec2(2.0 * r - 1.0, 2.0 * g - 1.0);
+    let len2 = dot(d, d);
+    d = select(vec2(1.0, 0.0), d * inverseSqrt(len2), len2 > 0.0);
+    return vec3(rotated.x * d.x - rotated.y * d.y, rotated.y * d.x + rotated.x * d.y, 0.0);
 }

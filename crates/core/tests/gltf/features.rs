@@ -166,8 +166,8 @@ fn position_accessors_without_min_and_max_still_load() {
     }
 }
 
-/// `KHR_materials_specular`, `_clearcoat`, `_sheen`, `_diffuse_transmission` and `_iridescence`
-/// map onto the material, even when the file
+/// `KHR_materials_specular`, `_clearcoat`, `_sheen`, `_diffuse_transmission`, `_iridescence` and
+/// `_anisotropy` map onto the material, even when the file
 /// requires them; out-of-range factors are clamped and absent ones take glTF's defaults.
 #[test]
 fn specular_clearcoat_and_sheen_map_onto_the_layers() {
@@ -178,6 +178,8 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
         "KHR_materials_sheen",
         "KHR_materials_diffuse_transmission",
         "KHR_materials_iridescence",
+        "KHR_materials_anisotropy",
+        "KHR_materials_dispersion",
     ];
     for ext in next {
         doc["extensionsUsed"]
@@ -205,6 +207,14 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
                "iridescenceThicknessMaximum": 520.0}),
     );
     ext.insert(
+        "KHR_materials_dispersion".into(),
+        json!({"dispersion": 0.35}),
+    );
+    ext.insert(
+        "KHR_materials_anisotropy".into(),
+        json!({"anisotropyStrength": 1.5, "anisotropyRotation": 0.75}),
+    );
+    ext.insert(
         "KHR_materials_diffuse_transmission".into(),
         json!({"diffuseTransmissionFactor": 0.25, "diffuseTransmissionColorFactor": [0.5, 1.0, 0.0]}),
     );
@@ -229,11 +239,23 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
         (0.75, 1.4, 100.0, 520.0),
         "the minimum thickness defaults to 100 nm"
     );
-    rt_core::GpuScene::build(&scene).unwrap();
+    assert_eq!(
+        (p.anisotropy, p.anisotropy_rotation),
+        (1.0, 0.75),
+        "strength clamped"
+    );
+    assert_eq!(p.dispersion, 0.35);
+    let gpu = rt_core::GpuScene::build(&scene).unwrap();
+    assert!(
+        gpu.materials[0].flags & rt_core::gpu_types::TANGENTS != 0
+            && gpu.tangents.len() == 3 * gpu.triangles.len(),
+        "the direction of anisotropy brings the mesh's tangents"
+    );
     let plain = load(&embedded(document()), None).unwrap();
     let Material::Pbr(p) = &plain.objects[0].material else {
         panic!()
     };
     assert_eq!((p.specular, p.specular_color), (1.0, [1.0; 3]));
     assert_eq!((p.clearcoat, p.sheen_color), (0.0, [0.0; 3]));
+    assert_eq!(p.anisotropy, 0.0);
 }

@@ -294,8 +294,9 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
     alpha_fields(ui, p);
 }
 
-/// The dielectric's specular strength and tint, the clear coat and the sheen (glTF's
-/// `KHR_materials_specular`, `_clearcoat` and `_sheen`; Blender's Specular, Coat and Sheen).
+/// The dielectric's specular strength and tint, the clear coat, the sheen, the diffuse
+/// transmission, the thin film and the anisotropy (glTF's `KHR_materials_*`; Blender's Specular,
+/// Coat, Sheen, Transmission, Thin Film and Anisotropic).
 fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
     ui.add(egui::Slider::new(&mut p.specular, 0.0..=1.0).text("specular"))
         .on_hover_text("Scales the non-metal's reflection (1: what the IOR gives; 0: none)");
@@ -338,6 +339,29 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
                 .text("film thickness (nm)"),
         )
         .on_hover_text("Thicker films cycle through more colours");
+        if p.iridescence_thickness_texture.is_some() {
+            ui.add(
+                egui::Slider::new(&mut p.iridescence_thickness_min, 0.0..=1200.0)
+                    .text("thinnest film (nm)"),
+            )
+            .on_hover_text("The thickness where the film thickness image is black");
+        }
+    }
+    if p.transmission > 0.0 && !p.thin_walled {
+        ui.add(egui::Slider::new(&mut p.dispersion, 0.0..=2.0).text("dispersion"))
+            .on_hover_text(
+                "Splits white light into colours, as a prism or a diamond does (20 / Abbe number: \
+                 crown glass 0.3, flint 0.6, diamond 0.9)",
+            );
+    }
+    ui.add(egui::Slider::new(&mut p.anisotropy, 0.0..=1.0).text("anisotropy"))
+        .on_hover_text("Stretches the highlight along one direction: brushed metal, satin, hair");
+    if p.anisotropy > 0.0 {
+        ui.horizontal(|ui| {
+            ui.label("Direction");
+            ui.drag_angle(&mut p.anisotropy_rotation)
+                .on_hover_text("The direction the highlight stretches, from the mesh's tangent");
+        });
     }
     // The layers' images, as glTF packs them.
     ui.collapsing("Layer images", |ui| {
@@ -384,6 +408,36 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
                 "pbr sheen roughness image",
                 &mut p.sheen_roughness_texture,
                 "Its alpha scales the sheen's roughness",
+            ),
+            (
+                "Anisotropy image",
+                "pbr anisotropy image",
+                &mut p.anisotropy_texture,
+                "Red and green: the direction of the stretch in tangent space; blue scales it",
+            ),
+            (
+                "Diffuse transmission image",
+                "pbr diffuse transmission image",
+                &mut p.diffuse_transmission_texture,
+                "Its alpha scales the diffuse transmission",
+            ),
+            (
+                "Transmitted colour image",
+                "pbr diffuse transmission colour image",
+                &mut p.diffuse_transmission_color_texture,
+                "An sRGB image multiplying the transmitted colour",
+            ),
+            (
+                "Film image",
+                "pbr iridescence image",
+                &mut p.iridescence_texture,
+                "Its red channel scales the iridescence",
+            ),
+            (
+                "Film thickness image",
+                "pbr iridescence thickness image",
+                &mut p.iridescence_thickness_texture,
+                "Its green channel picks the film's thickness between the minimum and the maximum",
             ),
         ] {
             texture_slot(ui, label, id, slot, textures, hover);

@@ -1,9 +1,9 @@
 //! Materials onto `Material::Pbr`: metallic-roughness, normal maps, emission, transmission, IOR,
 //! volume and alpha, with their textures (decoded once per image and sampler) and the
-//! `KHR_texture_transform` rt can honour; `KHR_materials_specular`, `KHR_materials_clearcoat` and
-//! `KHR_materials_sheen` with their textures (the coat's own normal map included), and the factors
-//! of `KHR_materials_diffuse_transmission` and `KHR_materials_iridescence` (their textures with a
-//! warning).
+//! `KHR_texture_transform` rt can honour; `KHR_materials_specular`, `KHR_materials_clearcoat`,
+//! `KHR_materials_sheen`, `KHR_materials_anisotropy`, `KHR_materials_diffuse_transmission` and
+//! `KHR_materials_iridescence` with their textures (the coat's own normal map included), and
+//! `KHR_materials_dispersion`.
 
 use super::Loader;
 use super::buffers::read_uri;
@@ -239,16 +239,25 @@ impl Loader<'_> {
             out.iridescence_ior = positive("iridescenceIor", 1.3).max(1.0);
             out.iridescence_thickness_min = positive("iridescenceThicknessMinimum", 100.0);
             out.iridescence_thickness_max = positive("iridescenceThicknessMaximum", 400.0);
-            for key in ["iridescenceTexture", "iridescenceThicknessTexture"] {
-                if i.get(key).is_some() {
-                    log::warn!(
-                        "{}: material {}: rt does not read KHR_materials_iridescence's {key} \
-                         yet: using its factor and maximum thickness",
-                        self.path.display(),
-                        m.index().map_or("default".into(), |i| i.to_string())
-                    );
-                }
-            }
+            out.iridescence_texture = self.json_slot(i, "iridescenceTexture", baked)?;
+            out.iridescence_thickness_texture =
+                self.json_slot(i, "iridescenceThicknessTexture", baked)?;
+        }
+        if let Some(a) = m.extension_value("KHR_materials_anisotropy") {
+            out.anisotropy = number(a, "anisotropyStrength", 0.0);
+            out.anisotropy_rotation = a
+                .get("anisotropyRotation")
+                .and_then(gltf::json::Value::as_f64)
+                .filter(|x| x.is_finite())
+                .map_or(0.0, |x| (x % std::f64::consts::TAU) as f32);
+            out.anisotropy_texture = self.json_slot(a, "anisotropyTexture", baked)?;
+        }
+        if let Some(d) = m.extension_value("KHR_materials_dispersion") {
+            out.dispersion = d
+                .get("dispersion")
+                .and_then(gltf::json::Value::as_f64)
+                .filter(|x| x.is_finite())
+                .map_or(0.0, |x| (x as f32).max(0.0));
         }
         if let Some(d) = m.extension_value("KHR_materials_diffuse_transmission") {
             out.diffuse_transmission = number(d, "diffuseTransmissionFactor", 0.0);
@@ -264,19 +273,10 @@ impl Loader<'_> {
                         .map_or(1.0, |x| (x as f32).max(0.0));
                 }
             }
-            for key in [
-                "diffuseTransmissionTexture",
-                "diffuseTransmissionColorTexture",
-            ] {
-                if d.get(key).is_some() {
-                    log::warn!(
-                        "{}: material {}: rt does not read KHR_materials_diffuse_transmission's \
-                         {key} yet: using its factor alone",
-                        self.path.display(),
-                        m.index().map_or("default".into(), |i| i.to_string())
-                    );
-                }
-            }
+            out.diffuse_transmission_texture =
+                self.json_slot(d, "diffuseTransmissionTexture", baked)?;
+            out.diffuse_transmission_color_texture =
+                self.json_slot(d, "diffuseTransmissionColorTexture", baked)?;
         }
         Ok(out)
     }
