@@ -8,10 +8,11 @@
 //! widths Cycles gives its Anisotropic) and rendered Cycles' 1024-spp `reference.exr` under a
 //! uniform grey world and a sun (the script's header says what was matched). rt renders the .glb
 //! under the same ambient radiance: every channel's mean within 2% of Cycles', each object's
-//! pixels, per channel, within 5%, and the brushed steel's highlight tile by tile within 8% —
-//! except the velvet, whose sheen Cycles models with Zeltner's microfibres where glTF specifies
-//! Charlie's distribution: measured +18% red, +15% green, +1% blue (at 1024 spp both;
-//! docs/quality.md), it must stay within 25%.
+//! pixels, per channel, within 5%, and the brushed steel's highlight tile by tile within 6% of
+//! Cycles' shape — except the velvet, whose sheen Cycles models with Zeltner's microfibres where
+//! glTF specifies Charlie's distribution (measured +18% red, +15% green, +1% blue at 1024 spp
+//! both; docs/quality.md; it must stay within 25%), and the brushed steel's mean, which rt's own
+//! anisotropic albedo table brightens by 6% over Cycles' mean-width lookup (within 9%).
 
 mod common;
 
@@ -63,7 +64,14 @@ fn coat_sheen_and_specular_render_as_cycles_renders_them() {
         .iter()
         .zip(object_sums(&scene, &image, &reference))
     {
-        let tolerance = if object.name == "velvet" { 0.25 } else { 0.05 };
+        let tolerance = match object.name.as_str() {
+            "velvet" => 0.25,
+            // rt restores the energy a stretched lobe's multiple scattering keeps from its own
+            // table (`math::anisotropic_energy`); Cycles reads its isotropic table at the mean
+            // width, which does not: +6.3% measured (-0.6% when rt did the same).
+            "brushed steel" => 0.09,
+            _ => 0.05,
+        };
         for c in 0..3 {
             let difference = ours[c] / theirs[c] - 1.0;
             eprintln!(
@@ -80,22 +88,36 @@ fn coat_sheen_and_specular_render_as_cycles_renders_them() {
         }
     }
     // The brushed steel's mean is that of an isotropic steel too (+0.1% measured): its highlight's
-    // shape is the test. Each 8 × 8-pixel tile at least half covered by it within 8% of Cycles
-    // (measured worst 3.7% at 256 spp; the steel rendered isotropic, anisotropy ignored, is off
-    // by up to 62%, 15% in the median tile).
+    // shape is the test. Each 8 × 8-pixel tile at least half covered by it, relative to the
+    // sphere's whole (the compensation's difference above), within 6% of Cycles (measured worst
+    // 4.0% at 256 spp; the steel rendered isotropic, anisotropy ignored, is off by up to 62%, 15%
+    // in the median tile).
+    let steel = scene
+        .objects
+        .iter()
+        .position(|o| o.name == "brushed steel")
+        .unwrap();
+    let (all_ours, all_theirs, _) = object_sums(&scene, &image, &reference)[steel];
+    let whole = all_ours.iter().sum::<f64>() / all_theirs.iter().sum::<f64>();
     let tiles = object_tile_sums(&scene, &image, &reference, "brushed steel", 8);
     let mut checked = 0;
+    let mut worst = 0.0f64;
     for (k, (ours, theirs, pixels)) in tiles.iter().enumerate() {
         if *pixels < 32 {
             continue;
         }
         checked += 1;
-        let difference = ours.iter().sum::<f64>() / theirs.iter().sum::<f64>() - 1.0;
+        let difference = ours.iter().sum::<f64>() / theirs.iter().sum::<f64>() / whole - 1.0;
+        worst = worst.max(difference.abs());
         assert!(
-            difference.abs() <= 0.08,
-            "brushed steel, tile {k} ({pixels} pixels): rt differs from Cycles by {:+.1}%",
+            difference.abs() <= 0.06,
+            "brushed steel, tile {k} ({pixels} pixels): rt's shape differs from Cycles' by {:+.1}%",
             100.0 * difference
         );
     }
+    eprintln!(
+        "brushed steel: {checked} tiles, worst {:.1}% from Cycles' shape",
+        100.0 * worst
+    );
     assert!(checked >= 20, "only {checked} tiles of brushed steel");
 }

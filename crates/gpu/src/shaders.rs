@@ -44,6 +44,10 @@ pub const FILES: &[(&str, &str)] = &[
         rt_core::math::glass_energy::WGSL,
     ),
     (
+        "crates/core/src/math/anisotropic_energy.wgsl",
+        rt_core::math::anisotropic_energy::WGSL,
+    ),
+    (
         "crates/core/src/math/sheen.wgsl",
         rt_core::math::sheen::WGSL,
     ),
@@ -123,6 +127,7 @@ macro_rules! tracing_module {
                 "crates/core/src/math/iridescence.wgsl",
                 "crates/core/src/math/dispersion.wgsl",
                 "crates/core/src/math/glass_energy.wgsl",
+                "crates/core/src/math/anisotropic_energy.wgsl",
                 "crates/core/src/math/sheen.wgsl",
                 "crates/core/src/math/layers.wgsl",
                 "crates/core/src/environment.wgsl",

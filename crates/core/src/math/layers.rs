@@ -24,6 +24,7 @@ pub const WGSL: &str = include_str!("layers.wgsl");
 
 use glam::{Mat3, Vec3};
 
+use super::anisotropic_energy::{ANISOTROPIC_TABLE, anisotropic_table};
 use super::bsdf::{BsdfSample, Pbr};
 use super::coat::{coat_eval, coat_table, sample_coat};
 use super::glass_energy::{GLASS_TABLE, glass_table};
@@ -41,23 +42,35 @@ pub const TABLE_GLASS: usize = 3;
 const UNIT: usize = ENERGY_SIDE * ENERGY_SIDE;
 
 /// The directional-albedo tables the kernels read (binding `albedo_tables`), one after another:
-/// the white GGX conductor's (`microfacet::energy_table`), the coat's, the white sheen's and rough
-/// glass's (entering, leaving).
+/// the white GGX conductor's (`microfacet::energy_table`), the coat's, the white sheen's, rough
+/// glass's (entering, leaving) and the anisotropic conductor's (`math::anisotropic_energy`).
 pub fn albedo_tables() -> Vec<f32> {
-    [energy_table(), coat_table(), sheen_table(), glass_table()].concat()
+    [
+        energy_table(),
+        coat_table(),
+        sheen_table(),
+        glass_table(),
+        anisotropic_table(),
+    ]
+    .concat()
 }
+
+/// Where the anisotropic conductor's table starts in `albedo_tables`.
+pub const ANISOTROPIC_OFFSET: usize = TABLE_GLASS * UNIT + 2 * GLASS_TABLE;
 
 /// `albedo_tables` with only the tables `materials` read filled in (the rest zero, never read):
 /// each table costs a fraction of a second to build on first use.
 pub fn albedo_tables_for(materials: &[Material]) -> Vec<f32> {
-    let mut out = vec![0.0; TABLE_GLASS * UNIT + 2 * GLASS_TABLE];
+    let mut out = vec![0.0; ANISOTROPIC_OFFSET + ANISOTROPIC_TABLE];
     let lobes = materials
         .iter()
         .filter(|m| m.kind == MaterialKind::Pbr.tag())
         .map(Material::lobe_of::<PbrLobe>);
-    let (mut pbr, mut coat, mut sheen, mut glass) = (false, false, false, false);
+    let (mut pbr, mut coat, mut sheen, mut glass, mut anisotropic) =
+        (false, false, false, false, false);
     for l in lobes {
         pbr = true;
+        anisotropic |= l.anisotropy > 0.0;
         coat |= l.clearcoat > 0.0;
         sheen |= l.sheen_color.iter().any(|&c| c > 0.0);
         glass |= l.transmission > 0.0;
@@ -76,6 +89,9 @@ pub fn albedo_tables_for(materials: &[Material]) -> Vec<f32> {
     }
     if glass {
         put(TABLE_GLASS, glass_table());
+    }
+    if anisotropic {
+        out[ANISOTROPIC_OFFSET..].copy_from_slice(anisotropic_table());
     }
     out
 }

@@ -31,10 +31,11 @@ pub fn anisotropic_alpha(roughness: f32, strength: f32) -> Vec2 {
     Vec2::new(a + (1.0 - a) * s * s, a)
 }
 
-/// The isotropic roughness whose albedo tables stand for an anisotropic surface's (its energy
-/// compensation): that of the mean width √(α_x α_y), as Cycles does. An approximation: strongly
-/// anisotropic surfaces lose more than it restores, and at grazing angles along the narrow axis
-/// they may gain a few per cent (measured in `bsdf`'s tests).
+/// The isotropic roughness whose albedo tables stand for an anisotropic surface's where it has no
+/// table of its own (rough glass; conductors have `math::anisotropic_energy`): that of the mean
+/// width √(α_x α_y), as Cycles does. An approximation: strongly anisotropic glass loses more than
+/// it restores, and at grazing angles along the narrow axis may gain a few per cent (measured in
+/// `bsdf`'s tests).
 pub fn equivalent_roughness(alpha: Vec2) -> f32 {
     (alpha.x * alpha.y).sqrt().sqrt()
 }

@@ -5,10 +5,12 @@
 //! triangle and slab tests, ray offsets), `microfacet.rs` of `microfacet.wgsl` (GGX) and `bsdf.rs` of
 //! `bsdf.wgsl` (the PBR material's base), `coat.rs`, `sheen.rs`, `layers.rs`, `glass_energy.rs` and
 //! `iridescence.rs` of theirs (the clear coat, the sheen, the stack they form over the base, rough
-//! glass's energy compensation, thin-film interference), `dispersion.rs` of `dispersion.wgsl` (the
+//! glass's energy compensation, thin-film interference), `anisotropic_energy.rs` of its WGSL
+//! (anisotropic metals' energy compensation), `dispersion.rs` of `dispersion.wgsl` (the
 //! index by wavelength, the hero channel). The CPU reference (`crate::reference`), emitters, the
 //! denoiser and the loaders use them.
 
+pub mod anisotropic_energy;
 pub mod bsdf;
 pub mod coat;
 pub mod dispersion;

@@ -14,9 +14,12 @@ use glam::{Mat3, Vec3};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{DielectricLobe, Material, MetalLobe, PbrLobe, THIN_WALLED};
 use crate::material_kind::MaterialKind;
+use crate::math::anisotropic_energy::anisotropic_energy;
 use crate::math::bsdf::Pbr;
 use crate::math::glass_energy::glass_energy;
-use crate::math::layers::{Layered, Layers, TABLE_CONDUCTOR, TABLE_GLASS, albedo_lookup};
+use crate::math::layers::{
+    ANISOTROPIC_OFFSET, Layered, Layers, TABLE_CONDUCTOR, TABLE_GLASS, albedo_lookup,
+};
 use crate::math::microfacet::{ENERGY_SIDE, anisotropic_alpha, equivalent_roughness};
 use crate::math::rng::Rng;
 use crate::math::sampling::{onb, sample_cosine_hemisphere, sample_dielectric, sample_metal};
@@ -269,13 +272,18 @@ fn pbr_surface(
     };
     let tables = &scene.albedo_tables;
     let alpha = anisotropic_alpha(inputs.roughness, inputs.anisotropy);
-    // An anisotropic surface's energy tables are those of its mean width.
-    let roughness = if inputs.anisotropy > 0.0 {
-        equivalent_roughness(alpha)
+    // An anisotropic conductor has a table of its own; glass reads its isotropic tables at the
+    // mean width.
+    let (roughness, energy) = if inputs.anisotropy > 0.0 {
+        let table = &tables[ANISOTROPIC_OFFSET..];
+        (
+            equivalent_roughness(alpha),
+            anisotropic_energy(table, wo_local, inputs.roughness, inputs.anisotropy),
+        )
     } else {
-        inputs.roughness
+        let r = inputs.roughness;
+        (r, albedo_lookup(tables, TABLE_CONDUCTOR, wo_local.z, r))
     };
-    let energy = albedo_lookup(tables, TABLE_CONDUCTOR, wo_local.z, roughness);
     let base = Pbr::new(
         base,
         inputs.metallic,

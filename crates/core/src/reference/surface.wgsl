@@ -113,9 +113,16 @@ fn pbr_surface(material: Material, base: vec3<f32>, inputs: PbrInputs, wo: vec3<
     let thin = (material.flags & THIN_WALLED) != 0u;
     let eta = select(1.0 / inputs.ior, inputs.ior, front || thin);
     let alpha = anisotropic_alpha(inputs.roughness, inputs.anisotropy);
-    // An anisotropic surface's energy tables are those of its mean width.
-    let roughness = select(inputs.roughness, equivalent_roughness(alpha), inputs.anisotropy > 0.0);
-    let energy = albedo_lookup(TABLE_CONDUCTOR, wo_local.z, roughness);
+    // An anisotropic conductor has a table of its own; glass reads its isotropic tables at the
+    // mean width.
+    var roughness = inputs.roughness;
+    var energy = 0.0;
+    if (inputs.anisotropy > 0.0) {
+        roughness = equivalent_roughness(alpha);
+        energy = anisotropic_energy(wo_local, inputs.roughness, inputs.anisotropy);
+    } else {
+        energy = albedo_lookup(TABLE_CONDUCTOR, wo_local.z, roughness);
+    }
     var s: Surface;
     s.kind = MAT_PBR;
     s.t = basis.t;
