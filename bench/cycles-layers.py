@@ -30,7 +30,6 @@ Usage: python3.13 bench/cycles-layers.py [--spp 1024] [--rt-spp 1024] [--out DIR
 Writes OUT/{scene.glb,reference.exr} (`tests/cycles_layers.rs` reads them) and prints the comparison.
 """
 
-import argparse
 import math
 import subprocess
 import sys
@@ -38,7 +37,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from cycles_settings import match_rt
+from cycles_settings import arguments, export_glb, match_rt
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
@@ -190,19 +189,13 @@ def rgb_of(channels):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--spp", type=int, default=1024)
-    parser.add_argument("--rt-spp", type=int, default=1024)
-    parser.add_argument("--out", default=str(ROOT / "tests" / "data" / "cycles-layers"))
-    args = parser.parse_args()
+    args = arguments(__doc__, 1024, ROOT / "tests" / "data" / "cycles-layers")
     import bpy
     import numpy
 
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     scene = build(bpy)
-    bpy.ops.export_scene.gltf(filepath=str(out / "scene.glb"), export_format="GLB",
-                              export_lights=True, export_cameras=True, export_yup=True)
+    export_glb(bpy, out / "scene.glb")
     patch(out / "scene.glb")
     started = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:

@@ -24,7 +24,6 @@ Usage: python3.13 bench/cycles-vs-rt.py [--spp 1024] [--rt-spp 512] [--out tests
 Writes OUT/{scene.glb,reference.exr} and prints the comparison.
 """
 
-import argparse
 import math
 import os
 import subprocess
@@ -33,7 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from cycles_settings import match_rt
+from cycles_settings import arguments, export_glb, match_rt
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
@@ -152,18 +151,12 @@ def compare(a, b):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--spp", type=int, default=1024)
-    parser.add_argument("--rt-spp", type=int, default=512)
-    parser.add_argument("--out", default=str(ROOT / "tests" / "data" / "cycles-gltf"))
-    args = parser.parse_args()
+    args = arguments(__doc__, 512, ROOT / "tests" / "data" / "cycles-gltf")
     import bpy
 
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     scene = build(bpy)
-    bpy.ops.export_scene.gltf(filepath=str(out / "scene.glb"), export_format="GLB",
-                              export_lights=True, export_cameras=True, export_yup=True)
+    export_glb(bpy, out / "scene.glb")
     started = time.perf_counter()
     render_cycles(bpy, scene, args.spp, out / "reference.exr")
     t_cycles = time.perf_counter() - started

@@ -1,7 +1,28 @@
-"""Cycles' settings that both Blender comparisons (`cycles-vs-rt.py`, `cycles-layers.py`) match to
-rt: the CPU device, a fixed sample count without adaptive sampling, denoising or clamping, a
-1-pixel box filter, every bounce limit at rt's max depth − 1, caustics on and the "Standard" view
-transform (linear output)."""
+"""What both Blender comparisons (`cycles-vs-rt.py`, `cycles-layers.py`) share: Cycles' settings
+matched to rt (the CPU device, a fixed sample count without adaptive sampling, denoising or
+clamping, a 1-pixel box filter, every bounce limit at rt's max depth − 1, caustics on and the
+"Standard" view transform, linear output), their command line and the glTF export."""
+
+import argparse
+from pathlib import Path
+
+
+def arguments(doc, rt_spp, out):
+    """The comparisons' command line: Cycles' and rt's sample counts and the output folder, which
+    it creates."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--spp", type=int, default=1024)
+    parser.add_argument("--rt-spp", type=int, default=rt_spp)
+    parser.add_argument("--out", default=str(out))
+    args = parser.parse_args()
+    Path(args.out).mkdir(parents=True, exist_ok=True)
+    return args
+
+
+def export_glb(bpy, path):
+    """The scene as a .glb, with its lights and cameras, y up (as a user exports it)."""
+    bpy.ops.export_scene.gltf(filepath=str(path), export_format="GLB", export_lights=True,
+                              export_cameras=True, export_yup=True)
 
 
 def match_rt(scene, spp, depth):
