@@ -326,12 +326,17 @@ impl Pbr {
         unit("diffuse_transmission", self.diffuse_transmission)?;
         unit("iridescence", self.iridescence)?;
         unit("anisotropy", self.anisotropy)?;
-        if !(self.dispersion.is_finite() && self.dispersion >= 0.0) {
-            return Err(format!(
-                "{what}: pbr dispersion must be finite and >= 0 (20 / Abbe number), got {}",
-                self.dispersion
-            ));
-        }
+        // `note` says what the number means.
+        let nonnegative = |name: &str, v: f32, note: &str| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{what}: pbr {name} must be finite and >= 0{note}, got {v}"
+                ))
+            }
+        };
+        nonnegative("dispersion", self.dispersion, " (20 / Abbe number)")?;
         if !self.anisotropy_rotation.is_finite() {
             return Err(format!(
                 "{what}: pbr anisotropy_rotation must be finite (radians), got {}",
@@ -348,11 +353,7 @@ impl Pbr {
             ("iridescence_thickness_min", self.iridescence_thickness_min),
             ("iridescence_thickness_max", self.iridescence_thickness_max),
         ] {
-            if !(d.is_finite() && d >= 0.0) {
-                return Err(format!(
-                    "{what}: pbr {name} must be finite and >= 0 (nanometres), got {d}"
-                ));
-            }
+            nonnegative(name, d, " (nanometres)")?;
         }
         for c in self.sheen_color {
             unit("sheen_color", c)?;
@@ -386,12 +387,7 @@ impl Pbr {
                 self.normal_scale
             ));
         }
-        if !(self.emission_strength.is_finite() && self.emission_strength >= 0.0) {
-            return Err(format!(
-                "{what}: pbr emission_strength must be finite and >= 0, got {}",
-                self.emission_strength
-            ));
-        }
+        nonnegative("emission_strength", self.emission_strength, "")?;
         if let Some(d) = self.attenuation_distance
             && !(d.is_finite() && d > 0.0)
         {

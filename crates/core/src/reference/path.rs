@@ -62,14 +62,9 @@ pub fn vertex_color(shading: &crate::gpu_types::Shading, b: [f32; 3]) -> Vec3 {
 /// n_t = (2t − 1) with x, y scaled, in the frame (T, B = w·N×T, N) of the interpolated normal N and
 /// the barycentric blend of the corner tangents (T made orthogonal to N).
 pub fn normal_mapped(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], t: Vec3, scale: f32) -> Vec3 {
-    let tangent = Vec3::from_slice(&corners[0]) * b[0]
-        + Vec3::from_slice(&corners[1]) * b[1]
-        + Vec3::from_slice(&corners[2]) * b[2];
-    let tangent = (tangent - n * n.dot(tangent)).normalize_or_zero();
-    if tangent == Vec3::ZERO {
+    let Some((tangent, bitangent)) = tangent_frame(n, corners, b) else {
         return n;
-    }
-    let bitangent = n.cross(tangent) * corners[0][3];
+    };
     let m = t * 2.0 - Vec3::ONE;
     let mapped = tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
     let len = mapped.length();
@@ -80,15 +75,17 @@ pub fn normal_mapped(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], t: Vec3, scal
 /// world space, about the shading normal `n`, with the frame of `normal_mapped`; zero where the
 /// corners' tangents vanish.
 pub fn anisotropy_tangent(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], d: Vec3) -> Vec3 {
+    tangent_frame(n, corners, b).map_or(Vec3::ZERO, |(t, bt)| t * d.x + bt * d.y)
+}
+
+/// The tangent frame about `n` at barycentrics `b`: the blend of the corners' tangents made
+/// orthogonal to `n`, and the bitangent w·n×T; `None` where the blend vanishes.
+fn tangent_frame(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3]) -> Option<(Vec3, Vec3)> {
     let tangent = Vec3::from_slice(&corners[0]) * b[0]
         + Vec3::from_slice(&corners[1]) * b[1]
         + Vec3::from_slice(&corners[2]) * b[2];
     let tangent = (tangent - n * n.dot(tangent)).normalize_or_zero();
-    if tangent == Vec3::ZERO {
-        return Vec3::ZERO;
-    }
-    let bitangent = n.cross(tangent) * corners[0][3];
-    tangent * d.x + bitangent * d.y
+    (tangent != Vec3::ZERO).then(|| (tangent, n.cross(tangent) * corners[0][3]))
 }
 
 /// The firefly clamp (`frame.clamp_max`, 0 off): light reaching the camera after `bounces`
