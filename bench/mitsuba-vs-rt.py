@@ -10,9 +10,10 @@ here, and LLVM 14 is too old; DRJIT_LIBLLVM_PATH overrides the library), and a r
 (`cargo build --release -p rt-cli`).
 
 Usage: bench/mitsuba-vs-rt.py REFERENCE.exr [--spp 256] [--size 512] [--sampler independent|sobol]
-       [--device gpu|cpu]
+       [--device gpu|cpu] [--cli PATH]
 (rt's own default sampler, Sobol, unless --sampler is given; Mitsuba keeps its independent one;
---device cpu renders rt with its native CPU backend rather than through wgpu)
+--device cpu renders rt with its native CPU backend rather than through wgpu; --cli runs another
+rt-cli binary, to compare two builds side by side)
 """
 
 import argparse
@@ -119,6 +120,7 @@ def main():
     parser.add_argument("--size", type=int, default=512)
     parser.add_argument("--sampler", default=None)
     parser.add_argument("--device", default="gpu", choices=["gpu", "cpu"])
+    parser.add_argument("--cli", type=Path, default=CLI)
     args = parser.parse_args()
     os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
     import drjit as dr
@@ -141,7 +143,7 @@ def main():
         rt_out = Path(tmp) / "rt.exr"
         started = time.perf_counter()
         log = subprocess.run(
-            [str(CLI), "render", "--width", str(args.size), "--height", str(args.size),
+            [str(args.cli), "render", "--width", str(args.size), "--height", str(args.size),
              "--spp", str(args.spp), "--max-depth", "8", "-o", str(rt_out),
              "--device", args.device]
             + (["--sampler", args.sampler] if args.sampler else []),

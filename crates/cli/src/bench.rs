@@ -174,6 +174,8 @@ struct Record {
     paths_per_s: f64,
     rays_per_s: f64,
     gpu_scene_bytes: u64,
+    /// The process's peak resident memory so far (after this scene), MB; `None` off Linux.
+    peak_rss_mb: Option<f64>,
     generic_kernel: bool,
     workgroup: String,
 }
@@ -237,7 +239,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 }
             });
             if wanted {
-                scenes.push((name, scene?));
+                scenes.push((name, scene()?));
             }
         }
         let interactive = crate::interactive::InteractiveArgs {
@@ -254,7 +256,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         return crate::interactive::run(ctx, scenes, &interactive);
     }
     println!(
-        "{:<12} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9}",
+        "{:<12} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9}",
         "scene",
         "triangles",
         "BVH ms",
@@ -263,7 +265,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
         "GPU MB",
         "render s",
         "Mpaths/s",
-        "Mrays/s"
+        "Mrays/s",
+        "peak MB"
     );
     let mut records = Vec::new();
     for (name, scene) in suite {
@@ -301,11 +304,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
             paths_per_s: paths / secs,
             rays_per_s: renderer.rays_traced() as f64 / secs,
             gpu_scene_bytes: gpu_scene.buffer_sizes().iter().map(|(_, b)| b).sum(),
+            peak_rss_mb: peak_rss_mb(),
             generic_kernel: args.generic,
             workgroup: format!("{}x{}", args.workgroup[0], args.workgroup[1]),
         };
         println!(
-            "{:<12} {:>9} {:>9.1} {:>9.1} {:>6} {:>9.1} {:>9.2} {:>9.3} {:>9.3}",
+            "{:<12} {:>9} {:>9.1} {:>9.1} {:>6} {:>9.1} {:>9.2} {:>9.3} {:>9.3} {:>9}",
             record.scene,
             record.triangles,
             record.bvh_build_ms,
@@ -314,7 +318,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             record.gpu_scene_bytes as f64 / 1e6,
             record.render_s,
             record.paths_per_s / 1e6,
-            record.rays_per_s / 1e6
+            record.rays_per_s / 1e6,
+            megabytes(record.peak_rss_mb)
         );
         records.push(record);
     }
@@ -326,14 +331,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
 
 /// The benchmark scenes: the Cornell box and its material variants, then the large meshes found
 /// under `--models`.
-fn bench_suite(args: &BenchArgs) -> Result<Vec<(String, Result<Scene>)>> {
-    let mut suite: Vec<(String, Result<Scene>)> = vec![
+fn bench_suite(args: &BenchArgs) -> Result<Vec<(String, SceneLoader)>> {
+    let mut suite: Vec<(String, SceneLoader)> = vec![
         (
             "cornell".into(),
-            rt_core::assets::cornell_box().map_err(Into::into),
+            Box::new(|| rt_core::assets::cornell_box().map_err(Into::into)),
         ),
-        ("cornell+metal".into(), material_scene(false)),
-        ("cornell+all".into(), material_scene(true)),
+        ("cornell+metal".into(), Box::new(|| material_scene(false))),
+        ("cornell+all".into(), Box::new(|| material_scene(true))),
     ];
     for (name, file) in [
         ("bunny-69k", "stanford-bunny/stanford-bunny.obj"),
@@ -342,7 +347,7 @@ fn bench_suite(args: &BenchArgs) -> Result<Vec<(String, Result<Scene>)>> {
     ] {
         let path = args.models.join(file);
         if path.exists() {
-            suite.push((name.into(), mesh_scene(&path)));
+            suite.push((name.into(), Box::new(move || mesh_scene(&path))));
         } else {
             eprintln!(
                 "skipping {name}: {} not found (pass --models DIR)",
@@ -353,7 +358,22 @@ fn bench_suite(args: &BenchArgs) -> Result<Vec<(String, Result<Scene>)>> {
     Ok(suite)
 }
 
-/// The suite on the native CPU backend: the same scenes and table, paths/s only.
+/// The process's peak resident set (`VmHWM` in `/proc/self/status`), MB: what a backend needed at
+/// most, host memory included. `None` where the file is missing (not Linux).
+fn peak_rss_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0 / 1e6)
+}
+
+/// A table cell for an optional size in MB.
+fn megabytes(mb: Option<f64>) -> String {
+    mb.map_or_else(|| "-".into(), |mb| format!("{mb:.0}"))
+}
+
+/// The suite on the native CPU backend: the same scenes and table, paths/s and peak memory (rays
+/// are counted only by the GPU kernels).
 fn run_on_cpu(args: &BenchArgs) -> Result<()> {
     if args.interactive || args.generic || args.engine.kernel.is_some() {
         anyhow::bail!(
@@ -365,8 +385,8 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
         rt_core::cpu_render::threads()
     );
     println!(
-        "{:<12} {:>9} {:>9} {:>6} {:>9} {:>9}",
-        "scene", "triangles", "BVH ms", "depth", "render s", "Mpaths/s"
+        "{:<12} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9}",
+        "scene", "triangles", "BVH ms", "depth", "render s", "Mpaths/s", "peak MB"
     );
     for (name, scene) in bench_suite(args)? {
         let Some(scene) = selected(args, &name, scene)? else {
@@ -380,14 +400,16 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
         accumulation.add_batch(&gpu_scene, &frame, args.spp, &never);
         let secs = started.elapsed().as_secs_f64();
         let paths = f64::from(args.size) * f64::from(args.size) * f64::from(args.spp);
+        let peak = peak_rss_mb();
         println!(
-            "{:<12} {:>9} {:>9.1} {:>6} {:>9.2} {:>9.3}",
+            "{:<12} {:>9} {:>9.1} {:>6} {:>9.2} {:>9.3} {:>9}",
             name,
             gpu_scene.triangles.len(),
             gpu_scene.bvh_build_time.as_secs_f64() * 1e3,
             gpu_scene.bvh_depth,
             secs,
-            paths / secs / 1e6
+            paths / secs / 1e6,
+            megabytes(peak)
         );
         println!(
             "{}",
@@ -395,7 +417,7 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
                 "scene": name, "adapter": label, "bvh": format!("{:?}", gpu_scene.layout),
                 "width": args.size, "height": args.size, "spp": args.spp,
                 "max_depth": scene.settings.max_depth, "render_s": secs,
-                "paths_per_s": paths / secs,
+                "paths_per_s": paths / secs, "peak_rss_mb": peak,
             })
         );
     }
@@ -403,7 +425,10 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
 }
 
 /// A suite scene `--only` selects, at the benchmark's size and light sampling; `None` otherwise.
-fn selected(args: &BenchArgs, name: &str, scene: Result<Scene>) -> Result<Option<Scene>> {
+/// Loads a suite scene when it is selected: `--only cornell` does not parse the dragon.
+type SceneLoader = Box<dyn FnOnce() -> Result<Scene>>;
+
+fn selected(args: &BenchArgs, name: &str, scene: SceneLoader) -> Result<Option<Scene>> {
     if args
         .only
         .as_ref()
@@ -411,7 +436,7 @@ fn selected(args: &BenchArgs, name: &str, scene: Result<Scene>) -> Result<Option
     {
         return Ok(None);
     }
-    let mut scene = scene?;
+    let mut scene = scene()?;
     scene.settings.width = args.size;
     scene.settings.height = args.size;
     scene.settings.next_event_estimation = !args.no_nee;

@@ -56,28 +56,33 @@ pub fn intersect_triangle(
     v2: Vec3,
     t_max: f32,
 ) -> Option<(f32, f32, f32)> {
-    let [kx, ky, kz] = ray.k;
-    let a = v0 - ray.origin;
-    let b = v1 - ray.origin;
-    let c = v2 - ray.origin;
+    // The vertices relative to the origin, their axes permuted to (kx, ky, kz): indexing an array
+    // (masked into range) rather than a `Vec3`, whose index is a match the CPU mispredicts.
+    let [kx, ky, kz] = ray.k.map(|k| k & 3);
+    let permuted = |p: Vec3| {
+        let d = (p - ray.origin).extend(0.0).to_array();
+        (d[kx], d[ky], d[kz])
+    };
+    let (a, b, c) = (permuted(v0), permuted(v1), permuted(v2));
     let s = ray.shear;
-    let ax = a[kx] - s.x * a[kz];
-    let ay = a[ky] - s.y * a[kz];
-    let bx = b[kx] - s.x * b[kz];
-    let by = b[ky] - s.y * b[kz];
-    let cx = c[kx] - s.x * c[kz];
-    let cy = c[ky] - s.y * c[kz];
+    let ax = a.0 - s.x * a.2;
+    let ay = a.1 - s.y * a.2;
+    let bx = b.0 - s.x * b.2;
+    let by = b.1 - s.y * b.2;
+    let cx = c.0 - s.x * c.2;
+    let cy = c.1 - s.y * c.2;
     let u = cx * by - cy * bx;
     let v = ax * cy - ay * cx;
     let w = bx * ay - by * ax;
-    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+    // Non-short-circuit `|` and `&`: the same test with fewer branches to mispredict.
+    if ((u < 0.0) | (v < 0.0) | (w < 0.0)) & ((u > 0.0) | (v > 0.0) | (w > 0.0)) {
         return None;
     }
     let det = u + v + w;
     if det == 0.0 {
         return None;
     }
-    let t_scaled = u * (s.z * a[kz]) + v * (s.z * b[kz]) + w * (s.z * c[kz]);
+    let t_scaled = u * (s.z * a.2) + v * (s.z * b.2) + w * (s.z * c.2);
     let t = t_scaled / det;
     if !(t > 0.0 && t < t_max) {
         return None;

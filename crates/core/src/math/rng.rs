@@ -42,7 +42,16 @@ pub fn nested_uniform_scramble(v: u32, seed: u32) -> u32 {
 /// looks its XOR of direction numbers up: the same value, a quarter of the CPU backend's time in
 /// random numbers otherwise.)
 pub fn sobol_dim1(i: u32) -> u32 {
-    let t = &SOBOL_DIM1_BYTES;
+    xor_of_bytes(&SOBOL_DIM1_BYTES, i)
+}
+
+/// `sobol_dim1(i).reverse_bits()`, by tables of reversed direction numbers (a bit reversal is a
+/// permutation of bits, so it distributes over XOR): the scramble reverses the value first.
+fn sobol_dim1_reversed(i: u32) -> u32 {
+    xor_of_bytes(&SOBOL_DIM1_REVERSED_BYTES, i)
+}
+
+fn xor_of_bytes(t: &[[u32; 256]; 4], i: u32) -> u32 {
     t[0][(i & 0xff) as usize]
         ^ t[1][((i >> 8) & 0xff) as usize]
         ^ t[2][((i >> 16) & 0xff) as usize]
@@ -52,6 +61,20 @@ pub fn sobol_dim1(i: u32) -> u32 {
 /// `SOBOL_DIM1_BYTES[k][b]`: the XOR of the direction numbers of the set bits of byte `b` placed
 /// at byte `k` of the index.
 static SOBOL_DIM1_BYTES: [[u32; 256]; 4] = sobol_dim1_bytes();
+static SOBOL_DIM1_REVERSED_BYTES: [[u32; 256]; 4] = reversed(sobol_dim1_bytes());
+
+const fn reversed(mut table: [[u32; 256]; 4]) -> [[u32; 256]; 4] {
+    let mut byte = 0;
+    while byte < 4 {
+        let mut b = 0;
+        while b < 256 {
+            table[byte][b] = table[byte][b].reverse_bits();
+            b += 1;
+        }
+        byte += 1;
+    }
+    table
+}
 
 const fn sobol_dim1_bytes() -> [[u32; 256]; 4] {
     let mut directions = [0u32; 32];
@@ -99,7 +122,8 @@ pub enum SamplerKind {
 #[derive(Clone, Copy, Debug)]
 pub struct Rng {
     state: u32,
-    index: u32,
+    /// The sample's index, bit-reversed (the first step of every pair's index shuffle).
+    reversed_index: u32,
     dim: u32,
     key: u32,
     sobol: bool,
@@ -118,7 +142,7 @@ impl Rng {
     pub fn with_sampler(pixel: u32, sample: u32, seed: u32, kind: SamplerKind) -> Self {
         Rng {
             state: pcg_hash(pixel.wrapping_add(pcg_hash(sample.wrapping_add(pcg_hash(seed))))),
-            index: sample,
+            reversed_index: sample.reverse_bits(),
             dim: 0,
             key: pcg_hash(pixel ^ pcg_hash(seed ^ 0x5bd1_e995)),
             sobol: kind == SamplerKind::Sobol,
@@ -134,7 +158,9 @@ impl Rng {
             self.dim += 1;
             if d & 1 == 0 {
                 self.pair_key = pcg_hash(self.key ^ pcg_hash(d / 2 + 1));
-                self.pair_index = nested_uniform_scramble(self.index, self.pair_key);
+                // nested_uniform_scramble(index, pair_key), its first reversal done once.
+                self.pair_index =
+                    laine_karras_permutation(self.reversed_index, self.pair_key).reverse_bits();
             }
             let (pair_key, i) = (self.pair_key, self.pair_index);
             let value_key = pcg_hash(pair_key.wrapping_add(1 + (d & 1)));
@@ -142,7 +168,7 @@ impl Rng {
                 // nested_uniform_scramble(i.reverse_bits(), k), its first reversal undone.
                 laine_karras_permutation(i, value_key).reverse_bits()
             } else {
-                nested_uniform_scramble(sobol_dim1(i), value_key)
+                laine_karras_permutation(sobol_dim1_reversed(i), value_key).reverse_bits()
             }
         } else {
             self.state = self
@@ -183,6 +209,8 @@ mod tests {
             assert_eq!(sobol_dim1(i), by_bits(i), "{i}");
             let r = (rng.next_f32() * 16_777_216.0) as u32 * 256 + i % 256;
             assert_eq!(sobol_dim1(r), by_bits(r), "{r}");
+            assert_eq!(sobol_dim1_reversed(r), by_bits(r).reverse_bits(), "{r}");
+            assert_eq!(sobol_dim1_reversed(i), by_bits(i).reverse_bits(), "{i}");
         }
     }
 

@@ -13,8 +13,15 @@ use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Hit;
 use crate::math::intersect::{PreparedRay, intersect_box};
 
-/// Nearest hit through the BVH2, as `intersect_scene` in `bvh.wgsl` computes it.
-pub(super) fn trace_bvh2(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+/// Nearest hit through the BVH2, or with `any_hit` the first found, as `intersect_scene` in
+/// `bvh.wgsl` computes it.
+pub(super) fn trace_bvh2(
+    scene: &GpuScene,
+    origin: Vec3,
+    direction: Vec3,
+    t_max: f32,
+    any_hit: bool,
+) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let mut hit = miss(t_max);
     // A fixed stack, as the kernel's (the builder keeps the BVH within it; a push past it is
@@ -42,7 +49,9 @@ pub(super) fn trace_bvh2(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max:
                 continue;
             }
             for i in first..first + count {
-                test_triangle(scene, &ray, i, &mut hit);
+                if test_triangle(scene, &ray, i, &mut hit) && any_hit {
+                    return hit;
+                }
             }
         }
         let [l, r] = inner.map(|c| c.filter(|(t, _)| *t < hit.t));

@@ -37,6 +37,12 @@ fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, 
     // t = (origin + q · cell − o) / d = q · (cell / d) + (origin − o) / d, per plane byte q.
     let scaled_inv = cell_size(node) * ray.inv_direction;
     let shifted_origin = (Vec3::from(node.origin) - ray.origin) * ray.inv_direction;
+    // Which of a box's planes the ray enters by follows its direction's sign, the same for every
+    // child: picked once per node, not per child (a branch per child lane that mispredicted).
+    let planes = |neg: bool, lo: [u32; 2], hi: [u32; 2]| if neg { [hi, lo] } else { [lo, hi] };
+    let [near_x, far_x] = planes(neg.x, node.lo_x, node.hi_x);
+    let [near_y, far_y] = planes(neg.y, node.lo_y, node.hi_y);
+    let [near_z, far_z] = planes(neg.z, node.lo_z, node.hi_z);
     let mut hits = 0;
     for word in 0..2 {
         let slot_bytes = node.slots[word];
@@ -48,10 +54,10 @@ fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, 
         let bits = (slot_bytes >> 5) & 0x0707_0707;
         for lane in 0..4 {
             let byte = |w: [u32; 2]| ((w[word] >> (lane * 8)) & 0xff) as f32;
-            let lo = Vec3::new(byte(node.lo_x), byte(node.lo_y), byte(node.lo_z));
-            let hi = Vec3::new(byte(node.hi_x), byte(node.hi_y), byte(node.hi_z));
-            let t_near = Vec3::select(neg, hi, lo) * scaled_inv + shifted_origin;
-            let t_far = Vec3::select(neg, lo, hi) * scaled_inv + shifted_origin;
+            let near = Vec3::new(byte(near_x), byte(near_y), byte(near_z));
+            let far = Vec3::new(byte(far_x), byte(far_y), byte(far_z));
+            let t_near = near * scaled_inv + shifted_origin;
+            let t_far = far * scaled_inv + shifted_origin;
             let near = t_near.max_element().max(0.0);
             // Widened as `intersect_box` does, for the rounding of the t values.
             let far = t_far.min_element() * 1.000_000_4;
@@ -63,8 +69,14 @@ fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, 
     hits
 }
 
-/// Nearest hit through `scene.wide_nodes`.
-pub(super) fn trace_wide(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
+/// Nearest hit through `scene.wide_nodes`, or with `any_hit` the first found.
+pub(super) fn trace_wide(
+    scene: &GpuScene,
+    origin: Vec3,
+    direction: Vec3,
+    t_max: f32,
+    any_hit: bool,
+) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let mut hit = miss(t_max);
     let oct_inv = (u32::from(direction.x >= 0.0) << 2)
@@ -83,7 +95,9 @@ pub(super) fn trace_wide(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max:
         while triangles.1 != 0 {
             let bit = triangles.1.trailing_zeros();
             triangles.1 &= !(1 << bit);
-            test_triangle(scene, &ray, triangles.0 + bit, &mut hit);
+            if test_triangle(scene, &ray, triangles.0 + bit, &mut hit) && any_hit {
+                return hit;
+            }
         }
         if group.1 & INNER_BITS == 0 {
             if sp == 0 {

@@ -21,8 +21,9 @@ pub(super) fn miss(t_max: f32) -> Hit {
     }
 }
 
-/// Tests triangle `i`, keeping its hit in `hit` when nearer (both traversals' leaf test).
-pub(super) fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &mut Hit) {
+/// Tests triangle `i`, keeping its hit in `hit` when nearer (both traversals' leaf test); whether
+/// it did.
+pub(super) fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &mut Hit) -> bool {
     let tri = &scene.triangles[i as usize];
     if let Some((t, b1, b2)) =
         intersect_triangle(ray, tri.v0.into(), tri.v1.into(), tri.v2.into(), hit.t)
@@ -34,7 +35,9 @@ pub(super) fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &m
             b1,
             b2,
         };
+        return true;
     }
+    false
 }
 
 /// Nearest hit by testing every triangle (for checking `trace`).

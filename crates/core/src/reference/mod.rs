@@ -50,15 +50,21 @@ use crate::gpu_types::{Frame, Hit};
 /// traversal of the scene's layout, as `rt_gpu::shaders` composes `bvh.wgsl` or `cwbvh.wgsl`. It
 /// sits here, above both traversals, so that they depend only on `hit.rs` and not on each other.
 pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
-    match scene.layout {
-        BvhLayout::Bvh2 => bvh::trace_bvh2(scene, origin, direction, t_max),
-        BvhLayout::Cwbvh => cwbvh::trace_wide(scene, origin, direction, t_max),
-    }
+    intersect_scene(scene, origin, direction, t_max, false)
 }
 
-/// Whether anything lies on the segment from `origin` along unit `direction` up to `distance`.
+/// Whether anything lies on the segment from `origin` along unit `direction` up to `distance`:
+/// the traversal stops at the first hit it finds, as the kernels' shadow rays do.
 pub fn occluded(scene: &GpuScene, origin: Vec3, direction: Vec3, distance: f32) -> bool {
-    trace(scene, origin, direction, distance).triangle != hit::MISS
+    intersect_scene(scene, origin, direction, distance, true).triangle != hit::MISS
+}
+
+/// `intersect_scene` of the kernels: the nearest hit, or with `any_hit` the first found.
+fn intersect_scene(scene: &GpuScene, origin: Vec3, dir: Vec3, t_max: f32, any_hit: bool) -> Hit {
+    match scene.layout {
+        BvhLayout::Bvh2 => bvh::trace_bvh2(scene, origin, dir, t_max, any_hit),
+        BvhLayout::Cwbvh => cwbvh::trace_wide(scene, origin, dir, t_max, any_hit),
+    }
 }
 
 /// Per-pixel mean and unbiased sample variance of each channel.
