@@ -9,17 +9,23 @@
 
 use super::*;
 use rt_core::cpu_render::CpuAccumulation;
+use rt_gpu::Renderer;
 use std::sync::atomic::AtomicBool;
 
 /// Renders `scene` on both backends at its samples and returns the fraction of pixels that agree
-/// to rounding, after checking the image means agree within four standard errors.
+/// to rounding, after checking the image means agree within four standard errors and that both
+/// count the same rays, but for the paths of the pixels that differ.
 fn agreement(scene: &Scene) -> Option<f64> {
     let ctx = gpu()?;
     let gpu_scene = GpuScene::build(scene).unwrap();
-    let gpu_image = render_gpu(ctx, scene, &gpu_scene, RenderOptions::default());
+    let mut options = RenderOptions::default();
+    options.tuning.count_rays = true;
+    let mut renderer = Renderer::for_scene(ctx, scene, &gpu_scene, options).unwrap();
+    let spp = scene.settings.samples_per_pixel;
+    renderer.render(spp, |_| true).unwrap();
+    let gpu_image = renderer.read_image().unwrap();
     let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
     let mut cpu = CpuAccumulation::new(&frame, 0, None, false);
-    let spp = scene.settings.samples_per_pixel;
     assert!(cpu.add_batch(&gpu_scene, &frame, spp, &AtomicBool::new(false)));
     let cpu_pixels = cpu.pixels();
     let agree = gpu_image
@@ -49,6 +55,17 @@ fn agreement(scene: &Scene) -> Option<f64> {
     assert!(
         (g_mean - c_mean).abs() <= 4.0 * sigma + 1e-6,
         "image luminance: GPU {g_mean}, CPU backend {c_mean}, σ {sigma}"
+    );
+    // A path traces at most an extension ray, a light sample's shadow ray and one per delta light
+    // at each vertex: that bounds what the disagreeing pixels' samples can change.
+    let per_path = u64::from(frame.max_depth) * (2 + gpu_scene.delta_lights.len() as u64);
+    let bound = (cpu_pixels.len() - agree) as u64 * u64::from(spp) * per_path;
+    let gpu_rays = renderer.rays_traced();
+    eprintln!("rays traced: GPU {gpu_rays}, CPU backend {}", cpu.rays);
+    assert!(
+        cpu.rays.abs_diff(gpu_rays) <= bound && gpu_rays > 0,
+        "rays traced: GPU {gpu_rays}, CPU backend {} (the differing pixels allow {bound})",
+        cpu.rays
     );
     Some(agree as f64 / n)
 }

@@ -66,7 +66,7 @@ fn light_sampling_and_traversal_match_their_twin() {
         });
         let kernel = TwinKernel {
             words_in: 12,
-            words_out: 19,
+            words_out: 20,
             body: "let p = v3_in(item, 0u); let ng = v3_in(item, 3u); let d = v3_in(item, 6u);
     var r = rng_init(item, 3u, 9u);
     let l = sample_light(p, ng, &r);
@@ -81,7 +81,8 @@ fn light_sampling_and_traversal_match_their_twin() {
     var rays = 0u;
     put3(item, 12u, direct_light(p, ng, s, &q, &rays));
     let h = intersect_scene(p, d, 3.0e38, false);
-    put(item, 15u, h.t); put_u(item, 16u, h.triangle); put(item, 17u, h.b1); put(item, 18u, h.b2);",
+    put(item, 15u, h.t); put_u(item, 16u, h.triangle); put(item, 17u, h.b1); put(item, 18u, h.b2);
+    put_u(item, 19u, rays);",
             sobol: false,
         };
         let gpu_out = kernel.run_in(ctx, &scene, &input);
@@ -107,14 +108,16 @@ fn light_sampling_and_traversal_match_their_twin() {
                 out.extend(bits(&l.radiance_over_pdf.to_array()));
                 let surface = Surface::Lambert { albedo, ns: ng };
                 let mut q = Rng::new(item as u32, 4, 9);
+                let mut rays = 0;
                 out.extend(bits(
-                    &direct_light(g, frame, p, ng, &surface, &mut q).to_array(),
+                    &direct_light(g, frame, p, ng, &surface, &mut q, &mut rays).to_array(),
                 ));
                 let h = trace(g, p, d, 3.0e38);
                 out.extend([h.t.to_bits(), h.triangle, h.b1.to_bits(), h.b2.to_bits()]);
+                out.push(rays);
                 // Another emitter, another side of an edge, or another triangle at an edge: the
                 // GPU's row stands in for it, and it is counted.
-                let gpu_row = &gpu_out[item * 19..item * 19 + 19];
+                let gpu_row = &gpu_out[item * 20..item * 20 + 20];
                 let differs = |k: usize| {
                     let (a, b) = (f32::from_bits(out[k]), f32::from_bits(gpu_row[k]));
                     (a - b).abs() > 1e-3 * a.abs().max(b.abs()).max(1.0)
@@ -123,6 +126,7 @@ fn light_sampling_and_traversal_match_their_twin() {
                     || (1..12).any(differs)
                     || (12..15).any(differs)
                     || out[16] != gpu_row[16]
+                    || out[19] != gpu_row[19]
                 {
                     set_aside += 1;
                     return gpu_row.to_vec();
@@ -145,9 +149,9 @@ fn light_sampling_and_traversal_match_their_twin() {
             name,
             rel: 2e-4,
             abs: 1e-5,
-            exact_words: &[0, 16],
+            exact_words: &[0, 16, 19],
         }
-        .check_rows(&gpu_out, 19, &rows);
+        .check_rows(&gpu_out, 20, &rows);
     }
 }
 
@@ -203,7 +207,7 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
     });
     let kernel = TwinKernel {
         words_in: 11,
-        words_out: 12,
+        words_out: 13,
         body: "let p = v3_in(item, 0u); let ng = v3_in(item, 3u); let d = v3_in(item, 6u);
     let pixel = u_in(item, 10u);
     var r = rng_init(pixel, item, frame.seed);
@@ -213,7 +217,8 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
     var s: Surface;
     s.kind = MAT_LAMBERTIAN; s.color = vec3(0.8, 0.5, 0.3); s.n = ng;
     var rays = 0u;
-    put3(item, 9u, delta_lights_at(p, ng, s, &rays));",
+    put3(item, 9u, delta_lights_at(p, ng, s, &rays));
+    put_u(item, 12u, rays);",
         sobol: true,
     };
     let twin = TwinScene { frame, scene: g };
@@ -233,15 +238,17 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
                 albedo: Vec3::new(0.8, 0.5, 0.3),
                 ns: ng,
             };
-            let lit = delta_lights_at(g, frame, p, ng, &surface);
-            let out = bits(&[o, dir, sky, lit].map(|v| v.to_array()).concat());
+            let mut rays = 0;
+            let lit = delta_lights_at(g, frame, p, ng, &surface, &mut rays);
+            let mut out = bits(&[o, dir, sky, lit].map(|v| v.to_array()).concat());
+            out.push(rays);
             // A shadow ray grazing an edge, or a direction on an environment texel's boundary,
             // may go the other way on the GPU: set aside and counted.
-            let gpu_row = &gpu_out[item * 12..item * 12 + 12];
+            let gpu_row = &gpu_out[item * 13..item * 13 + 13];
             let differs = (6..12).any(|k| {
                 let (a, b) = (f32::from_bits(out[k]), f32::from_bits(gpu_row[k]));
                 (a - b).abs() > 1e-3 * a.abs().max(b.abs()).max(1e-3)
-            });
+            }) || out[12] != gpu_row[12];
             if differs {
                 set_aside += 1;
                 return gpu_row.to_vec();
@@ -260,7 +267,7 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
         name: "camera, sky and delta lights",
         rel: 2e-4,
         abs: 1e-5,
-        exact_words: &[],
+        exact_words: &[12],
     }
-    .check_rows(&gpu_out, 12, &rows);
+    .check_rows(&gpu_out, 13, &rows);
 }

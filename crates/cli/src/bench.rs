@@ -372,8 +372,7 @@ fn megabytes(mb: Option<f64>) -> String {
     mb.map_or_else(|| "-".into(), |mb| format!("{mb:.0}"))
 }
 
-/// The suite on the native CPU backend: the same scenes and table, paths/s and peak memory (rays
-/// are counted only by the GPU kernels).
+/// The suite on the native CPU backend: the same scenes, paths/s, rays/s and peak memory.
 fn run_on_cpu(args: &BenchArgs) -> Result<()> {
     if args.interactive || args.generic || args.engine.kernel.is_some() {
         anyhow::bail!(
@@ -385,8 +384,8 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
         rt_core::cpu_render::threads()
     );
     println!(
-        "{:<12} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9}",
-        "scene", "triangles", "BVH ms", "depth", "render s", "Mpaths/s", "peak MB"
+        "{:<12} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9}",
+        "scene", "triangles", "BVH ms", "depth", "render s", "Mpaths/s", "Mrays/s", "peak MB"
     );
     for (name, scene) in bench_suite(args)? {
         let Some(scene) = selected(args, &name, scene)? else {
@@ -402,13 +401,14 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
         let paths = f64::from(args.size) * f64::from(args.size) * f64::from(args.spp);
         let peak = peak_rss_mb();
         println!(
-            "{:<12} {:>9} {:>9.1} {:>6} {:>9.2} {:>9.3} {:>9}",
+            "{:<12} {:>9} {:>9.1} {:>6} {:>9.2} {:>9.3} {:>9.3} {:>9}",
             name,
             gpu_scene.triangles.len(),
             gpu_scene.bvh_build_time.as_secs_f64() * 1e3,
             gpu_scene.bvh_depth,
             secs,
             paths / secs / 1e6,
+            accumulation.rays as f64 / secs / 1e6,
             megabytes(peak)
         );
         println!(
@@ -417,7 +417,8 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
                 "scene": name, "adapter": label, "bvh": format!("{:?}", gpu_scene.layout),
                 "width": args.size, "height": args.size, "spp": args.spp,
                 "max_depth": scene.settings.max_depth, "render_s": secs,
-                "paths_per_s": paths / secs, "peak_rss_mb": peak,
+                "paths_per_s": paths / secs,
+                "rays_per_s": accumulation.rays as f64 / secs, "peak_rss_mb": peak,
             })
         );
     }

@@ -45,6 +45,8 @@ pub struct CpuAccumulation {
     pub samples: u32,
     /// Per pixel, row-major: the sums of its samples' radiance and squared luminance.
     pub sums: Vec<PixelSums>,
+    /// Rays traced by the batches so far (extension and shadow rays, as the kernels count them).
+    pub rays: u64,
     adaptive: Option<Adaptive>,
     /// With adaptive sampling, per pixel: 0 while it samples, else the count it stopped at.
     stopped: Vec<u32>,
@@ -63,6 +65,7 @@ impl CpuAccumulation {
             first_sample,
             samples: 0,
             sums: vec![PixelSums::default(); n],
+            rays: 0,
             adaptive,
             stopped: if adaptive.is_some() {
                 vec![0; n]
@@ -91,19 +94,21 @@ impl CpuAccumulation {
         let first = self.first_sample + self.samples;
         let stopped = &self.stopped;
         let keep_guides = self.guides.is_some();
-        let rows: Vec<Option<Vec<PixelBatch>>> = (0..self.height)
+        let rows: Vec<Option<(Vec<PixelBatch>, u64)>> = (0..self.height)
             .into_par_iter()
             .map(|y| {
                 if cancel.load(Ordering::Relaxed) {
                     return None;
                 }
                 let mut row = vec![PixelBatch::default(); width];
+                let mut rays = 0;
                 for (x, pixel) in row.iter_mut().enumerate() {
                     if stopped.get(y as usize * width + x).is_some_and(|&s| s != 0) {
                         continue;
                     }
                     for s in first..first + count {
                         let path = trace_path(scene, frame, x as u32, y, s, keep_guides);
+                        rays += u64::from(path.rays);
                         // A sample that is not finite (or absurdly large) is dropped, as the
                         // kernels drop it: it adds zero and still counts.
                         add_sample(&mut pixel.sums, path.radiance.to_array());
@@ -119,14 +124,15 @@ impl CpuAccumulation {
                         }
                     }
                 }
-                Some(row)
+                Some((row, rays))
             })
             .collect();
-        if rows.iter().any(Option::is_none) {
+        let Some(rows) = rows.into_iter().collect::<Option<Vec<_>>>() else {
             return false;
-        }
+        };
+        self.rays += rows.iter().map(|(_, rays)| rays).sum::<u64>();
         let before = self.counts();
-        for (i, add) in rows.into_iter().flatten().flatten().enumerate() {
+        for (i, add) in rows.into_iter().flat_map(|(row, _)| row).enumerate() {
             self.sums[i] = add_pixels(&self.sums[i], &add.sums);
             let sampled = self.stopped.get(i).is_none_or(|&s| s == 0);
             if let Some(g) = self.guides.as_mut().filter(|_| sampled) {

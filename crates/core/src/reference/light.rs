@@ -121,7 +121,8 @@ pub fn sample_light(
 }
 
 /// Next-event estimation at `p`: f cosθ L_e · w_light / p_light for one light sample, or zero if
-/// it is occluded (β is applied by the caller). Always draws four random numbers.
+/// it is occluded (β is applied by the caller). Always draws four random numbers; adds the shadow
+/// ray it traces (if any) to `rays`.
 pub fn direct_light(
     scene: &GpuScene,
     frame: &Frame,
@@ -129,12 +130,17 @@ pub fn direct_light(
     ng: Vec3,
     surface: &Surface,
     rng: &mut Rng,
+    rays: &mut u32,
 ) -> Vec3 {
     let Some(light) = sample_light(scene, frame, p, ng, rng) else {
         return Vec3::ZERO;
     };
     let (f_cos, p_bsdf) = surface.eval(light.direction);
-    if f_cos == Vec3::ZERO || occluded(scene, light.origin, light.direction, light.distance) {
+    if f_cos == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    *rays += 1;
+    if occluded(scene, light.origin, light.direction, light.distance) {
         return Vec3::ZERO;
     }
     let w_light = if frame.light_strategy == 1 {
@@ -172,13 +178,15 @@ pub fn delta_light_incidence(light: &DeltaLight, origin: Vec3) -> (Vec3, f32, Ve
 }
 
 /// Point, spot and directional lights at `p`: Σ E f cosθ over the unoccluded lights (β applied by
-/// the caller), E = I/d² (times the spot falloff) or the sun's E.
+/// the caller), E = I/d² (times the spot falloff) or the sun's E. Adds the shadow rays it traces
+/// to `rays`.
 pub fn delta_lights_at(
     scene: &GpuScene,
     frame: &Frame,
     p: Vec3,
     ng: Vec3,
     surface: &Surface,
+    rays: &mut u32,
 ) -> Vec3 {
     let origin = offset_ray_origin(p, ng, frame.offset_scale);
     let mut sum = Vec3::ZERO;
@@ -191,7 +199,11 @@ pub fn delta_lights_at(
             continue;
         }
         let (f_cos, _) = surface.eval(dir);
-        if f_cos == Vec3::ZERO || occluded(scene, origin, dir, distance) {
+        if f_cos == Vec3::ZERO {
+            continue;
+        }
+        *rays += 1;
+        if occluded(scene, origin, dir, distance) {
             continue;
         }
         sum += irradiance * f_cos;

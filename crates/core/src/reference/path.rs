@@ -119,6 +119,7 @@ pub fn trace_path(
     path.first_hit = guides.then(FirstHit::default);
     while path.depth < frame.max_depth {
         let hit = trace(scene, path.origin, path.direction, f32::MAX);
+        path.rays += 1;
         if !shade_vertex(scene, frame, &mut path, hit) {
             break;
         }
@@ -148,6 +149,8 @@ pub struct PathState {
     /// and the light seen directly there. Zero where the camera ray escapes (the sky it sees is
     /// the emission).
     pub first_hit: Option<FirstHit>,
+    /// Rays traced so far, extension and shadow rays (the kernels' `COUNT_RAYS` tally).
+    pub rays: u32,
 }
 
 /// What the camera ray finds first, for the denoiser's guides.
@@ -177,6 +180,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         depth: 0,
         rng,
         first_hit: None,
+        rays: 0,
     }
 }
 
@@ -366,10 +370,11 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     );
     if !surface.is_delta() {
         if lights_sampled {
-            let direct = path.beta * direct_light(scene, frame, p, ng, &surface, &mut path.rng);
+            let direct = path.beta
+                * direct_light(scene, frame, p, ng, &surface, &mut path.rng, &mut path.rays);
             path.radiance += clamp_bounced(direct, frame, path.depth + 1);
         }
-        let delta = path.beta * delta_lights_at(scene, frame, p, ng, &surface);
+        let delta = path.beta * delta_lights_at(scene, frame, p, ng, &surface, &mut path.rays);
         path.radiance += clamp_bounced(delta, frame, path.depth + 1);
     }
     let Some(sample) = surface.sample(path.direction, ng, &mut path.rng) else {
