@@ -24,10 +24,19 @@ Matched on purpose:
     whose widths are Cycles' (r = √α_y, s = √((α_x − α_y)/(1 − α_y))), so both render one lobe.
     Its tangents are the UV map's (MikkTSpace) in both: a Tangent node in Cycles.
 
+`--set glass` builds another row instead: smooth and rough glass (roughness 0.2, 0.4, 0.7), a
+tinted rough glass, rough water (IOR 1.33) and a rough dense glass (IOR 1.8), all Principled
+Transmission. Solid spheres: `patch` gives every transmissive material KHR_materials_volume (glTF
+reads transmission without it as a thin wall; Cycles refracts into the solid). Not compared:
+dispersion (Blender 5.2's Principled and Glass BSDFs have no Dispersion input; its exporter takes
+KHR_materials_dispersion from the glTF Material Output node, which Cycles does not render).
+
 Needs: Python 3.13 with `pip install bpy==5.2.3 OpenEXR`, and a release rt-cli.
 
-Usage: python3.13 bench/cycles-layers.py [--spp 1024] [--rt-spp 1024] [--out DIR]
-Writes OUT/{scene.glb,reference.exr} (`tests/cycles_layers.rs` reads them) and prints the comparison.
+Usage: python3.13 bench/cycles-layers.py [--set layers|glass] [--spp 1024] [--rt-spp 1024]
+       [--out DIR]
+Writes OUT/{scene.glb,reference.exr} (OUT is tests/data/cycles-SET by default;
+`tests/cycles_layers.rs` reads them) and prints the comparison.
 """
 
 import math
@@ -67,7 +76,23 @@ SPHERES = [
 ]
 
 
-def build(bpy):
+def glass(roughness, color=(1, 1, 1, 1), ior=1.5):
+    return {"Base Color": color, "Transmission Weight": 1.0, "Roughness": roughness, "IOR": ior}
+
+
+GLASS = [
+    ("clear glass", -3.6, glass(0.0)),
+    ("rough glass 0.2", -2.4, glass(0.2)),
+    ("rough glass 0.4", -1.2, glass(0.4)),
+    ("rough glass 0.7", 0.0, glass(0.7)),
+    ("tinted rough glass", 1.2, glass(0.3, color=(0.9, 0.5, 0.3, 1), ior=1.45)),
+    ("rough water", 2.4, glass(0.15, ior=1.33)),
+    ("rough dense glass", 3.6, glass(0.3, ior=1.8)),
+]
+SETS = {"layers": SPHERES, "glass": GLASS}
+
+
+def build(bpy, spheres):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     bpy.ops.mesh.primitive_plane_add(size=12, location=(0, 0, 0))
@@ -80,7 +105,7 @@ def build(bpy):
     bsdf.inputs["Roughness"].default_value = 1.0
     floor.data.materials.append(m)
     floor.pass_index = 1
-    for k, (name, x, inputs) in enumerate(SPHERES):
+    for k, (name, x, inputs) in enumerate(spheres):
         bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(x, 0, 0.5), segments=64,
                                              ring_count=32)
         bpy.ops.object.shade_smooth()
@@ -131,7 +156,8 @@ def gltf_anisotropy(roughness, anisotropic):
 
 def patch(glb):
     """Writes KHR_materials_iridescence (the film Blender's Principled BSDF has) into the .glb's
-    "soap film" material and Cycles' anisotropic widths into the "brushed steel", in place."""
+    "soap film" material and Cycles' anisotropic widths into the "brushed steel", and makes every
+    transmissive material a solid (KHR_materials_volume); in place."""
     import json
     import struct
 
@@ -148,7 +174,13 @@ def patch(glb):
             roughness, strength = gltf_anisotropy(BRUSHED_ROUGHNESS, BRUSHED_ANISOTROPIC)
             m["pbrMetallicRoughness"]["roughnessFactor"] = roughness
             m["extensions"]["KHR_materials_anisotropy"]["anisotropyStrength"] = strength
-    doc.setdefault("extensionsUsed", []).append("KHR_materials_iridescence")
+        extensions = m.get("extensions", {})
+        if "KHR_materials_transmission" in extensions:
+            extensions.setdefault("KHR_materials_volume", {"thicknessFactor": 1.0})
+    used = doc.setdefault("extensionsUsed", [])
+    for name in ("KHR_materials_iridescence", "KHR_materials_volume"):
+        if name not in used and any(name in m.get("extensions", {}) for m in doc["materials"]):
+            used.append(name)
     text = json.dumps(doc).encode()
     text += b" " * (-len(text) % 4)
     chunk = struct.pack("<I", len(text)) + b"JSON" + text
@@ -189,12 +221,14 @@ def rgb_of(channels):
 
 
 def main():
-    args = arguments(__doc__, 1024, ROOT / "tests" / "data" / "cycles-layers")
+    args = arguments(__doc__, 1024, lambda name: ROOT / "tests" / "data" / f"cycles-{name}",
+                     list(SETS))
     import bpy
     import numpy
 
+    spheres = SETS[args.set]
     out = Path(args.out)
-    scene = build(bpy)
+    scene = build(bpy, spheres)
     export_glb(bpy, out / "scene.glb")
     patch(out / "scene.glb")
     started = time.perf_counter()
@@ -215,7 +249,8 @@ def main():
         run = subprocess.run([str(CLI), "render", str(out / "scene.glb"), "--width", str(WIDTH),
                               "--height", str(HEIGHT), "--max-depth", str(DEPTH), "--spp",
                               str(args.rt_spp), "--environment", "none", "--ambient",
-                              f"{AMBIENT},{AMBIENT},{AMBIENT}", "-o", str(rt_out), "-v"],
+                              f"{AMBIENT},{AMBIENT},{AMBIENT}", "--device", "auto", "-o",
+                              str(rt_out), "-v"],
                              capture_output=True, text=True)
         if run.returncode != 0:
             raise SystemExit(run.stderr)
@@ -231,7 +266,7 @@ def main():
         print(f"image {name}: rt {a:.5f} Cycles {b:.5f} ({100 * (a / b - 1):+.2f}%)")
     print("| object (pixels) | rt R/G/B | Cycles R/G/B | rt / Cycles − 1 |")
     print("| --- | --- | --- | --- |")
-    for k, name in enumerate(["floor"] + [s[0] for s in SPHERES]):
+    for k, name in enumerate(["floor"] + [s[0] for s in spheres]):
         mask = numpy.abs(index - (k + 1)) < 0.5
         # Not the silhouettes, where a pixel mixes the object and what lies behind.
         inner = mask.copy()

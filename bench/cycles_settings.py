@@ -7,14 +7,19 @@ import argparse
 from pathlib import Path
 
 
-def arguments(doc, rt_spp, out):
+def arguments(doc, rt_spp, out, sets=None):
     """The comparisons' command line: Cycles' and rt's sample counts and the output folder, which
-    it creates."""
+    it creates. With `sets` (names), also `--set`, the first by default; `out` is then a function
+    of the set's name."""
     parser = argparse.ArgumentParser(description=doc.splitlines()[0])
     parser.add_argument("--spp", type=int, default=1024)
     parser.add_argument("--rt-spp", type=int, default=rt_spp)
-    parser.add_argument("--out", default=str(out))
+    parser.add_argument("--out", default=None)
+    if sets:
+        parser.add_argument("--set", choices=sets, default=sets[0])
     args = parser.parse_args()
+    if args.out is None:
+        args.out = str(out(args.set) if sets else out)
     Path(args.out).mkdir(parents=True, exist_ok=True)
     return args
 

@@ -59,34 +59,14 @@ fn coat_sheen_and_specular_render_as_cycles_renders_them() {
     let image = render(ctx, &scene);
     let reference = data.join("reference.exr");
     assert_matches_reference(&image, &reference, "Cycles", 0.02, 0.08);
-    for (object, (ours, theirs, pixels)) in scene
-        .objects
-        .iter()
-        .zip(object_sums(&scene, &image, &reference))
-    {
-        let tolerance = match object.name.as_str() {
-            "velvet" => 0.25,
-            // rt restores the energy a stretched lobe's multiple scattering keeps from its own
-            // table (`math::anisotropic_energy`); Cycles reads its isotropic table at the mean
-            // width, which does not: +6.3% measured (-0.6% when rt did the same).
-            "brushed steel" => 0.09,
-            _ => 0.05,
-        };
-        for c in 0..3 {
-            let difference = ours[c] / theirs[c] - 1.0;
-            eprintln!(
-                "{} channel {c}: {pixels} pixels, rt/Cycles {:+.2}%",
-                object.name,
-                100.0 * difference
-            );
-            assert!(
-                difference.abs() <= tolerance,
-                "{} channel {c}: rt differs from Cycles by {:+.2}% over its {pixels} pixels",
-                object.name,
-                100.0 * difference
-            );
-        }
-    }
+    assert_objects_match(&scene, &image, &reference, |name| match name {
+        "velvet" => 0.25,
+        // rt restores the energy a stretched lobe's multiple scattering keeps from its own
+        // table (`math::anisotropic_energy`); Cycles reads its isotropic table at the mean
+        // width, which does not: +6.3% measured (-0.6% when rt did the same).
+        "brushed steel" => 0.09,
+        _ => 0.05,
+    });
     // The brushed steel's mean is that of an isotropic steel too (+0.1% measured): its highlight's
     // shape is the test. Each 8 × 8-pixel tile at least half covered by it, relative to the
     // sphere's whole (the compensation's difference above), within 6% of Cycles (measured worst
@@ -120,4 +100,75 @@ fn coat_sheen_and_specular_render_as_cycles_renders_them() {
         100.0 * worst
     );
     assert!(checked >= 20, "only {checked} tiles of brushed steel");
+}
+
+/// Each object's pixels, per channel, within `tolerance(name)` of Cycles' (relative).
+fn assert_objects_match(
+    scene: &rt_core::Scene,
+    image: &rt_gpu::Image,
+    reference: &Path,
+    tolerance: impl Fn(&str) -> f64,
+) {
+    for (object, (ours, theirs, pixels)) in scene
+        .objects
+        .iter()
+        .zip(object_sums(scene, image, reference))
+    {
+        let tolerance = tolerance(&object.name);
+        for c in 0..3 {
+            let difference = ours[c] / theirs[c] - 1.0;
+            eprintln!(
+                "{} channel {c}: {pixels} pixels, rt/Cycles {:+.2}%",
+                object.name,
+                100.0 * difference
+            );
+            assert!(
+                difference.abs() <= tolerance,
+                "{} channel {c}: rt differs from Cycles by {:+.2}% over its {pixels} pixels",
+                object.name,
+                100.0 * difference
+            );
+        }
+    }
+}
+
+/// Smooth and rough glass against Cycles: `bench/cycles-layers.py --set glass` built a row of solid
+/// Principled glass spheres (roughness 0, 0.2, 0.4 and 0.7 at IOR 1.5; a tinted rough glass at
+/// 1.45; rough water, 1.33; a rough dense glass, 1.8), exported them (the script makes each a solid
+/// with KHR_materials_volume) and rendered Cycles' 1024-spp reference under the same grey world
+/// and sun as the layers. Cycles compensates rough glass's multiple scattering with its
+/// `ggx_glass_E` tables, rt with its own (`math::glass_energy`); both take the sun through the
+/// rough glass by next-event estimation from its far side (without that rt was 8–16% darker on
+/// the rough spheres). Each untinted object within 5% (measured −1.3% to −3.3% at 1024 spp, the
+/// floor −1.5%), the image mean within 3% (−1.8%). The tinted glass differs by about its base
+/// colour (−12%, −45%, −57% for a colour of 0.9, 0.5, 0.3): rt tints transmitted light by the base
+/// colour at each crossing of the surface, Cycles' Principled BSDF gives a solid its base colour
+/// once; within 65% until one convention is chosen (docs/quality.md).
+#[test]
+fn rough_glass_renders_as_cycles_renders_it() {
+    let Some(ctx) = gpu() else { return };
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cycles-glass");
+    let mut scene = rt_core::io::gltf::load_gltf(&data.join("scene.glb"), None).unwrap();
+    for o in scene.objects.iter().filter(|o| o.name != "floor") {
+        let rt_core::Material::Pbr(p) = &o.material else {
+            panic!("{}: PBR expected", o.name)
+        };
+        assert!(
+            p.transmission == 1.0 && !p.thin_walled,
+            "{}: a solid glass expected",
+            o.name
+        );
+    }
+    scene.environment = None;
+    scene.ambient = [0.5; 3];
+    scene.settings = settings(448, 128, 256, 8);
+    let image = render(ctx, &scene);
+    let reference = data.join("reference.exr");
+    // Blocks within 20%: the tinted glass's four differ by up to 17% (its tint convention); the
+    // objects below are held to 5%.
+    assert_matches_reference(&image, &reference, "Cycles", 0.03, 0.2);
+    assert_objects_match(&scene, &image, &reference, |name| match name {
+        "tinted rough glass" => 0.65,
+        _ => 0.05,
+    });
 }

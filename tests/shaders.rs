@@ -389,6 +389,10 @@ fn shared_constants_match_wgsl() {
             "SHEEN_MIN_ROUGHNESS",
             rt_core::math::sheen::SHEEN_MIN_ROUGHNESS,
         ),
+        (
+            "LIT_THROUGH_MIN_ALPHA",
+            rt_core::reference::surface::LIT_THROUGH_MIN_ALPHA,
+        ),
     ] {
         let (_, constant) = parsed
             .constants

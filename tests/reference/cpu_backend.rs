@@ -78,17 +78,19 @@ fn the_cpu_backend_renders_the_gpu_image_on_every_reference_scene() {
     point.intensity = 2e4;
     let mut sun = rt_core::Light::new(rt_core::LightKind::Directional, "sun");
     sun.direction = [0.3, -1.0, 0.2];
-    lights.lights = vec![point, sun];
+    lights.lights = vec![point, sun.clone()];
     lights.settings.samples_per_pixel = 8;
     let mut pbr = pbr_scene_with_environment(24, 18);
     pbr.settings.samples_per_pixel = 8;
+    // The sun through its rough glass: delta lights beyond a transmitting surface.
+    pbr.lights.push(sun);
     let mut alpha = alpha_and_emission_textures_scene(24, 20);
     alpha.settings.samples_per_pixel = 8;
     let mut textured = textured_scene_with_normals_metal_glass_and_lens();
     textured.settings.samples_per_pixel = 4;
     for (name, scene, bound) in [
         ("metal, glass, point and sun lights", lights, 0.98),
-        ("PBR under an environment", pbr, 0.98),
+        ("PBR under an environment and the sun", pbr, 0.98),
         ("alpha and emission textures", alpha, 0.5),
         ("textures, normal maps, thin lens", textured, 0.98),
     ] {

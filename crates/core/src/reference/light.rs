@@ -178,7 +178,10 @@ pub fn delta_light_incidence(light: &DeltaLight, origin: Vec3) -> (Vec3, f32, Ve
 }
 
 /// Point, spot and directional lights at `p`: Σ E f cosθ over the unoccluded lights (β applied by
-/// the caller), E = I/d² (times the spot falloff) or the sun's E. Adds the shadow rays it traces
+/// the caller), E = I/d² (times the spot falloff) or the sun's E. A surface they light through
+/// (`Surface::lit_through`: rough or diffuse transmission) also takes the lights beyond it, its
+/// shadow rays leaving from its other side: no BSDF sample can find a delta light, so without
+/// this a sun behind rough glass would send nothing through it. Adds the shadow rays it traces
 /// to `rays`.
 pub fn delta_lights_at(
     scene: &GpuScene,
@@ -188,14 +191,26 @@ pub fn delta_lights_at(
     surface: &Surface,
     rays: &mut u32,
 ) -> Vec3 {
-    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    let above = offset_ray_origin(p, ng, frame.offset_scale);
+    let below = surface
+        .lit_through()
+        .then(|| offset_ray_origin(p, -ng, frame.offset_scale));
     let mut sum = Vec3::ZERO;
     for light in &scene.delta_lights {
         if light.kind == 0 {
             continue;
         }
-        let (dir, distance, irradiance) = delta_light_incidence(light, origin);
-        if dir.dot(ng) <= 0.0 || dir.dot(ng).is_nan() || irradiance == Vec3::ZERO {
+        let (mut origin, (mut dir, mut distance, mut irradiance)) =
+            (above, delta_light_incidence(light, above));
+        // NaN (a light at the point itself) counts as neither side.
+        if dir.dot(ng) <= 0.0 || dir.dot(ng).is_nan() {
+            let Some(below) = below else { continue };
+            (origin, (dir, distance, irradiance)) = (below, delta_light_incidence(light, below));
+            if dir.dot(ng) >= 0.0 || dir.dot(ng).is_nan() {
+                continue;
+            }
+        }
+        if irradiance == Vec3::ZERO {
             continue;
         }
         let (f_cos, _) = surface.eval(dir);

@@ -134,21 +134,36 @@ fn delta_light_incidence(light: DeltaLight, origin: vec3<f32>) -> DeltaIncidence
 }
 
 // Point, spot and directional lights at p: sum over lights of E f cos, E the irradiance from the
-// light (I/d^2, falloff for spots; E for the sun), if unoccluded (beta applied by the caller).
-// Deterministic: draws no random numbers.
+// light (I/d^2, falloff for spots; E for the sun), if unoccluded (beta applied by the caller). A
+// surface they light through (rough or diffuse transmission) also takes the lights beyond it, its
+// shadow rays leaving from its other side (light.rs says why). Deterministic: draws no random
+// numbers.
 fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<function, u32>) -> vec3<f32> {
     var sum = vec3(0.0);
-    let origin = offset_ray_origin(p, ng, frame.offset_scale);
+    let above = offset_ray_origin(p, ng, frame.offset_scale);
+    let transmits = surface_lit_through(surface);
+    let below = offset_ray_origin(p, -ng, frame.offset_scale);
     for (var i = 0u; i < arrayLength(&delta_lights); i++) {
         let light = delta_lights[i];
         if (light.kind == 0u) {
             continue;
         }
-        let incidence = delta_light_incidence(light, origin);
+        var origin = above;
+        var incidence = delta_light_incidence(light, above);
+        if (!(dot(incidence.dir, ng) > 0.0)) {
+            if (!transmits) {
+                continue;
+            }
+            origin = below;
+            incidence = delta_light_incidence(light, below);
+            if (!(dot(incidence.dir, ng) < 0.0)) {
+                continue;
+            }
+        }
         let dir = incidence.dir;
         let distance = incidence.distance;
         let irradiance = incidence.irradiance;
-        if (!(dot(dir, ng) > 0.0) || all(irradiance == vec3(0.0))) {
+        if (all(irradiance == vec3(0.0))) {
             continue;
         }
         let f_cos = surface_eval(surface, dir).xyz;

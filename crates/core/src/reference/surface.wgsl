@@ -173,6 +173,16 @@ fn surface_is_delta(s: Surface) -> bool {
     return s.kind == MAT_METAL || s.kind == MAT_DIELECTRIC;
 }
 
+// Whether point, spot and sun lights beyond the surface light it through its transmission: a
+// diffuse transmission, or a glass lobe rough enough to resolve them (surface.rs `lit_through`
+// says why).
+const LIT_THROUGH_MIN_ALPHA: f32 = 0.01;
+
+fn surface_lit_through(s: Surface) -> bool {
+    return HAS_PBR && s.kind == MAT_PBR && (s.bsdf.base.diffuse_transmission > 0.0
+        || (s.bsdf.base.transmission > 0.0 && min(s.bsdf.base.alpha.x, s.bsdf.base.alpha.y) >= LIT_THROUGH_MIN_ALPHA));
+}
+
 // Whether the lobe may send a path below the geometric surface.
 fn surface_transmits(s: Surface) -> bool {
     return s.kind == MAT_DIELECTRIC || (HAS_PBR && s.kind == MAT_PBR
