@@ -195,6 +195,8 @@ pub fn delta_lights_at(
     let below = surface
         .lit_through()
         .then(|| offset_ray_origin(p, -ng, frame.offset_scale));
+    // NaN (a light at the point itself) faces neither side.
+    let faces = |dir: Vec3, side: std::cmp::Ordering| dir.dot(ng).partial_cmp(&0.0) == Some(side);
     let mut sum = Vec3::ZERO;
     for light in &scene.delta_lights {
         if light.kind == 0 {
@@ -202,11 +204,10 @@ pub fn delta_lights_at(
         }
         let (mut origin, (mut dir, mut distance, mut irradiance)) =
             (above, delta_light_incidence(light, above));
-        // NaN (a light at the point itself) counts as neither side.
-        if dir.dot(ng) <= 0.0 || dir.dot(ng).is_nan() {
+        if !faces(dir, std::cmp::Ordering::Greater) {
             let Some(below) = below else { continue };
             (origin, (dir, distance, irradiance)) = (below, delta_light_incidence(light, below));
-            if dir.dot(ng) >= 0.0 || dir.dot(ng).is_nan() {
+            if !faces(dir, std::cmp::Ordering::Less) {
                 continue;
             }
         }

@@ -141,8 +141,7 @@ fn delta_light_incidence(light: DeltaLight, origin: vec3<f32>) -> DeltaIncidence
 fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<function, u32>) -> vec3<f32> {
     var sum = vec3(0.0);
     let above = offset_ray_origin(p, ng, frame.offset_scale);
-    let transmits = surface_lit_through(surface);
-    let below = offset_ray_origin(p, -ng, frame.offset_scale);
+    let lit_through = surface_lit_through(surface);
     for (var i = 0u; i < arrayLength(&delta_lights); i++) {
         let light = delta_lights[i];
         if (light.kind == 0u) {
@@ -151,11 +150,12 @@ fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<func
         var origin = above;
         var incidence = delta_light_incidence(light, above);
         if (!(dot(incidence.dir, ng) > 0.0)) {
-            if (!transmits) {
+            if (!lit_through) {
                 continue;
             }
-            origin = below;
-            incidence = delta_light_incidence(light, below);
+            // The other side's origin only where a light lies beyond a surface it lights through.
+            origin = offset_ray_origin(p, -ng, frame.offset_scale);
+            incidence = delta_light_incidence(light, origin);
             if (!(dot(incidence.dir, ng) < 0.0)) {
                 continue;
             }
