@@ -6,15 +6,47 @@ use super::*;
 use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::reference::{Surface, direct_light, sample_light, trace};
 
+/// The Cornell box with thirty more small emitters facing every way, picked through the light
+/// tree.
+fn cornell_with_many_lights() -> rt_core::Scene {
+    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let (lo, hi) = scene.bounds().unwrap();
+    let mut rng = Rng::new(8, 0, 0x3e);
+    for i in 0..30 {
+        let u = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let strength = 10f32.powf(2.0 * rng.next_f32());
+        scene.objects.push(rt_core::Object {
+            name: format!("light {i}"),
+            mesh: rt_core::shapes::quad(lo + (hi - lo) * u, unit(&mut rng), 40.0).into(),
+            material: rt_core::Material::Emissive {
+                color: [strength, 0.5 * strength, strength],
+                intensity: 1.0,
+            },
+            transform: Default::default(),
+        });
+    }
+    scene.settings.light_sampler = rt_core::LightSampler::Tree;
+    scene
+}
+
 /// The Cornell box, and with a random environment map (sampled with its own probability) over the
-/// other BVH layout.
+/// other BVH layout, and with many lights sampled through the light tree.
 fn light_scenes() -> Vec<(&'static str, TwinScene)> {
     let mut out = Vec::new();
     for (name, layout, environment) in [
         ("area lights, CWBVH", BvhLayout::Cwbvh, false),
         ("area lights and environment, BVH2", BvhLayout::Bvh2, true),
+        (
+            "many lights through the tree, CWBVH",
+            BvhLayout::Cwbvh,
+            false,
+        ),
     ] {
-        let mut scene = rt_core::assets::cornell_box().unwrap();
+        let mut scene = if name.contains("tree") {
+            cornell_with_many_lights()
+        } else {
+            rt_core::assets::cornell_box().unwrap()
+        };
         if environment {
             let mut rng = Rng::new(5, 0, 0x11);
             let texels = (0..16 * 8)
@@ -30,6 +62,7 @@ fn light_scenes() -> Vec<(&'static str, TwinScene)> {
         assert_eq!(gpu.layout, layout);
         let frame = rt_core::frame::frame_for(&scene, &gpu).unwrap();
         assert!(frame.emitter_count > 0 && (frame.env_pick > 0.0) == environment);
+        assert_eq!(frame.light_sampler == 1, name.contains("tree"));
         out.push((name, TwinScene { frame, scene: gpu }));
     }
     out
@@ -270,4 +303,81 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
         exact_words: &[12],
     }
     .check_rows(&gpu_out, 13, &rows);
+}
+
+/// The light tree's pmf of an emitter found by a BSDF-sampled ray (`emitter_pdf` through
+/// `leaf_of` and `tree_pmf`), the packed normal it is weighed with, and the power table's pdf, at
+/// random points, normals and emitters of the Cornell box with thirty more lights.
+#[test]
+fn emitter_pdfs_of_both_samplers_match_their_twin() {
+    use rt_core::reference::light::emitter_pdf;
+    use rt_core::reference::light_tree::{pack_normal, unpack_normal};
+    let Some(ctx) = gpu() else { return };
+    let scene = cornell_with_many_lights();
+    let (lo, hi) = scene.bounds().unwrap();
+    let g = rt_core::GpuScene::build(&scene).unwrap();
+    let tree = rt_core::frame::frame_for(&scene, &g).unwrap();
+    let power = Frame {
+        light_sampler: 0,
+        ..tree
+    };
+    assert_eq!(tree.light_sampler, 1);
+    let emitters = g.emitters.clone();
+    let input = inputs(9, |rng| {
+        let u = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let x = lo + (hi - lo) * u;
+        let n = unit(rng);
+        let e = &emitters[(rng.next_f32() * emitters.len() as f32) as usize];
+        let distance = 1.0 + 500.0 * rng.next_f32();
+        let cos_l = 0.05 + 0.95 * rng.next_f32();
+        let mut item = bits(&[x, n].map(|v| v.to_array()).concat());
+        item.extend([e.triangle, distance.to_bits(), cos_l.to_bits()]);
+        item
+    });
+    let body = "let x = v3_in(item, 0u); let packed = pack_normal(v3_in(item, 3u));
+    put3(item, 0u, unpack_normal(packed));
+    put(item, 3u, emitter_pdf(u_in(item, 6u), x, packed, f_in(item, 7u), f_in(item, 8u)));";
+    let rows_of = |frame: &Frame| {
+        let kernel = TwinKernel {
+            words_in: 9,
+            words_out: 4,
+            body,
+            sobol: false,
+        };
+        let gpu_out = kernel.run_in(
+            ctx,
+            &TwinScene {
+                frame: *frame,
+                scene: g.clone(),
+            },
+            &input,
+        );
+        let rows: Vec<Vec<u32>> = (0..ITEMS)
+            .map(|item| {
+                let w = |k: usize| input[item * 9 + k];
+                let f = |k: usize| f32::from_bits(w(k));
+                let x = Vec3::new(f(0), f(1), f(2));
+                let packed = pack_normal(Vec3::new(f(3), f(4), f(5)));
+                let mut out = bits(&unpack_normal(packed).to_array());
+                out.push(emitter_pdf(&g, frame, w(6), x, packed, f(7), f(8)).to_bits());
+                out
+            })
+            .collect();
+        (gpu_out, rows)
+    };
+    for (name, frame) in [("tree", &tree), ("power", &power)] {
+        let (gpu_out, rows) = rows_of(frame);
+        let positive = rows.iter().filter(|r| f32::from_bits(r[3]) > 0.0).count();
+        assert!(
+            positive > ITEMS / 4,
+            "{name}: only {positive} positive pdfs"
+        );
+        Comparison {
+            name,
+            rel: 1e-4,
+            abs: 1e-9,
+            exact_words: &[],
+        }
+        .check_rows(&gpu_out, 4, &rows);
+    }
 }

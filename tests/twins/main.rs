@@ -166,6 +166,7 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invoc
                 storage(20, true),
                 storage(21, true),
                 storage(22, true),
+                storage(26, true),
             ],
         });
         let twin_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -219,6 +220,7 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invoc
             (20, storage_buffer(bytemuck::cast_slice(&g.env_texels))),
             (21, storage_buffer(bytemuck::cast_slice(&g.albedo_tables))),
             (22, storage_buffer(bytemuck::cast_slice(&g.tangents))),
+            (26, storage_buffer(bytemuck::cast_slice(&g.light_tree))),
         ];
         let out_bytes = (ITEMS * self.words_out * 4) as u64;
         let output = device.create_buffer(&wgpu::BufferDescriptor {

@@ -24,6 +24,10 @@ pub struct BenchArgs {
     /// Benchmark BSDF sampling only (next-event estimation off).
     #[arg(long)]
     no_nee: bool,
+    /// How next-event estimation picks emitters (as `render --light-sampler`; the scenes' own
+    /// setting when left out).
+    #[arg(long, value_enum)]
+    light_sampler: Option<crate::options::LightSamplerArg>,
     /// Use the generic kernel (every feature compiled in) instead of one specialised per scene.
     #[arg(long)]
     generic: bool,
@@ -441,6 +445,9 @@ fn selected(args: &BenchArgs, name: &str, scene: SceneLoader) -> Result<Option<S
     scene.settings.width = args.size;
     scene.settings.height = args.size;
     scene.settings.next_event_estimation = !args.no_nee;
+    if let Some(sampler) = args.light_sampler {
+        scene.settings.light_sampler = sampler.into();
+    }
     Ok(Some(scene))
 }
 

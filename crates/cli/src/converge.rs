@@ -80,6 +80,11 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
                 } else {
                     "independent, "
                 }
+                + match scene.settings.light_sampler {
+                    rt_core::LightSampler::Auto => "",
+                    rt_core::LightSampler::Power => "lights by power, ",
+                    rt_core::LightSampler::Tree => "light tree, ",
+                }
                 + &args
                     .denoise
                     .map_or(String::new(), |d| format!("denoised ({}), ", d.name())),

@@ -39,6 +39,11 @@ pub struct EstimatorArgs {
     /// of its relMSE term, as --noise-target measures the image) and its neighbours' is at most X.
     #[arg(long, value_name = "X")]
     pub adaptive: Option<f32>,
+    /// How next-event estimation picks an emitter: tree (by its importance at the shading point,
+    /// through the light tree: for scenes with many lights), power (in proportion to its power), or
+    /// auto (the default: the tree from 16 emitter triangles on).
+    #[arg(long, value_enum)]
+    pub light_sampler: Option<LightSamplerArg>,
 }
 
 impl EstimatorArgs {
@@ -55,6 +60,27 @@ impl EstimatorArgs {
             settings.sampler = sampler.into();
         }
         settings.adaptive_threshold = self.adaptive.or(settings.adaptive_threshold);
+        if let Some(sampler) = self.light_sampler {
+            settings.light_sampler = sampler.into();
+        }
+    }
+}
+
+/// `--light-sampler` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum LightSamplerArg {
+    Auto,
+    Power,
+    Tree,
+}
+
+impl From<LightSamplerArg> for rt_core::LightSampler {
+    fn from(s: LightSamplerArg) -> Self {
+        match s {
+            LightSamplerArg::Auto => Self::Auto,
+            LightSamplerArg::Power => Self::Power,
+            LightSamplerArg::Tree => Self::Tree,
+        }
     }
 }
 

@@ -65,12 +65,16 @@ fn trace_name(trace: rt_gpu::Trace) -> &'static str {
     }
 }
 
-/// "max depth D, next-event estimation on|off, S sampler".
+/// "max depth D, next-event estimation on|off|on (light tree), S sampler".
 pub fn estimator_summary(settings: &rt_core::RenderSettings, gpu_scene: &GpuScene) -> String {
     format!(
         "max depth {}, next-event estimation {}, {} sampler",
         settings.max_depth,
-        if gpu_scene.features.nee { "on" } else { "off" },
+        match (gpu_scene.features.nee, gpu_scene.light_tree.is_empty()) {
+            (false, _) => "off",
+            (true, true) => "on",
+            (true, false) => "on (light tree)",
+        },
         match settings.sampler {
             rt_core::math::rng::SamplerKind::Sobol => "Sobol",
             rt_core::math::rng::SamplerKind::Independent => "independent",

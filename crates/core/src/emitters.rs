@@ -39,7 +39,7 @@ pub fn build_emitters(triangles: &[Triangle], materials: &[Material]) -> (Vec<Em
             triangle,
             alias_index: alias,
             threshold,
-            _pad: 0,
+            leaf: 0,
         })
         .collect();
     (emitters, total as f32)

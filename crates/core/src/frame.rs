@@ -83,7 +83,7 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         },
         sample_offset: 0,
         clamp_max: clamp_max(settings.clamp),
-        _pad_e: 0,
+        light_sampler: u32::from(!gpu_scene.light_tree.is_empty()),
     })
 }
 

@@ -37,6 +37,9 @@ pub struct GpuScene {
     pub emitters: Vec<gpu_types::Emitter>,
     /// Σ area × luminance(emission) over `emitters`.
     pub emitter_power: f32,
+    /// The light tree over `emitters` (`crate::light_tree`), built where the settings' light
+    /// sampler takes it (`LightSampler::uses_tree`); empty otherwise.
+    pub light_tree: Vec<gpu_types::LightNode>,
     /// Point, spot and directional lights.
     pub delta_lights: Vec<gpu_types::DeltaLight>,
     /// The environment map's texels and sampling records (empty without one).
@@ -298,6 +301,13 @@ impl GpuScene {
         (out.emitters, out.emitter_power) =
             crate::emitters::build_emitters(&out.triangles, &out.materials);
         out.features.nee = scene.settings.next_event_estimation && !out.emitters.is_empty();
+        let sampler = scene.settings.light_sampler;
+        out.light_tree = if out.features.nee && sampler.uses_tree(out.emitters.len()) {
+            crate::light_tree::build_light_tree(&mut out.emitters, &out.triangles, &out.materials)
+        } else {
+            Vec::new()
+        };
+        out.features.light_tree = !out.light_tree.is_empty();
         for light in &scene.lights {
             light.validate().map_err(Error::Scene)?;
         }
@@ -337,7 +347,7 @@ impl GpuScene {
     }
 
     /// Bytes each buffer needs, by buffer name, for limit checks and reports.
-    pub fn buffer_sizes(&self) -> [(&'static str, u64); 8] {
+    pub fn buffer_sizes(&self) -> [(&'static str, u64); 9] {
         let bytes = |len: usize, size: usize| (len * size) as u64;
         [
             (
@@ -358,6 +368,10 @@ impl GpuScene {
             (
                 "emitters",
                 bytes(self.emitters.len(), size_of::<gpu_types::Emitter>()),
+            ),
+            (
+                "light tree",
+                bytes(self.light_tree.len(), size_of::<gpu_types::LightNode>()),
             ),
             (
                 "environment",

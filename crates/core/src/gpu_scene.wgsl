@@ -9,6 +9,8 @@
 @group(0) @binding(5) var<storage, read> texels: array<u32>;
 @group(0) @binding(8) var<storage, read> emitters: array<Emitter>;
 @group(0) @binding(9) var<storage, read> delta_lights: array<DeltaLight>;
+// The light tree over the emitters (light_tree.rs; a placeholder unless frame.light_sampler == 1).
+@group(0) @binding(26) var<storage, read> light_tree: array<LightNode>;
 // The environment map's texels (one placeholder without one: frame.env_width == 0).
 @group(0) @binding(20) var<storage, read> environment: array<EnvTexel>;
 // The white GGX conductor's albedo E(mu, roughness), ENERGY_SIDE x ENERGY_SIDE.

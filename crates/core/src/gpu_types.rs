@@ -415,7 +415,9 @@ pub struct Frame {
     /// The firefly clamp: the most a contribution of bounced light may add per channel (0: off).
     /// A value, not a pipeline constant, so one pipeline serves every clamp.
     pub clamp_max: f32, // 168
-    pub _pad_e: u32,          // 172
+    /// How next-event estimation picks an emitter triangle: 0 by power (the alias table), 1 by
+    /// its importance at the shading point (the light tree, `crate::light_tree`).
+    pub light_sampler: u32, // 172
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power
@@ -427,7 +429,42 @@ pub struct Emitter {
     pub triangle: u32, // 0
     pub alias_index: u32, // 4
     pub threshold: f32,   // 8
-    pub _pad: u32,        // 12
+    /// Where this emitter sits in the light tree: 4 × node + slot (`GpuScene::light_tree`; 0
+    /// without a tree).
+    pub leaf: u32, // 12
+}
+
+/// One node of the light tree (`crate::light_tree`), four-wide: per slot (a lane of each array)
+/// the bounds of the emitters below it (a sphere, the cone of their normals, the angle they emit
+/// into past a normal, their power), and a child node or the slot's emitter. Lanes, so that the
+/// four slots' importances are computed side by side (SIMD on the CPU, vec4 in WGSL).
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightNode {
+    /// The centres of the slots' boxes (their bounding spheres' centres), x, y and z.
+    pub centre_x: [f32; 4], // 0
+    pub centre_y: [f32; 4], // 16
+    pub centre_z: [f32; 4], // 32
+    /// The axes of the cones holding the normals below each slot.
+    pub axis_x: [f32; 4], // 48
+    pub axis_y: [f32; 4],   // 64
+    pub axis_z: [f32; 4],   // 80
+    /// Σ area × luminance(emission) below each slot; 0 for an empty slot.
+    pub power: [f32; 4], // 96
+    /// Cosine and sine of each cone's half-angle.
+    pub cos_theta_o: [f32; 4], // 112
+    pub sin_theta_o: [f32; 4], // 128
+    /// Cosine of how far past its normal an emitter below emits (π/2: one-sided diffuse).
+    pub cos_theta_e: [f32; 4], // 144
+    /// The bounding spheres' radii (half the boxes' diagonals).
+    pub radius: [f32; 4], // 160
+    /// Per slot: the child node, or for a leaf slot its emitter triangle.
+    pub child: [u32; 4], // 176
+    /// Bit i set: slot i is a leaf (one emitter).
+    pub leaves: u32, // 192
+    /// Where this node hangs: 4 × its parent node + its slot there (the root's is 0).
+    pub parent: u32, // 196
+    pub _pad: [u32; 2],     // 200
 }
 
 /// Kinds of `DeltaLight`.
@@ -628,10 +665,31 @@ pub fn layouts() -> Vec<StructLayout> {
                 env_pick,
                 sample_offset,
                 clamp_max,
-                _pad_e
+                light_sampler
             ]
         ),
-        layout!("Emitter", Emitter, [triangle, alias_index, threshold, _pad]),
+        layout!("Emitter", Emitter, [triangle, alias_index, threshold, leaf]),
+        layout!(
+            "LightNode",
+            LightNode,
+            [
+                centre_x,
+                centre_y,
+                centre_z,
+                axis_x,
+                axis_y,
+                axis_z,
+                power,
+                cos_theta_o,
+                sin_theta_o,
+                cos_theta_e,
+                radius,
+                child,
+                leaves,
+                parent,
+                _pad
+            ]
+        ),
         layout!(
             "DeltaLight",
             DeltaLight,

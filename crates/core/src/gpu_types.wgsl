@@ -204,14 +204,33 @@ struct Frame {
     env_pick: f32,               // 160: probability that next-event estimation samples the environment
     sample_offset: u32,          // 164: the render's first sample index (a shard's range start)
     clamp_max: f32,              // 168: the firefly clamp on bounced light (0: off)
-    _pad_e: u32,                 // 172
+    light_sampler: u32,          // 172: 0 emitters by power (alias table), 1 by the light tree
 }
 
 struct Emitter {
     triangle: u32,    // 0
     alias_index: u32,       // 4
     threshold: f32,   // 8
-    _pad: u32,        // 12
+    leaf: u32,        // 12: where it sits in the light tree: 4 x node + slot
+}
+
+// gpu_types.rs `LightNode`: a four-wide node of the light tree (light_tree.rs), one lane a slot.
+struct LightNode {
+    centre_x: vec4<f32>,     // 0
+    centre_y: vec4<f32>,     // 16
+    centre_z: vec4<f32>,     // 32
+    axis_x: vec4<f32>,       // 48
+    axis_y: vec4<f32>,       // 64
+    axis_z: vec4<f32>,       // 80
+    power: vec4<f32>,        // 96: 0 for an empty slot
+    cos_theta_o: vec4<f32>,  // 112
+    sin_theta_o: vec4<f32>,  // 128
+    cos_theta_e: vec4<f32>,  // 144
+    radius: vec4<f32>,       // 160
+    child: vec4<u32>,        // 176: child node, or a leaf slot's emitter triangle
+    leaves: u32,             // 192: bit i: slot i is a leaf
+    parent: u32,             // 196: 4 x parent node + slot there
+    _pad: vec2<u32>,         // 200
 }
 
 struct Ray {

@@ -19,6 +19,7 @@ pub mod gpu_types;
 pub mod io;
 mod kernel_indices;
 pub mod light;
+pub mod light_tree;
 pub mod material;
 pub mod material_kind;
 pub mod math;
@@ -41,5 +42,6 @@ pub use light::{Light, LightKind};
 pub use material::Material;
 pub use material_kind::MaterialKind;
 pub use scene::{
-    Filter, Mesh, Object, RenderSettings, Scene, Texture, TextureSampler, Transform, Wrap,
+    Filter, LightSampler, Mesh, Object, RenderSettings, Scene, Texture, TextureSampler, Transform,
+    Wrap,
 };

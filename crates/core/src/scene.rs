@@ -178,6 +178,43 @@ pub struct RenderSettings {
     /// gives every pixel every sample.
     #[serde(default)]
     pub adaptive_threshold: Option<f32>,
+    /// How next-event estimation picks an emitter: by its power alone, or by its importance at the
+    /// shading point through the light tree (`crate::light_tree`); by default the tree where the
+    /// scene has many emitters.
+    #[serde(default)]
+    pub light_sampler: LightSampler,
+}
+
+/// How next-event estimation picks an emitter triangle (`RenderSettings::light_sampler`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LightSampler {
+    /// The tree where the scene has at least `AUTO_TREE_MIN_EMITTERS` emitter triangles, else by
+    /// power (docs/quality.md, "Many lights", has the measurements behind the threshold).
+    #[default]
+    Auto,
+    /// In proportion to its power (area × luminance of its emission), wherever the shading point
+    /// is: one alias-table lookup.
+    Power,
+    /// By its importance at the shading point (power, distance and orientation bounds) through
+    /// the light tree: far fewer wasted shadow rays where many emitters lie far away or face away.
+    Tree,
+}
+
+/// The fewest emitter triangles for which `LightSampler::Auto` takes the tree: with 2 (the
+/// Cornell box's lamp) it costs 5.8% more instructions a sample for the same noise, with 8 it
+/// breaks even, with 32 it has 1.24× and with 2,048 2.7× lower error in equal time.
+pub const AUTO_TREE_MIN_EMITTERS: usize = 16;
+
+impl LightSampler {
+    /// Whether a scene with `emitters` emitter triangles samples them through the light tree.
+    pub fn uses_tree(self, emitters: usize) -> bool {
+        match self {
+            LightSampler::Auto => emitters >= AUTO_TREE_MIN_EMITTERS,
+            LightSampler::Power => false,
+            LightSampler::Tree => true,
+        }
+    }
 }
 
 /// Samples every pixel takes before adaptive sampling may stop it: fewer make a pixel that has not
@@ -202,6 +239,7 @@ impl Default for RenderSettings {
             sampler: Default::default(),
             nee_only: false,
             adaptive_threshold: None,
+            light_sampler: LightSampler::default(),
         }
     }
 }

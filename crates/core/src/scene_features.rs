@@ -13,6 +13,8 @@ pub struct SceneFeatures {
     pub thin_lens: bool,
     /// Next-event estimation (the scene has emitters and the settings ask for it).
     pub nee: bool,
+    /// Next-event estimation picks emitters through the light tree (`GpuScene::light_tree`).
+    pub light_tree: bool,
     /// Point, spot or directional lights (always sampled directly).
     pub delta_lights: bool,
     /// PBR normal maps or anisotropy: tangents (the kernel reads `GpuScene::tangents`).

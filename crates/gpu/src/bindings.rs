@@ -74,6 +74,7 @@ pub const NODES: Binding = shared(4, "nodes", Access::Read);
 pub const TEXELS: Binding = shared(5, "texels", Access::Read);
 pub const EMITTERS: Binding = shared(8, "emitters", Access::Read);
 pub const DELTA_LIGHTS: Binding = shared(9, "delta_lights", Access::Read);
+pub const LIGHT_TREE: Binding = shared(26, "light_tree", Access::Read);
 pub const ENVIRONMENT: Binding = shared(20, "environment", Access::Read);
 pub const ALBEDO_TABLES: Binding = shared(21, "albedo_tables", Access::Read);
 pub const TANGENTS: Binding = shared(22, "tangents", Access::Read);
@@ -112,7 +113,7 @@ pub const ACTIVE_SLOTS: Binding = Binding {
 };
 
 /// Every binding of the tracing kernels.
-pub const ALL: [Binding; 25] = [
+pub const ALL: [Binding; 26] = [
     FRAME,
     TRIANGLES,
     SHADING,
@@ -138,6 +139,7 @@ pub const ALL: [Binding; 25] = [
     ACCUM[1],
     ACCUM[2],
     ACCUM[3],
+    LIGHT_TREE,
 ];
 
 /// The bindings `kernel` (over ray queries when `ray_query`) declares, in binding order.

@@ -7,9 +7,9 @@ use crate::bindings::{self, Binding};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 
-/// Uploads `scene`'s ten storage buffers (in this order), each with the binding the tracing
+/// Uploads `scene`'s eleven storage buffers (in this order), each with the binding the tracing
 /// kernels read it at.
-pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wgpu::Buffer); 10]> {
+pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wgpu::Buffer); 11]> {
     Ok([
         (
             bindings::TRIANGLES,
@@ -28,6 +28,10 @@ pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wg
         (
             bindings::EMITTERS,
             upload(ctx, "emitters", &scene.emitters)?,
+        ),
+        (
+            bindings::LIGHT_TREE,
+            upload(ctx, "light tree", &scene.light_tree)?,
         ),
         (
             bindings::DELTA_LIGHTS,

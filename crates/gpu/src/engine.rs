@@ -145,6 +145,7 @@ fn specialised_features(scene: &GpuScene, frame: &Frame, options: &RenderOptions
     let mut features = scene.features;
     features.thin_lens = frame.lens_radius > 0.0;
     features.nee = frame.emitter_count > 0;
+    features.light_tree = features.nee && frame.light_sampler == 1;
     if options.tuning.generic_kernel {
         // Every branch compiled in; each still checks its data at run time. (NEE stays as the
         // scene needs: the emitter table must not be empty.)

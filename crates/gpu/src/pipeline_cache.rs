@@ -66,6 +66,7 @@ impl PipelineKey {
             ("HAS_THIN_LENS", flag(self.features.thin_lens)),
             ("COUNT_RAYS", flag(self.count_rays)),
             ("HAS_NEE", flag(self.features.nee)),
+            ("HAS_LIGHT_TREE", flag(self.features.light_tree)),
             ("HAS_DELTA_LIGHTS", flag(self.features.delta_lights)),
             ("HAS_ENVIRONMENT", flag(self.features.environment)),
             ("HAS_NORMAL_MAPS", flag(self.features.normal_maps)),

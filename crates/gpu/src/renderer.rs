@@ -366,7 +366,8 @@ impl<'a> Renderer<'a> {
         let same_pipeline = (frame.lens_radius > 0.0) == (self.frame.lens_radius > 0.0)
             && (frame.emitter_count > 0) == (self.frame.emitter_count > 0)
             && frame.emitter_count as usize <= scene.emitters.len()
-            && frame.sampler == self.frame.sampler;
+            && frame.sampler == self.frame.sampler
+            && frame.light_sampler == self.frame.light_sampler;
         if !same_pipeline || pixels > self.capacity_pixels || self.adaptive.enabled() {
             return Err(GpuError::Options(
                 "this frame needs a new renderer (another pipeline, more pixels or adaptive \

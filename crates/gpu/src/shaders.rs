@@ -82,6 +82,10 @@ pub const FILES: &[(&str, &str)] = &[
         rt_core::reference::surface::WGSL,
     ),
     (
+        "crates/core/src/reference/light_tree.wgsl",
+        rt_core::reference::light_tree::WGSL,
+    ),
+    (
         "crates/core/src/reference/light.wgsl",
         rt_core::reference::light::WGSL,
     ),
@@ -132,6 +136,7 @@ macro_rules! tracing_module {
                 "crates/core/src/math/layers.wgsl",
                 "crates/core/src/environment.wgsl",
                 "crates/core/src/reference/surface.wgsl",
+                "crates/core/src/reference/light_tree.wgsl",
                 "crates/core/src/reference/light.wgsl",
                 "crates/core/src/reference/path.wgsl",
                 "crates/core/src/accumulation.wgsl",

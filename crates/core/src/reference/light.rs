@@ -2,9 +2,10 @@
 //! samples and what a path that misses everything sees. Each kind of light is one place here:
 //!
 //! - **area lights** (emissive triangles): `sample_light` picks one by power through the alias
-//!   table (`crate::emitters`) and a uniform point on it, p_light = p_pick · |x − y|² / cosθ_y
-//!   per solid angle; a BSDF-sampled ray that hits one is weighed against that pdf in
-//!   `shade_vertex`;
+//!   table (`crate::emitters`) or by its importance at the vertex through the light tree
+//!   (`super::light_tree`), then a uniform point on it: p_light = p_pick / A · |x − y|² / cosθ_y
+//!   per solid angle; a BSDF-sampled ray that hits one is weighed against that pdf
+//!   (`emitter_pdf`) in `shade_vertex`;
 //! - **the environment** (`crate::environment`): `sample_light` draws a direction from its map
 //!   with probability `frame.env_pick`; `escaped` is what a ray leaving the scene sees, weighed
 //!   against that sampling (or the ambient colour without a map);
@@ -21,6 +22,7 @@ pub const WGSL: &str = include_str!("light.wgsl");
 
 use glam::Vec3;
 
+use super::light_tree::{leaf_of, pack_normal, sample_tree, tree_pmf, unpack_normal};
 use super::occluded;
 use super::surface::Surface;
 use super::texture::{coverage, surface_emission};
@@ -82,12 +84,21 @@ pub fn sample_light(
     }
     let u_pick = (u_pick - frame.env_pick) / (1.0 - frame.env_pick);
     let n = frame.emitter_count as usize;
-    let chosen = crate::emitters::pick_emitter(&scene.emitters[..n], u_pick, u_alias);
+    // The emitter, and the tree's pmf for it (the power table's needs none: per unit area it is
+    // the emission's luminance over the total power).
+    let (chosen, tree_pmf) = if frame.light_sampler == 1 {
+        let normal = unpack_normal(pack_normal(ng));
+        sample_tree(&scene.light_tree, origin, normal, u_pick)?
+    } else {
+        let chosen = crate::emitters::pick_emitter(&scene.emitters[..n], u_pick, u_alias);
+        (chosen, 0.0)
+    };
     let tri = &scene.triangles[chosen as usize];
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let [b0, b1, b2] = sample_triangle(u_a, u_b);
     let y = v0 * b0 + v1 * b1 + v2 * b2;
-    let nl = (v1 - v0).cross(v2 - v0).normalize();
+    let cross = (v1 - v0).cross(v2 - v0);
+    let nl = cross.normalize();
     if (y - p).dot(nl) >= 0.0 {
         return None; // p is behind the emitter's front face
     }
@@ -101,12 +112,12 @@ pub fn sample_light(
     // Picked by the emission factor; the point's radiance is the factor times the emission image,
     // and times the coverage on a surface with holes.
     let material = &scene.materials[tri.material as usize];
-    let p_light = (1.0 - frame.env_pick)
-        * luminance(Vec3::from(material.emission))
-        * frame.emitter_power_inv
-        * distance
-        * distance
-        / cos_l;
+    let pick_per_area = if frame.light_sampler == 1 {
+        tree_pmf / (0.5 * cross.length())
+    } else {
+        luminance(Vec3::from(material.emission)) * frame.emitter_power_inv
+    };
+    let p_light = (1.0 - frame.env_pick) * pick_per_area * distance * distance / cos_l;
     let mut le = surface_emission(scene, material, tri, chosen, (b1, b2), cos_l);
     if material.flags & (ALPHA_MASK | ALPHA_BLEND) != 0 {
         le *= coverage(scene, material, tri, chosen, b1, b2);
@@ -118,6 +129,33 @@ pub fn sample_light(
         radiance_over_pdf: le / p_light,
         p_light,
     })
+}
+
+/// The density, per solid angle, with which `sample_light` at a vertex (its shadow rays'
+/// origin `origin`, its tree normal packed as `tree_normal`) picks the point at `distance` on
+/// emitter triangle `triangle`, seen at cosθ_y = `cos_l`: the pdf that MIS weighs an emitter
+/// found by a BSDF-sampled ray with. The tree's pmf is recomputed from the emitter's leaf.
+pub fn emitter_pdf(
+    scene: &GpuScene,
+    frame: &Frame,
+    triangle: u32,
+    origin: Vec3,
+    tree_normal: u32,
+    distance: f32,
+    cos_l: f32,
+) -> f32 {
+    let tri = &scene.triangles[triangle as usize];
+    let pick_per_area = if frame.light_sampler == 1 {
+        let emitters = &scene.emitters[..frame.emitter_count as usize];
+        let leaf = leaf_of(emitters, triangle);
+        let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+        let area = 0.5 * (v1 - v0).cross(v2 - v0).length();
+        tree_pmf(&scene.light_tree, leaf, origin, unpack_normal(tree_normal)) / area
+    } else {
+        let material = &scene.materials[tri.material as usize];
+        luminance(Vec3::from(material.emission)) * frame.emitter_power_inv
+    };
+    (1.0 - frame.env_pick) * pick_per_area * distance * distance / cos_l
 }
 
 /// Next-event estimation at `p`: f cosθ L_e · w_light / p_light for one light sample, or zero if
@@ -249,4 +287,88 @@ pub fn escaped(scene: &GpuScene, frame: &Frame, direction: Vec3, prev_bsdf_pdf: 
         };
     }
     le * weight
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{LightSampler, Object, Scene};
+
+    /// The solid angle a triangle subtends from `x` (Van Oosterom and Strackee 1983).
+    fn solid_angle(x: Vec3, v: [Vec3; 3]) -> f64 {
+        let [a, b, c] = v.map(|p| (p - x).as_dvec3());
+        let (la, lb, lc) = (a.length(), b.length(), c.length());
+        let numerator = a.dot(b.cross(c)).abs();
+        let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+        2.0 * numerator.atan2(denominator)
+    }
+
+    /// `sample_light`'s p_light is the density of its directions per solid angle, through the
+    /// power table and through the light tree: over lamps above a point, facing every way, the
+    /// mean of 1/p_light over its samples (zero where none comes back) is the solid angle of the
+    /// lamps that face the point (Z-test with the samples' own variance, 4 standard errors).
+    #[test]
+    fn light_samples_have_their_solid_angle_density() {
+        let mut rng = Rng::new(1, 2, 0x5a);
+        let mut scene = Scene::default();
+        for i in 0..24 {
+            let mut u = || rng.next_f32();
+            let centre = Vec3::new(u() * 4.0 - 2.0, u() * 4.0 - 2.0, 1.5 + 1.5 * u());
+            let normal = (Vec3::new(u(), u(), u()) * 2.0 - 1.0).normalize();
+            let strength = 10f32.powf(2.0 * u());
+            scene.objects.push(Object {
+                name: format!("lamp {i}"),
+                mesh: crate::shapes::quad(centre, normal, 0.4 + 0.8 * u()).into(),
+                material: crate::Material::Emissive {
+                    color: [strength; 3],
+                    intensity: 1.0,
+                },
+                transform: Default::default(),
+            });
+        }
+        let (x, n) = (Vec3::ZERO, Vec3::Z);
+        for sampler in [LightSampler::Power, LightSampler::Tree] {
+            scene.settings.light_sampler = sampler;
+            let gpu = GpuScene::build(&scene).unwrap();
+            let frame = crate::frame::frame_for(&scene, &gpu).unwrap();
+            assert_eq!(
+                frame.light_sampler,
+                u32::from(sampler == LightSampler::Tree)
+            );
+            let facing: f64 = gpu
+                .emitters
+                .iter()
+                .map(|e| {
+                    let t = &gpu.triangles[e.triangle as usize];
+                    let v = [t.v0, t.v1, t.v2].map(Vec3::from);
+                    let normal = (v[1] - v[0]).cross(v[2] - v[0]);
+                    if (x - v[0]).dot(normal) > 0.0 {
+                        solid_angle(x, v)
+                    } else {
+                        0.0
+                    }
+                })
+                .sum();
+            let samples = 200_000;
+            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+            for i in 0..samples {
+                let mut rng = Rng::new(i, 0, 0x77);
+                if let Some(s) = sample_light(&gpu, &frame, x, n, &mut rng) {
+                    let w = 1.0 / f64::from(s.p_light);
+                    sum += w;
+                    sum2 += w * w;
+                }
+            }
+            let mean = sum / f64::from(samples);
+            let error = ((sum2 / f64::from(samples) - mean * mean) / f64::from(samples)).sqrt();
+            assert!(
+                (mean - facing).abs() < 4.0 * error,
+                "{sampler:?}: E[1/p] = {mean} ± {error}, solid angle {facing}"
+            );
+            assert!(
+                error < 0.05 * facing,
+                "{sampler:?}: too noisy to tell: ± {error} of {facing}"
+            );
+        }
+    }
 }

@@ -5,6 +5,7 @@
 
 // Lights a scene lacks are compiled out.
 override HAS_NEE: bool = true;
+override HAS_LIGHT_TREE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
 override HAS_ENVIRONMENT: bool = true;
 
@@ -46,13 +47,25 @@ fn sample_light(p: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> Lig
         return none;
     }
     let u_emitter = (u_pick - frame.env_pick) / (1.0 - frame.env_pick);
-    let n = frame.emitter_count;
-    let slot = emitters[min(u32(u_emitter * f32(n)), n - 1u)];
-    let chosen = select(emitters[slot.alias_index].triangle, slot.triangle, u_alias < slot.threshold);
+    var chosen: u32;
+    var tree_pmf = 0.0;
+    if (HAS_LIGHT_TREE && frame.light_sampler == 1u) {
+        let t = sample_tree(origin, unpack_normal(pack_normal(ng)), u_emitter);
+        if (!(t.pmf > 0.0)) {
+            return none;
+        }
+        chosen = t.triangle;
+        tree_pmf = t.pmf;
+    } else {
+        let n = frame.emitter_count;
+        let slot = emitters[min(u32(u_emitter * f32(n)), n - 1u)];
+        chosen = select(emitters[slot.alias_index].triangle, slot.triangle, u_alias < slot.threshold);
+    }
     let tri = triangles[chosen];
     let b = sample_triangle(u_a, u_b);
     let y = tri.v0 * b.x + tri.v1 * b.y + tri.v2 * b.z;
-    let nl = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    let edges = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+    let nl = normalize(edges);
     if (dot(y - p, nl) >= 0.0) {
         return none;
     }
@@ -67,12 +80,28 @@ fn sample_light(p: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> Lig
     // times the emission image, and, on a surface with holes, times its coverage (the light that
     // BSDF sampling finds there on average).
     let material = materials[tri.material];
-    let p_light = (1.0 - frame.env_pick) * luminance(material.emission) * frame.emitter_power_inv * distance * distance / cos_l;
+    let pick_per_area = select(luminance(material.emission) * frame.emitter_power_inv, tree_pmf / (0.5 * length(edges)), HAS_LIGHT_TREE && frame.light_sampler == 1u);
+    let p_light = (1.0 - frame.env_pick) * pick_per_area * distance * distance / cos_l;
     var le = surface_emission(material, tri, chosen, b.y, b.z, cos_l);
     if (HAS_ALPHA && (material.flags & (ALPHA_MASK | ALPHA_BLEND)) != 0u) {
         le *= coverage(material, tri, chosen, b.y, b.z);
     }
     return LightSample(origin, distance, dir, p_light, le / p_light);
+}
+
+// The solid-angle density with which sample_light at a vertex (its shadow rays' origin, its tree
+// normal packed) picks the point at `distance` on emitter `triangle` seen at cos_l: what MIS
+// weighs an emitter found by a BSDF sample with (light.rs `emitter_pdf`).
+fn emitter_pdf(triangle: u32, origin: vec3<f32>, tree_normal: u32, distance: f32, cos_l: f32) -> f32 {
+    let tri = triangles[triangle];
+    var pick_per_area: f32;
+    if (HAS_LIGHT_TREE && frame.light_sampler == 1u) {
+        let area = 0.5 * length(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+        pick_per_area = tree_pmf(leaf_of(triangle), origin, unpack_normal(tree_normal)) / area;
+    } else {
+        pick_per_area = luminance(materials[tri.material].emission) * frame.emitter_power_inv;
+    }
+    return (1.0 - frame.env_pick) * pick_per_area * distance * distance / cos_l;
 }
 
 // Next-event estimation at p for `surface`: the shadow ray and, should it arrive,

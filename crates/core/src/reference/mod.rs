@@ -30,6 +30,7 @@ pub mod bvh;
 pub mod cwbvh;
 mod hit;
 pub mod light;
+pub mod light_tree;
 pub mod path;
 pub mod surface;
 pub mod texture;

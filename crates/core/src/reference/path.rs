@@ -9,7 +9,8 @@ pub const WGSL: &str = include_str!("path.wgsl");
 use glam::{Vec2, Vec3};
 
 use super::hit::MISS;
-use super::light::{delta_lights_at, direct_light, escaped, power_heuristic};
+use super::light::{delta_lights_at, direct_light, emitter_pdf, escaped, power_heuristic};
+use super::light_tree::pack_normal;
 use super::surface::{PbrInputs, Surface};
 use super::texture::{Slot, base_color_texture, surface_emission, textured_pbr_inputs};
 use super::trace;
@@ -139,8 +140,13 @@ pub struct PathState {
     /// green, blue; the path then carries that channel alone.
     pub channel: u32,
     pub radiance: Vec3,
-    /// Density of the BSDF sample that led here, 0 after the camera or a specular bounce.
+    /// Density of the BSDF sample that led here, for the MIS weight of the light it finds: 0
+    /// after the camera, a specular bounce or a transmission (`Surface::sample`: next-event
+    /// estimation takes only lights above the surface).
     pub prev_bsdf_pdf: f32,
+    /// The last vertex's normal as the light tree weighs lights with it
+    /// (`light_tree::pack_normal`).
+    pub tree_normal: u32,
     /// Segments traced so far (0: the camera ray).
     pub depth: u32,
     pub rng: Rng,
@@ -177,6 +183,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         channel: 0,
         radiance: Vec3::ZERO,
         prev_bsdf_pdf: 0.0,
+        tree_normal: 0,
         depth: 0,
         rng,
         first_hit: None,
@@ -225,13 +232,17 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         let mut weight = 1.0;
         if frame.emitter_count > 0 && path.prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
             let cos_l = -path.direction.dot(ng_raw.normalize());
-            // The emitter table's pdf: by the emission factor, whatever the image.
-            let p_light = (1.0 - frame.env_pick)
-                * luminance(Vec3::from(material.emission))
-                * frame.emitter_power_inv
-                * hit.t
-                * hit.t
-                / cos_l;
+            // Next-event estimation's pdf, from the same origin (a reflected ray leaves from
+            // where the shadow rays left), by the emission factor whatever the image.
+            let p_light = emitter_pdf(
+                scene,
+                frame,
+                hit.triangle,
+                path.origin,
+                path.tree_normal,
+                hit.t,
+                cos_l,
+            );
             weight = if frame.light_strategy == 1 {
                 0.0
             } else {
@@ -368,6 +379,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         ns,
         front,
     );
+    path.tree_normal = pack_normal(ng);
     if !surface.is_delta() {
         if lights_sampled {
             let direct = path.beta

@@ -24,12 +24,15 @@ struct PathState {
     origin: vec3<f32>,
     depth: u32,
     direction: vec3<f32>,
-    // Density of the BSDF sample that led here; 0 after the camera or a specular bounce.
+    // Density of the BSDF sample that led here, for MIS; 0 after the camera, a specular bounce or
+    // a transmission (surface_sample).
     prev_bsdf_pdf: f32,
     beta: vec3<f32>,
     // The hero channel (math/dispersion.wgsl): 0 none yet, 1–3 red, green, blue.
     channel: u32,
     radiance: vec3<f32>,
+    // The last vertex's normal as the light tree weighs lights with it (light_tree.wgsl pack_normal).
+    tree_normal: u32,
 }
 
 // A next-event estimation ray: `contribution` reaches the path's radiance if nothing lies within
@@ -115,7 +118,7 @@ fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<v
 // A new path through pixel (x, y): its camera ray.
 fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     let cam = camera_ray_origin_dir(x, y, rng);
-    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0));
+    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u);
 }
 
 // The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
@@ -209,7 +212,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         var weight = 1.0;
         if (HAS_NEE && (*path).prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
             let cos_l = -dot(direction, normalize(ng_raw));
-            let p_light = (1.0 - frame.env_pick) * luminance(material.emission) * frame.emitter_power_inv * hit.t * hit.t / cos_l;
+            let p_light = emitter_pdf(hit.triangle, (*path).origin, (*path).tree_normal, hit.t, cos_l);
             weight = select(power_heuristic((*path).prev_bsdf_pdf, p_light), 0.0, frame.light_strategy == 1u);
         }
         let cos_out = -dot(direction, normalize(ng_raw));
@@ -286,6 +289,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         }
     }
     let surface = material_surface(material, color, inputs, direction, ng, ns, front);
+    (*path).tree_normal = pack_normal(ng);
     if (!surface_is_delta(surface)) {
         if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
             if (defer_shadow) {
