@@ -379,7 +379,9 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         ns,
         front,
     );
-    path.tree_normal = pack_normal(ng);
+    if frame.light_sampler == 1 {
+        path.tree_normal = pack_normal(ng);
+    }
     if !surface.is_delta() {
         if lights_sampled {
             let direct = path.beta

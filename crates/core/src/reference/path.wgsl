@@ -289,7 +289,9 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         }
     }
     let surface = material_surface(material, color, inputs, direction, ng, ns, front);
-    (*path).tree_normal = pack_normal(ng);
+    if (HAS_LIGHT_TREE && frame.light_sampler == 1u) {
+        (*path).tree_normal = pack_normal(ng);
+    }
     if (!surface_is_delta(surface)) {
         if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
             if (defer_shadow) {
