@@ -66,7 +66,8 @@ impl LightBounds {
             axis,
             cos_theta_o,
             cos_theta_e: self.cos_theta_e.min(b.cos_theta_e),
-            power: self.power + b.power,
+            // Kept finite: four slots' sum must be too.
+            power: (self.power + b.power).min(f32::MAX / 4.0),
         }
     }
 
@@ -135,7 +136,9 @@ pub fn build_light_tree(
             let v = [t.v0, t.v1, t.v2].map(Vec3::from);
             let area = 0.5 * (v[1] - v[0]).cross(v[2] - v[0]).length();
             let emission = luminance(Vec3::from(materials[t.material as usize].emission));
-            (LightBounds::of_triangle(t, area * emission), e.triangle)
+            // In f64 and clamped: a huge bright triangle keeps a finite power.
+            let power = (f64::from(area) * f64::from(emission)).min(f64::from(f32::MAX / 4.0));
+            (LightBounds::of_triangle(t, power as f32), e.triangle)
         })
         .collect();
     if items.is_empty() {
@@ -278,11 +281,12 @@ fn split(items: &mut [(LightBounds, u32)], depth: usize) -> usize {
     );
     let extent = c_hi - c_lo;
     if depth < COST_SPLIT_DEPTH {
-        let all = items
-            .iter()
-            .skip(1)
-            .fold(items[0].0, |acc, (b, _)| acc.union(b));
-        let diagonal = all.hi - all.lo;
+        // The boxes alone: the cones' union would cost an acos and a rotation per item.
+        let (lo, hi) = items.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), (b, _)| (lo.min(b.lo), hi.max(b.hi)),
+        );
+        let diagonal = hi - lo;
         let mut best: Option<(f64, usize, usize)> = None;
         for axis in 0..3 {
             if extent[axis].is_nan() || extent[axis] <= 0.0 {

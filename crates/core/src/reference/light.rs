@@ -48,7 +48,7 @@ pub struct LightSample {
 }
 
 /// One light sample from point `p`: the environment with probability `frame.env_pick`, else an
-/// emitter point (an emitter by power, then a uniform point on it). `None` when the sample cannot
+/// emitter point (an emitter by power or through the light tree, then a uniform point on it). `None` when the sample cannot
 /// reach `p`'s side of the surface. Always draws four random numbers.
 pub fn sample_light(
     scene: &GpuScene,

@@ -75,6 +75,12 @@ pub fn slot_importances(node: &LightNode, x: Vec3, n: Vec3) -> Vec4 {
     Vec4::select(power.cmpgt(Vec4::ZERO), value, Vec4::ZERO)
 }
 
+/// Whether a sum of importances, or a pmf, can weigh a choice: positive and finite (an overflow
+/// or an underflow picks nothing rather than a sample of pdf NaN or 0).
+fn usable(x: f32) -> bool {
+    x > 0.0 && x <= f32::MAX
+}
+
 /// The sum of the four importances, in a fixed order (both twins add them alike).
 fn total(importance: [f32; 4]) -> f32 {
     (importance[0] + importance[1]) + (importance[2] + importance[3])
@@ -107,7 +113,7 @@ pub fn sample_tree(nodes: &[LightNode], x: Vec3, n: Vec3, u: f32) -> Option<(u32
         let node = &nodes[index];
         let importance = slot_importances(node, x, n).to_array();
         let sum = total(importance);
-        if sum.is_nan() || sum <= 0.0 {
+        if !usable(sum) {
             return None;
         }
         let target = u * sum;
@@ -115,7 +121,7 @@ pub fn sample_tree(nodes: &[LightNode], x: Vec3, n: Vec3, u: f32) -> Option<(u32
         u = ((target - below) / importance[slot]).clamp(0.0, ONE_MINUS_EPSILON);
         pmf *= importance[slot] / sum;
         if node.leaves & (1 << slot) != 0 {
-            return Some((node.child[slot], pmf));
+            return usable(pmf).then_some((node.child[slot], pmf));
         }
         index = node.child[slot] as usize;
     }
@@ -131,7 +137,7 @@ pub fn tree_pmf(nodes: &[LightNode], code: u32, x: Vec3, n: Vec3) -> f32 {
         let node = &nodes[(code / 4) as usize];
         let importance = slot_importances(node, x, n).to_array();
         let sum = total(importance);
-        if sum.is_nan() || sum <= 0.0 {
+        if !usable(sum) {
             return 0.0;
         }
         pmf *= importance[(code % 4) as usize] / sum;

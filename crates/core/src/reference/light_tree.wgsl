@@ -44,6 +44,11 @@ fn slot_importances(node: LightNode, x: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
     return select(vec4(0.0), value, node.power > vec4(0.0));
 }
 
+// Positive and finite (light_tree.rs `usable`).
+fn usable(x: f32) -> bool {
+    return x > 0.0 && x <= 3.40282347e38;
+}
+
 // The sum of the four importances in a fixed order (light_tree.rs `total`).
 fn importance_total(i: vec4<f32>) -> f32 {
     return (i.x + i.y) + (i.z + i.w);
@@ -63,7 +68,7 @@ fn sample_tree(x: vec3<f32>, n: vec3<f32>, u_in: f32) -> TreeSample {
         let node = light_tree[index];
         let importance = slot_importances(node, x, n);
         let sum = importance_total(importance);
-        if (!(sum > 0.0)) {
+        if (!usable(sum)) {
             return TreeSample(0u, 0.0);
         }
         // The slot whose share holds u (pick_slot): the last with importance if rounding passes all.
@@ -89,7 +94,7 @@ fn sample_tree(x: vec3<f32>, n: vec3<f32>, u_in: f32) -> TreeSample {
         u = clamp((goal - below) / importance[slot], 0.0, ONE_MINUS_EPSILON);
         pmf *= importance[slot] / sum;
         if ((node.leaves & (1u << slot)) != 0u) {
-            return TreeSample(node.child[slot], pmf);
+            return TreeSample(node.child[slot], select(0.0, pmf, usable(pmf)));
         }
         index = node.child[slot];
     }
@@ -105,7 +110,7 @@ fn tree_pmf(code_in: u32, x: vec3<f32>, n: vec3<f32>) -> f32 {
         let node = light_tree[code / 4u];
         let importance = slot_importances(node, x, n);
         let sum = importance_total(importance);
-        if (!(sum > 0.0)) {
+        if (!usable(sum)) {
             return 0.0;
         }
         pmf *= importance[code % 4u] / sum;

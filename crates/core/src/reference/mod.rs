@@ -8,7 +8,8 @@
 //! and a path stops at an emitter, on absorption, or after `max_depth` segments.
 //!
 //! With next-event estimation (`frame.emitter_count > 0`), each diffuse vertex x also samples a point
-//! y on an emitter (`emitters::build_emitters`) and adds, if y is visible from x,
+//! y on an emitter (by power, `emitters::build_emitters`, or through the light tree,
+//! `light_tree`) and adds, if y is visible from x,
 //!   β f(x) L_e(y) cosθ_x · w_light / p_light,  p_light = p_A(y) · |x−y|² / cosθ_y,
 //! and an emitter reached by BSDF sampling from a diffuse vertex counts with weight w_bsdf, where
 //! w_light and w_bsdf are the power-heuristic weights p²/(p_light² + p_bsdf²), p_bsdf = cosθ/π.
@@ -18,7 +19,8 @@
 //! with probability q = min(1, max component of β) and β is divided by q, so E[β'] = β (unbiased).
 //!
 //! Each file is the twin of the WGSL file of its stem beside it (`bvh.rs` of `bvh.wgsl`,
-//! `cwbvh.rs` of `cwbvh.wgsl`, `path.rs` of `path.wgsl`, `light.rs` of `light.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
+//! `cwbvh.rs` of `cwbvh.wgsl`, `path.rs` of `path.wgsl`, `light.rs` of `light.wgsl`, `light_tree.rs` of
+//! `light_tree.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
 //! of `texture.wgsl`), exported
 //! as its `WGSL` for `rt_gpu::shaders` to compose; the math they share with the rest of rt-core
 //! (random numbers, sampling, intersection, microfacets, the PBR BSDF) lives in `crate::math`, each
