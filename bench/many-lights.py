@@ -2,16 +2,21 @@
 """Writes the many-lights room: a 10 x 4 x 10 room with furniture lit by N small one-sided
 emissive quads of varied power (three decades, log-uniform) and colour, spread over the
 ceiling, the walls and the air in between, as Wavefront OBJ + MTL (Ke = radiance) and a camera
-JSON. The light tree's benchmark and test scene (docs/quality.md, "Many lights").
+JSON. The light tree's benchmark and test scene (docs/quality.md, "Many lights"). With
+--punctual, the same room lit by N point and spot lights instead (KHR_lights_punctual), as
+room-punctual.gltf.
 
     python3 bench/many-lights.py [--lights 1024] [--seed 1] [--out bench/scenes/many-lights]
+    python3 bench/many-lights.py --punctual --lights 256
 
 Deterministic for a seed (Python's random.Random). Lights share 32 materials (one object
 each), so the scene has 32 light objects whatever N.
 """
 
 import argparse
+import base64
 import json
+import struct
 import math
 import os
 import random
@@ -64,16 +69,9 @@ def box(lo, hi):
     ]
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--lights", type=int, default=1024)
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--out", default="bench/scenes/many-lights")
-    args = parser.parse_args()
-    rng = random.Random(args.seed)
-    os.makedirs(args.out, exist_ok=True)
-
-    objects = {}  # name -> (material, [quads])
+def room_objects():
+    """The room and its furniture: name -> (material, [quads])."""
+    objects = {}
     # The room, its faces pointing in (the inside of a box with the winding reversed).
     room = [list(reversed(q)) for q in box((-5, 0, -5), (5, 4, 5))]
     objects["floor"] = ("floor", [room[0]])
@@ -84,6 +82,95 @@ def main():
                  ((2.0, 0, 0.5), (3.2, 0.8, 1.7)), ((-4.6, 0, 0.0), (-3.8, 3.0, 3.0)),
                  ((-1.0, 0, 1.5), (0.2, 1.6, 2.7)), ((0.5, 2.6, -1.0), (2.5, 2.8, 1.0))]
     objects["furniture"] = ("grey", [q for lo, hi in furniture for q in box(lo, hi)])
+    return objects
+
+
+DIFFUSE = (("floor", (0.45, 0.42, 0.4)), ("white", (0.75, 0.75, 0.75)),
+           ("red", (0.6, 0.12, 0.1)), ("grey", (0.5, 0.5, 0.55)))
+
+
+def write_punctual(args, rng):
+    """The room as glTF, lit by point and spot lights (half each; a spot faces into the room,
+    its outer cone 30-70 degrees): intensity log-uniform over three decades, warm to cool."""
+    materials = [name for name, _ in DIFFUSE]
+    positions, indices, primitives = bytearray(), bytearray(), []
+    count = 0
+    for material, quads in room_objects().values():
+        first_index = len(indices) // 4
+        for q in quads:
+            for p in q:
+                positions += struct.pack("<3f", *p)
+            indices += struct.pack("<6I", count, count + 1, count + 2, count, count + 2, count + 3)
+            count += 4
+        primitives.append((materials.index(material), first_index, len(indices) // 4 - first_index))
+    lights, nodes = [], [{"mesh": 0}]
+    for i in range(args.lights):
+        where = rng.random()
+        if where < 0.35:
+            centre, normal = (rng.uniform(-4.8, 4.8), 3.9, rng.uniform(-4.8, 4.8)), (0.0, -1.0, 0.0)
+        elif where < 0.7:
+            t, y = rng.uniform(-4.8, 4.8), rng.uniform(0.3, 3.8)
+            centre, normal = [((t, y, -4.9), (0, 0, 1)), ((t, y, 4.9), (0, 0, -1)),
+                              ((-4.9, y, t), (1, 0, 0)), ((4.9, y, t), (-1, 0, 0))][rng.randrange(4)]
+        else:
+            centre = (rng.uniform(-4.5, 4.5), rng.uniform(0.3, 3.7), rng.uniform(-4.5, 4.5))
+            normal = normalize((rng.gauss(0, 1), rng.gauss(0, 1), rng.gauss(0, 1)))
+        warm = rng.random()
+        # Candela: about the power of one of the emissive room's lamps (683 lm/W).
+        light = {"color": [1.0, 0.75 + 0.25 * warm, 0.5 + 0.5 * warm],
+                 "intensity": round(683 * 0.004 * 10 ** rng.uniform(-1.0, 2.0), 3)}
+        node = {"translation": list(centre), "extensions": {"KHR_lights_punctual": {"light": i}}}
+        if i % 2:
+            outer = math.radians(rng.uniform(30, 70))
+            light.update(type="spot", spot={"innerConeAngle": outer * rng.uniform(0.3, 0.9),
+                                            "outerConeAngle": outer})
+            # The rotation taking a spot's -z onto the normal, (a x b, 1 + a.b) normalised (half
+            # a turn about x where they are opposite).
+            a = (0.0, 0.0, -1.0)
+            q = (*cross(a, normal), 1.0 + sum(x * y for x, y in zip(a, normal)))
+            node["rotation"] = list(normalize(q)) if q[3] > 1e-6 else [1.0, 0.0, 0.0, 0.0]
+        else:
+            light["type"] = "point"
+        lights.append(light)
+        nodes.append(node)
+    buffer = bytes(positions) + bytes(indices)
+    gltf = {
+        "asset": {"version": "2.0", "generator": f"bench/many-lights.py --punctual --lights {args.lights} --seed {args.seed}"},
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": lights}},
+        "scene": 0, "scenes": [{"nodes": list(range(len(nodes)))}], "nodes": nodes,
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1 + k, "material": m}
+                                   for k, (m, _, _) in enumerate(primitives)]}],
+        "materials": [{"name": name, "pbrMetallicRoughness": {"baseColorFactor": [*kd, 1.0],
+                       "metallicFactor": 0.0, "roughnessFactor": 1.0}} for name, kd in DIFFUSE],
+        "buffers": [{"byteLength": len(buffer),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(buffer).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": len(positions), "target": 34962},
+                        {"buffer": 0, "byteOffset": len(positions), "byteLength": len(indices),
+                         "target": 34963}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": count, "type": "VEC3",
+                       "min": [-5, 0, -5], "max": [5, 4, 5]}]
+        + [{"bufferView": 1, "byteOffset": 4 * first, "componentType": 5125, "count": n, "type": "SCALAR"}
+           for _, first, n in primitives],
+    }
+    with open(os.path.join(args.out, "room-punctual.gltf"), "w") as f:
+        json.dump(gltf, f)
+        f.write("\n")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--lights", type=int, default=1024)
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--out", default="bench/scenes/many-lights")
+    parser.add_argument("--punctual", action="store_true")
+    args = parser.parse_args()
+    rng = random.Random(args.seed)
+    os.makedirs(args.out, exist_ok=True)
+    if args.punctual:
+        write_punctual(args, rng)
+        return
+    objects = room_objects()
 
     groups = [[] for _ in range(MATERIALS)]
     for _ in range(args.lights):
@@ -107,8 +194,7 @@ def main():
 
     with open(os.path.join(args.out, "room.mtl"), "w") as mtl:
         mtl.write(f"# many-lights room (bench/many-lights.py --lights {args.lights} --seed {args.seed})\n")
-        for name, kd in (("floor", (0.45, 0.42, 0.4)), ("white", (0.75, 0.75, 0.75)),
-                         ("red", (0.6, 0.12, 0.1)), ("grey", (0.5, 0.5, 0.55))):
+        for name, kd in DIFFUSE:
             mtl.write(f"newmtl {name}\nKd {kd[0]} {kd[1]} {kd[2]}\n\n")
         for i in range(MATERIALS):
             # Radiance over three decades, log-uniform; a warm-to-cool tint.

@@ -82,6 +82,16 @@ fn gpu_matches_cpu_reference_with_point_spot_and_directional_lights() {
     assert_images_agree(&scene, 8192, 4096);
 }
 
+/// Point and spot lights picked through the light tree beside emitters (a rough glass ball, paper
+/// lit from behind): the kernels' tree descent, delta samples and tree normals agree with the CPU
+/// reference per pixel.
+#[test]
+fn gpu_matches_cpu_reference_with_points_and_spots_in_the_light_tree() {
+    let mut scene = super::sampling_strategies::room_with_points_spots_glass_and_paper();
+    scene.settings.light_sampler = rt_core::LightSampler::Tree;
+    assert_images_agree(&scene, 4096, 2048);
+}
+
 /// The Sobol sampler's kernel and CPU reference agree too (same points per pixel and sample).
 #[test]
 fn gpu_matches_cpu_reference_with_the_sobol_sampler() {

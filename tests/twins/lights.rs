@@ -4,11 +4,12 @@
 
 use super::*;
 use rt_core::bvh::{BvhLayout, BvhQuality};
-use rt_core::reference::{Surface, direct_light, sample_light, trace};
+use rt_core::reference::{Surface, delta_lights_at, direct_light, sample_light, trace};
 
-/// The Cornell box with thirty more small emitters facing every way, picked through the light
-/// tree.
+/// The Cornell box with thirty more small emitters facing every way, twelve point and spot lights
+/// (both falloffs) and a sun, picked through the light tree (the sun summed).
 fn cornell_with_many_lights() -> rt_core::Scene {
+    use rt_core::{Light, LightKind};
     let mut scene = rt_core::assets::cornell_box().unwrap();
     let (lo, hi) = scene.bounds().unwrap();
     let mut rng = Rng::new(8, 0, 0x3e);
@@ -25,6 +26,23 @@ fn cornell_with_many_lights() -> rt_core::Scene {
             transform: Default::default(),
         });
     }
+    for i in 0..12 {
+        let kind = [LightKind::Point, LightKind::Spot][i % 2];
+        let mut light = Light::new(kind, &format!("delta {i}"));
+        let u = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        light.position = (lo + (hi - lo) * u).to_array();
+        light.direction = unit(&mut rng).to_array();
+        light.intensity = 10f32.powf(1.0 + 2.0 * rng.next_f32());
+        light.outer_angle_deg = 20.0 + 60.0 * rng.next_f32();
+        light.inner_angle_deg = light.outer_angle_deg * rng.next_f32();
+        if i % 4 == 3 {
+            light.falloff = rt_core::light::SpotFalloff::Gltf;
+        }
+        scene.lights.push(light);
+    }
+    let mut sun = Light::new(LightKind::Directional, "sun");
+    sun.direction = [0.3, -1.0, -0.4];
+    scene.lights.push(sun);
     scene.settings.light_sampler = rt_core::LightSampler::Tree;
     scene
 }
@@ -68,9 +86,10 @@ fn light_scenes() -> Vec<(&'static str, TwinScene)> {
     out
 }
 
-/// A light sample from a point (area lights by power, the environment by its map), the direct
-/// light a Lambertian surface gets through it (the shadow ray traced), and the nearest hit of a
-/// random ray, at random points in and around the box. A point whose shadow ray or light choice
+/// A light sample from a point (area lights by power, the environment by its map, or through the
+/// tree with point and spot lights, half the points lit from both sides), the direct light a
+/// Lambertian surface gets through it (the shadow ray traced), the delta lights it sums, and the
+/// nearest hit of a random ray, at random points in and around the box. A point whose shadow ray or light choice
 /// sits on an edge may go the other way when a coordinate differs in its last bit: such items (a
 /// few in a thousand at most) are counted, not compared.
 #[test]
@@ -99,10 +118,10 @@ fn light_sampling_and_traversal_match_their_twin() {
         });
         let kernel = TwinKernel {
             words_in: 12,
-            words_out: 20,
+            words_out: 23,
             body: "let p = v3_in(item, 0u); let ng = v3_in(item, 3u); let d = v3_in(item, 6u);
     var r = rng_init(item, 3u, 9u);
-    let l = sample_light(p, ng, &r);
+    let l = sample_light(p, ng, (item & 1u) == 1u, &r);
     let ok = l.distance > 0.0;
     put_u(item, 0u, u32(ok));
     put3(item, 1u, select(vec3(0.0), l.origin, ok)); put(item, 4u, select(0.0, l.distance, ok));
@@ -115,7 +134,8 @@ fn light_sampling_and_traversal_match_their_twin() {
     put3(item, 12u, direct_light(p, ng, s, &q, &rays));
     let h = intersect_scene(p, d, 3.0e38, false);
     put(item, 15u, h.t); put_u(item, 16u, h.triangle); put(item, 17u, h.b1); put(item, 18u, h.b2);
-    put_u(item, 19u, rays);",
+    put_u(item, 19u, rays);
+    put3(item, 20u, delta_lights_at(p, ng, s, &rays));",
             sobol: false,
         };
         let gpu_out = kernel.run_in(ctx, &scene, &input);
@@ -127,7 +147,7 @@ fn light_sampling_and_traversal_match_their_twin() {
                 let v = |k: usize| Vec3::new(f(k), f(k + 1), f(k + 2));
                 let (p, ng, d, albedo) = (v(0), v(3), v(6), v(9));
                 let mut rng = Rng::new(item as u32, 3, 9);
-                let light = sample_light(g, frame, p, ng, &mut rng);
+                let light = sample_light(g, frame, p, ng, item % 2 == 1, &mut rng);
                 let mut out = vec![u32::from(light.is_some())];
                 let l = light.unwrap_or(rt_core::reference::LightSample {
                     origin: Vec3::ZERO,
@@ -148,9 +168,12 @@ fn light_sampling_and_traversal_match_their_twin() {
                 let h = trace(g, p, d, 3.0e38);
                 out.extend([h.t.to_bits(), h.triangle, h.b1.to_bits(), h.b2.to_bits()]);
                 out.push(rays);
+                out.extend(bits(
+                    &delta_lights_at(g, frame, p, ng, &surface, &mut rays).to_array(),
+                ));
                 // Another emitter, another side of an edge, or another triangle at an edge: the
                 // GPU's row stands in for it, and it is counted.
-                let gpu_row = &gpu_out[item * 20..item * 20 + 20];
+                let gpu_row = &gpu_out[item * 23..item * 23 + 23];
                 let differs = |k: usize| {
                     let (a, b) = (f32::from_bits(out[k]), f32::from_bits(gpu_row[k]));
                     (a - b).abs() > 1e-3 * a.abs().max(b.abs()).max(1.0)
@@ -158,6 +181,7 @@ fn light_sampling_and_traversal_match_their_twin() {
                 if out[0] != gpu_row[0]
                     || (1..12).any(differs)
                     || (12..15).any(differs)
+                    || (20..23).any(differs)
                     || out[16] != gpu_row[16]
                     || out[19] != gpu_row[19]
                 {
@@ -174,6 +198,12 @@ fn light_sampling_and_traversal_match_their_twin() {
         );
         let lit = rows.iter().filter(|r| r[0] == 1).count();
         let hits = rows.iter().filter(|r| r[16] != u32::MAX).count();
+        let deltas = rows.iter().filter(|r| r[0] == 1 && r[8] == 0).count();
+        assert_eq!(
+            deltas > ITEMS / 50,
+            name.contains("tree"),
+            "{name}: {deltas} delta samples"
+        );
         assert!(
             lit > ITEMS / 8 && hits > ITEMS / 2,
             "{name}: {lit} light samples, {hits} hits: the inputs miss the scene"
@@ -184,7 +214,7 @@ fn light_sampling_and_traversal_match_their_twin() {
             abs: 1e-5,
             exact_words: &[0, 16, 19],
         }
-        .check_rows(&gpu_out, 20, &rows);
+        .check_rows(&gpu_out, 23, &rows);
     }
 }
 
@@ -194,7 +224,7 @@ fn light_sampling_and_traversal_match_their_twin() {
 /// with an environment, three delta lights and an open aperture.
 #[test]
 fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
-    use rt_core::reference::{camera_ray, delta_lights_at};
+    use rt_core::reference::camera_ray;
     use rt_core::{Light, LightKind};
     let Some(ctx) = gpu() else { return };
     let mut scene = rt_core::assets::cornell_box().unwrap();

@@ -39,9 +39,10 @@ pub struct EstimatorArgs {
     /// of its relMSE term, as --noise-target measures the image) and its neighbours' is at most X.
     #[arg(long, value_name = "X")]
     pub adaptive: Option<f32>,
-    /// How next-event estimation picks an emitter: tree (by its importance at the shading point,
-    /// through the light tree: for scenes with many lights), power (in proportion to its power), or
-    /// auto (the default: the tree from 16 emitter triangles on).
+    /// How next-event estimation picks a light: tree (an emitter, point or spot light by its
+    /// importance at the shading point, through the light tree: for scenes with many lights), power
+    /// (an emitter in proportion to its power, every point and spot light summed), or auto (the
+    /// default: the tree from 16 lights on).
     #[arg(long, value_enum)]
     pub light_sampler: Option<LightSamplerArg>,
 }

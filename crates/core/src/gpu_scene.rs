@@ -300,14 +300,6 @@ impl GpuScene {
         out.features.thin_lens = scene.camera.aperture_radius > 0.0;
         (out.emitters, out.emitter_power) =
             crate::emitters::build_emitters(&out.triangles, &out.materials);
-        out.features.nee = scene.settings.next_event_estimation && !out.emitters.is_empty();
-        let sampler = scene.settings.light_sampler;
-        out.light_tree = if out.features.nee && sampler.uses_tree(out.emitters.len()) {
-            crate::light_tree::build_light_tree(&mut out.emitters, &out.triangles, &out.materials)
-        } else {
-            Vec::new()
-        };
-        out.features.light_tree = !out.light_tree.is_empty();
         for light in &scene.lights {
             light.validate().map_err(Error::Scene)?;
         }
@@ -318,6 +310,25 @@ impl GpuScene {
             .map(|l| l.gpu())
             .collect();
         out.features.delta_lights = !out.delta_lights.is_empty();
+        // The tree holds the emitters and the point and spot lights.
+        let nee = scene.settings.next_event_estimation;
+        let tree_lights = out.emitters.len()
+            + (out.delta_lights.iter())
+                .filter(|l| crate::light_tree::in_tree(l))
+                .count();
+        out.light_tree =
+            if nee && tree_lights > 0 && scene.settings.light_sampler.uses_tree(tree_lights) {
+                crate::light_tree::build_light_tree(
+                    &mut out.emitters,
+                    &out.triangles,
+                    &out.materials,
+                    &out.delta_lights,
+                )
+            } else {
+                Vec::new()
+            };
+        out.features.light_tree = !out.light_tree.is_empty();
+        out.features.nee = nee && (!out.emitters.is_empty() || out.features.light_tree);
         (
             out.env_texels,
             out.env_width,

@@ -449,7 +449,8 @@ pub struct LightNode {
     pub axis_x: [f32; 4], // 48
     pub axis_y: [f32; 4],   // 64
     pub axis_z: [f32; 4],   // 80
-    /// Σ area × luminance(emission) below each slot; 0 for an empty slot.
+    /// Σ area × luminance(emission) below each slot (a point or spot light: the luminance of its
+    /// intensity); 0 for an empty slot.
     pub power: [f32; 4], // 96
     /// Cosine and sine of each cone's half-angle.
     pub cos_theta_o: [f32; 4], // 112
@@ -458,7 +459,8 @@ pub struct LightNode {
     pub cos_theta_e: [f32; 4], // 144
     /// The bounding spheres' radii (half the boxes' diagonals).
     pub radius: [f32; 4], // 160
-    /// Per slot: the child node, or for a leaf slot its emitter triangle.
+    /// Per slot: the child node, or for a leaf slot its emitter triangle or, with
+    /// `light_tree::DELTA_LEAF` set, its point or spot light.
     pub child: [u32; 4], // 176
     /// Bit i set: slot i is a leaf (one emitter).
     pub leaves: u32, // 192

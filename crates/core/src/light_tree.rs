@@ -7,7 +7,11 @@
 //! Each node bounds the emitters below it: a box (kept as its bounding sphere, all the importance
 //! needs), a cone of normals (axis, θ_o), the angle past a normal they emit into (θ_e = π/2: rt's
 //! emitters are one-sided diffuse) and their power Φ = Σ area × luminance(emission), the alias
-//! table's weight. Splits minimise pbrt's cost over
+//! table's weight. Point and spot lights are leaves too (as in pbrt-v4), with Φ = luminance of
+//! their intensity, so that Φ/d² is the irradiance scale of either kind: a point emits over the
+//! sphere (θ_o = π), a spot along its axis with θ_o its inner cone and θ_e the rest of its outer
+//! one. Suns stay out: they are summed at every vertex (`reference::light::delta_lights_at`), as
+//! pbrt keeps its infinite lights beside the tree. Splits minimise pbrt's cost over
 //! 12 centroid buckets per axis,
 //!   cost = Φ · M_Ω · A_box · K_r,  M_Ω = 2π(1 − cosθ_o) + π/2 (2θ_w sinθ_o − cos(θ_o − 2θ_w)
 //!                                        − 2θ_o sinθ_o + cosθ_o),  θ_w = min(θ_o + θ_e, π),
@@ -19,8 +23,20 @@
 
 use glam::{Quat, Vec3};
 
-use crate::gpu_types::{Emitter, LightNode, Material, Triangle};
+use crate::gpu_types::{DeltaLight, Emitter, LightNode, Material, Triangle, light_kind};
 use crate::math::sampling::luminance;
+
+/// Set in a leaf slot's `child` for a point or spot light: the rest is its index in the delta
+/// lights (`DELTA_LEAF` in `light_tree.wgsl`); without it the slot names an emitter triangle.
+pub const DELTA_LEAF: u32 = 1 << 31;
+
+/// Whether the tree holds `light` (points and spots; suns are summed at each vertex).
+pub fn in_tree(light: &DeltaLight) -> bool {
+    matches!(
+        light.kind,
+        light_kind::POINT | light_kind::SPOT | light_kind::SPOT_GLTF
+    )
+}
 
 /// Below this depth splits minimise the cost; deeper, they halve the emitters (so no tree is
 /// deeper than this plus log2 of the emitter count; the descents stop at `MAX_DEPTH`).
@@ -53,6 +69,31 @@ impl LightBounds {
             axis: (v[1] - v[0]).cross(v[2] - v[0]).normalize(),
             cos_theta_o: 1.0,
             cos_theta_e: 0.0,
+            power,
+        }
+    }
+
+    /// A point or spot light: a point, emitting over the sphere (a point) or within its outer cone
+    /// (a spot, at full strength within its inner one).
+    fn of_delta(light: &DeltaLight) -> Self {
+        let position = Vec3::from(light.position);
+        let power = luminance(Vec3::from(light.power)).min(f32::MAX / 4.0);
+        let (axis, cos_theta_o, cos_theta_e) = if light.kind == light_kind::POINT {
+            (Vec3::Z, -1.0, 0.0)
+        } else {
+            let theta_outer = light.cos_outer.clamp(-1.0, 1.0).acos();
+            let theta_o = light.cos_inner.clamp(-1.0, 1.0).acos().min(theta_outer);
+            // Widened a little, so rounding never cuts the falloff's last sliver off.
+            let theta_e = (theta_outer - theta_o + 1e-4).min(std::f32::consts::PI);
+            let axis = Vec3::from(light.direction).normalize_or(Vec3::Z);
+            (axis, theta_o.cos(), theta_e.cos())
+        };
+        LightBounds {
+            lo: position,
+            hi: position,
+            axis,
+            cos_theta_o,
+            cos_theta_e,
             power,
         }
     }
@@ -123,11 +164,13 @@ fn cone_union(a: (Vec3, f32), b: (Vec3, f32)) -> (Vec3, f32) {
 }
 
 /// The tree over `emitters` (the alias table's entries, in triangle order), whose `leaf` fields it
-/// sets. Empty without emitters.
+/// sets, and over the point and spot lights among `delta_lights` (`in_tree`). Empty without
+/// either.
 pub fn build_light_tree(
     emitters: &mut [Emitter],
     triangles: &[Triangle],
     materials: &[Material],
+    delta_lights: &[DeltaLight],
 ) -> Vec<LightNode> {
     let mut items: Vec<(LightBounds, u32)> = emitters
         .iter()
@@ -141,6 +184,13 @@ pub fn build_light_tree(
             (LightBounds::of_triangle(t, power as f32), e.triangle)
         })
         .collect();
+    items.extend(
+        delta_lights
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| in_tree(l))
+            .map(|(i, l)| (LightBounds::of_delta(l), DELTA_LEAF | i as u32)),
+    );
     if items.is_empty() {
         return Vec::new();
     }
@@ -160,7 +210,7 @@ pub fn build_light_tree(
         .flat_map(|(i, node)| (0..4).map(move |slot| (4 * i + slot, node)))
     {
         let slot = code % 4;
-        if node.leaves & (1 << slot) != 0 {
+        if node.leaves & (1 << slot) != 0 && node.child[slot] & DELTA_LEAF == 0 {
             let triangle = node.child[slot];
             let i = emitters.partition_point(|e| e.triangle < triangle);
             emitters[i].leaf = code as u32;
@@ -170,7 +220,7 @@ pub fn build_light_tree(
 }
 
 /// A node of the binary tree the build makes first: its bounds, and its two children or its
-/// emitter triangle.
+/// light (an emitter triangle, or `DELTA_LEAF` and a delta light).
 struct BinaryNode {
     bounds: LightBounds,
     children: Option<[usize; 2]>,
@@ -386,7 +436,7 @@ mod tests {
     fn tree(count: usize, facing: Option<Vec3>) -> (Vec<Emitter>, Vec<LightNode>, f32) {
         let (triangles, materials) = emitters(count, facing);
         let (mut emitters, power) = crate::emitters::build_emitters(&triangles, &materials);
-        let nodes = build_light_tree(&mut emitters, &triangles, &materials);
+        let nodes = build_light_tree(&mut emitters, &triangles, &materials, &[]);
         (emitters, nodes, power)
     }
 
@@ -520,7 +570,7 @@ mod tests {
     fn a_distant_receiver_picks_emitters_by_power() {
         let (triangles, materials) = emitters(40, Some(Vec3::Y));
         let (mut emitters, power) = crate::emitters::build_emitters(&triangles, &materials);
-        let nodes = build_light_tree(&mut emitters, &triangles, &materials);
+        let nodes = build_light_tree(&mut emitters, &triangles, &materials, &[]);
         let x = Vec3::new(0.0, 1e5, 0.0);
         let mut counts = vec![0usize; triangles.len()];
         let samples = 200_000;
@@ -579,6 +629,119 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// `count` point and spot lights (both falloffs) of random place, axis, cones and intensity,
+    /// after a sun, which the tree leaves out.
+    fn delta_lights(count: usize) -> Vec<DeltaLight> {
+        let mut rng = Rng::new(5, 0, 0xde1);
+        let mut u = || rng.next_f32();
+        let mut lights = vec![DeltaLight {
+            kind: light_kind::DIRECTIONAL,
+            direction: [0.0, -1.0, 0.0],
+            power: [3.0; 3],
+            ..Default::default()
+        }];
+        for i in 0..count {
+            let outer = 0.1 + 1.4 * u();
+            let inner = outer * u();
+            let strength = 10f32.powf(3.0 * u() - 1.0);
+            lights.push(DeltaLight {
+                position: (Vec3::new(u(), u(), u()) * 10.0 - 5.0).to_array(),
+                kind: [light_kind::POINT, light_kind::SPOT, light_kind::SPOT_GLTF][i % 3],
+                direction: (Vec3::new(u(), u(), u()) * 2.0 - 1.0)
+                    .normalize()
+                    .to_array(),
+                cos_inner: inner.cos(),
+                power: [strength, strength * u(), strength],
+                cos_outer: outer.cos(),
+            });
+        }
+        lights
+    }
+
+    /// Every leaf slot of the tree: its code (4 × node + slot) and what it holds.
+    fn leaves(nodes: &[LightNode]) -> Vec<(u32, u32)> {
+        (0..nodes.len() * 4)
+            .filter(|code| nodes[code / 4].leaves & (1 << (code % 4)) != 0)
+            .map(|code| (code as u32, nodes[code / 4].child[code % 4]))
+            .collect()
+    }
+
+    /// Points and spots are leaves of the tree beside the emitters, once each (the sun is not):
+    /// at random points, with normals and with none (n = 0, a surface lit from both sides), the
+    /// pmfs of all leaves and the dead ends sum to one, a sample reports the pmf its slot
+    /// recomputes, and wherever a point or spot light gives irradiance above the horizon every
+    /// slot on its way to the root has a positive importance (a spot's cones bound its falloff).
+    #[test]
+    fn points_and_spots_join_the_tree_with_conservative_bounds() {
+        use crate::reference::light::delta_light_incidence;
+        let (triangles, materials) = emitters(120, None);
+        let (mut emitters, _) = crate::emitters::build_emitters(&triangles, &materials);
+        let lights = delta_lights(90);
+        let nodes = build_light_tree(&mut emitters, &triangles, &materials, &lights);
+        let leaves = leaves(&nodes);
+        let delta_code = |index: usize| {
+            let found: Vec<u32> = (leaves.iter())
+                .filter(|(_, child)| *child == DELTA_LEAF | index as u32)
+                .map(|(code, _)| *code)
+                .collect();
+            found
+        };
+        assert!(
+            delta_code(0).is_empty(),
+            "the sun is summed, not in the tree"
+        );
+        for i in 1..lights.len() {
+            assert_eq!(delta_code(i).len(), 1, "light {i}");
+        }
+        assert_eq!(leaves.len(), emitters.len() + lights.len() - 1);
+        let mut rng = Rng::new(12, 0, 0x3d);
+        let (mut checked, mut lit) = (0, 0);
+        for k in 0..600 {
+            let x = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 14.0 - 7.0;
+            let n = if k % 3 == 0 {
+                Vec3::ZERO
+            } else {
+                (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0).normalize()
+            };
+            let sum: f64 = (leaves.iter())
+                .map(|(code, _)| f64::from(tree_pmf(&nodes, *code, x, n)))
+                .sum();
+            let dead = dead_end_mass(&nodes, 0, 1.0, x, n);
+            if dead < 1.0 {
+                lit += 1;
+                assert!((sum + dead - 1.0).abs() < 1e-4, "Σ pmf {sum} + dead {dead}");
+            }
+            if let Some((light, pmf)) = sample_tree(&nodes, x, n, rng.next_f32()) {
+                let code = if light & DELTA_LEAF != 0 {
+                    delta_code((light & !DELTA_LEAF) as usize)[0]
+                } else {
+                    leaf_of(&emitters, light)
+                };
+                let again = tree_pmf(&nodes, code, x, n);
+                assert!((pmf - again).abs() <= 1e-5 * pmf, "{pmf} vs {again}");
+            }
+            for (i, light) in lights.iter().enumerate().skip(1) {
+                let (dir, _, irradiance) = delta_light_incidence(light, x);
+                if irradiance.max_element() <= 0.0 || !(n == Vec3::ZERO || dir.dot(n) > 1e-3) {
+                    continue;
+                }
+                checked += 1;
+                for code in ancestry(&nodes, delta_code(i)[0]) {
+                    let importance = slot_importances(&nodes[(code / 4) as usize], x, n);
+                    assert!(
+                        importance[(code % 4) as usize] > 0.0,
+                        "slot {code} on the way to light {i} ({}), which lights x",
+                        light.kind
+                    );
+                }
+            }
+        }
+        assert!(
+            lit > 500 && checked > 10_000,
+            "{lit} points lit, {checked} lights checked"
+        );
     }
 
     fn emitters_and_materials(count: usize) -> (Vec<Triangle>, Vec<Material>) {

@@ -179,38 +179,43 @@ pub struct RenderSettings {
     #[serde(default)]
     pub adaptive_threshold: Option<f32>,
     /// How next-event estimation picks an emitter: by its power alone, or by its importance at the
-    /// shading point through the light tree (`crate::light_tree`); by default the tree where the
-    /// scene has many emitters.
+    /// shading point through the light tree (`crate::light_tree`, which also holds the point and
+    /// spot lights); by default the tree where the scene has many lights.
     #[serde(default)]
     pub light_sampler: LightSampler,
 }
 
-/// How next-event estimation picks an emitter triangle (`RenderSettings::light_sampler`).
+/// How next-event estimation picks a light (`RenderSettings::light_sampler`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LightSampler {
-    /// The tree where the scene has at least `AUTO_TREE_MIN_EMITTERS` emitter triangles, else by
-    /// power (docs/quality.md, "Many lights", has the measurements behind the threshold).
+    /// The tree where the scene has at least `AUTO_TREE_MIN_LIGHTS` emitter triangles, point and
+    /// spot lights, else by power (docs/quality.md, "Many lights", has the measurements behind
+    /// the threshold).
     #[default]
     Auto,
-    /// In proportion to its power (area × luminance of its emission), wherever the shading point
-    /// is: one alias-table lookup.
+    /// An emitter triangle in proportion to its power (area × luminance of its emission),
+    /// wherever the shading point is: one alias-table lookup; every point and spot light is
+    /// summed at each vertex (a shadow ray each).
     Power,
-    /// By its importance at the shading point (power, distance and orientation bounds) through
-    /// the light tree: far fewer wasted shadow rays where many emitters lie far away or face away.
+    /// An emitter triangle, point or spot light by its importance at the shading point (power,
+    /// distance and orientation bounds) through the light tree: far fewer wasted shadow rays
+    /// where many lights lie far away or face away, and one shadow ray for all of them.
     Tree,
 }
 
-/// The fewest emitter triangles for which `LightSampler::Auto` takes the tree: with 2 (the
-/// Cornell box's lamp) it costs 5.8% more instructions a sample for the same noise, with 8 it
-/// breaks even, with 32 it has 1.24× and with 2,048 2.7× lower error in equal time.
-pub const AUTO_TREE_MIN_EMITTERS: usize = 16;
+/// The fewest lights (emitter triangles, point and spot lights) for which `LightSampler::Auto`
+/// takes the tree: with 2 (the Cornell box's lamp) it costs 5.8% more instructions a sample for
+/// the same noise, with 8 it breaks even, with 32 it has 1.24× and with 2,048 2.7× lower error
+/// in equal time.
+pub const AUTO_TREE_MIN_LIGHTS: usize = 16;
 
 impl LightSampler {
-    /// Whether a scene with `emitters` emitter triangles samples them through the light tree.
-    pub fn uses_tree(self, emitters: usize) -> bool {
+    /// Whether a scene with `lights` emitter triangles, point and spot lights samples them
+    /// through the light tree.
+    pub fn uses_tree(self, lights: usize) -> bool {
         match self {
-            LightSampler::Auto => emitters >= AUTO_TREE_MIN_EMITTERS,
+            LightSampler::Auto => lights >= AUTO_TREE_MIN_LIGHTS,
             LightSampler::Power => false,
             LightSampler::Tree => true,
         }

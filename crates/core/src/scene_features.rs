@@ -11,11 +11,13 @@ pub struct SceneFeatures {
     pub kinds: KindSet,
     pub textures: bool,
     pub thin_lens: bool,
-    /// Next-event estimation (the scene has emitters and the settings ask for it).
+    /// Next-event estimation samples lights (the settings ask for it, and the scene has emitters
+    /// or a light tree).
     pub nee: bool,
-    /// Next-event estimation picks emitters through the light tree (`GpuScene::light_tree`).
+    /// Next-event estimation picks emitters, point and spot lights through the light tree
+    /// (`GpuScene::light_tree`).
     pub light_tree: bool,
-    /// Point, spot or directional lights (always sampled directly).
+    /// Point, spot or directional lights (summed at each vertex, or sampled through the tree).
     pub delta_lights: bool,
     /// PBR normal maps or anisotropy: tangents (the kernel reads `GpuScene::tangents`).
     pub normal_maps: bool,

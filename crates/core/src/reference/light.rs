@@ -10,8 +10,10 @@
 //!   with probability `frame.env_pick`; `escaped` is what a ray leaving the scene sees, weighed
 //!   against that sampling (or the ambient colour without a map);
 //! - **delta lights** (point, spot, sun; `crate::light` has their units): `delta_light_incidence`
-//!   is where one lies from a point and the irradiance it gives there, one case per type, and
-//!   `delta_lights_at` sums them at a vertex (deterministic, no MIS: no BSDF ray can hit them).
+//!   is where one lies from a point and the irradiance it gives there, one case per type;
+//!   `delta_lights_at` sums them at a vertex (deterministic, no MIS: no BSDF ray can hit them),
+//!   except, where the light tree samples, the points and spots: they are its leaves, and
+//!   `sample_light` picks one as it picks an emitter, E f cosθ / p_pick with no MIS weight.
 //!
 //! `direct_light` is next-event estimation with the power heuristic (β = 2):
 //!   L_direct = f(ωi) cosθ L_e · w_light / p_light,  w_light = p_light² / (p_light² + p_bsdf²).
@@ -22,12 +24,13 @@ pub const WGSL: &str = include_str!("light.wgsl");
 
 use glam::Vec3;
 
-use super::light_tree::{leaf_of, pack_normal, sample_tree, tree_pmf, unpack_normal};
+use super::light_tree::{leaf_of, sample_tree, tree_normal_at, tree_pmf, unpack_normal};
 use super::occluded;
 use super::surface::Surface;
 use super::texture::{coverage, surface_emission};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame};
+use crate::light_tree::{DELTA_LEAF, in_tree};
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::Rng;
 use crate::math::sampling::*;
@@ -38,23 +41,29 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
 }
 
-/// A light sample for next-event estimation: the direction and distance to trace and L_e / p_light.
+/// A light sample for next-event estimation: the direction and distance to trace and L_e / p_light
+/// (a point or spot light: its irradiance over the probability of picking it, and `p_light` 0).
 pub struct LightSample {
     pub origin: Vec3,
     pub direction: Vec3,
     pub distance: f32,
     pub radiance_over_pdf: Vec3,
+    /// The density per solid angle, or 0 for a point or spot light (a delta: no BSDF sample finds
+    /// it, so its MIS weight is 1).
     pub p_light: f32,
 }
 
-/// One light sample from point `p`: the environment with probability `frame.env_pick`, else an
-/// emitter point (an emitter by power or through the light tree, then a uniform point on it). `None` when the sample cannot
-/// reach `p`'s side of the surface. Always draws four random numbers.
+/// One light sample from point `p` of a surface with geometric normal `ng`: the environment with
+/// probability `frame.env_pick`, else an emitter point (an emitter by power or through the light
+/// tree, then a uniform point on it) or, through the tree, a point or spot light, which also
+/// reaches a surface it lights through (`lit_through`) from its other side. `None` when the
+/// sample cannot reach the surface. Always draws four random numbers.
 pub fn sample_light(
     scene: &GpuScene,
     frame: &Frame,
     p: Vec3,
     ng: Vec3,
+    lit_through: bool,
     rng: &mut Rng,
 ) -> Option<LightSample> {
     let u_pick = rng.next_f32();
@@ -87,12 +96,25 @@ pub fn sample_light(
     // The emitter, and the tree's pmf for it (the power table's needs none: per unit area it is
     // the emission's luminance over the total power).
     let (chosen, tree_pmf) = if frame.light_sampler == 1 {
-        let normal = unpack_normal(pack_normal(ng));
+        let normal = unpack_normal(tree_normal_at(ng, lit_through));
         sample_tree(&scene.light_tree, origin, normal, u_pick)?
     } else {
         let chosen = crate::emitters::pick_emitter(&scene.emitters[..n], u_pick, u_alias);
         (chosen, 0.0)
     };
+    if chosen & DELTA_LEAF != 0 {
+        let light = &scene.delta_lights[(chosen & !DELTA_LEAF) as usize];
+        let (origin, direction, distance, irradiance) =
+            delta_light_toward(light, p, ng, origin, lit_through, frame.offset_scale)?;
+        let pick = (1.0 - frame.env_pick) * tree_pmf;
+        return Some(LightSample {
+            origin,
+            direction,
+            distance,
+            radiance_over_pdf: irradiance / pick,
+            p_light: 0.0,
+        });
+    }
     let tri = &scene.triangles[chosen as usize];
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let [b0, b1, b2] = sample_triangle(u_a, u_b);
@@ -170,7 +192,7 @@ pub fn direct_light(
     rng: &mut Rng,
     rays: &mut u32,
 ) -> Vec3 {
-    let Some(light) = sample_light(scene, frame, p, ng, rng) else {
+    let Some(light) = sample_light(scene, frame, p, ng, surface.lit_through(), rng) else {
         return Vec3::ZERO;
     };
     let (f_cos, p_bsdf) = surface.eval(light.direction);
@@ -181,7 +203,7 @@ pub fn direct_light(
     if occluded(scene, light.origin, light.direction, light.distance) {
         return Vec3::ZERO;
     }
-    let w_light = if frame.light_strategy == 1 {
+    let w_light = if frame.light_strategy == 1 || light.p_light == 0.0 {
         1.0
     } else {
         power_heuristic(light.p_light, p_bsdf)
@@ -215,12 +237,43 @@ pub fn delta_light_incidence(light: &DeltaLight, origin: Vec3) -> (Vec3, f32, Ve
     (dir, distance, e)
 }
 
+/// Where point, spot or sun light `light` reaches the surface at `p` (geometric normal `ng`, shadow
+/// rays leaving from `above`) from: the shadow ray's origin, direction and distance, and the
+/// irradiance there. A surface it lights through (`lit_through`: rough or diffuse transmission)
+/// also takes it from beyond, the shadow ray leaving from its other side: no BSDF sample can find
+/// a delta light, so without this a sun behind rough glass would send nothing through it. `None`
+/// where it lights neither side or gives nothing.
+fn delta_light_toward(
+    light: &DeltaLight,
+    p: Vec3,
+    ng: Vec3,
+    above: Vec3,
+    lit_through: bool,
+    offset_scale: f32,
+) -> Option<(Vec3, Vec3, f32, Vec3)> {
+    // NaN (a light at the point itself) faces neither side.
+    let faces = |dir: Vec3, side: std::cmp::Ordering| dir.dot(ng).partial_cmp(&0.0) == Some(side);
+    let (dir, distance, irradiance) = delta_light_incidence(light, above);
+    let (origin, dir, distance, irradiance) = if faces(dir, std::cmp::Ordering::Greater) {
+        (above, dir, distance, irradiance)
+    } else {
+        if !lit_through {
+            return None;
+        }
+        let below = offset_ray_origin(p, -ng, offset_scale);
+        let (dir, distance, irradiance) = delta_light_incidence(light, below);
+        if !faces(dir, std::cmp::Ordering::Less) {
+            return None;
+        }
+        (below, dir, distance, irradiance)
+    };
+    (irradiance != Vec3::ZERO).then_some((origin, dir, distance, irradiance))
+}
+
 /// Point, spot and directional lights at `p`: Σ E f cosθ over the unoccluded lights (β applied by
-/// the caller), E = I/d² (times the spot falloff) or the sun's E. A surface they light through
-/// (`Surface::lit_through`: rough or diffuse transmission) also takes the lights beyond it, its
-/// shadow rays leaving from its other side: no BSDF sample can find a delta light, so without
-/// this a sun behind rough glass would send nothing through it. Adds the shadow rays it traces
-/// to `rays`.
+/// the caller), E = I/d² (times the spot falloff) or the sun's E, each from the side it reaches
+/// (`delta_light_toward`). Where the light tree samples, it holds the points and spots, and this
+/// sums the suns alone. Adds the shadow rays it traces to `rays`.
 pub fn delta_lights_at(
     scene: &GpuScene,
     frame: &Frame,
@@ -230,28 +283,17 @@ pub fn delta_lights_at(
     rays: &mut u32,
 ) -> Vec3 {
     let above = offset_ray_origin(p, ng, frame.offset_scale);
-    let below = surface
-        .lit_through()
-        .then(|| offset_ray_origin(p, -ng, frame.offset_scale));
-    // NaN (a light at the point itself) faces neither side.
-    let faces = |dir: Vec3, side: std::cmp::Ordering| dir.dot(ng).partial_cmp(&0.0) == Some(side);
+    let lit_through = surface.lit_through();
     let mut sum = Vec3::ZERO;
     for light in &scene.delta_lights {
-        if light.kind == 0 {
+        if light.kind == 0 || (frame.light_sampler == 1 && in_tree(light)) {
             continue;
         }
-        let (mut origin, (mut dir, mut distance, mut irradiance)) =
-            (above, delta_light_incidence(light, above));
-        if !faces(dir, std::cmp::Ordering::Greater) {
-            let Some(below) = below else { continue };
-            (origin, (dir, distance, irradiance)) = (below, delta_light_incidence(light, below));
-            if !faces(dir, std::cmp::Ordering::Less) {
-                continue;
-            }
-        }
-        if irradiance == Vec3::ZERO {
+        let Some((origin, dir, distance, irradiance)) =
+            delta_light_toward(light, p, ng, above, lit_through, frame.offset_scale)
+        else {
             continue;
-        }
+        };
         let (f_cos, _) = surface.eval(dir);
         if f_cos == Vec3::ZERO {
             continue;
@@ -353,7 +395,7 @@ mod tests {
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             for i in 0..samples {
                 let mut rng = Rng::new(i, 0, 0x77);
-                if let Some(s) = sample_light(&gpu, &frame, x, n, &mut rng) {
+                if let Some(s) = sample_light(&gpu, &frame, x, n, false, &mut rng) {
                     let w = 1.0 / f64::from(s.p_light);
                     sum += w;
                     sum2 += w * w;

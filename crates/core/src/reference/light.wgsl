@@ -18,7 +18,8 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 }
 
 // One light sample from p (light.rs `sample_light`): the environment with probability
-// frame.env_pick, else an emitter point. `distance` <= 0: none. Always draws four random numbers.
+// frame.env_pick, else an emitter point or, through the tree, a point or spot light (p_light 0: a
+// delta). `distance` <= 0: none. Always draws four random numbers.
 struct LightSample {
     origin: vec3<f32>,
     distance: f32,
@@ -27,7 +28,7 @@ struct LightSample {
     radiance_over_pdf: vec3<f32>,
 }
 
-fn sample_light(p: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> LightSample {
+fn sample_light(p: vec3<f32>, ng: vec3<f32>, lit_through: bool, rng: ptr<function, Sampler>) -> LightSample {
     var none: LightSample;
     none.distance = -1.0;
     let u_pick = rng_next(rng);
@@ -50,11 +51,19 @@ fn sample_light(p: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> Lig
     var chosen: u32;
     var tree_pmf = 0.0;
     if (HAS_LIGHT_TREE && frame.light_sampler == 1u) {
-        let t = sample_tree(origin, unpack_normal(pack_normal(ng)), u_emitter);
+        let t = sample_tree(origin, unpack_normal(tree_normal_at(ng, lit_through)), u_emitter);
         if (!(t.pmf > 0.0)) {
             return none;
         }
-        chosen = t.triangle;
+        if (HAS_DELTA_LIGHTS && (t.light & DELTA_LEAF) != 0u) {
+            let d = delta_light_toward(delta_lights[t.light & ~DELTA_LEAF], p, ng, origin, lit_through);
+            if (!(d.distance > 0.0)) {
+                return none;
+            }
+            let pick = (1.0 - frame.env_pick) * t.pmf;
+            return LightSample(d.origin, d.distance, d.dir, 0.0, d.irradiance / pick);
+        }
+        chosen = t.light;
         tree_pmf = t.pmf;
     } else {
         let n = frame.emitter_count;
@@ -109,7 +118,7 @@ fn emitter_pdf(triangle: u32, origin: vec3<f32>, tree_normal: u32, distance: f32
 fn sample_direct(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<function, Sampler>) -> ShadowRay {
     var none: ShadowRay;
     none.distance = -1.0;
-    let light = sample_light(p, ng, rng);
+    let light = sample_light(p, ng, surface_lit_through(surface), rng);
     if (!(light.distance > 0.0)) {
         return none;
     }
@@ -117,7 +126,7 @@ fn sample_direct(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<functio
     if (all(e.xyz == vec3(0.0))) {
         return none;
     }
-    let w_light = select(power_heuristic(light.p_light, e.w), 1.0, frame.light_strategy == 1u);
+    let w_light = select(power_heuristic(light.p_light, e.w), 1.0, frame.light_strategy == 1u || light.p_light == 0.0);
     return ShadowRay(light.origin, light.distance, light.direction, 0u, e.xyz * light.radiance_over_pdf * w_light);
 }
 
@@ -162,48 +171,71 @@ fn delta_light_incidence(light: DeltaLight, origin: vec3<f32>) -> DeltaIncidence
     return DeltaIncidence(dir, distance, irradiance);
 }
 
+// Where a delta light reaches the surface at p (normal ng, shadow rays from `above`) from: the
+// shadow ray and the irradiance, from the other side too where the surface lets it through
+// (light.rs `delta_light_toward`). `distance` <= 0: neither side, or nothing.
+struct DeltaToward {
+    origin: vec3<f32>,
+    distance: f32,
+    dir: vec3<f32>,
+    irradiance: vec3<f32>,
+}
+
+fn delta_light_toward(light: DeltaLight, p: vec3<f32>, ng: vec3<f32>, above: vec3<f32>, lit_through: bool) -> DeltaToward {
+    var none: DeltaToward;
+    none.distance = -1.0;
+    var origin = above;
+    var incidence = delta_light_incidence(light, above);
+    if (!(dot(incidence.dir, ng) > 0.0)) {
+        if (!lit_through) {
+            return none;
+        }
+        // The other side's origin only where a light lies beyond a surface it lights through.
+        origin = offset_ray_origin(p, -ng, frame.offset_scale);
+        incidence = delta_light_incidence(light, origin);
+        if (!(dot(incidence.dir, ng) < 0.0)) {
+            return none;
+        }
+    }
+    if (all(incidence.irradiance == vec3(0.0))) {
+        return none;
+    }
+    return DeltaToward(origin, incidence.distance, incidence.dir, incidence.irradiance);
+}
+
+// Whether the light tree holds a delta light when it samples (light_tree.rs `in_tree`): points
+// and spots; suns are summed.
+fn in_light_tree(light: DeltaLight) -> bool {
+    return light.kind == LIGHT_POINT || light.kind == LIGHT_SPOT || light.kind == LIGHT_SPOT_GLTF;
+}
+
 // Point, spot and directional lights at p: sum over lights of E f cos, E the irradiance from the
-// light (I/d^2, falloff for spots; E for the sun), if unoccluded (beta applied by the caller). A
-// surface they light through (rough or diffuse transmission) also takes the lights beyond it, its
-// shadow rays leaving from its other side (light.rs says why). Deterministic: draws no random
-// numbers.
+// light (I/d^2, falloff for spots; E for the sun), if unoccluded (beta applied by the caller), each
+// from the side it reaches (delta_light_toward). Where the light tree samples, it holds the points
+// and spots, and this sums the suns alone. Deterministic: draws no random numbers.
 fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<function, u32>) -> vec3<f32> {
     var sum = vec3(0.0);
     let above = offset_ray_origin(p, ng, frame.offset_scale);
     let lit_through = surface_lit_through(surface);
+    let tree = HAS_LIGHT_TREE && frame.light_sampler == 1u;
     for (var i = 0u; i < arrayLength(&delta_lights); i++) {
         let light = delta_lights[i];
-        if (light.kind == 0u) {
+        if (light.kind == 0u || (tree && in_light_tree(light))) {
             continue;
         }
-        var origin = above;
-        var incidence = delta_light_incidence(light, above);
-        if (!(dot(incidence.dir, ng) > 0.0)) {
-            if (!lit_through) {
-                continue;
-            }
-            // The other side's origin only where a light lies beyond a surface it lights through.
-            origin = offset_ray_origin(p, -ng, frame.offset_scale);
-            incidence = delta_light_incidence(light, origin);
-            if (!(dot(incidence.dir, ng) < 0.0)) {
-                continue;
-            }
-        }
-        let dir = incidence.dir;
-        let distance = incidence.distance;
-        let irradiance = incidence.irradiance;
-        if (all(irradiance == vec3(0.0))) {
+        let d = delta_light_toward(light, p, ng, above, lit_through);
+        if (!(d.distance > 0.0)) {
             continue;
         }
-        let f_cos = surface_eval(surface, dir).xyz;
+        let f_cos = surface_eval(surface, d.dir).xyz;
         if (all(f_cos == vec3(0.0))) {
             continue;
         }
         *rays += 1u;
-        if (intersect_scene(origin, dir, distance, true).triangle != MISS) {
+        if (intersect_scene(d.origin, d.dir, d.distance, true).triangle != MISS) {
             continue;
         }
-        sum += irradiance * f_cos;
+        sum += d.irradiance * f_cos;
     }
     return sum;
 }

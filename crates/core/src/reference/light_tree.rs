@@ -7,7 +7,8 @@
 //! centre, θ_b: half the angle the box's bounding sphere subtends from x; zero when θ′ ≥ θ_e: no
 //! emitter below faces x), and θ′_i = max(0, θ_i − θ_b) the smallest angle between n and a
 //! direction into the sphere (zero at or past π/2: next-event estimation takes only lights above
-//! the surface); I = Φ / r² for x inside the sphere (radius r). Every bound is conservative, so an
+//! the surface; cos θ′_i = 1 for n = 0, at a surface that point and spot lights reach through
+//! from either side, `Surface::lit_through`); I = Φ / r² for x inside the sphere (radius r). Every bound is conservative, so an
 //! emitter that can light x keeps a non-zero probability. The four slots' importances are
 //! computed lane by lane. The emitter's pmf is the product of the choices; `tree_pmf` recomputes
 //! it from the emitter's slot upwards for a BSDF-sampled ray that hits it (exact MIS).
@@ -58,9 +59,14 @@ pub fn slot_importances(node: &LightNode, x: Vec3, n: Vec3) -> Vec4 {
     let (wx, wy, wz) = (tx * inv_d, ty * inv_d, tz * inv_d);
     let sin_b = (radius * inv_d).min(Vec4::ONE);
     let cos_b = sine(sin_b);
-    // The receiver: the smallest angle between n and a direction into the sphere.
+    // The receiver: the smallest angle between n and a direction into the sphere (none for
+    // n = 0: lit from both sides).
     let cos_i = -(wx * n.x + wy * n.y + wz * n.z);
-    let cos_pi = cos_sub_clamped(sine(cos_i), cos_i, sin_b, cos_b);
+    let cos_pi = if n == Vec3::ZERO {
+        Vec4::ONE
+    } else {
+        cos_sub_clamped(sine(cos_i), cos_i, sin_b, cos_b)
+    };
     // The emitters: the smallest angle between their normals and the direction to x.
     let cos_w =
         wx * Vec4::from(node.axis_x) + wy * Vec4::from(node.axis_y) + wz * Vec4::from(node.axis_z);
@@ -103,8 +109,8 @@ fn pick_slot(importance: [f32; 4], target: f32) -> (usize, f32) {
     (last, below - importance[last])
 }
 
-/// An emitter triangle and its pmf for the uniform number `u`, descending from the root; `None`
-/// where no emitter can light x.
+/// A light and its pmf for the uniform number `u`, descending from the root: an emitter triangle,
+/// or `DELTA_LEAF` and a point or spot light's index; `None` where no light can light x.
 pub fn sample_tree(nodes: &[LightNode], x: Vec3, n: Vec3, u: f32) -> Option<(u32, f32)> {
     let mut u = u;
     let mut index = 0usize;
@@ -164,6 +170,21 @@ pub fn leaf_of(emitters: &[crate::gpu_types::Emitter], triangle: u32) -> u32 {
     emitters[lo].leaf
 }
 
+/// The packed tree normal of a vertex lit from both sides: `unpack_normal` gives n = 0. No
+/// normal packs to it (`pack_normal`'s snorms stop at −32767).
+pub const NO_NORMAL: u32 = 0x8000_8000;
+
+/// The tree normal of a vertex with geometric normal `ng`, packed: `NO_NORMAL` where point and
+/// spot lights reach the surface through it from its other side (`Surface::lit_through`), so
+/// that the tree keeps those beyond it.
+pub fn tree_normal_at(ng: Vec3, lit_through: bool) -> u32 {
+    if lit_through {
+        NO_NORMAL
+    } else {
+        pack_normal(ng)
+    }
+}
+
 /// The normal the tree weighs lights with at a vertex, packed into 32 bits (octahedral, 16-bit
 /// snorm) so the path carries it to the next hit: next-event estimation
 /// and the MIS weight of an emitter that the BSDF sample hits both use its unpacked value, so the
@@ -181,8 +202,11 @@ pub fn pack_normal(n: Vec3) -> u32 {
     snorm(u) | snorm(v) << 16
 }
 
-/// `pack_normal`'s unit normal.
+/// `pack_normal`'s unit normal (0 for `NO_NORMAL`).
 pub fn unpack_normal(packed: u32) -> Vec3 {
+    if packed == NO_NORMAL {
+        return Vec3::ZERO;
+    }
     let snorm = |bits: u32| (f32::from(bits as u16 as i16) / 32767.0).max(-1.0);
     let (u, v) = (snorm(packed & 0xffff), snorm(packed >> 16));
     let z = 1.0 - u.abs() - v.abs();

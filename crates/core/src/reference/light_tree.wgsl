@@ -2,6 +2,8 @@
 // importance's equation and why each bound is conservative); crates/core/src/light_tree.rs builds it.
 
 const LIGHT_TREE_DEPTH: u32 = 41u; // light_tree.rs MAX_DEPTH
+const DELTA_LEAF: u32 = 0x80000000u; // light_tree.rs DELTA_LEAF: a leaf's point or spot light
+const NO_NORMAL: u32 = 0x80008000u; // light_tree.rs NO_NORMAL: a vertex lit from both sides
 const ONE_MINUS_EPSILON: f32 = 0.99999994;
 
 fn cos_sub_clamped(sin_a: vec4<f32>, cos_a: vec4<f32>, sin_b: vec4<f32>, cos_b: vec4<f32>) -> vec4<f32> {
@@ -32,7 +34,7 @@ fn slot_importances(node: LightNode, x: vec3<f32>, n: vec3<f32>) -> vec4<f32> {
     let sin_b = min(node.radius * inv_d, vec4(1.0));
     let cos_b = sine4(sin_b);
     let cos_i = -(wx * n.x + wy * n.y + wz * n.z);
-    let cos_pi = cos_sub_clamped(sine4(cos_i), cos_i, sin_b, cos_b);
+    let cos_pi = select(cos_sub_clamped(sine4(cos_i), cos_i, sin_b, cos_b), vec4(1.0), all(n == vec3(0.0)));
     let cos_w = wx * node.axis_x + wy * node.axis_y + wz * node.axis_z;
     let sin_w = sine4(cos_w);
     let cos_x = cos_sub_clamped(sin_w, cos_w, node.sin_theta_o, node.cos_theta_o);
@@ -54,9 +56,10 @@ fn importance_total(i: vec4<f32>) -> f32 {
     return (i.x + i.y) + (i.z + i.w);
 }
 
-// An emitter triangle and its pmf for the uniform number u (light_tree.rs `sample_tree`); pmf 0: none.
+// A light (an emitter triangle, or DELTA_LEAF | a delta light's index) and its pmf for the uniform
+// number u (light_tree.rs `sample_tree`); pmf 0: none.
 struct TreeSample {
-    triangle: u32,
+    light: u32,
     pmf: f32,
 }
 
@@ -149,6 +152,15 @@ fn unsnorm16(bits: u32) -> f32 {
     return max(f32(bitcast<i32>(bits << 16u) >> 16u) / 32767.0, -1.0);
 }
 
+// NO_NORMAL where point and spot lights reach the surface from its other side (light_tree.rs
+// `tree_normal_at`).
+fn tree_normal_at(ng: vec3<f32>, lit_through: bool) -> u32 {
+    if (lit_through) {
+        return NO_NORMAL;
+    }
+    return pack_normal(ng);
+}
+
 fn pack_normal(n: vec3<f32>) -> u32 {
     var e = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
     if (n.z < 0.0) {
@@ -158,6 +170,9 @@ fn pack_normal(n: vec3<f32>) -> u32 {
 }
 
 fn unpack_normal(packed: u32) -> vec3<f32> {
+    if (packed == NO_NORMAL) {
+        return vec3(0.0);
+    }
     let e = vec2(unsnorm16(packed & 0xffffu), unsnorm16(packed >> 16u));
     let z = 1.0 - abs(e.x) - abs(e.y);
     var xy = e;

@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 
 use super::hit::MISS;
 use super::light::{delta_lights_at, direct_light, emitter_pdf, escaped, power_heuristic};
-use super::light_tree::pack_normal;
+use super::light_tree::tree_normal_at;
 use super::surface::{PbrInputs, Surface};
 use super::texture::{Slot, base_color_texture, surface_emission, textured_pbr_inputs};
 use super::trace;
@@ -145,7 +145,7 @@ pub struct PathState {
     /// estimation takes only lights above the surface).
     pub prev_bsdf_pdf: f32,
     /// The last vertex's normal as the light tree weighs lights with it
-    /// (`light_tree::pack_normal`).
+    /// (`light_tree::tree_normal_at`).
     pub tree_normal: u32,
     /// Segments traced so far (0: the camera ray).
     pub depth: u32,
@@ -196,7 +196,8 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
 /// vertex) added to `path.radiance`, then the next direction sampled, the throughput updated and
 /// Russian roulette played. Returns whether the path goes on.
 pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit) -> bool {
-    let lights_sampled = frame.emitter_count > 0 || frame.env_pick > 0.0;
+    let lights_sampled =
+        frame.emitter_count > 0 || frame.env_pick > 0.0 || frame.light_sampler == 1;
     if hit.triangle == MISS {
         let sky = path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf);
         path.radiance += clamp_bounced(sky, frame, path.depth);
@@ -380,7 +381,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         front,
     );
     if frame.light_sampler == 1 {
-        path.tree_normal = pack_normal(ng);
+        path.tree_normal = tree_normal_at(ng, surface.lit_through());
     }
     if !surface.is_delta() {
         if lights_sampled {

@@ -31,7 +31,7 @@ struct PathState {
     // The hero channel (math/dispersion.wgsl): 0 none yet, 1–3 red, green, blue.
     channel: u32,
     radiance: vec3<f32>,
-    // The last vertex's normal as the light tree weighs lights with it (light_tree.wgsl pack_normal).
+    // The last vertex's normal as the light tree weighs lights with it (light_tree.wgsl tree_normal_at).
     tree_normal: u32,
 }
 
@@ -210,7 +210,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     }
     if (front) {
         var weight = 1.0;
-        if (HAS_NEE && (*path).prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
+        if (HAS_NEE && frame.emitter_count > 0u && (*path).prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
             let cos_l = -dot(direction, normalize(ng_raw));
             let p_light = emitter_pdf(hit.triangle, (*path).origin, (*path).tree_normal, hit.t, cos_l);
             weight = select(power_heuristic((*path).prev_bsdf_pdf, p_light), 0.0, frame.light_strategy == 1u);
@@ -290,7 +290,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     }
     let surface = material_surface(material, color, inputs, direction, ng, ns, front);
     if (HAS_LIGHT_TREE && frame.light_sampler == 1u) {
-        (*path).tree_normal = pack_normal(ng);
+        (*path).tree_normal = tree_normal_at(ng, surface_lit_through(surface));
     }
     if (!surface_is_delta(surface)) {
         if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
