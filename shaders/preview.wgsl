@@ -144,6 +144,8 @@ fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
             let fresnel = pow(1.0 - max(dot(n, to_eye), 0.0), 5.0);
             radiance = radiance * 0.35 + highlight + vec3<f32>(fresnel) / max(view.eye.w, 1e-6);
         }
+        // A PBR material's emission (colour x strength), the radiance the render gives it.
+        radiance += o.emission.rgb;
     }
     var color = display(radiance);
     if o.flags.x != 0u {

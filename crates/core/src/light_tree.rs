@@ -744,6 +744,79 @@ mod tests {
         );
     }
 
+    /// The descent picks each light as often as its pmf says, at points among the lights (where
+    /// the importances, not the powers, decide): chi-square of 200,000 samples per point against
+    /// `tree_pmf` over every leaf (emitters, points and spots; bins expecting under 5 pooled).
+    #[test]
+    fn samples_follow_the_tree_pmf_near_the_lights() {
+        let (triangles, materials) = emitters(60, None);
+        let (mut emitters, _) = crate::emitters::build_emitters(&triangles, &materials);
+        let lights = delta_lights(30);
+        let nodes = build_light_tree(&mut emitters, &triangles, &materials, &lights);
+        let leaves = leaves(&nodes);
+        let code_of = |light: u32| {
+            if light & DELTA_LEAF != 0 {
+                leaves.iter().find(|(_, child)| *child == light).unwrap().0
+            } else {
+                leaf_of(&emitters, light)
+            }
+        };
+        let mut rng = Rng::new(21, 0, 0x2c);
+        let mut all_bins = 0;
+        for k in 0..4 {
+            let x = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 8.0 - 4.0;
+            let n = if k == 0 {
+                Vec3::ZERO
+            } else {
+                (Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0).normalize()
+            };
+            let samples = 200_000u32;
+            let mut counts = std::collections::HashMap::new();
+            let mut dead = 0u32;
+            for i in 0..samples {
+                let u = Rng::new(i, k, 0x77).next_f32();
+                match sample_tree(&nodes, x, n, u) {
+                    Some((light, _)) => *counts.entry(code_of(light)).or_insert(0u32) += 1,
+                    None => dead += 1,
+                }
+            }
+            let expected_dead = dead_end_mass(&nodes, 0, 1.0, x, n) * f64::from(samples);
+            let (mut chi2, mut bins) = (0.0, 0usize);
+            let (mut pooled_seen, mut pooled_expected) = (f64::from(dead), expected_dead);
+            for (code, _) in &leaves {
+                let expected = f64::from(tree_pmf(&nodes, *code, x, n)) * f64::from(samples);
+                let seen = f64::from(counts.get(code).copied().unwrap_or(0));
+                assert!(
+                    expected > 0.0 || seen == 0.0,
+                    "slot {code} sampled with pmf 0"
+                );
+                if expected < 5.0 {
+                    (pooled_seen, pooled_expected) =
+                        (pooled_seen + seen, pooled_expected + expected);
+                } else {
+                    chi2 += (seen - expected).powi(2) / expected;
+                    bins += 1;
+                }
+            }
+            if pooled_expected >= 5.0 {
+                chi2 += (pooled_seen - pooled_expected).powi(2) / pooled_expected;
+                bins += 1;
+            }
+            // The 0.999 quantile of chi-square with d degrees of freedom, Wilson–Hilferty.
+            let d = (bins - 1) as f64;
+            let limit = d * (1.0 - 2.0 / (9.0 * d) + 3.09 * (2.0 / (9.0 * d)).sqrt()).powi(3);
+            assert!(
+                bins >= 5 && chi2 < limit,
+                "point {k}: chi-square {chi2:.1} over {bins} bins (limit {limit:.1})"
+            );
+            all_bins += bins;
+        }
+        assert!(
+            all_bins > 60,
+            "only {all_bins} bins: the points see too few lights"
+        );
+    }
+
     fn emitters_and_materials(count: usize) -> (Vec<Triangle>, Vec<Material>) {
         emitters(count, None)
     }

@@ -229,7 +229,13 @@ pub fn build_frame(
     }
     let grid = bounds.map_or_else(
         || grid_lines(Vec3::ZERO, 1.0),
-        |(lo, hi)| grid_lines(Vec3::new(center.x, lo.y, center.z), (hi - lo).max_element()),
+        |(lo, hi)| {
+            let extent = (hi - lo).max_element();
+            // Just below the lowest surface, not in its plane: a floor there hides the grid
+            // instead of fighting it for depth (rows of dashes across the floor).
+            let y = lo.y - GRID_DROP * extent;
+            grid_lines(Vec3::new(center.x, y, center.z), extent)
+        },
     );
     PreviewFrame {
         size_px,
@@ -241,7 +247,16 @@ pub fn build_frame(
     }
 }
 
-/// A ground grid under the scene: ten-ish cells across its extent, at a round spacing.
+/// How far below the scene's lowest point the grid lies, in scene extents: beyond the depth
+/// buffer's resolution there (24 bits, near plane at 1e-4 of the far one at worst) yet invisible.
+const GRID_DROP: f32 = 2e-3;
+
+/// Segments per grid line: the fade towards the rim is interpolated along them.
+const GRID_SEGMENTS: i32 = 8;
+
+/// A ground grid under the scene: ten-ish cells across its extent, at a round spacing, fading
+/// out towards its rim (alpha 1 − (r/reach)², per segment end) as Blender's does into the
+/// distance, so that it has no hard edge across the view.
 pub fn grid_lines(center: Vec3, extent: f32) -> Vec<GridVertex> {
     let extent = if extent.is_finite() && extent > 0.0 {
         extent
@@ -266,22 +281,23 @@ pub fn grid_lines(center: Vec3, extent: f32) -> Vec<GridVertex> {
             grey
         };
         let along_z = if axis_z { [0.25, 0.35, 0.8, 1.0] } else { grey };
-        lines.push(GridVertex {
-            position: [cx - reach, y, cz + offset],
-            color: along_x,
-        });
-        lines.push(GridVertex {
-            position: [cx + reach, y, cz + offset],
-            color: along_x,
-        });
-        lines.push(GridVertex {
-            position: [cx + offset, y, cz - reach],
-            color: along_z,
-        });
-        lines.push(GridVertex {
-            position: [cx + offset, y, cz + reach],
-            color: along_z,
-        });
+        let mut vertex = |x: f32, z: f32, [r, g, b, _]: [f32; 4]| {
+            let t = Vec3::new(x - cx, 0.0, z - cz).length() / reach;
+            lines.push(GridVertex {
+                position: [x, y, z],
+                color: [r, g, b, (1.0 - t * t).max(0.0)],
+            });
+        };
+        for s in -GRID_SEGMENTS..GRID_SEGMENTS {
+            let (a, b) = (
+                reach * s as f32 / GRID_SEGMENTS as f32,
+                reach * (s + 1) as f32 / GRID_SEGMENTS as f32,
+            );
+            vertex(cx + a, cz + offset, along_x);
+            vertex(cx + b, cz + offset, along_x);
+            vertex(cx + offset, cz + a, along_z);
+            vertex(cx + offset, cz + b, along_z);
+        }
     }
     lines
 }
@@ -303,6 +319,24 @@ mod tests {
         let y = frame.view.lights[0].position[1];
         assert!(y > 400.0 && y < 560.0, "{y}");
         assert!(!frame.grid.is_empty() && frame.grid.len().is_multiple_of(2));
+    }
+
+    /// The grid lies just below the scene's lowest point (a floor there hides it rather than
+    /// fighting it for depth), opaque at its centre and faded out at its rim.
+    #[test]
+    fn the_grid_lies_just_under_the_floor_and_fades_to_its_rim() {
+        let scene = rt_core::assets::cornell_box().expect("embedded scene");
+        let (lo, hi) = scene.bounds().unwrap();
+        let frame = build_frame(&scene, &scene.camera, Some((lo, hi)), None, [400, 300]);
+        let extent = (hi - lo).max_element();
+        for v in &frame.grid {
+            let below = lo.y - v.position[1];
+            assert!(below > 1e-3 * extent && below < 1e-2 * extent, "{below}");
+        }
+        let alphas: Vec<f32> = frame.grid.iter().map(|v| v.color[3]).collect();
+        let max = alphas.iter().copied().fold(0.0, f32::max);
+        let min = alphas.iter().copied().fold(1.0, f32::min);
+        assert!(max > 0.95 && min == 0.0, "alpha from {min} to {max}");
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! `files.rs` saving, loading and dropped files.
 
 mod files;
+mod preview;
 mod rendering;
 mod scene_editing;
 

@@ -142,13 +142,22 @@ impl PreviewResources {
                 topology: wgpu::PrimitiveTopology::LineList,
                 ..Default::default()
             },
-            depth_stencil: depth,
+            // Tested against the meshes' depth, blended by its fade, and leaving no depth of its
+            // own (faded lines would hide each other).
+            depth_stencil: depth.map(|d| wgpu::DepthStencilState {
+                depth_write_enabled: Some(false),
+                ..d
+            }),
             multisample: wgpu::MultisampleState::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &module,
                 entry_point: Some("fs_grid"),
                 compilation_options: Default::default(),
-                targets: &color_target,
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: COLOR_FORMAT,
+                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
             }),
             multiview_mask: None,
             cache: None,
