@@ -1,5 +1,6 @@
 // The editor's raster preview: each object shaded by its material's colour or texture under the
-// ambient light and the emissive objects (approximated as point lights at their centres), lights
+// ambient light, the scene's point, spot and sun lights and the emissive objects (approximated as
+// point lights at their centres), lights
 // drawn glowing, the selection highlighted, and a ground grid. An approximation for placing things,
 // not an estimate of the rendered image: the path tracer is the truth.
 
@@ -13,8 +14,10 @@ const LOOK_EMITTER: u32 = 3u;
 struct PreviewLight {
     // xyz: position; w unused.
     position: vec4<f32>,
-    // rgb: radiant intensity (W/sr-like, in scene units); a unused.
+    // rgb: radiant intensity (W/sr-like, in scene units) over pi; a: a spot's cos(inner angle).
     intensity: vec4<f32>,
+    // xyz: a spot's axis; w: cos(outer angle), or -2 (types.rs NO_CONE) for the other lights.
+    direction: vec4<f32>,
 }
 
 struct PreviewView {
@@ -128,9 +131,16 @@ fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
             let d = light.position.xyz - in.world;
             let d2 = max(dot(d, d), 1e-12);
             let l = d * inverseSqrt(d2);
-            irradiance += light.intensity.rgb * max(dot(n, l), 0.0) / d2;
+            var intensity = light.intensity.rgb;
+            if light.direction.w > -1.5 {
+                // A spot: the renderer's smoothstep falloff between its cones.
+                let c = dot(-l, light.direction.xyz);
+                let t = clamp((c - light.direction.w) / max(light.intensity.a - light.direction.w, 1e-6), 0.0, 1.0);
+                intensity *= t * t * (3.0 - 2.0 * t);
+            }
+            irradiance += intensity * max(dot(n, l), 0.0) / d2;
             let h = normalize(l + to_eye);
-            highlight += light.intensity.rgb / d2 * pow(max(dot(n, h), 0.0), shininess) * (shininess + 2.0) / 66.0;
+            highlight += intensity / d2 * pow(max(dot(n, h), 0.0), shininess) * (shininess + 2.0) / 66.0;
         }
         // A weak headlight keeps unlit sides readable.
         let fill = 0.08 / max(view.eye.w, 1e-6) * max(dot(n, to_eye), 0.0);

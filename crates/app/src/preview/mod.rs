@@ -10,7 +10,9 @@ use std::sync::Arc;
 use glam::{Mat3, Mat4, Vec3};
 use rt_core::{Camera, Material, Mesh, Scene};
 
-use types::{GridVertex, MAX_PREVIEW_LIGHTS, PreviewLight, PreviewObject, PreviewView, look};
+use types::{
+    GridVertex, MAX_PREVIEW_LIGHTS, NO_CONE, PreviewLight, PreviewObject, PreviewView, look,
+};
 
 /// A texture's texels, shared with the scene.
 #[derive(Clone)]
@@ -96,38 +98,53 @@ pub fn build_frame(
         ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-6))
     });
 
-    // Emitters as point lights. A Lambertian emitter of radiance Le and area A has on-axis
-    // intensity Le·A; Le·A/2 stands in for its orientation. The shader wants intensity/π.
+    // Emitters (an emissive material, or a PBR one's emission) as point lights. A Lambertian
+    // emitter of radiance Le and area A has on-axis intensity Le·A; Le·A/2 stands in for its
+    // orientation. The shader wants intensity/π.
     let mut lights: Vec<PreviewLight> = scene
         .objects
         .iter()
-        .filter_map(|o| match o.material {
-            Material::Emissive { color, intensity } => {
-                let (area, position) = area_and_center(o);
-                let power = Vec3::from(color) * intensity * area * 0.5 / std::f32::consts::PI;
-                Some(PreviewLight {
-                    position: position.extend(1.0).to_array(),
-                    intensity: power.extend(0.0).to_array(),
-                })
+        .filter_map(|o| {
+            let radiance = match &o.material {
+                Material::Emissive { color, intensity } => Vec3::from(*color) * *intensity,
+                Material::Pbr(p) => Vec3::from(p.emission) * p.emission_strength,
+                _ => return None,
+            };
+            if luminance(radiance) <= 0.0 {
+                return None;
             }
-            _ => None,
+            let (area, position) = area_and_center(o);
+            let power = radiance * area * 0.5 / std::f32::consts::PI;
+            Some(PreviewLight {
+                position: position.extend(1.0).to_array(),
+                intensity: power.extend(0.0).to_array(),
+                direction: [0.0, 0.0, 0.0, NO_CONE],
+            })
         })
         .collect();
-    // Point and spot lights as they are (the spot's cone is ignored); the sun as a point light so
-    // far away that its light is parallel, bright enough to give its irradiance.
+    // Point lights as they are, spots with their cones; the sun as a point light so far away that
+    // its light is parallel, bright enough to give its irradiance.
     for light in &scene.lights {
         let power = Vec3::from(light.color) * light.intensity / std::f32::consts::PI;
+        let axis = Vec3::from(light.direction).normalize_or(Vec3::NEG_Y);
         let (position, intensity) = match light.kind {
             rt_core::LightKind::Directional => {
                 let far = radius * 1000.0;
-                let direction = Vec3::from(light.direction).normalize_or(Vec3::NEG_Y);
-                (center - direction * far, power * far * far)
+                (center - axis * far, power * far * far)
             }
             _ => (Vec3::from(light.position), power),
         };
+        let (cos_inner, cos_outer) = match light.kind {
+            rt_core::LightKind::Spot => (
+                light.inner_angle_deg.to_radians().cos(),
+                light.outer_angle_deg.to_radians().cos(),
+            ),
+            _ => (0.0, NO_CONE),
+        };
         lights.push(PreviewLight {
             position: position.extend(1.0).to_array(),
-            intensity: intensity.extend(0.0).to_array(),
+            intensity: intensity.extend(cos_inner).to_array(),
+            direction: axis.extend(cos_outer).to_array(),
         });
     }
     lights.sort_by(|a, b| {
@@ -337,6 +354,35 @@ mod tests {
         let max = alphas.iter().copied().fold(0.0, f32::max);
         let min = alphas.iter().copied().fold(1.0, f32::min);
         assert!(max > 0.95 && min == 0.0, "alpha from {min} to {max}");
+    }
+
+    /// A PBR material's emission makes a preview light as an emissive material does, and a spot
+    /// keeps its axis and cones (the other lights have none).
+    #[test]
+    fn pbr_emitters_light_the_preview_and_spots_keep_their_cones() {
+        let mut scene = rt_core::assets::cornell_box().expect("embedded scene");
+        scene
+            .objects
+            .retain(|o| !matches!(o.material, Material::Emissive { .. }));
+        scene.objects[0].material = Material::Pbr(Box::new(rt_core::material::Pbr {
+            emission: [1.0, 0.5, 0.2],
+            emission_strength: 3.0,
+            ..Default::default()
+        }));
+        let mut spot = rt_core::Light::new(rt_core::LightKind::Spot, "spot");
+        spot.direction = [0.0, -2.0, 0.0];
+        spot.inner_angle_deg = 20.0;
+        spot.outer_angle_deg = 30.0;
+        scene.lights = vec![spot];
+        let frame = build_frame(&scene, &scene.camera, scene.bounds(), None, [400, 300]);
+        assert_eq!(frame.view.light_count, 2);
+        let lights = &frame.view.lights[..2];
+        let spot = lights.iter().find(|l| l.direction[3] != NO_CONE).unwrap();
+        assert_eq!(spot.direction[..3], [0.0, -1.0, 0.0]);
+        assert!((spot.direction[3] - 30f32.to_radians().cos()).abs() < 1e-6);
+        assert!((spot.intensity[3] - 20f32.to_radians().cos()).abs() < 1e-6);
+        let emitter = lights.iter().find(|l| l.direction[3] == NO_CONE).unwrap();
+        assert!(emitter.intensity[0] > emitter.intensity[1] && emitter.intensity[2] > 0.0);
     }
 
     #[test]

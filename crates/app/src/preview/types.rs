@@ -9,8 +9,14 @@ pub const MAX_PREVIEW_LIGHTS: usize = 8;
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct PreviewLight {
     pub position: [f32; 4],
+    /// rgb: radiant intensity over π; a: a spot's cos(inner angle).
     pub intensity: [f32; 4],
+    /// xyz: a spot's axis (where it shines); w: cos(outer angle), or `NO_CONE` for the others.
+    pub direction: [f32; 4],
 }
+
+/// `PreviewLight::direction`'s w for a light without a cone (below any cosine).
+pub const NO_CONE: f32 = -2.0;
 
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -125,7 +131,11 @@ mod tests {
 
     #[test]
     fn preview_structs_match_the_shader() {
-        check!("PreviewLight", PreviewLight, [position, intensity]);
+        check!(
+            "PreviewLight",
+            PreviewLight,
+            [position, intensity, direction]
+        );
         check!(
             "PreviewView",
             PreviewView,

@@ -108,3 +108,56 @@ fn emitters_glow_and_the_grid_does_not_show_through_the_floor() {
         dir.display()
     );
 }
+
+/// A spot lights only its cone: the floor seen from above, lit by a spot straight overhead with a
+/// 15° outer cone and no ambient light, is bright under it and dark in the viewport's corners
+/// (drawn as a point light, as it was, the corners got 28% of the centre's irradiance).
+#[test]
+fn a_spot_lights_only_its_cone() {
+    use rt_core::{Light, LightKind};
+    if !have_gpu() {
+        return;
+    }
+    let mut scene = floor_and_lamp();
+    scene.objects.truncate(1);
+    scene.ambient = [0.0; 3];
+    let mut spot = Light::new(LightKind::Spot, "spot");
+    spot.position = [0.0, 4.0, 0.0];
+    spot.direction = [0.0, -1.0, 0.0];
+    spot.inner_angle_deg = 10.0;
+    spot.outer_angle_deg = 15.0;
+    spot.intensity = 50.0;
+    scene.lights = vec![spot];
+    let mut harness = harness();
+    harness.run_ok();
+    harness
+        .state_mut()
+        .doc
+        .edit("floor and spot", "scene", |s| *s = scene);
+    harness.state_mut().selection = None;
+    harness.run_ok();
+    let image = harness.render().unwrap();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    image.save(dir.join("editor-floor-and-spot.png")).unwrap();
+    let (w, h) = image.dimensions();
+    // The mean green level over a small square at (x, y), in fractions of the window.
+    let level = |fx: f32, fy: f32| {
+        let (cx, cy) = ((fx * w as f32) as u32, (fy * h as f32) as u32);
+        let mut sum = 0u32;
+        for y in cy - 4..cy + 4 {
+            for x in cx - 4..cx + 4 {
+                sum += u32::from(image.get_pixel(x, y).0[1]);
+            }
+        }
+        sum / 64
+    };
+    // The viewport's centre (between the side panels) and its corners.
+    let centre = level(0.5, 0.5);
+    let corners =
+        [(0.27, 0.22), (0.73, 0.22), (0.27, 0.78), (0.73, 0.78)].map(|(x, y)| level(x, y));
+    assert!(
+        centre > 170 && corners.iter().all(|&c| c < 110),
+        "centre {centre}, corners {corners:?} (screenshot in {})",
+        dir.display()
+    );
+}
