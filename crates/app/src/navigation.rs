@@ -119,6 +119,21 @@ pub fn camera_ray(camera: &Camera, aspect: f32, uv: Vec2) -> Option<(Vec3, Vec3)
     Some((basis.origin, direction))
 }
 
+/// Where a world point appears in the viewport, in [0, 1]² (y down; outside it beyond the edges):
+/// `camera_ray`'s inverse. `None` behind the camera.
+pub fn project(camera: &Camera, aspect: f32, point: Vec3) -> Option<Vec2> {
+    let basis = camera.basis().ok()?;
+    let d = point - basis.origin;
+    // Behind the camera, or NaN: nothing to place.
+    let depth = -d.dot(basis.w);
+    if depth.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let x = d.dot(basis.u) / (depth * basis.tan_half_vfov * aspect);
+    let y = d.dot(basis.v) / (depth * basis.tan_half_vfov);
+    Some(Vec2::new(0.5 * (x + 1.0), 0.5 * (1.0 - y)))
+}
+
 /// The nearest object hit by a ray, and the distance to it.
 pub fn pick(scene: &Scene, origin: Vec3, direction: Vec3) -> Option<(usize, f32)> {
     let mut best: Option<(usize, f32)> = None;
@@ -213,6 +228,23 @@ mod tests {
         assert_eq!(scene.objects[hit].name, "ceiling");
         let away = pick(&scene, o, -d);
         assert!(away.is_none(), "behind the camera is empty");
+    }
+
+    /// `project` inverts `camera_ray`: a point along the ray through a viewport position
+    /// projects back to that position, and a point behind the camera does not project.
+    #[test]
+    fn project_inverts_camera_ray() {
+        let scene = cornell();
+        for uv in [
+            Vec2::new(0.5, 0.5),
+            Vec2::new(0.1, 0.8),
+            Vec2::new(0.95, 0.05),
+        ] {
+            let (o, d) = camera_ray(&scene.camera, 1.5, uv).unwrap();
+            let back = project(&scene.camera, 1.5, o + d * 300.0).unwrap();
+            assert!((back - uv).length() < 1e-4, "{uv} -> {back}");
+            assert!(project(&scene.camera, 1.5, o - d * 300.0).is_none());
+        }
     }
 
     #[test]

@@ -103,6 +103,8 @@ pub struct UiState {
     pub window_title: Option<String>,
     /// Which backend renders the render windows (the Render panel's "Device").
     pub render_device: crate::render_job::DeviceChoice,
+    /// Where the viewport was last drawn (screen points), for what places things in it.
+    pub viewport_rect: Option<egui::Rect>,
 }
 
 pub struct RtApp {

@@ -6,15 +6,17 @@ use std::sync::Arc;
 use egui::{PointerButton, Sense, Ui};
 use glam::{Vec2, Vec3};
 
+use super::light_marks;
 use crate::app::RtApp;
 use crate::navigation;
 use crate::preview::{build_frame, gpu::PreviewCallback};
 
 pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+    app.ui.viewport_rect = Some(rect);
     let response = response.on_hover_text_at_pointer(
         "Left-drag pans, right-drag turns (orbits in orbit mode), middle-drag orbits, wheel \
-         dollies, click selects",
+         dollies, click selects (an object, or a light by its mark)",
     );
     let ppp = ui.ctx().pixels_per_point();
     let size_px = [
@@ -109,6 +111,7 @@ pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
         }
     }
     render_region(app, &painter, rect);
+    light_marks::paint(app, &painter, rect);
     if app.ui.picking_focus {
         painter.text(
             rect.center_top() + egui::vec2(0.0, 8.0),
@@ -187,6 +190,8 @@ fn navigate(app: &mut RtApp, ui: &Ui, response: &egui::Response, rect: egui::Rec
                 app.doc.seal();
             }
             app.ui.picking_focus = false;
+        } else if let Some(light) = light_marks::pick(app, rect, pos) {
+            app.select_light(Some(light));
         } else {
             app.select_object(hit.map(|((i, _), _)| i));
         }

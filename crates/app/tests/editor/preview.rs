@@ -161,3 +161,55 @@ fn a_spot_lights_only_its_cone() {
         dir.display()
     );
 }
+
+/// Lights have marks in the viewport, and clicking one selects its light (the inspector then
+/// shows it); a click on the floor beside it selects the floor.
+#[test]
+fn clicking_a_light_mark_selects_the_light() {
+    use rt_core::{Light, LightKind};
+    if !have_gpu() {
+        return;
+    }
+    let mut scene = floor_and_lamp();
+    scene.objects.truncate(1);
+    let mut point = Light::new(LightKind::Point, "bulb");
+    point.position = [1.5, 2.0, 1.0];
+    point.intensity = 5.0;
+    scene.lights = vec![point];
+    let mut harness = harness();
+    harness.run_ok();
+    harness
+        .state_mut()
+        .doc
+        .edit("floor and bulb", "scene", |s| *s = scene);
+    harness.state_mut().selection = None;
+    harness.run_ok();
+    let rect = harness
+        .state()
+        .ui
+        .viewport_rect
+        .expect("the viewport was drawn");
+    let mark = rt_app::ui::light_marks::anchor_on_screen(harness.state(), rect, 0)
+        .expect("the bulb is in view");
+    assert!(rect.contains(mark));
+    let click = |harness: &mut Harness<'_, RtApp>, pos: egui::Pos2| {
+        harness.drag_at(pos);
+        harness.step();
+        harness.drop_at(pos);
+        harness.run_ok();
+    };
+    click(&mut harness, mark);
+    assert_eq!(harness.state().selected_light, Some(0));
+    assert_eq!(harness.state().selection, None);
+    let image = harness.render().unwrap();
+    let [r, g, b, _] = image
+        .get_pixel(mark.x.round() as u32, mark.y.round() as u32)
+        .0;
+    assert!(
+        r > 200 && g > 100 && b < 80,
+        "the selected mark is orange: {r} {g} {b}"
+    );
+    click(&mut harness, mark + egui::vec2(60.0, 60.0));
+    assert_eq!(harness.state().selected_light, None);
+    assert_eq!(harness.state().selection, Some(0), "the floor");
+}
