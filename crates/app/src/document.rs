@@ -155,6 +155,20 @@ impl Document {
         self.revision += 1;
     }
 
+    /// Drops the open (unsealed) step of edits with `key`, if it is the last, restoring the scene
+    /// from before it: a cancelled gesture leaves no trace.
+    pub fn abandon(&mut self, key: &str) {
+        if self.sealed || self.undo.last().is_none_or(|s| s.key != key) {
+            return;
+        }
+        if let Some(step) = self.undo.pop() {
+            self.scene = step.before;
+            self.sealed = true;
+            self.revision += 1;
+            self.geometry_revision += 1;
+        }
+    }
+
     /// Ends the current merge group: the next edit starts a new undo step.
     pub fn seal(&mut self) {
         self.sealed = true;

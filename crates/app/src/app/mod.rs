@@ -6,6 +6,7 @@
 mod edit;
 mod files;
 mod rendering;
+pub mod transform_tool;
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -113,6 +114,8 @@ pub struct RtApp {
     pub selection: Option<usize>,
     /// The selected point, spot or directional light (exclusive with `selection`).
     pub selected_light: Option<usize>,
+    /// A G/R/S gesture in progress (`transform_tool`).
+    pub tool: Option<transform_tool::TransformTool>,
     pub device: RenderDevice,
     pub renders: Vec<RenderView>,
     pub live: LiveViewport,
@@ -135,6 +138,7 @@ impl RtApp {
             doc: Document::new(scene, Origin::Embedded),
             selection: None,
             selected_light: None,
+            tool: None,
             device: RenderDevice::new(options.adapter.clone(), options.device),
             renders: Vec::new(),
             live: LiveViewport::default(),

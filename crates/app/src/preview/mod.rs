@@ -268,6 +268,12 @@ pub fn build_frame(
 /// buffer's resolution there (24 bits, near plane at 1e-4 of the far one at worst) yet invisible.
 const GRID_DROP: f32 = 2e-3;
 
+/// The grid's spacing for a scene `extent` across: a power of ten, ten-ish cells across it (also
+/// what a move snaps to).
+pub fn grid_step(extent: f32) -> f32 {
+    10f32.powf((extent / 5.0).log10().floor())
+}
+
 /// Segments per grid line: the fade towards the rim is interpolated along them.
 const GRID_SEGMENTS: i32 = 8;
 
@@ -280,7 +286,7 @@ pub fn grid_lines(center: Vec3, extent: f32) -> Vec<GridVertex> {
     } else {
         1.0
     };
-    let step = 10f32.powf((extent / 5.0).log10().floor());
+    let step = grid_step(extent);
     let half_cells = ((extent / step).ceil() as i32).clamp(1, 50);
     let snap = |v: f32| (v / step).round() * step;
     let (cx, cz) = (snap(center.x), snap(center.z));

@@ -77,7 +77,10 @@ pub fn menu_bar(app: &mut RtApp, ui: &mut egui::Ui) {
 }
 
 const CONTROLS: &str = "Viewport: left-drag pans, right-drag turns the camera (orbits the \
-selection in orbit mode, O), middle-drag orbits, the wheel dollies, a click selects.\n\
+selection in orbit mode, O), middle-drag orbits, the wheel dollies, a click selects (a light \
+by its mark).\n\
+Move, rotate, scale the selection: G, R, S, then the pointer (X, Y or Z holds an axis; a typed \
+number sets the amount; Ctrl snaps); a click or Enter confirms, Esc or a right click cancels.\n\
 Keys: Ctrl+O open, Ctrl+S save, Ctrl+Shift+S save as, Ctrl+Z undo, Ctrl+Shift+Z redo, \
 F12 render, Esc cancel, Delete delete, F frame selection, Home reset view, P path-traced \
 viewport, L add a light. Files can be dropped on the window.";

@@ -5,6 +5,7 @@ pub mod light_marks;
 mod menu;
 mod panels;
 mod renders;
+mod transform_keys;
 mod viewport;
 
 use egui::{Key, KeyboardShortcut, Modifiers};
@@ -69,10 +70,12 @@ impl RtApp {
 
     fn handle_input(&mut self, ctx: &egui::Context) {
         // One undo step per gesture: a drag or a typed value ends when the pointer is released or
-        // Enter/Tab is pressed.
-        if ctx.input(|i| {
-            i.pointer.any_released() || i.key_pressed(Key::Enter) || i.key_pressed(Key::Tab)
-        }) {
+        // Enter/Tab is pressed (a G/R/S gesture ends by its own rules).
+        if self.tool.is_none()
+            && ctx.input(|i| {
+                i.pointer.any_released() || i.key_pressed(Key::Enter) || i.key_pressed(Key::Tab)
+            })
+        {
             self.doc.seal();
         }
         let dropped: Vec<_> = ctx.input(|i| i.raw.dropped_files.clone());
@@ -106,8 +109,17 @@ impl RtApp {
         if shortcut(Modifiers::COMMAND, Key::R) || shortcut(Modifiers::NONE, Key::F12) {
             self.start_render();
         }
+        // A G/R/S gesture takes the plain keys while it lasts.
+        if self.tool.is_some() {
+            transform_keys::drive(self, ctx);
+            return;
+        }
         // Plain keys only when no text field wants them.
         if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        transform_keys::start(self, ctx);
+        if self.tool.is_some() {
             return;
         }
         if shortcut(Modifiers::NONE, Key::Escape) {

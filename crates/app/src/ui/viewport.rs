@@ -141,6 +141,11 @@ fn render_region(app: &RtApp, painter: &egui::Painter, rect: egui::Rect) {
 }
 
 fn navigate(app: &mut RtApp, ui: &Ui, response: &egui::Response, rect: egui::Rect) {
+    // A G/R/S gesture owns the pointer: a click ends it, nothing navigates or picks.
+    if app.tool.is_some() {
+        super::transform_keys::pointer_ends(app, response);
+        return;
+    }
     let mut camera = app.doc.scene.camera.clone();
     let distance = navigation::view_distance(app.doc.bounds(), &camera);
     let delta = response.drag_delta();

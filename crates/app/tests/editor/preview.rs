@@ -163,7 +163,7 @@ fn a_spot_lights_only_its_cone() {
 }
 
 /// Lights have marks in the viewport, and clicking one selects its light (the inspector then
-/// shows it); a click on the floor beside it selects the floor.
+/// shows it, and G moves it); a click on the floor beside it selects the floor.
 #[test]
 fn clicking_a_light_mark_selects_the_light() {
     use rt_core::{Light, LightKind};
@@ -209,6 +209,20 @@ fn clicking_a_light_mark_selects_the_light() {
         r > 200 && g > 100 && b < 80,
         "the selected mark is orange: {r} {g} {b}"
     );
+    // G moves the selected light as it moves objects.
+    for key in [egui::Key::G, egui::Key::Z] {
+        harness.key_press(key);
+        harness.step();
+    }
+    harness.event(egui::Event::Text("-1".into()));
+    harness.step();
+    harness.key_press(egui::Key::Enter);
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.lights[0].position,
+        [1.5, 2.0, 0.0]
+    );
+    let mark = rt_app::ui::light_marks::anchor_on_screen(harness.state(), rect, 0).unwrap();
     click(&mut harness, mark + egui::vec2(60.0, 60.0));
     assert_eq!(harness.state().selected_light, None);
     assert_eq!(harness.state().selection, Some(0), "the floor");

@@ -262,3 +262,112 @@ fn editor_defaults_apply_to_models_not_projects() {
     apply_editor_defaults(&mut project, SceneFormat::Project);
     assert_eq!(project, bare);
 }
+
+/// Blender's keys: G, X and a typed 120 move the selected block 120 along X, one undo step that
+/// Ctrl+Z takes back; R, Y, 90 turns it a quarter about Y; S, 2 doubles it; G, Z, 50 and Esc
+/// leave it where it was with nothing to undo; G then the pointer moves it in the view plane, as
+/// far as the pointer went at the block's depth, and a click puts it down (selecting nothing else).
+#[test]
+fn g_r_and_s_keys_move_turn_and_scale_the_selection() {
+    use egui::Key;
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("tall_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "tall_block");
+    let original = harness.state().doc.scene.objects[index].transform.clone();
+    let transform = |h: &Harness<'_, RtApp>| h.state().doc.scene.objects[index].transform.clone();
+    let gesture = |h: &mut Harness<'_, RtApp>, keys: &[Key], typed: &str, end: Key| {
+        for key in keys {
+            h.key_press(*key);
+            h.step();
+        }
+        h.event(egui::Event::Text(typed.into()));
+        h.step();
+        h.key_press(end);
+        h.run_ok();
+    };
+
+    gesture(&mut harness, &[Key::G, Key::X], "120", Key::Enter);
+    let moved = transform(&harness);
+    assert_eq!(moved.translation[0], original.translation[0] + 120.0);
+    assert_eq!(moved.translation[1..], original.translation[1..]);
+    assert!(harness.state().tool.is_none());
+    assert_eq!(harness.state().doc.undo_label(), Some("move"));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, Key::Z);
+    harness.run_ok();
+    assert_eq!(
+        transform(&harness),
+        original,
+        "one undo step takes the move back"
+    );
+
+    gesture(&mut harness, &[Key::R, Key::Y], "90", Key::Enter);
+    let turned = transform(&harness).rotation_deg;
+    assert!(
+        (turned[1] - (original.rotation_deg[1] + 90.0)).abs() < 1e-3,
+        "{turned:?}"
+    );
+    gesture(&mut harness, &[Key::S], "2", Key::Enter);
+    assert_eq!(transform(&harness).scale, original.scale.map(|s| s * 2.0));
+    let before = transform(&harness);
+    let undo_label = harness.state().doc.undo_label().map(str::to_owned);
+    gesture(&mut harness, &[Key::G, Key::Z], "50", Key::Escape);
+    assert_eq!(transform(&harness), before, "Esc cancels");
+    assert_eq!(
+        harness.state().doc.undo_label().map(str::to_owned),
+        undo_label
+    );
+
+    // The turn and the scaling were about the block's origin (the world's: its vertices are
+    // placed in the box), which took it out of view; undo both.
+    for _ in 0..2 {
+        harness.key_press_modifiers(egui::Modifiers::COMMAND, Key::Z);
+        harness.run_ok();
+    }
+    let before = transform(&harness);
+    assert_eq!(before, original);
+
+    // By the pointer: over the viewport, G, then 80 points to the right, then a click.
+    let rect = harness
+        .state()
+        .ui
+        .viewport_rect
+        .expect("the viewport was drawn");
+    let start = rect.center();
+    harness.hover_at(start);
+    harness.step();
+    harness.key_press(Key::G);
+    harness.step();
+    let end = start + egui::vec2(80.0, 0.0);
+    harness.hover_at(end);
+    harness.step();
+
+    harness.drag_at(end);
+    harness.step();
+    harness.drop_at(end);
+    harness.run_ok();
+    assert!(harness.state().tool.is_none());
+    assert_eq!(
+        harness.state().selection,
+        Some(index),
+        "the click only put it down"
+    );
+    let dragged = transform(&harness);
+    let camera = &harness.state().doc.scene.camera;
+    let right = camera.basis().unwrap().u;
+    let shift = glam::Vec3::from(dragged.translation) - glam::Vec3::from(before.translation);
+    // 80 points at the block's depth: 80 × 2 d tan(fov/2) / the viewport's height.
+    let basis = camera.basis().unwrap();
+    let centre = rt_app::navigation::object_center(&harness.state().doc.scene, index).unwrap();
+    let depth = (centre - basis.origin).dot(-basis.w);
+    let expected = 80.0 * 2.0 * depth * basis.tan_half_vfov / rect.height();
+    assert!(
+        (shift.dot(right) - expected).abs() < 0.02 * expected
+            && shift.dot(right) > 0.999 * shift.length(),
+        "the block follows the pointer to the right: {shift}, expected {expected} along {right}"
+    );
+}
