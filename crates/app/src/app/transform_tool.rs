@@ -42,6 +42,8 @@ pub struct TransformTool {
     pub start: Option<egui::Pos2>,
     pub pointer: Option<egui::Pos2>,
     pub snap: bool,
+    /// Begun by dragging a handle (`ui::gizmo`): it ends when the pointer is released.
+    pub held: bool,
 }
 
 impl TransformTool {
@@ -230,6 +232,7 @@ impl RtApp {
             start: pointer,
             pointer,
             snap: false,
+            held: false,
         });
     }
 
@@ -274,6 +277,7 @@ mod tests {
             start: Some(egui::pos2(100.0, 100.0)),
             pointer: Some(egui::pos2(100.0, 100.0)),
             snap: false,
+            held: false,
         }
     }
 

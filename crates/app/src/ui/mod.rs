@@ -1,6 +1,7 @@
 //! The editor's UI: one function per panel over [`RtApp`]'s state.
 
 mod dialogs;
+pub mod gizmo;
 pub mod light_marks;
 mod menu;
 mod panels;

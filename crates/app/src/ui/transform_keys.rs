@@ -119,9 +119,15 @@ pub fn screen_frame(app: &RtApp) -> ScreenFrame {
     }
 }
 
-/// The gesture's end by the pointer: a click confirms, a right click cancels.
-pub fn pointer_ends(app: &mut RtApp, response: &egui::Response) {
-    if response.clicked_by(egui::PointerButton::Secondary) {
+/// The gesture's end by the pointer: a click confirms (a handle's drag: its release), a right
+/// click cancels.
+pub fn pointer_ends(app: &mut RtApp, ui: &egui::Ui, response: &egui::Response) {
+    let held = app.tool.as_ref().is_some_and(|t| t.held);
+    if held {
+        if ui.input(|i| !i.pointer.primary_down()) {
+            app.confirm_transform();
+        }
+    } else if response.clicked_by(egui::PointerButton::Secondary) {
         app.cancel_transform();
     } else if response.clicked() {
         app.confirm_transform();

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use egui::{PointerButton, Sense, Ui};
 use glam::{Vec2, Vec3};
 
-use super::light_marks;
+use super::{gizmo, light_marks};
 use crate::app::RtApp;
 use crate::navigation;
 use crate::preview::{build_frame, gpu::PreviewCallback};
@@ -16,7 +16,8 @@ pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
     app.ui.viewport_rect = Some(rect);
     let response = response.on_hover_text_at_pointer(
         "Left-drag pans, right-drag turns (orbits in orbit mode), middle-drag orbits, wheel \
-         dollies, click selects (an object, or a light by its mark)",
+         dollies, click selects (an object, or a light by its mark), dragging an arrow moves the \
+         selection along it",
     );
     let ppp = ui.ctx().pixels_per_point();
     let size_px = [
@@ -111,6 +112,8 @@ pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
         }
     }
     render_region(app, &painter, rect);
+    // The marks over the handles: a selected light's mark stays visible at the arrows' base.
+    gizmo::paint(app, &painter, rect);
     light_marks::paint(app, &painter, rect);
     if app.ui.picking_focus {
         painter.text(
@@ -143,7 +146,14 @@ fn render_region(app: &RtApp, painter: &egui::Painter, rect: egui::Rect) {
 fn navigate(app: &mut RtApp, ui: &Ui, response: &egui::Response, rect: egui::Rect) {
     // A G/R/S gesture owns the pointer: a click ends it, nothing navigates or picks.
     if app.tool.is_some() {
-        super::transform_keys::pointer_ends(app, response);
+        super::transform_keys::pointer_ends(app, ui, response);
+        return;
+    }
+    // A drag that begins on a move handle moves the selection along its axis.
+    if response.drag_started_by(PointerButton::Primary)
+        && let Some(origin) = ui.input(|i| i.pointer.press_origin())
+        && gizmo::grab(app, rect, origin)
+    {
         return;
     }
     let mut camera = app.doc.scene.camera.clone();

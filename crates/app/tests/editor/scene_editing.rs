@@ -371,3 +371,61 @@ fn g_r_and_s_keys_move_turn_and_scale_the_selection() {
         "the block follows the pointer to the right: {shift}, expected {expected} along {right}"
     );
 }
+
+/// The move handles: dragging the selected block's X arrow moves it along X only, toward where
+/// the arrow points, without moving the camera; Ctrl+Z puts it back.
+#[test]
+fn dragging_a_move_handle_moves_the_selection_along_its_axis() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("short_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "short_block");
+    let original = harness.state().doc.scene.objects[index].transform.clone();
+    let camera = harness.state().doc.scene.camera.clone();
+    let rect = harness
+        .state()
+        .ui
+        .viewport_rect
+        .expect("the viewport was drawn");
+    let handles = rt_app::ui::gizmo::handles(harness.state(), rect);
+    assert_eq!(handles.len(), 3, "three arrows on the selection");
+    let (_, base, tip) = handles[0];
+    let grab = base + (tip - base) * 0.7;
+    let image = harness.render().unwrap();
+    image
+        .save(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("editor-move-handles.png"))
+        .unwrap();
+    let [r, g, b, _] = image
+        .get_pixel(grab.x.round() as u32, grab.y.round() as u32)
+        .0;
+    assert!(
+        r > 180 && g < 120 && b < 120,
+        "the X arrow is drawn red: {r} {g} {b}"
+    );
+    let step = (tip - base).normalized() * 10.0;
+    harness.drag_at(grab);
+    harness.step();
+    for k in 1..=5 {
+        harness.hover_at(grab + step * k as f32);
+        harness.step();
+    }
+    harness.drop_at(grab + step * 5.0);
+    harness.run_ok();
+    assert!(harness.state().tool.is_none(), "the release ends the move");
+    let moved = harness.state().doc.scene.objects[index].transform.clone();
+    assert!(
+        moved.translation[0] > original.translation[0] + 1.0,
+        "{:?} -> {:?}",
+        original.translation,
+        moved.translation
+    );
+    assert_eq!(moved.translation[1..], original.translation[1..]);
+    assert_eq!(harness.state().doc.scene.camera, camera, "no pan");
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().doc.scene.objects[index].transform, original);
+}
