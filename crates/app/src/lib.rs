@@ -3,6 +3,7 @@
 
 pub mod app;
 pub mod document;
+pub mod gallery;
 pub mod launch;
 pub mod navigation;
 pub mod presets;

@@ -41,6 +41,14 @@ pub const PRESETS: &[Preset] = &[
         },
     },
     Preset {
+        name: "Chrome",
+        tip: "Metal, reflectance (0.55, 0.556, 0.554), mirror polished",
+        material: || Material::Metal {
+            albedo: [0.55, 0.556, 0.554],
+            fuzz: 0.0,
+        },
+    },
+    Preset {
         name: "Aluminium",
         tip: "Metal, reflectance (0.913, 0.922, 0.924), brushed",
         material: || Material::Metal {
@@ -115,6 +123,32 @@ pub const PRESETS: &[Preset] = &[
             pbr(Pbr {
                 base_color: [0.8; 3],
                 roughness: 0.2,
+                ..Default::default()
+            })
+        },
+    },
+    Preset {
+        name: "Car paint",
+        tip: "Physically based red paint, roughness 0.4, under a clear coat (roughness 0.03)",
+        material: || {
+            pbr(Pbr {
+                base_color: [0.5, 0.02, 0.02],
+                roughness: 0.4,
+                clearcoat: 1.0,
+                clearcoat_roughness: 0.03,
+                ..Default::default()
+            })
+        },
+    },
+    Preset {
+        name: "Velvet",
+        tip: "Physically based deep red cloth with a pink sheen (sheen roughness 0.5)",
+        material: || {
+            pbr(Pbr {
+                base_color: [0.3, 0.02, 0.06],
+                roughness: 1.0,
+                sheen_color: [1.0, 0.55, 0.65],
+                sheen_roughness: 0.5,
                 ..Default::default()
             })
         },

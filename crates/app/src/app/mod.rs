@@ -116,6 +116,8 @@ pub struct RtApp {
     pub selected_light: Option<usize>,
     /// A G/R/S gesture in progress (`transform_tool`).
     pub tool: Option<transform_tool::TransformTool>,
+    /// The presets' thumbnails (rendered when the gallery is first shown).
+    pub gallery: crate::gallery::Gallery,
     pub device: RenderDevice,
     pub renders: Vec<RenderView>,
     pub live: LiveViewport,
@@ -139,6 +141,7 @@ impl RtApp {
             selection: None,
             selected_light: None,
             tool: None,
+            gallery: Default::default(),
             device: RenderDevice::new(options.adapter.clone(), options.device),
             renders: Vec::new(),
             live: LiveViewport::default(),

@@ -429,3 +429,45 @@ fn dragging_a_move_handle_moves_the_selection_along_its_axis() {
     harness.run_ok();
     assert_eq!(harness.state().doc.scene.objects[index].transform, original);
 }
+
+/// The material gallery: opened, it shows the presets' thumbnails as rt renders them; clicking
+/// Gold gives the selected block the gold preset, one undo step.
+#[test]
+fn picking_a_preset_from_the_gallery() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("tall_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "tall_block");
+    let original = harness.state().doc.scene.objects[index].material.clone();
+    harness.get_by_label("Gallery").click();
+    harness.run_ok();
+    step_until(&mut harness, "the thumbnails", |app| {
+        app.gallery.ready() == rt_app::presets::PRESETS.len()
+    });
+    harness.run_ok();
+    harness.get_by_label("Gold").click();
+    harness.run_ok();
+    let gold = rt_app::presets::PRESETS
+        .iter()
+        .find(|p| p.name == "Gold")
+        .unwrap();
+    // The colour field hands the albedo back through its own conversion: equal to 1e-5.
+    let (Material::Metal { albedo, fuzz }, Material::Metal { albedo: a, fuzz: f }) = (
+        harness.state().doc.scene.objects[index].material.clone(),
+        (gold.material)(),
+    ) else {
+        panic!("gold is a metal")
+    };
+    assert!((0..3).all(|c| (albedo[c] - a[c]).abs() < 1e-5) && fuzz == f);
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().doc.scene.objects[index].material, original);
+    let image = harness.render().unwrap();
+    image
+        .save(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("editor-gallery.png"))
+        .unwrap();
+}

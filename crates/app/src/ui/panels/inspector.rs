@@ -144,25 +144,9 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
         }
     });
     material_fields(ui, &mut object.material, texture_count, &mut choose_texture);
-    ui.horizontal(|ui| {
-        ui.label("Preset")
-            .on_hover_text("Replace the material with a named one");
-        egui::ComboBox::from_id_salt("preset")
-            .selected_text("choose…")
-            .show_ui(ui, |ui| {
-                for preset in PRESETS {
-                    if ui
-                        .selectable_label(false, preset.name)
-                        .on_hover_text(preset.tip)
-                        .clicked()
-                    {
-                        object.material = (preset.material)();
-                    }
-                }
-            })
-            .response
-            .on_hover_text("Replace the material with a named one");
-    });
+    if let Some(material) = gallery(app, ui) {
+        object.material = material;
+    }
 
     ui.add_space(4.0);
     ui.strong("Transform").on_hover_text(
@@ -226,4 +210,39 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
     {
         app.set_texture_from_file(index, &path);
     }
+}
+
+/// The presets as a gallery of thumbnails rendered by rt (`crate::gallery`; a name alone until
+/// its thumbnail arrives): the material of the one clicked.
+fn gallery(app: &mut RtApp, ui: &mut Ui) -> Option<rt_core::Material> {
+    let mut chosen = None;
+    // Closed at first: open, it pushes the Camera and Render panels down a screen.
+    egui::CollapsingHeader::new("Gallery")
+        .default_open(false)
+        .show(ui, |ui| {
+            app.gallery.start(ui.ctx().clone());
+            app.gallery.poll(ui.ctx());
+            let side = crate::gallery::THUMBNAIL_SIZE as f32;
+            egui::Grid::new("gallery").num_columns(2).show(ui, |ui| {
+                for (i, preset) in PRESETS.iter().enumerate() {
+                    let button = match app.gallery.thumbnail(i) {
+                        Some(t) => egui::Button::image_and_text(
+                            egui::Image::new(t).fit_to_exact_size(egui::vec2(side, side)),
+                            preset.name,
+                        ),
+                        None => egui::Button::new(preset.name)
+                            .min_size(egui::vec2(side + 8.0, side + 8.0)),
+                    };
+                    if ui.add(button).on_hover_text(preset.tip).clicked() {
+                        chosen = Some((preset.material)());
+                    }
+                    if i % 2 == 1 {
+                        ui.end_row();
+                    }
+                }
+            });
+        })
+        .header_response
+        .on_hover_text("Replace the material with a named one (pictures rendered by rt)");
+    chosen
 }
