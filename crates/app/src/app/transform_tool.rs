@@ -44,6 +44,9 @@ pub struct TransformTool {
     pub snap: bool,
     /// Begun by dragging a handle (`ui::gizmo`): it ends when the pointer is released.
     pub held: bool,
+    /// The target's centre on screen when the gesture began: turns and scalings measure the
+    /// pointer from it (the target's own centre moves when it turns about its origin).
+    pub anchor: Option<egui::Pos2>,
 }
 
 impl TransformTool {
@@ -233,6 +236,7 @@ impl RtApp {
             pointer,
             snap: false,
             held: false,
+            anchor: None,
         });
     }
 
@@ -278,6 +282,7 @@ mod tests {
             pointer: Some(egui::pos2(100.0, 100.0)),
             snap: false,
             held: false,
+            anchor: None,
         }
     }
 

@@ -81,7 +81,7 @@ selection in orbit mode, O), middle-drag orbits, the wheel dollies, a click sele
 by its mark).\n\
 Move, rotate, scale the selection: G, R, S, then the pointer (X, Y or Z holds an axis; a typed \
 number sets the amount; Ctrl snaps); a click or Enter confirms, Esc or a right click cancels. \
-Dragging one of the selection's arrows moves it along that axis.\n\
+Dragging the selection's arrows, rings or squares moves, turns or scales it on that axis.\n\
 Keys: Ctrl+O open, Ctrl+S save, Ctrl+Shift+S save as, Ctrl+Z undo, Ctrl+Shift+Z redo, \
 F12 render, Esc cancel, Delete delete, F frame selection, Home reset view, P path-traced \
 viewport, L add a light. Files can be dropped on the window.";

@@ -76,6 +76,11 @@ pub fn drive(app: &mut RtApp, ctx: &egui::Context) {
             .retain(|e| !matches!(e, Event::Key { .. } | Event::Text(_)))
     });
     let frame = screen_frame(app);
+    if let Some(tool) = app.tool.as_mut()
+        && tool.anchor.is_none()
+    {
+        tool.anchor = frame.centre;
+    }
     app.update_transform(&frame);
     app.ui.status = app.tool.as_ref().map_or(String::new(), |t| t.describe());
     match end {
@@ -110,7 +115,7 @@ pub fn screen_frame(app: &RtApp) -> ScreenFrame {
         .bounds()
         .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-6));
     ScreenFrame {
-        centre: on_screen,
+        centre: tool.anchor.or(on_screen),
         units_per_point: 2.0 * depth * basis.tan_half_vfov / rect.height().max(1.0),
         right: basis.u,
         up: basis.v,

@@ -16,8 +16,8 @@ pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
     app.ui.viewport_rect = Some(rect);
     let response = response.on_hover_text_at_pointer(
         "Left-drag pans, right-drag turns (orbits in orbit mode), middle-drag orbits, wheel \
-         dollies, click selects (an object, or a light by its mark), dragging an arrow moves the \
-         selection along it",
+         dollies, click selects (an object, or a light by its mark), dragging a handle moves, turns \
+         or scales the selection",
     );
     let ppp = ui.ctx().pixels_per_point();
     let size_px = [
@@ -149,7 +149,7 @@ fn navigate(app: &mut RtApp, ui: &Ui, response: &egui::Response, rect: egui::Rec
         super::transform_keys::pointer_ends(app, ui, response);
         return;
     }
-    // A drag that begins on a move handle moves the selection along its axis.
+    // A drag that begins on a handle moves, turns or scales the selection on its axis.
     if response.drag_started_by(PointerButton::Primary)
         && let Some(origin) = ui.input(|i| i.pointer.press_origin())
         && gizmo::grab(app, rect, origin)

@@ -372,8 +372,9 @@ fn g_r_and_s_keys_move_turn_and_scale_the_selection() {
     );
 }
 
-/// The move handles: dragging the selected block's X arrow moves it along X only, toward where
-/// the arrow points, without moving the camera; Ctrl+Z puts it back.
+/// The handles: dragging the selected block's X arrow moves it along X only, toward where the
+/// arrow points, without moving the camera; its X square stretches it along X; its Y ring turns
+/// it about Y; Ctrl+Z takes each back.
 #[test]
 fn dragging_a_move_handle_moves_the_selection_along_its_axis() {
     if !have_gpu() {
@@ -425,6 +426,51 @@ fn dragging_a_move_handle_moves_the_selection_along_its_axis() {
     );
     assert_eq!(moved.translation[1..], original.translation[1..]);
     assert_eq!(harness.state().doc.scene.camera, camera, "no pan");
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().doc.scene.objects[index].transform, original);
+
+    // The X scale square, dragged outwards, stretches it along X alone.
+    let drag = |harness: &mut Harness<'_, RtApp>, from: egui::Pos2, by: egui::Vec2| {
+        harness.drag_at(from);
+        harness.step();
+        for k in 1..=4 {
+            harness.hover_at(from + by * (k as f32 / 4.0));
+            harness.step();
+        }
+        harness.drop_at(from + by);
+        harness.run_ok();
+    };
+    let (_, square) = rt_app::ui::gizmo::boxes(harness.state(), rect)[0];
+    drag(&mut harness, square, (square - base).normalized() * 40.0);
+    let scaled = harness.state().doc.scene.objects[index].transform.scale;
+    assert!(scaled[0] > 1.2 && scaled[1..] == [1.0, 1.0], "{scaled:?}");
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+
+    // The Y ring, dragged along itself, turns it about Y alone.
+    let ring = rt_app::ui::gizmo::rings(harness.state(), rect)
+        .into_iter()
+        .find(|(axis, _)| *axis == 1)
+        .unwrap()
+        .1;
+    let (k, from) = (ring.iter().enumerate())
+        .find(|(_, p)| {
+            rt_app::ui::gizmo::hit(harness.state(), rect, **p)
+                == Some((rt_app::app::transform_tool::ToolKind::Rotate, 1))
+                && p.distance(base) > 30.0
+        })
+        .map(|(k, p)| (k, *p))
+        .expect("a point of the Y ring grabs it");
+    let along = (ring[(k + 3) % ring.len()] - ring[k]).normalized() * 30.0;
+    drag(&mut harness, from, along);
+    let turned = harness.state().doc.scene.objects[index]
+        .transform
+        .rotation_deg;
+    assert!(
+        turned[1].abs() > 5.0 && turned[0].abs() < 1e-3 && turned[2].abs() < 1e-3,
+        "{turned:?}"
+    );
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     harness.run_ok();
     assert_eq!(harness.state().doc.scene.objects[index].transform, original);
