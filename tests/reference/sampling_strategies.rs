@@ -342,8 +342,9 @@ fn light_through_a_transmitting_surface_is_not_weighed_against_light_sampling() 
     }
 }
 
-/// The room with three emitters, thirty point and spot lights (both falloffs), a rough glass ball
-/// and a thin paper pane with lights on both sides (a vertex there takes lights from its far side).
+/// The room with three emitters, thirty point and spot lights (both falloffs, some hard-edged), a
+/// rough glass ball and a thin paper pane with lights on both sides (a vertex there takes lights
+/// from its far side).
 pub(super) fn room_with_points_spots_glass_and_paper() -> Scene {
     use rt_core::light::SpotFalloff;
     use rt_core::{Light, LightKind};
@@ -388,7 +389,12 @@ pub(super) fn room_with_points_spots_glass_and_paper() -> Scene {
         light.intensity = 0.2 + 0.8 * (u() + 1.0);
         light.color = [1.0, 0.6 + 0.2 * u(), 0.5];
         light.outer_angle_deg = 50.0 + 30.0 * u();
-        light.inner_angle_deg = light.outer_angle_deg * (0.5 + 0.4 * u());
+        // Every fifth spot hard-edged (inner = outer, as a glTF importer makes of inner > outer).
+        light.inner_angle_deg = if i % 10 == 1 {
+            light.outer_angle_deg
+        } else {
+            light.outer_angle_deg * (0.5 + 0.4 * u())
+        };
         if i % 4 == 3 {
             light.falloff = SpotFalloff::Gltf;
         }

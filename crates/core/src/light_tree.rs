@@ -83,10 +83,13 @@ impl LightBounds {
         } else {
             let theta_outer = light.cos_outer.clamp(-1.0, 1.0).acos();
             let theta_o = light.cos_inner.clamp(-1.0, 1.0).acos().min(theta_outer);
-            // Widened a little, so rounding never cuts the falloff's last sliver off.
-            let theta_e = (theta_outer - theta_o + 1e-4).min(std::f32::consts::PI);
+            // Widened a little, so rounding never cuts the falloff's last sliver off, and its
+            // cosine kept below 1: a hard-edged spot (inner = outer, as glTF importers make of
+            // inner > outer) has θ_e = 0, and the importance's strict cos θ′ > cos θ_e would
+            // never hold.
+            let theta_e = (theta_outer - theta_o + 1e-3).min(std::f32::consts::PI);
             let axis = Vec3::from(light.direction).normalize_or(Vec3::Z);
-            (axis, theta_o.cos(), theta_e.cos())
+            (axis, theta_o.cos(), theta_e.cos().min(1.0 - 1e-6))
         };
         LightBounds {
             lo: position,
@@ -644,7 +647,13 @@ mod tests {
         }];
         for i in 0..count {
             let outer = 0.1 + 1.4 * u();
-            let inner = outer * u();
+            // Hard-edged spots too (inner = outer), and inner past outer (the falloffs then end
+            // at the outer cone).
+            let inner = match i % 7 {
+                0 => outer,
+                3 => outer * (1.0 + 0.2 * u()),
+                _ => outer * u(),
+            };
             let strength = 10f32.powf(3.0 * u() - 1.0);
             lights.push(DeltaLight {
                 position: (Vec3::new(u(), u(), u()) * 10.0 - 5.0).to_array(),

@@ -144,8 +144,10 @@ pub(crate) fn pipeline_key(
 fn specialised_features(scene: &GpuScene, frame: &Frame, options: &RenderOptions) -> SceneFeatures {
     let mut features = scene.features;
     features.thin_lens = frame.lens_radius > 0.0;
-    features.nee = frame.emitter_count > 0;
-    features.light_tree = features.nee && frame.light_sampler == 1;
+    // The tree may hold point and spot lights alone: next-event estimation then has no emitter
+    // triangles and still samples.
+    features.light_tree = frame.light_sampler == 1 && !scene.light_tree.is_empty();
+    features.nee = frame.emitter_count > 0 || features.light_tree;
     if options.tuning.generic_kernel {
         // Every branch compiled in; each still checks its data at run time. (NEE stays as the
         // scene needs: the emitter table must not be empty.)
@@ -195,4 +197,60 @@ fn megakernel_bind_group(
 /// The acceleration structure's top level, when tracing with ray queries.
 pub(crate) fn tlas(accel: &Option<SceneAccel>) -> Option<&wgpu::Tlas> {
     accel.as_ref().map(|a| &a.tlas)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rt_core::{Light, LightKind, LightSampler, Material, Object, Scene};
+
+    /// A floor under `lights` point lights and, with `lamp`, an emissive quad.
+    fn scene(lights: usize, lamp: bool, sampler: LightSampler) -> Scene {
+        let quad = |y: f32, material| Object {
+            name: "quad".into(),
+            mesh: rt_core::shapes::quad(glam::Vec3::new(0.0, y, 0.0), glam::Vec3::Y, 4.0).into(),
+            material,
+            transform: Default::default(),
+        };
+        let mut scene = Scene::default();
+        scene
+            .objects
+            .push(quad(0.0, Material::lambertian([0.5; 3])));
+        if lamp {
+            scene.objects.push(quad(
+                1.0,
+                Material::Emissive {
+                    color: [1.0; 3],
+                    intensity: 1.0,
+                },
+            ));
+        }
+        for i in 0..lights {
+            let mut light = Light::new(LightKind::Point, &format!("point {i}"));
+            light.position = [i as f32 * 0.1, 2.0, 0.0];
+            scene.lights.push(light);
+        }
+        scene.settings.light_sampler = sampler;
+        scene
+    }
+
+    fn features(scene: &Scene) -> SceneFeatures {
+        let gpu = GpuScene::build(scene).unwrap();
+        let frame = rt_core::frame::frame_for(scene, &gpu).unwrap();
+        specialised_features(&gpu, &frame, &RenderOptions::default())
+    }
+
+    /// The kernels compile the tree in whenever the frame samples through it, emitter triangles
+    /// or not (with point lights alone they once summed them instead), and not otherwise.
+    #[test]
+    fn the_tree_is_compiled_in_with_or_without_emitter_triangles() {
+        let alone = features(&scene(20, false, LightSampler::Auto));
+        assert!(alone.nee && alone.light_tree, "{alone:?}");
+        let both = features(&scene(20, true, LightSampler::Tree));
+        assert!(both.nee && both.light_tree, "{both:?}");
+        let power = features(&scene(20, true, LightSampler::Power));
+        assert!(power.nee && !power.light_tree, "{power:?}");
+        let few = features(&scene(2, false, LightSampler::Auto));
+        assert!(!few.nee && !few.light_tree, "{few:?}");
+    }
 }
