@@ -41,6 +41,26 @@ fn floor_and_lamp() -> rt_core::Scene {
     scene
 }
 
+/// The editor showing `scene` with nothing selected, and a screenshot of it saved as `name` (the
+/// path returned) for a failing test to point at.
+fn editor_on(
+    scene: rt_core::Scene,
+    name: &str,
+) -> (Harness<'static, RtApp>, image::RgbaImage, String) {
+    let mut harness = harness();
+    harness.run_ok();
+    harness
+        .state_mut()
+        .doc
+        .edit("test scene", "scene", |s| *s = scene);
+    harness.state_mut().selection = None;
+    harness.run_ok();
+    let image = harness.render().expect("the editor renders");
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    image.save(&path).expect("the screenshot is saved");
+    (harness, image, path.display().to_string())
+}
+
 /// The lamp is drawn in its emission's colour, brighter than the floor (it was black: only its
 /// base colour was drawn); the floor, which lies in the grid's
 /// plane, shows no grid lines (they were rows of dashes where the two fought for depth): over the
@@ -50,17 +70,7 @@ fn emitters_glow_and_the_grid_does_not_show_through_the_floor() {
     if !have_gpu() {
         return;
     }
-    let mut harness = harness();
-    harness.run_ok();
-    harness
-        .state_mut()
-        .doc
-        .edit("floor and lamp", "scene", |s| *s = floor_and_lamp());
-    harness.state_mut().selection = None;
-    harness.run_ok();
-    let image = harness.render().unwrap();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
-    image.save(dir.join("editor-floor-and-lamp.png")).unwrap();
+    let (_harness, image, screenshot) = editor_on(floor_and_lamp(), "editor-floor-and-lamp.png");
     let (w, h) = image.dimensions();
     let pixel = |x: u32, y: u32| image.get_pixel(x, y).0.map(i32::from);
     // Brighter than the white floor and warm (the display's tone curve pales the orange).
@@ -98,14 +108,12 @@ fn emitters_glow_and_the_grid_does_not_show_through_the_floor() {
     }
     assert!(
         lamp > 200 && floor > 5000,
-        "{lamp} lamp and {floor} floor samples: the lamp should glow (screenshot in {})",
-        dir.display()
+        "{lamp} lamp and {floor} floor samples: the lamp should glow (screenshot {screenshot})"
     );
     assert!(
         edges < floor / 200,
         "{edges} of {floor} floor samples at a sharp edge: grid lines through the floor? \
-         (screenshot in {})",
-        dir.display()
+         (screenshot {screenshot})"
     );
 }
 
@@ -128,17 +136,7 @@ fn a_spot_lights_only_its_cone() {
     spot.outer_angle_deg = 15.0;
     spot.intensity = 50.0;
     scene.lights = vec![spot];
-    let mut harness = harness();
-    harness.run_ok();
-    harness
-        .state_mut()
-        .doc
-        .edit("floor and spot", "scene", |s| *s = scene);
-    harness.state_mut().selection = None;
-    harness.run_ok();
-    let image = harness.render().unwrap();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
-    image.save(dir.join("editor-floor-and-spot.png")).unwrap();
+    let (_harness, image, screenshot) = editor_on(scene, "editor-floor-and-spot.png");
     let (w, h) = image.dimensions();
     // The mean green level over a small square at (x, y), in fractions of the window.
     let level = |fx: f32, fy: f32| {
@@ -157,8 +155,7 @@ fn a_spot_lights_only_its_cone() {
         [(0.27, 0.22), (0.73, 0.22), (0.27, 0.78), (0.73, 0.78)].map(|(x, y)| level(x, y));
     assert!(
         centre > 170 && corners.iter().all(|&c| c < 110),
-        "centre {centre}, corners {corners:?} (screenshot in {})",
-        dir.display()
+        "centre {centre}, corners {corners:?} (screenshot {screenshot})"
     );
 }
 
@@ -176,14 +173,7 @@ fn clicking_a_light_mark_selects_the_light() {
     point.position = [1.5, 2.0, 1.0];
     point.intensity = 5.0;
     scene.lights = vec![point];
-    let mut harness = harness();
-    harness.run_ok();
-    harness
-        .state_mut()
-        .doc
-        .edit("floor and bulb", "scene", |s| *s = scene);
-    harness.state_mut().selection = None;
-    harness.run_ok();
+    let (mut harness, _, _) = editor_on(scene, "editor-floor-and-bulb.png");
     let rect = harness
         .state()
         .ui
