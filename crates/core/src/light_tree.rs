@@ -771,7 +771,7 @@ mod tests {
             }
         };
         let mut rng = Rng::new(21, 0, 0x2c);
-        let mut all_bins = 0;
+        let mut all_dof = 0;
         for k in 0..4 {
             let x = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 8.0 - 4.0;
             let n = if k == 0 {
@@ -789,40 +789,27 @@ mod tests {
                     None => dead += 1,
                 }
             }
-            let expected_dead = dead_end_mass(&nodes, 0, 1.0, x, n) * f64::from(samples);
-            let (mut chi2, mut bins) = (0.0, 0usize);
-            let (mut pooled_seen, mut pooled_expected) = (f64::from(dead), expected_dead);
+            // Every leaf's count, and the dead ends' as one more outcome.
+            let mut seen = vec![f64::from(dead)];
+            let mut expected = vec![dead_end_mass(&nodes, 0, 1.0, x, n) * f64::from(samples)];
             for (code, _) in &leaves {
-                let expected = f64::from(tree_pmf(&nodes, *code, x, n)) * f64::from(samples);
-                let seen = f64::from(counts.get(code).copied().unwrap_or(0));
-                assert!(
-                    expected > 0.0 || seen == 0.0,
-                    "slot {code} sampled with pmf 0"
-                );
-                if expected < 5.0 {
-                    (pooled_seen, pooled_expected) =
-                        (pooled_seen + seen, pooled_expected + expected);
-                } else {
-                    chi2 += (seen - expected).powi(2) / expected;
-                    bins += 1;
-                }
+                let e = f64::from(tree_pmf(&nodes, *code, x, n)) * f64::from(samples);
+                let c = f64::from(counts.get(code).copied().unwrap_or(0));
+                assert!(e > 0.0 || c == 0.0, "slot {code} sampled with pmf 0");
+                seen.push(c);
+                expected.push(e);
             }
-            if pooled_expected >= 5.0 {
-                chi2 += (pooled_seen - pooled_expected).powi(2) / pooled_expected;
-                bins += 1;
-            }
-            // The 0.999 quantile of chi-square with d degrees of freedom, Wilson–Hilferty.
-            let d = (bins - 1) as f64;
-            let limit = d * (1.0 - 2.0 / (9.0 * d) + 3.09 * (2.0 / (9.0 * d)).sqrt()).powi(3);
+            let (chi2, dof) = crate::math::stats::pearson(&seen, &expected);
+            let limit = crate::math::stats::chi2_limit(dof, 4, 1e-3);
             assert!(
-                bins >= 5 && chi2 < limit,
-                "point {k}: chi-square {chi2:.1} over {bins} bins (limit {limit:.1})"
+                dof >= 4 && chi2 < limit,
+                "point {k}: chi-square {chi2:.1} with {dof} degrees of freedom (limit {limit:.1})"
             );
-            all_bins += bins;
+            all_dof += dof;
         }
         assert!(
-            all_bins > 60,
-            "only {all_bins} bins: the points see too few lights"
+            all_dof > 60,
+            "only {all_dof} degrees of freedom: the points see too few lights"
         );
     }
 

@@ -422,28 +422,12 @@ mod tests {
                     counts[bin_of(s.direction)] += 1;
                 }
             }
-            let (mut chi2, mut bins) = (0.0, 0usize);
-            let (mut pooled_seen, mut pooled_expected) = (0.0, 0.0);
-            for (&seen, &expected) in counts.iter().zip(&expected) {
-                let seen = f64::from(seen);
-                if expected < 5.0 {
-                    (pooled_seen, pooled_expected) =
-                        (pooled_seen + seen, pooled_expected + expected);
-                } else {
-                    chi2 += (seen - expected).powi(2) / expected;
-                    bins += 1;
-                }
-            }
-            if pooled_expected >= 5.0 {
-                chi2 += (pooled_seen - pooled_expected).powi(2) / pooled_expected;
-                bins += 1;
-            }
-            // The 0.999 quantile of chi-square with d degrees of freedom, Wilson–Hilferty.
-            let d = (bins - 1) as f64;
-            let limit = d * (1.0 - 2.0 / (9.0 * d) + 3.09 * (2.0 / (9.0 * d)).sqrt()).powi(3);
+            let counts: Vec<f64> = counts.into_iter().map(f64::from).collect();
+            let (chi2, dof) = crate::math::stats::pearson(&counts, &expected);
+            let limit = crate::math::stats::chi2_limit(dof, 2, 1e-3);
             assert!(
-                bins > 30 && chi2 < limit,
-                "{sampler:?}: chi-square {chi2:.1} over {bins} bins (limit {limit:.1})"
+                dof > 30 && chi2 < limit,
+                "{sampler:?}: chi-square {chi2:.1} with {dof} degrees of freedom (limit {limit:.1})"
             );
         }
     }
