@@ -103,11 +103,13 @@ pub fn render_thumbnail(scene: &Scene, cancel: &AtomicBool) -> Option<egui::Colo
         transform: rt_core::output::ViewTransform::KhronosPbrNeutral,
         exposure_stops: 0.0,
     };
-    Some(crate::ui::tone_mapped_rgb(
-        &rgb,
-        scene.settings.width,
-        scene.settings.height,
-        view,
+    let size = [
+        scene.settings.width as usize,
+        scene.settings.height as usize,
+    ];
+    Some(egui::ColorImage::from_rgba_unmultiplied(
+        size,
+        &view.to_rgba8(&rgb),
     ))
 }
 

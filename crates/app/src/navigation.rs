@@ -134,6 +134,20 @@ pub fn project(camera: &Camera, aspect: f32, point: Vec3) -> Option<Vec2> {
     Some(Vec2::new(0.5 * (x + 1.0), 0.5 * (1.0 - y)))
 }
 
+/// Where a world point appears in the viewport `rect` (screen points), if in front of the camera.
+pub fn to_screen(camera: &Camera, rect: egui::Rect, point: Vec3) -> Option<egui::Pos2> {
+    let uv = project(camera, rect.width() / rect.height().max(1.0), point)?;
+    Some(rect.min + egui::vec2(uv.x * rect.width(), uv.y * rect.height()))
+}
+
+/// The world length one screen point of the viewport `rect` spans at `point`'s depth, if in
+/// front of the camera.
+pub fn world_per_point(camera: &Camera, rect: egui::Rect, point: Vec3) -> Option<f32> {
+    let basis = camera.basis().ok()?;
+    let depth = (point - basis.origin).dot(-basis.w);
+    (depth > 0.0).then(|| 2.0 * depth * basis.tan_half_vfov / rect.height().max(1.0))
+}
+
 /// The nearest object hit by a ray, and the distance to it.
 pub fn pick(scene: &Scene, origin: Vec3, direction: Vec3) -> Option<(usize, f32)> {
     let mut best: Option<(usize, f32)> = None;

@@ -34,23 +34,17 @@ fn centre(app: &RtApp) -> Option<Vec3> {
     (light.kind != rt_core::LightKind::Directional).then(|| Vec3::from(light.position))
 }
 
-/// Where the world point lies in `rect`.
 fn to_screen(app: &RtApp, rect: Rect, point: Vec3) -> Option<Pos2> {
-    let aspect = rect.width() / rect.height().max(1.0);
-    let uv = navigation::project(&app.doc.scene.camera, aspect, point)?;
-    Some(rect.min + egui::vec2(uv.x * rect.width(), uv.y * rect.height()))
+    navigation::to_screen(&app.doc.scene.camera, rect, point)
 }
 
 /// The selection's centre and the world length of one screen point there.
 fn centre_and_scale(app: &RtApp, rect: Rect) -> Option<(Vec3, f32)> {
-    let (centre, basis) = (centre(app)?, app.doc.scene.camera.basis().ok()?);
-    let depth = (centre - basis.origin).dot(-basis.w);
-    (depth > 0.0).then(|| {
-        (
-            centre,
-            2.0 * depth * basis.tan_half_vfov / rect.height().max(1.0),
-        )
-    })
+    let centre = centre(app)?;
+    Some((
+        centre,
+        navigation::world_per_point(&app.doc.scene.camera, rect, centre)?,
+    ))
 }
 
 /// Which gestures the selection takes: a light only those that mean something for it.

@@ -81,11 +81,8 @@ fn marks(app: &RtApp) -> Vec<LightMark> {
     light_marks(&app.doc.scene.lights, centre, size)
 }
 
-/// Where a world point lies in the viewport `rect`, if in front of the camera.
 fn to_screen(app: &RtApp, rect: Rect, point: Vec3) -> Option<Pos2> {
-    let aspect = rect.width() / rect.height().max(1.0);
-    let uv = navigation::project(&app.doc.scene.camera, aspect, point)?;
-    Some(rect.min + egui::vec2(uv.x * rect.width(), uv.y * rect.height()))
+    navigation::to_screen(&app.doc.scene.camera, rect, point)
 }
 
 /// Where light `light`'s mark is anchored in the viewport `rect` (what a click selects it at).

@@ -13,7 +13,7 @@ use egui::{Key, KeyboardShortcut, Modifiers};
 
 use crate::app::{LightShape, RtApp};
 
-pub use renders::{save as renders_save, tone_mapped, tone_mapped_rgb};
+pub use renders::{save as renders_save, tone_mapped};
 
 impl eframe::App for RtApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {

@@ -106,17 +106,16 @@ pub fn screen_frame(app: &RtApp) -> ScreenFrame {
         ToolTarget::Light(_, position, _) => Some(*position),
     }
     .unwrap_or(basis.origin - basis.w);
-    let depth = (centre - basis.origin).dot(-basis.w).max(1e-6);
-    let aspect = rect.width() / rect.height().max(1.0);
-    let on_screen = navigation::project(&scene.camera, aspect, centre)
-        .map(|uv| rect.min + egui::vec2(uv.x * rect.width(), uv.y * rect.height()));
     let extent = app
         .doc
         .bounds()
         .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-6));
     ScreenFrame {
-        centre: tool.anchor.or(on_screen),
-        units_per_point: 2.0 * depth * basis.tan_half_vfov / rect.height().max(1.0),
+        centre: tool
+            .anchor
+            .or_else(|| navigation::to_screen(&scene.camera, rect, centre)),
+        // Behind the camera the pointer moves nothing.
+        units_per_point: navigation::world_per_point(&scene.camera, rect, centre).unwrap_or(0.0),
         right: basis.u,
         up: basis.v,
         back: basis.w,

@@ -345,6 +345,20 @@ mod tests {
         2.0 * numerator.atan2(denominator)
     }
 
+    /// A square emissive lamp (grey radiance `strength`) of side `size` at `centre`, facing
+    /// `normal`.
+    fn lamp(i: usize, centre: Vec3, normal: Vec3, size: f32, strength: f32) -> Object {
+        Object {
+            name: format!("lamp {i}"),
+            mesh: crate::shapes::quad(centre, normal, size).into(),
+            material: crate::Material::Emissive {
+                color: [strength; 3],
+                intensity: 1.0,
+            },
+            transform: Default::default(),
+        }
+    }
+
     /// Chi-square of `sample_light`'s directions against the distribution its pdf describes,
     /// through the power table and through the light tree: lamps above a point, the hemisphere cut
     /// into 10 × 20 bins of equal solid angle (cos θ, φ). A bin's expected count is each lamp
@@ -363,15 +377,9 @@ mod tests {
             let normal =
                 (Vec3::new(u(), u(), u()) * 2.0 - 1.0 - Vec3::new(0.0, 0.0, 0.6)).normalize();
             let strength = 10f32.powf(1.5 * u());
-            scene.objects.push(Object {
-                name: format!("lamp {i}"),
-                mesh: crate::shapes::quad(centre, normal, 0.6 + 0.8 * u()).into(),
-                material: crate::Material::Emissive {
-                    color: [strength; 3],
-                    intensity: 1.0,
-                },
-                transform: Default::default(),
-            });
+            scene
+                .objects
+                .push(lamp(i, centre, normal, 0.6 + 0.8 * u(), strength));
         }
         let (x, n) = (Vec3::ZERO, Vec3::Z);
         let (rows, columns, grid) = (10usize, 20usize, 256usize);
@@ -445,15 +453,9 @@ mod tests {
             let centre = Vec3::new(u() * 4.0 - 2.0, u() * 4.0 - 2.0, 1.5 + 1.5 * u());
             let normal = (Vec3::new(u(), u(), u()) * 2.0 - 1.0).normalize();
             let strength = 10f32.powf(2.0 * u());
-            scene.objects.push(Object {
-                name: format!("lamp {i}"),
-                mesh: crate::shapes::quad(centre, normal, 0.4 + 0.8 * u()).into(),
-                material: crate::Material::Emissive {
-                    color: [strength; 3],
-                    intensity: 1.0,
-                },
-                transform: Default::default(),
-            });
+            scene
+                .objects
+                .push(lamp(i, centre, normal, 0.4 + 0.8 * u(), strength));
         }
         let (x, n) = (Vec3::ZERO, Vec3::Z);
         for sampler in [LightSampler::Power, LightSampler::Tree] {
