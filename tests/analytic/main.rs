@@ -3,13 +3,14 @@
 //!
 //! `closed_form.rs` holds the furnaces, emitters, mirror, slab and empty scene, `lights.rs` the
 //! delta lights, the sun and sky and the Sobol sampler, `materials.rs` PBR, normal maps, texture
-//! wrap modes and alpha.
+//! wrap modes and alpha, `media.rs` fog and volumes.
 
 mod closed_form;
 #[path = "../common/mod.rs"]
 mod common;
 mod lights;
 mod materials;
+mod media;
 
 use common::*;
 use glam::Vec3;

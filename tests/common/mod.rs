@@ -39,6 +39,7 @@ pub fn scene(
         settings,
         lights: Vec::new(),
         environment: None,
+        fog: Default::default(),
     }
 }
 

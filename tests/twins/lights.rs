@@ -4,7 +4,9 @@
 
 use super::*;
 use rt_core::bvh::{BvhLayout, BvhQuality};
-use rt_core::reference::{Surface, delta_lights_at, direct_light, sample_light, trace};
+use rt_core::reference::{
+    ShadowMedia, Surface, delta_lights_at, direct_light, sample_light, trace,
+};
 
 /// The Cornell box with thirty more small emitters facing every way, twelve point and spot lights
 /// (both falloffs) and a sun, picked through the light tree (the sun summed).
@@ -120,22 +122,30 @@ fn light_sampling_and_traversal_match_their_twin() {
             words_in: 12,
             words_out: 23,
             body: "let p = v3_in(item, 0u); let ng = v3_in(item, 3u); let d = v3_in(item, 6u);
+    // Every fourth item a scattering in a medium: no normal, the phase function, dimmed rays.
+    let in_medium = (item & 3u) == 3u;
+    let n = select(ng, vec3(0.0), in_medium);
+    let a = v3_in(item, 9u);
+    let media = ShadowMedia(a * 0.5, a.zyx * 0.3);
     var r = rng_init(item, 3u, 9u);
-    let l = sample_light(p, ng, (item & 1u) == 1u, &r);
+    let l = sample_light(p, n, (item & 1u) == 1u, &r);
     let ok = l.distance > 0.0;
     put_u(item, 0u, u32(ok));
     put3(item, 1u, select(vec3(0.0), l.origin, ok)); put(item, 4u, select(0.0, l.distance, ok));
     put3(item, 5u, select(vec3(0.0), l.direction, ok)); put(item, 8u, select(0.0, l.p_light, ok));
     put3(item, 9u, select(vec3(0.0), l.radiance_over_pdf, ok));
     var s: Surface;
-    s.kind = MAT_LAMBERTIAN; s.color = v3_in(item, 9u); s.n = ng;
+    s.kind = MAT_LAMBERTIAN; s.color = a; s.n = ng;
+    if (in_medium) {
+        s = phase_surface(d, a.x * 1.8 - 0.9);
+    }
     var q = rng_init(item, 4u, 9u);
     var rays = 0u;
-    put3(item, 12u, direct_light(p, ng, s, &q, &rays));
+    put3(item, 12u, direct_light(p, n, s, media, &q, &rays));
     let h = intersect_scene(p, d, 3.0e38, false);
     put(item, 15u, h.t); put_u(item, 16u, h.triangle); put(item, 17u, h.b1); put(item, 18u, h.b2);
     put_u(item, 19u, rays);
-    put3(item, 20u, delta_lights_at(p, ng, s, &rays));",
+    put3(item, 20u, delta_lights_at(p, n, s, media, &rays));",
             sobol: false,
         };
         let gpu_out = kernel.run_in(ctx, &scene, &input);
@@ -146,8 +156,14 @@ fn light_sampling_and_traversal_match_their_twin() {
                 let f = |k: usize| f32::from_bits(input[item * 12 + k]);
                 let v = |k: usize| Vec3::new(f(k), f(k + 1), f(k + 2));
                 let (p, ng, d, albedo) = (v(0), v(3), v(6), v(9));
+                let in_medium = item % 4 == 3;
+                let n = if in_medium { Vec3::ZERO } else { ng };
+                let media = ShadowMedia {
+                    above: albedo * 0.5,
+                    below: Vec3::new(albedo.z, albedo.y, albedo.x) * 0.3,
+                };
                 let mut rng = Rng::new(item as u32, 3, 9);
-                let light = sample_light(g, frame, p, ng, item % 2 == 1, &mut rng);
+                let light = sample_light(g, frame, p, n, item % 2 == 1, &mut rng);
                 let mut out = vec![u32::from(light.is_some())];
                 let l = light.unwrap_or(rt_core::reference::LightSample {
                     origin: Vec3::ZERO,
@@ -159,17 +175,24 @@ fn light_sampling_and_traversal_match_their_twin() {
                 out.extend(bits(&l.origin.extend(l.distance).to_array()));
                 out.extend(bits(&l.direction.extend(l.p_light).to_array()));
                 out.extend(bits(&l.radiance_over_pdf.to_array()));
-                let surface = Surface::Lambert { albedo, ns: ng };
+                let surface = if in_medium {
+                    Surface::Phase {
+                        direction: d,
+                        g: albedo.x * 1.8 - 0.9,
+                    }
+                } else {
+                    Surface::Lambert { albedo, ns: ng }
+                };
                 let mut q = Rng::new(item as u32, 4, 9);
                 let mut rays = 0;
                 out.extend(bits(
-                    &direct_light(g, frame, p, ng, &surface, &mut q, &mut rays).to_array(),
+                    &direct_light(g, frame, p, n, &surface, &media, &mut q, &mut rays).to_array(),
                 ));
                 let h = trace(g, p, d, 3.0e38);
                 out.extend([h.t.to_bits(), h.triangle, h.b1.to_bits(), h.b2.to_bits()]);
                 out.push(rays);
                 out.extend(bits(
-                    &delta_lights_at(g, frame, p, ng, &surface, &mut rays).to_array(),
+                    &delta_lights_at(g, frame, p, n, &surface, &media, &mut rays).to_array(),
                 ));
                 // Another emitter, another side of an edge, or another triangle at an edge: the
                 // GPU's row stands in for it, and it is counted.
@@ -280,7 +303,7 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
     var s: Surface;
     s.kind = MAT_LAMBERTIAN; s.color = vec3(0.8, 0.5, 0.3); s.n = ng;
     var rays = 0u;
-    put3(item, 9u, delta_lights_at(p, ng, s, &rays));
+    put3(item, 9u, delta_lights_at(p, ng, s, ShadowMedia(vec3(0.0), vec3(0.0)), &rays));
     put_u(item, 12u, rays);",
         sobol: true,
     };
@@ -302,7 +325,15 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
                 ns: ng,
             };
             let mut rays = 0;
-            let lit = delta_lights_at(g, frame, p, ng, &surface, &mut rays);
+            let lit = delta_lights_at(
+                g,
+                frame,
+                p,
+                ng,
+                &surface,
+                &ShadowMedia::default(),
+                &mut rays,
+            );
             let mut out = bits(&[o, dir, sky, lit].map(|v| v.to_array()).concat());
             out.push(rays);
             // A shadow ray grazing an edge, or a direction on an environment texel's boundary,

@@ -456,3 +456,79 @@ fn fixed_point_sums_wrap_modes_and_heuristic_match_their_twin() {
         out
     });
 }
+
+/// Participating media: the Henyey–Greenstein phase function and its sample, transmittance, and
+/// free flight through a chromatic medium (`medium.wgsl` ⇄ `medium.rs`), with the segment short
+/// enough to pass at times and as long as a ray that left the scene.
+#[test]
+fn medium_functions_match_their_twin() {
+    use rt_core::gpu_types::Medium;
+    use rt_core::math::medium::*;
+    let Some(ctx) = gpu() else { return };
+    let input = inputs(12, |rng| {
+        let d = unit(rng);
+        let g = 1.9 * rng.next_f32() - 0.95;
+        let cos = 2.0 * rng.next_f32() - 1.0;
+        let sigma_t = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 3.0;
+        let albedo = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        // A quarter absorb only; a quarter of the segments leave the scene.
+        let sigma_s = if rng.next_f32() < 0.25 {
+            Vec3::ZERO
+        } else {
+            sigma_t * albedo
+        };
+        let t_max = if rng.next_f32() < 0.25 {
+            FAR
+        } else {
+            2.0 * rng.next_f32()
+        };
+        let mut v = vec![d.x, d.y, d.z, g, cos, t_max];
+        v.extend(sigma_t.to_array());
+        v.extend(sigma_s.to_array());
+        bits(&v)
+    });
+    let kernel = TwinKernel {
+        words_in: 12,
+        words_out: 13,
+        body: "let d = v3_in(item, 0u); let g = f_in(item, 3u); let cos_in = f_in(item, 4u);
+    let t_max = f_in(item, 5u);
+    let m = Medium(v3_in(item, 6u), g, v3_in(item, 9u), 0.0);
+    put(item, 0u, hg_phase(cos_in, g));
+    var s = rng_init(item, 0u, 9u);
+    let u1 = rng_next(&s); let u2 = rng_next(&s);
+    put3(item, 1u, sample_hg(d, g, u1, u2));
+    put3(item, 4u, transmittance(m.sigma_t, t_max));
+    let f = free_flight(m, t_max, &s);
+    put3(item, 7u, f.weight); put(item, 10u, f.t); put_u(item, 11u, u32(f.scattered));
+    put_u(item, 12u, u32(is_vacuum(m)));",
+        sobol: false,
+    };
+    let gpu_out = kernel.run(ctx, &input);
+    Comparison {
+        name: "medium",
+        rel: 5e-5,
+        abs: 1e-6,
+        exact_words: &[11, 12],
+    }
+    .check(&gpu_out, 13, |item| {
+        let f = |k: usize| f32::from_bits(input[item * 12 + k]);
+        let v = |k: usize| Vec3::new(f(k), f(k + 1), f(k + 2));
+        let (d, g, cos, t_max) = (v(0), f(3), f(4), f(5));
+        let m = Medium {
+            sigma_t: v(6).into(),
+            anisotropy: g,
+            sigma_s: v(9).into(),
+            _pad: 0.0,
+        };
+        let mut rng = Rng::new(item as u32, 0, 9);
+        let (u1, u2) = (rng.next_f32(), rng.next_f32());
+        let s = sample_hg(d, g, u1, u2);
+        let tr = transmittance(Vec3::from(m.sigma_t), t_max);
+        let fl = free_flight(&m, t_max, &mut rng);
+        let mut out = bits(&[hg_phase(cos, g), s.x, s.y, s.z, tr.x, tr.y, tr.z]);
+        out.extend(bits(&[fl.weight.x, fl.weight.y, fl.weight.z, fl.t]));
+        out.push(u32::from(fl.scattered));
+        out.push(u32::from(is_vacuum(&m)));
+        out
+    });
+}

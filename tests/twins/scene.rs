@@ -277,7 +277,7 @@ fn the_surface_dispatch_matches_its_twin() {
                         rng.next_f32()
                     },
                     ior: 1.1 + rng.next_f32(),
-                    absorption: [rng.next_f32(); 3],
+                    _pad0: [rng.next_f32(); 3],
                     normal_scale: 1.0,
                     // Half the materials plain (the defaults), half with every layer.
                     specular_color: if layered {
@@ -408,6 +408,7 @@ fn the_surface_dispatch_matches_its_twin() {
                 Surface::Metal { .. } => MaterialKind::Metal,
                 Surface::Dielectric { .. } => MaterialKind::Dielectric,
                 Surface::Pbr { .. } => MaterialKind::Pbr,
+                Surface::Phase { .. } => panic!("a material made a phase function"),
             };
             per_kind[kind.tag() as usize] += 1;
             let (e, pdf) = s.eval(wi);

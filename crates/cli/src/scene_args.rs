@@ -62,6 +62,17 @@ pub struct SceneArgs {
     /// Radiance scale of the environment.
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub env_strength: Option<f32>,
+    /// Fog filling the space outside closed objects: its extinction σ_t per scene unit (light
+    /// travels 1/σ_t on average before it meets the fog; 0 removes it). Lights at infinity (the
+    /// sun, the environment) do not reach through it.
+    #[arg(long, value_name = "SIGMA_T")]
+    pub fog_density: Option<f32>,
+    /// The fog's single-scattering albedo per channel, in [0, 1] (default 1,1,1: scatters all).
+    #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
+    pub fog_albedo: Option<[f32; 3]>,
+    /// The fog's Henyey–Greenstein anisotropy g in (−1, 1): > 0 scatters forward (default 0).
+    #[arg(long, value_name = "G", allow_hyphen_values = true)]
+    pub fog_anisotropy: Option<f32>,
 }
 
 impl SceneArgs {
@@ -106,6 +117,12 @@ impl SceneArgs {
         } else if self.env_rotation.is_some() || self.env_strength.is_some() {
             anyhow::bail!("--env-rotation and --env-strength need an environment (--environment)");
         }
+        let fog = &mut scene.fog;
+        fog.density = self.fog_density.unwrap_or(fog.density);
+        fog.albedo = self.fog_albedo.unwrap_or(fog.albedo);
+        fog.anisotropy = self.fog_anisotropy.unwrap_or(fog.anisotropy);
+        fog.validate()
+            .map_err(|e| anyhow::anyhow!("--fog-density/--fog-albedo/--fog-anisotropy: {e}"))?;
         Ok(scene)
     }
 

@@ -19,6 +19,7 @@ pub fn validate(scene: &Scene) -> Result<()> {
             scene.ambient
         )));
     }
+    scene.fog.validate().map_err(Error::Scene)?;
     Ok(())
 }
 
@@ -33,6 +34,7 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
             scene.ambient
         )));
     }
+    scene.fog.validate().map_err(Error::Scene)?;
     Ok(Frame {
         cam_origin: basis.origin.to_array(),
         lens_radius: scene.camera.aperture_radius,
@@ -76,7 +78,11 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         env_width: gpu_scene.env_width,
         env_height: gpu_scene.env_height,
         env_rotation: gpu_scene.env_rotation,
-        env_pick: match (gpu_scene.env_width > 0, gpu_scene.features.nee) {
+        // Fog hides the environment behind an infinite depth of it: sampling it would be wasted.
+        env_pick: match (
+            gpu_scene.env_width > 0 && !scene.fog.is_on(),
+            gpu_scene.features.nee,
+        ) {
             (false, _) => 0.0,
             (true, false) => 1.0,
             (true, true) => 0.5,
@@ -84,6 +90,7 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         sample_offset: 0,
         clamp_max: clamp_max(settings.clamp),
         light_sampler: u32::from(!gpu_scene.light_tree.is_empty()),
+        fog: scene.fog.medium(),
     })
 }
 

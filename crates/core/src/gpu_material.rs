@@ -180,6 +180,7 @@ pub(crate) fn object_material(
         }
     }
     features.kinds.insert(object.material.kind());
+    features.media |= !crate::math::medium::is_vacuum(&material.medium);
     Ok((material, tangents))
 }
 
@@ -211,8 +212,10 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
                 metallic: p.metallic,
                 roughness: p.roughness,
                 transmission: p.transmission,
-                ior: p.ior,
-                absorption: p.absorption(),
+                // At η = 1 exactly the BSDF's refraction half-vector vanishes (the light passes
+                // unbent) and its samples were NaN: 1 + 10⁻⁴ passes it the same (F0 ~ 10⁻⁹).
+                ior: p.ior.max(1.0 + 1e-4),
+                _pad0: [0.0; 3],
                 normal_scale: p.normal_scale,
                 specular_color: p.specular_color,
                 specular: p.specular,
@@ -232,7 +235,25 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
                 dispersion: p.dispersion,
                 _pad: [0.0; 2],
             });
+            if !p.thin_walled {
+                gpu.medium = interior_medium(p);
+            }
         }
     }
     gpu
+}
+
+/// The medium inside a PBR volume: extinction from the attenuation, scattering from the
+/// multiple-scattering colour (`Pbr::multiscatter_color`).
+fn interior_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
+    let sigma_t = p.extinction();
+    let albedo = p
+        .multiscatter_color
+        .map(crate::math::medium::single_scatter_albedo);
+    gpu_types::Medium {
+        sigma_t,
+        anisotropy: p.scatter_anisotropy,
+        sigma_s: std::array::from_fn(|c| albedo[c] * sigma_t[c]),
+        _pad: 0.0,
+    }
 }

@@ -112,6 +112,22 @@ pub struct Material {
     /// which channel each reads).
     pub textures: [TextureSlot; SLOTS], // 180
     pub _pad: [u32; 3], // 372
+    /// The medium inside a closed surface that transmits (entered on transmission through its
+    /// front face, left through its back face; `reference::path`): glTF's volume attenuation and
+    /// scattering. Zero: vacuum.
+    pub medium: Medium, // 384
+}
+
+/// A homogeneous participating medium (`math::medium`): per scene unit, its extinction
+/// σ_t = σ_a + σ_s and scattering σ_s per channel, and the Henyey–Greenstein anisotropy g of its
+/// phase function. All zero: vacuum.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Medium {
+    pub sigma_t: [f32; 3], // 0
+    pub anisotropy: f32,   // 12
+    pub sigma_s: [f32; 3], // 16
+    pub _pad: f32,         // 28
 }
 
 /// How many texture slots a material has.
@@ -133,6 +149,7 @@ impl Default for Material {
             samplers: [0; 3],
             textures: [TextureSlot::NONE; SLOTS],
             _pad: [0; 3],
+            medium: Medium::default(),
         }
     }
 }
@@ -207,8 +224,8 @@ pub struct PbrLobe {
     /// Specular transmission in [0, 1].
     pub transmission: f32, // 8
     pub ior: f32, // 12
-    /// Beer–Lambert absorption coefficient σ per unit length inside a transmissive object.
-    pub absorption: [f32; 3], // 16
+    /// Unused (the volume's absorption is `Material::medium`).
+    pub _pad0: [f32; 3], // 16
     /// The normal map's xy scale.
     pub normal_scale: f32, // 28
     /// `KHR_materials_specular`'s colour: scales the dielectric F0 (which stays ≤ 1).
@@ -418,6 +435,9 @@ pub struct Frame {
     /// How next-event estimation picks an emitter triangle: 0 by power (the alias table), 1 by
     /// its importance at the shading point (the light tree, `crate::light_tree`).
     pub light_sampler: u32, // 172
+    /// The medium filling all space outside closed objects (the scene's fog; zero: vacuum), where
+    /// the camera is.
+    pub fog: Medium, // 176
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power
@@ -560,9 +580,11 @@ pub fn layouts() -> Vec<StructLayout> {
                 alpha_cutoff,
                 samplers,
                 textures,
-                _pad
+                _pad,
+                medium
             ]
         ),
+        layout!("Medium", Medium, [sigma_t, anisotropy, sigma_s, _pad]),
         layout!("MetalLobe", MetalLobe, [fuzz]),
         layout!("DielectricLobe", DielectricLobe, [ior]),
         layout!(
@@ -573,7 +595,7 @@ pub fn layouts() -> Vec<StructLayout> {
                 roughness,
                 transmission,
                 ior,
-                absorption,
+                _pad0,
                 normal_scale,
                 specular_color,
                 specular,
@@ -667,7 +689,8 @@ pub fn layouts() -> Vec<StructLayout> {
                 env_pick,
                 sample_offset,
                 clamp_max,
-                light_sampler
+                light_sampler,
+                fog
             ]
         ),
         layout!("Emitter", Emitter, [triangle, alias_index, threshold, leaf]),

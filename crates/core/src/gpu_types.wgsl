@@ -52,6 +52,15 @@ struct Material {
     samplers: array<u32, 3>, // 168: SAMPLER_BITS a slot (wrap s, wrap t, nearest), 6 a word
     textures: array<TextureSlot, 16>,  // 180: by SLOT_*
     _pad: array<u32, 3>,     // 372
+    medium: Medium,          // 384: inside a closed transmissive surface (zero: vacuum)
+}
+
+// gpu_types.rs `Medium`: a homogeneous participating medium (math/medium.wgsl).
+struct Medium {
+    sigma_t: vec3<f32>,      // 0: extinction per scene unit
+    anisotropy: f32,         // 12: Henyey-Greenstein g
+    sigma_s: vec3<f32>,      // 16: scattering
+    _pad: f32,               // 28
 }
 
 // The kinds' parameter blocks: the words of Material.lobe in order (core::gpu_types::*Lobe).
@@ -68,7 +77,7 @@ struct PbrLobe {
     roughness: f32,          // 4
     transmission: f32,       // 8
     ior: f32,                // 12
-    absorption: vec3<f32>,   // 16
+    _pad0: vec3<f32>,        // 16: unused (the volume's absorption is Material.medium)
     normal_scale: f32,       // 28
     specular_color: vec3<f32>,  // 32: KHR_materials_specular's colour (scales F0)
     specular: f32,           // 44: its strength (scales F0 and F90)
@@ -205,6 +214,7 @@ struct Frame {
     sample_offset: u32,          // 164: the render's first sample index (a shard's range start)
     clamp_max: f32,              // 168: the firefly clamp on bounced light (0: off)
     light_sampler: u32,          // 172: 0 emitters by power (alias table), 1 by the light tree
+    fog: Medium,                 // 176: the medium outside closed objects (zero: vacuum)
 }
 
 struct Emitter {

@@ -12,6 +12,7 @@ pub mod denoiser;
 pub mod emitters;
 pub mod environment;
 pub mod error;
+pub mod fog;
 pub mod frame;
 mod gpu_material;
 pub mod gpu_scene;

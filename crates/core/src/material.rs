@@ -132,6 +132,14 @@ pub struct Pbr {
     /// An image whose green picks the film's thickness, from `iridescence_thickness_min` (0) to
     /// `iridescence_thickness_max` (1).
     pub iridescence_thickness_texture: Option<usize>,
+    /// Scattering in the volume behind a transmissive, non-thin surface (the draft
+    /// `KHR_materials_volume_scatter`'s `multiscatterColor`, each channel in [0, 1]): the colour a
+    /// thick piece of it takes after scattering many times (milk, jade, wax). The attenuation
+    /// gives the extinction σ_t; this gives the single-scattering albedo ρ by the inversion of
+    /// `math::medium::single_scatter_albedo`, σ_s = ρ σ_t. Black: absorption only.
+    pub multiscatter_color: Rgb,
+    /// The Henyey–Greenstein anisotropy g of that scattering, in (−1, 1): > 0 forward.
+    pub scatter_anisotropy: f32,
 }
 
 /// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
@@ -197,6 +205,8 @@ impl Default for Pbr {
             diffuse_transmission_color_texture: None,
             iridescence_texture: None,
             iridescence_thickness_texture: None,
+            multiscatter_color: [0.0; 3],
+            scatter_anisotropy: 0.0,
         }
     }
 }
@@ -239,8 +249,8 @@ impl Pbr {
         ]
     }
 
-    /// σ = −ln(c)/d per channel (0 without absorption).
-    pub fn absorption(&self) -> Rgb {
+    /// The volume's extinction σ_t = −ln(c)/d per channel (0 without attenuation).
+    pub fn extinction(&self) -> Rgb {
         match self.attenuation_distance {
             Some(d) if d > 0.0 => self
                 .attenuation_color
@@ -357,6 +367,15 @@ impl Pbr {
         }
         for c in self.sheen_color {
             unit("sheen_color", c)?;
+        }
+        for c in self.multiscatter_color {
+            unit("multiscatter_color", c)?;
+        }
+        if !(self.scatter_anisotropy.abs() < 1.0) {
+            return Err(format!(
+                "{what}: pbr scatter_anisotropy must lie in (-1, 1), got {}",
+                self.scatter_anisotropy
+            ));
         }
         if !self.alpha_cutoff.is_finite() {
             return Err(format!(

@@ -302,6 +302,9 @@ pub struct Scene {
     /// An environment map; it replaces `ambient` for rays that leave the scene.
     #[serde(default)]
     pub environment: Option<crate::environment::Environment>,
+    /// Fog filling the space outside closed objects (`crate::fog`; off by default).
+    #[serde(default)]
+    pub fog: crate::fog::Fog,
 }
 
 impl Scene {

@@ -25,4 +25,6 @@ pub struct SceneFeatures {
     pub environment: bool,
     /// Alpha-masked or blended surfaces (the traversal reads their coverage at each hit).
     pub alpha: bool,
+    /// Participating media: a material's interior (or, set from the frame, the scene's fog).
+    pub media: bool,
 }

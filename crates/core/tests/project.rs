@@ -129,6 +129,8 @@ fn rich_scene() -> Scene {
         iridescence_texture: Some(0),
         iridescence_thickness_texture: Some(0),
         dispersion: 0.4,
+        multiscatter_color: [0.9, 0.5, 0.2],
+        scatter_anisotropy: -0.3,
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,
@@ -146,6 +148,11 @@ fn rich_scene() -> Scene {
     env.rotation_deg = -75.5;
     env.strength = 1.25;
     scene.environment = Some(env);
+    scene.fog = rt_core::fog::Fog {
+        density: 0.35,
+        albedo: [0.9, 0.8, 0.7],
+        anisotropy: 0.4,
+    };
     scene
 }
 

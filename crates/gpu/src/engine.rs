@@ -148,6 +148,7 @@ fn specialised_features(scene: &GpuScene, frame: &Frame, options: &RenderOptions
     // triangles and still samples.
     features.light_tree = frame.light_sampler == 1 && !scene.light_tree.is_empty();
     features.nee = frame.emitter_count > 0 || features.light_tree;
+    features.media |= !rt_core::math::medium::is_vacuum(&frame.fog);
     if options.tuning.generic_kernel {
         // Every branch compiled in; each still checks its data at run time. (NEE stays as the
         // scene needs: the emitter table must not be empty.)
@@ -158,6 +159,7 @@ fn specialised_features(scene: &GpuScene, frame: &Frame, options: &RenderOptions
         features.environment = true;
         features.normal_maps = true;
         features.alpha = true;
+        features.media = true;
     }
     features
 }

@@ -71,6 +71,7 @@ impl PipelineKey {
             ("HAS_ENVIRONMENT", flag(self.features.environment)),
             ("HAS_NORMAL_MAPS", flag(self.features.normal_maps)),
             ("HAS_ALPHA", flag(self.features.alpha)),
+            ("HAS_MEDIA", flag(self.features.media)),
             ("SOBOL", flag(self.sobol)),
             ("WRITE_AOVS", flag(self.aovs)),
             ("ADAPTIVE", flag(self.adaptive)),

@@ -56,6 +56,10 @@ pub const FILES: &[(&str, &str)] = &[
         rt_core::math::layers::WGSL,
     ),
     (
+        "crates/core/src/math/medium.wgsl",
+        rt_core::math::medium::WGSL,
+    ),
+    (
         "crates/core/src/environment.wgsl",
         rt_core::environment::WGSL,
     ),
@@ -134,6 +138,7 @@ macro_rules! tracing_module {
                 "crates/core/src/math/anisotropic_energy.wgsl",
                 "crates/core/src/math/sheen.wgsl",
                 "crates/core/src/math/layers.wgsl",
+                "crates/core/src/math/medium.wgsl",
                 "crates/core/src/environment.wgsl",
                 "crates/core/src/reference/surface.wgsl",
                 "crates/core/src/reference/light_tree.wgsl",

@@ -7,7 +7,8 @@
 //! `iridescence.rs` of theirs (the clear coat, the sheen, the stack they form over the base, rough
 //! glass's energy compensation, thin-film interference), `anisotropic_energy.rs` of its WGSL
 //! (anisotropic metals' energy compensation), `dispersion.rs` of `dispersion.wgsl` (the
-//! index by wavelength, the hero channel). The CPU reference (`crate::reference`), emitters, the
+//! index by wavelength, the hero channel), `medium.rs` of `medium.wgsl` (participating media: the
+//! phase function, free flight, transmittance). The CPU reference (`crate::reference`), emitters, the
 //! denoiser and the loaders use them.
 
 pub mod anisotropic_energy;
@@ -18,6 +19,7 @@ pub mod glass_energy;
 pub mod intersect;
 pub mod iridescence;
 pub mod layers;
+pub mod medium;
 pub mod microfacet;
 pub mod rng;
 pub mod sampling;

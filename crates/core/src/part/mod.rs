@@ -142,11 +142,15 @@ pub fn scene_hashes(scene: &Scene, gpu_scene: &GpuScene) -> (String, String, Str
         samples_per_pixel: 0,
         ..scene.settings.clone()
     };
-    let decisive = serde_json::json!({
+    let mut decisive = serde_json::json!({
         "settings": settings,
         "camera": scene.camera,
         "ambient": scene.ambient,
     });
+    // Only where there is fog, so parts of scenes without it keep their hashes.
+    if scene.fog.is_on() {
+        decisive["fog"] = serde_json::json!(scene.fog);
+    }
     let settings_hash = Sha256::digest(decisive.to_string().as_bytes());
     (
         hex(geometry.finalize()),

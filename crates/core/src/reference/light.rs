@@ -32,8 +32,36 @@ use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame};
 use crate::light_tree::{DELTA_LEAF, in_tree};
 use crate::math::intersect::offset_ray_origin;
+use crate::math::medium::transmittance;
 use crate::math::rng::Rng;
 use crate::math::sampling::*;
+
+/// Whether light arriving along `dir` reaches a vertex with geometric normal `ng` from its side:
+/// above the surface, or from anywhere at a scattering in a medium (`ng` = 0, no surface).
+pub fn reaches(dir: Vec3, ng: Vec3) -> bool {
+    dir.dot(ng) > 0.0 || ng == Vec3::ZERO
+}
+
+/// The media a vertex's shadow rays cross (`math::medium`), by their extinction: `above` on the
+/// side of the geometric normal, `below` beyond the surface (where lights shine through it); both
+/// the same at a scattering in a medium. Vacuum: zero.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShadowMedia {
+    pub above: Vec3,
+    pub below: Vec3,
+}
+
+impl ShadowMedia {
+    /// The transmittance of a shadow ray along `dir` over `distance`, from a vertex with normal `ng`.
+    pub fn transmittance(&self, dir: Vec3, ng: Vec3, distance: f32) -> Vec3 {
+        let sigma = if dir.dot(ng) < 0.0 {
+            self.below
+        } else {
+            self.above
+        };
+        transmittance(sigma, distance)
+    }
+}
 
 /// The power heuristic (β = 2) weight of the strategy with density `a` against one with density `b`.
 pub fn power_heuristic(a: f32, b: f32) -> f32 {
@@ -80,7 +108,7 @@ pub fn sample_light(
             [u_pick / frame.env_pick, u_alias, u_a, u_b],
         );
         let p_light = frame.env_pick * pdf;
-        if !(p_light > 0.0 && dir.dot(ng) > 0.0) {
+        if !(p_light > 0.0 && reaches(dir, ng)) {
             return None;
         }
         return Some(LightSample {
@@ -128,7 +156,7 @@ pub fn sample_light(
     let distance = to.length();
     let dir = to / distance;
     let cos_l = -dir.dot(nl);
-    if !(dir.dot(ng) > 0.0 && cos_l > 0.0) {
+    if !(reaches(dir, ng) && cos_l > 0.0) {
         return None;
     }
     // Picked by the emission factor; the point's radiance is the factor times the emission image,
@@ -180,15 +208,17 @@ pub fn emitter_pdf(
     (1.0 - frame.env_pick) * pick_per_area * distance * distance / cos_l
 }
 
-/// Next-event estimation at `p`: f cosθ L_e · w_light / p_light for one light sample, or zero if
-/// it is occluded (β is applied by the caller). Always draws four random numbers; adds the shadow
-/// ray it traces (if any) to `rays`.
+/// Next-event estimation at `p`: f cosθ L_e · w_light / p_light · T for one light sample, T the
+/// transmittance of the media the shadow ray crosses, or zero if it is occluded (β is applied by
+/// the caller). Always draws four random numbers; adds the shadow ray it traces (if any) to `rays`.
+#[allow(clippy::too_many_arguments)]
 pub fn direct_light(
     scene: &GpuScene,
     frame: &Frame,
     p: Vec3,
     ng: Vec3,
     surface: &Surface,
+    media: &ShadowMedia,
     rng: &mut Rng,
     rays: &mut u32,
 ) -> Vec3 {
@@ -197,6 +227,10 @@ pub fn direct_light(
     };
     let (f_cos, p_bsdf) = surface.eval(light.direction);
     if f_cos == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    let tr = media.transmittance(light.direction, ng, light.distance);
+    if tr == Vec3::ZERO {
         return Vec3::ZERO;
     }
     *rays += 1;
@@ -208,7 +242,7 @@ pub fn direct_light(
     } else {
         power_heuristic(light.p_light, p_bsdf)
     };
-    f_cos * light.radiance_over_pdf * w_light
+    f_cos * light.radiance_over_pdf * w_light * tr
 }
 
 /// Where a point, spot or sun light lies from `origin` (unit direction, distance) and the
@@ -254,32 +288,36 @@ fn delta_light_toward(
     // NaN (a light at the point itself) faces neither side.
     let faces = |dir: Vec3, side: std::cmp::Ordering| dir.dot(ng).partial_cmp(&0.0) == Some(side);
     let (dir, distance, irradiance) = delta_light_incidence(light, above);
-    let (origin, dir, distance, irradiance) = if faces(dir, std::cmp::Ordering::Greater) {
-        (above, dir, distance, irradiance)
-    } else {
-        if !lit_through {
-            return None;
-        }
-        let below = offset_ray_origin(p, -ng, offset_scale);
-        let (dir, distance, irradiance) = delta_light_incidence(light, below);
-        if !faces(dir, std::cmp::Ordering::Less) {
-            return None;
-        }
-        (below, dir, distance, irradiance)
-    };
+    let in_medium = ng == Vec3::ZERO && distance > 0.0;
+    let (origin, dir, distance, irradiance) =
+        if in_medium || faces(dir, std::cmp::Ordering::Greater) {
+            (above, dir, distance, irradiance)
+        } else {
+            if !lit_through {
+                return None;
+            }
+            let below = offset_ray_origin(p, -ng, offset_scale);
+            let (dir, distance, irradiance) = delta_light_incidence(light, below);
+            if !faces(dir, std::cmp::Ordering::Less) {
+                return None;
+            }
+            (below, dir, distance, irradiance)
+        };
     (irradiance != Vec3::ZERO).then_some((origin, dir, distance, irradiance))
 }
 
-/// Point, spot and directional lights at `p`: Σ E f cosθ over the unoccluded lights (β applied by
-/// the caller), E = I/d² (times the spot falloff) or the sun's E, each from the side it reaches
-/// (`delta_light_toward`). Where the light tree samples, it holds the points and spots, and this
-/// sums the suns alone. Adds the shadow rays it traces to `rays`.
+/// Point, spot and directional lights at `p`: Σ E f cosθ T over the unoccluded lights (β applied
+/// by the caller), E = I/d² (times the spot falloff) or the sun's E, each from the side it reaches
+/// (`delta_light_toward`), T the transmittance of the media its shadow ray crosses. Where the light
+/// tree samples, it holds the points and spots, and this sums the suns alone. Adds the shadow rays
+/// it traces to `rays`.
 pub fn delta_lights_at(
     scene: &GpuScene,
     frame: &Frame,
     p: Vec3,
     ng: Vec3,
     surface: &Surface,
+    media: &ShadowMedia,
     rays: &mut u32,
 ) -> Vec3 {
     let above = offset_ray_origin(p, ng, frame.offset_scale);
@@ -298,11 +336,15 @@ pub fn delta_lights_at(
         if f_cos == Vec3::ZERO {
             continue;
         }
+        let tr = media.transmittance(dir, ng, distance);
+        if tr == Vec3::ZERO {
+            continue;
+        }
         *rays += 1;
         if occluded(scene, origin, dir, distance) {
             continue;
         }
-        sum += irradiance * f_cos;
+        sum += irradiance * f_cos * tr;
     }
     sum
 }

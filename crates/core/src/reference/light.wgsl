@@ -9,6 +9,26 @@ override HAS_LIGHT_TREE: bool = true;
 override HAS_DELTA_LIGHTS: bool = true;
 override HAS_ENVIRONMENT: bool = true;
 
+// Whether light arriving along dir reaches a vertex with geometric normal ng from its side: above
+// the surface, or from anywhere at a scattering in a medium (ng = 0; light.rs `reaches`).
+fn reaches(dir: vec3<f32>, ng: vec3<f32>) -> bool {
+    return dot(dir, ng) > 0.0 || all(ng == vec3(0.0));
+}
+
+// The extinction of the media a vertex's shadow rays cross: `above` on the side of ng, `below`
+// beyond the surface (light.rs `ShadowMedia`).
+struct ShadowMedia {
+    above: vec3<f32>,
+    below: vec3<f32>,
+}
+
+fn shadow_transmittance(media: ShadowMedia, dir: vec3<f32>, ng: vec3<f32>, distance: f32) -> vec3<f32> {
+    if (!HAS_MEDIA) {
+        return vec3(1.0);
+    }
+    return transmittance(select(media.above, media.below, dot(dir, ng) < 0.0), distance);
+}
+
 // The power heuristic (beta = 2) weight of the strategy with density a against one with density b:
 // how next-event estimation and BSDF sampling share the light they both find.
 fn power_heuristic(a: f32, b: f32) -> f32 {
@@ -39,7 +59,7 @@ fn sample_light(p: vec3<f32>, ng: vec3<f32>, lit_through: bool, rng: ptr<functio
     if (HAS_ENVIRONMENT && u_pick < frame.env_pick) {
         let e = sample_env(u_pick / frame.env_pick, u_alias, u_a, u_b);
         let p_light = frame.env_pick * e.pdf;
-        if (!(p_light > 0.0 && dot(e.direction, ng) > 0.0)) {
+        if (!(p_light > 0.0 && reaches(e.direction, ng))) {
             return none;
         }
         return LightSample(origin, 3.0e38, e.direction, p_light, e.radiance / p_light);
@@ -82,7 +102,7 @@ fn sample_light(p: vec3<f32>, ng: vec3<f32>, lit_through: bool, rng: ptr<functio
     let distance = length(to);
     let dir = to / distance;
     let cos_l = -dot(dir, nl);
-    if (!(dot(dir, ng) > 0.0 && cos_l > 0.0)) {
+    if (!(reaches(dir, ng) && cos_l > 0.0)) {
         return none;
     }
     // The table picks emitters by their emission factor; the point's own radiance is the factor
@@ -114,8 +134,9 @@ fn emitter_pdf(triangle: u32, origin: vec3<f32>, tree_normal: u32, distance: f32
 }
 
 // Next-event estimation at p for `surface`: the shadow ray and, should it arrive,
-// f cos Le * w_light / p_light (beta applied by the caller). Always draws four random numbers.
-fn sample_direct(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<function, Sampler>) -> ShadowRay {
+// f cos Le * w_light / p_light * T, T the media's transmittance along it (beta applied by the
+// caller). Always draws four random numbers.
+fn sample_direct(p: vec3<f32>, ng: vec3<f32>, surface: Surface, media: ShadowMedia, rng: ptr<function, Sampler>) -> ShadowRay {
     var none: ShadowRay;
     none.distance = -1.0;
     let light = sample_light(p, ng, surface_lit_through(surface), rng);
@@ -126,13 +147,17 @@ fn sample_direct(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<functio
     if (all(e.xyz == vec3(0.0))) {
         return none;
     }
+    let tr = shadow_transmittance(media, light.direction, ng, light.distance);
+    if (all(tr == vec3(0.0))) {
+        return none;
+    }
     let w_light = select(power_heuristic(light.p_light, e.w), 1.0, frame.light_strategy == 1u || light.p_light == 0.0);
-    return ShadowRay(light.origin, light.distance, light.direction, 0u, e.xyz * light.radiance_over_pdf * w_light);
+    return ShadowRay(light.origin, light.distance, light.direction, 0u, e.xyz * light.radiance_over_pdf * w_light * tr);
 }
 
 // `sample_direct` with its ray traced here: the contribution, or zero if occluded.
-fn direct_light(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
-    let shadow = sample_direct(p, ng, surface, rng);
+fn direct_light(p: vec3<f32>, ng: vec3<f32>, surface: Surface, media: ShadowMedia, rng: ptr<function, Sampler>, rays: ptr<function, u32>) -> vec3<f32> {
+    let shadow = sample_direct(p, ng, surface, media, rng);
     if (!(shadow.distance > 0.0)) {
         return vec3(0.0);
     }
@@ -186,7 +211,8 @@ fn delta_light_toward(light: DeltaLight, p: vec3<f32>, ng: vec3<f32>, above: vec
     none.distance = -1.0;
     var origin = above;
     var incidence = delta_light_incidence(light, above);
-    if (!(dot(incidence.dir, ng) > 0.0)) {
+    let in_medium = all(ng == vec3(0.0)) && incidence.distance > 0.0;
+    if (!in_medium && !(dot(incidence.dir, ng) > 0.0)) {
         if (!lit_through) {
             return none;
         }
@@ -213,7 +239,7 @@ fn in_light_tree(light: DeltaLight) -> bool {
 // light (I/d^2, falloff for spots; E for the sun), if unoccluded (beta applied by the caller), each
 // from the side it reaches (delta_light_toward). Where the light tree samples, it holds the points
 // and spots, and this sums the suns alone. Deterministic: draws no random numbers.
-fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<function, u32>) -> vec3<f32> {
+fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, media: ShadowMedia, rays: ptr<function, u32>) -> vec3<f32> {
     var sum = vec3(0.0);
     let above = offset_ray_origin(p, ng, frame.offset_scale);
     let lit_through = surface_lit_through(surface);
@@ -231,11 +257,15 @@ fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, rays: ptr<func
         if (all(f_cos == vec3(0.0))) {
             continue;
         }
+        let tr = shadow_transmittance(media, d.dir, ng, d.distance);
+        if (all(tr == vec3(0.0))) {
+            continue;
+        }
         *rays += 1u;
         if (intersect_scene(d.origin, d.dir, d.distance, true).triangle != MISS) {
             continue;
         }
-        sum += d.irradiance * f_cos;
+        sum += d.irradiance * f_cos * tr;
     }
     return sum;
 }

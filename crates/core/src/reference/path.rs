@@ -9,16 +9,21 @@ pub const WGSL: &str = include_str!("path.wgsl");
 use glam::{Vec2, Vec3};
 
 use super::hit::MISS;
-use super::light::{delta_lights_at, direct_light, emitter_pdf, escaped, power_heuristic};
+use super::light::{
+    ShadowMedia, delta_lights_at, direct_light, emitter_pdf, escaped, power_heuristic,
+};
 use super::light_tree::tree_normal_at;
 use super::surface::{PbrInputs, Surface};
 use super::texture::{Slot, base_color_texture, surface_emission, textured_pbr_inputs};
 use super::trace;
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{Frame, Hit, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT_NORMAL, SLOT_NORMAL};
+use crate::gpu_types::{
+    Frame, Hit, Medium, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT_NORMAL, SLOT_NORMAL, THIN_WALLED,
+};
 use crate::material_kind::MaterialKind;
 use crate::math::dispersion::{channel_ior, pick_channel};
 use crate::math::intersect::offset_ray_origin;
+use crate::math::medium::{FAR, free_flight, is_vacuum};
 use crate::math::rng::{self, Rng};
 use crate::math::sampling::*;
 
@@ -147,6 +152,8 @@ pub struct PathState {
     /// The last vertex's normal as the light tree weighs lights with it
     /// (`light_tree::tree_normal_at`).
     pub tree_normal: u32,
+    /// The media the path is in (`media_top`, `media_enter`, `media_leave`).
+    pub media: u32,
     /// Segments traced so far (0: the camera ray).
     pub depth: u32,
     pub rng: Rng,
@@ -184,10 +191,51 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         radiance: Vec3::ZERO,
         prev_bsdf_pdf: 0.0,
         tree_normal: 0,
+        media: 0,
         depth: 0,
         rng,
         first_hit: None,
         rays: 0,
+    }
+}
+
+/// The medium a path is in, as an id: 0 the scene's fog (`Frame::fog`, vacuum without fog), m + 1
+/// the interior of material m (`Material::medium`). The path keeps a stack of two in `media`, 16
+/// bits each, the innermost low: transmission into a closed surface enters its material's
+/// medium, transmission out of it leaves it, so a liquid in a glass in fog comes out right; a
+/// third level drops the outermost.
+pub fn media_top(media: u32) -> u32 {
+    media & 0xffff
+}
+
+/// The stack after entering material `material`'s interior (materials past 65,534 have none).
+pub fn media_enter(media: u32, material: u32) -> u32 {
+    if material >= 0xffff {
+        return media;
+    }
+    (media << 16) | (material + 1)
+}
+
+/// The stack after leaving material `material`'s interior: the entry removed wherever it is (a
+/// path may leave an inner volume through an outer one's surface); unchanged if the path never
+/// entered it (it started inside).
+pub fn media_leave(media: u32, material: u32) -> u32 {
+    let id = material + 1;
+    if media & 0xffff == id {
+        media >> 16
+    } else if media >> 16 == id {
+        media & 0xffff
+    } else {
+        media
+    }
+}
+
+/// The medium of id `id` (`media_top`).
+pub fn medium_of(scene: &GpuScene, frame: &Frame, id: u32) -> Medium {
+    if id == 0 {
+        frame.fog
+    } else {
+        scene.materials[id as usize - 1].medium
     }
 }
 
@@ -198,6 +246,19 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
 pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit) -> bool {
     let lights_sampled =
         frame.emitter_count > 0 || frame.env_pick > 0.0 || frame.light_sampler == 1;
+    // The segment just traced crossed the medium the path is in: free flight decides whether it
+    // scattered on the way (a vertex in the medium) or reached the hit, dimmed.
+    let inside = media_top(path.media);
+    let medium = medium_of(scene, frame, inside);
+    if !is_vacuum(&medium) {
+        let t_max = if hit.triangle == MISS { FAR } else { hit.t };
+        let flight = free_flight(&medium, t_max, &mut path.rng);
+        path.beta *= flight.weight;
+        if flight.scattered {
+            let p = path.origin + path.direction * flight.t;
+            return scatter_in_medium(scene, frame, path, p, &medium, lights_sampled);
+        }
+    }
     if hit.triangle == MISS {
         let sky = path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf);
         path.radiance += clamp_bounced(sky, frame, path.depth);
@@ -213,13 +274,6 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let ng_raw = (v1 - v0).cross(v2 - v0);
     let front = path.direction.dot(ng_raw) < 0.0;
-    if !front && material.kind == MaterialKind::Pbr.tag() {
-        // The segment ran inside the object: Beer–Lambert absorption over its length.
-        let sigma = Vec3::from(material.lobe_of::<PbrLobe>().absorption);
-        if sigma != Vec3::ZERO {
-            path.beta *= (-sigma * hit.t).exp();
-        }
-    }
     if front {
         let cos_out = -path.direction.dot(ng_raw.normalize());
         let le = surface_emission(
@@ -383,14 +437,22 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     if frame.light_sampler == 1 {
         path.tree_normal = tree_normal_at(ng, surface.lit_through());
     }
+    // Beyond a closed surface lies its interior (entered from the front) or what the path was in
+    // before it (left from the back); a thin sheet has the same medium on both sides.
+    let thin = material.flags & THIN_WALLED != 0;
+    let beyond = if thin {
+        inside
+    } else if front {
+        tri.material + 1
+    } else {
+        media_top(media_leave(path.media, tri.material))
+    };
+    let media = ShadowMedia {
+        above: Vec3::from(medium.sigma_t),
+        below: Vec3::from(medium_of(scene, frame, beyond).sigma_t),
+    };
     if !surface.is_delta() {
-        if lights_sampled {
-            let direct = path.beta
-                * direct_light(scene, frame, p, ng, &surface, &mut path.rng, &mut path.rays);
-            path.radiance += clamp_bounced(direct, frame, path.depth + 1);
-        }
-        let delta = path.beta * delta_lights_at(scene, frame, p, ng, &surface, &mut path.rays);
-        path.radiance += clamp_bounced(delta, frame, path.depth + 1);
+        add_light_at(scene, frame, path, p, ng, &surface, &media, lights_sampled);
     }
     let Some(sample) = surface.sample(path.direction, ng, &mut path.rng) else {
         return false;
@@ -407,6 +469,55 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     if transmitted && !surface.transmits() {
         return false;
     }
+    if !survives_roulette(frame, path) {
+        return false;
+    }
+    if transmitted && !thin {
+        path.media = if front {
+            media_enter(path.media, tri.material)
+        } else {
+            media_leave(path.media, tri.material)
+        };
+    }
+    path.origin = offset_ray_origin(p, if transmitted { -ng } else { ng }, frame.offset_scale);
+    path.direction = next;
+    path.depth += 1;
+    true
+}
+
+/// The light a scattering vertex at `p` (normal `ng`, 0 in a medium) receives directly: next-event
+/// estimation and the delta lights, times the path's throughput, added to its radiance.
+#[allow(clippy::too_many_arguments)]
+fn add_light_at(
+    scene: &GpuScene,
+    frame: &Frame,
+    path: &mut PathState,
+    p: Vec3,
+    ng: Vec3,
+    surface: &Surface,
+    media: &ShadowMedia,
+    lights_sampled: bool,
+) {
+    if lights_sampled {
+        let direct = path.beta
+            * direct_light(
+                scene,
+                frame,
+                p,
+                ng,
+                surface,
+                media,
+                &mut path.rng,
+                &mut path.rays,
+            );
+        path.radiance += clamp_bounced(direct, frame, path.depth + 1);
+    }
+    let delta = path.beta * delta_lights_at(scene, frame, p, ng, surface, media, &mut path.rays);
+    path.radiance += clamp_bounced(delta, frame, path.depth + 1);
+}
+
+/// Russian roulette: the path continues with probability q = min(1, max β), re-weighted by 1/q.
+fn survives_roulette(frame: &Frame, path: &mut PathState) -> bool {
     if frame.roulette_from_depth > 0 && path.depth >= frame.roulette_from_depth {
         let survive = path.beta.max_element().min(1.0);
         if path.rng.next_f32() >= survive {
@@ -414,8 +525,57 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         }
         path.beta /= survive;
     }
-    path.origin = offset_ray_origin(p, if transmitted { -ng } else { ng }, frame.offset_scale);
-    path.direction = next;
+    true
+}
+
+/// A scattering in `medium` at `p`, where the path's free flight ended (`math::medium`): the light
+/// arriving there directly (the phase function for BSDF, shadow rays dimmed by the medium), then a
+/// direction drawn from the phase function. Counts as a vertex for `max_depth`, as in Mitsuba's
+/// `volpath`. Returns whether the path goes on.
+fn scatter_in_medium(
+    scene: &GpuScene,
+    frame: &Frame,
+    path: &mut PathState,
+    p: Vec3,
+    medium: &Medium,
+    lights_sampled: bool,
+) -> bool {
+    if path.depth + 1 >= frame.max_depth {
+        return false;
+    }
+    let phase = Surface::Phase {
+        direction: path.direction,
+        g: medium.anisotropy,
+    };
+    // No normal: lights on every side, none favoured by the tree.
+    if frame.light_sampler == 1 {
+        path.tree_normal = tree_normal_at(Vec3::ZERO, true);
+    }
+    let sigma = Vec3::from(medium.sigma_t);
+    let media = ShadowMedia {
+        above: sigma,
+        below: sigma,
+    };
+    add_light_at(
+        scene,
+        frame,
+        path,
+        p,
+        Vec3::ZERO,
+        &phase,
+        &media,
+        lights_sampled,
+    );
+    let Some(sample) = phase.sample(path.direction, Vec3::ZERO, &mut path.rng) else {
+        return false;
+    };
+    path.beta *= sample.weight;
+    path.prev_bsdf_pdf = sample.pdf;
+    if !sample.direction.is_finite() || !survives_roulette(frame, path) {
+        return false;
+    }
+    path.origin = p;
+    path.direction = sample.direction;
     path.depth += 1;
     true
 }

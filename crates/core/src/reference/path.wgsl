@@ -18,6 +18,8 @@ override COUNT_RAYS: bool = false;
 override HAS_NORMAL_MAPS: bool = true;
 // Also record the first hit's albedo, normal and directly seen light (for the denoiser).
 override WRITE_AOVS: bool = false;
+// Fog or a material's interior medium (math/medium.wgsl).
+override HAS_MEDIA: bool = true;
 
 // A path between vertices: the ray to trace next and what the path carries.
 struct PathState {
@@ -33,6 +35,8 @@ struct PathState {
     radiance: vec3<f32>,
     // The last vertex's normal as the light tree weighs lights with it (light_tree.wgsl tree_normal_at).
     tree_normal: u32,
+    // The media the path is in (path.rs `media_top`): two 16-bit ids, the innermost low.
+    media: u32,
 }
 
 // A next-event estimation ray: `contribution` reaches the path's radiance if nothing lies within
@@ -118,7 +122,92 @@ fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<v
 // A new path through pixel (x, y): its camera ray.
 fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     let cam = camera_ray_origin_dir(x, y, rng);
-    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u);
+    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, 0u);
+}
+
+// The medium stack (path.rs `media_top`, `media_enter`, `media_leave`, `medium_of`): id 0 the
+// scene's fog, m + 1 material m's interior.
+fn media_top(media: u32) -> u32 {
+    return media & 0xffffu;
+}
+
+fn media_enter(media: u32, material: u32) -> u32 {
+    if (material >= 0xffffu) {
+        return media;
+    }
+    return (media << 16u) | (material + 1u);
+}
+
+fn media_leave(media: u32, material: u32) -> u32 {
+    let id = material + 1u;
+    if ((media & 0xffffu) == id) {
+        return media >> 16u;
+    }
+    if ((media >> 16u) == id) {
+        return media & 0xffffu;
+    }
+    return media;
+}
+
+fn medium_of(id: u32) -> Medium {
+    if (id == 0u) {
+        return frame.fog;
+    }
+    return materials[id - 1u].medium;
+}
+
+// The light a scattering vertex at p (normal ng, 0 in a medium) receives directly (path.rs
+// `add_light_at`): next-event estimation (its ray left in `shadow` when deferred) and the delta
+// lights, times the throughput.
+fn add_light_at(path: ptr<function, PathState>, p: vec3<f32>, ng: vec3<f32>, surface: Surface, media: ShadowMedia,
+                rng: ptr<function, Sampler>, shadow: ptr<function, ShadowRay>, defer_shadow: bool, rays: ptr<function, u32>) {
+    if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
+        if (defer_shadow) {
+            *shadow = sample_direct(p, ng, surface, media, rng);
+            (*shadow).contribution = clamp_bounced((*path).beta * (*shadow).contribution);
+        } else {
+            (*path).radiance += clamp_bounced((*path).beta * direct_light(p, ng, surface, media, rng, rays));
+        }
+    }
+    if (HAS_DELTA_LIGHTS) {
+        (*path).radiance += clamp_bounced((*path).beta * delta_lights_at(p, ng, surface, media, rays));
+    }
+}
+
+// Russian roulette: continue with probability q = min(1, max(beta)), re-weighted by 1/q.
+fn survives_roulette(path: ptr<function, PathState>, rng: ptr<function, Sampler>) -> bool {
+    if (frame.roulette_from_depth > 0u && (*path).depth >= frame.roulette_from_depth) {
+        let beta = (*path).beta;
+        let survive = min(max(max(beta.x, beta.y), beta.z), 1.0);
+        if (rng_next(rng) >= survive) {
+            return false;
+        }
+        (*path).beta = beta / survive;
+    }
+    return true;
+}
+
+// A scattering in `medium` at p, where the path's free flight ended (path.rs `scatter_in_medium`).
+fn scatter_in_medium(path: ptr<function, PathState>, p: vec3<f32>, medium: Medium, rng: ptr<function, Sampler>,
+                     shadow: ptr<function, ShadowRay>, defer_shadow: bool, rays: ptr<function, u32>) -> bool {
+    if ((*path).depth + 1u >= frame.max_depth) {
+        return false;
+    }
+    let phase = phase_surface((*path).direction, medium.anisotropy);
+    if (HAS_LIGHT_TREE && frame.light_sampler == 1u) {
+        (*path).tree_normal = tree_normal_at(vec3(0.0), true);
+    }
+    add_light_at(path, p, vec3(0.0), phase, ShadowMedia(medium.sigma_t, medium.sigma_t), rng, shadow, defer_shadow, rays);
+    let sample = surface_sample(phase, (*path).direction, vec3(0.0), rng);
+    (*path).beta *= sample.weight;
+    (*path).prev_bsdf_pdf = sample.pdf;
+    if (!is_finite3(sample.direction) || !survives_roulette(path, rng)) {
+        return false;
+    }
+    (*path).origin = p;
+    (*path).direction = sample.direction;
+    (*path).depth += 1u;
+    return true;
 }
 
 // The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
@@ -170,6 +259,20 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     (*shadow).distance = -1.0;
     let depth = (*path).depth;
     let direction = (*path).direction;
+    // The segment just traced crossed the medium the path is in: free flight decides whether it
+    // scattered on the way or reached the hit, dimmed.
+    let inside = media_top((*path).media);
+    var medium: Medium;
+    if (HAS_MEDIA) {
+        medium = medium_of(inside);
+        if (!is_vacuum(medium)) {
+            let flight = free_flight(medium, select(hit.t, MEDIUM_FAR, hit.triangle == MISS), rng);
+            (*path).beta *= flight.weight;
+            if (flight.scattered) {
+                return scatter_in_medium(path, (*path).origin + direction * flight.t, medium, rng, shadow, defer_shadow, rays);
+            }
+        }
+    }
     if (hit.triangle == MISS) {
         let sky = (*path).beta * escaped(direction, (*path).prev_bsdf_pdf);
         (*path).radiance += select(clamp_bounced(sky), sky, depth == 0u);
@@ -182,13 +285,6 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     let material = materials[tri.material];
     let ng_raw = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
     let front = dot(direction, ng_raw) < 0.0;
-    if (HAS_PBR && !front && material.kind == MAT_PBR) {
-        // The segment ran inside the object: Beer-Lambert absorption over its length.
-        let sigma = pbr_lobe(material).absorption;
-        if (any(sigma != vec3(0.0))) {
-            (*path).beta *= exp(-sigma * hit.t);
-        }
-    }
     if (WRITE_AOVS && depth == 0u) {
         let n = normalize(ng_raw);
         aov_normal = select(-n, n, front);
@@ -292,18 +388,19 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     if (HAS_LIGHT_TREE && frame.light_sampler == 1u) {
         (*path).tree_normal = tree_normal_at(ng, surface_lit_through(surface));
     }
+    // Beyond a closed surface lies its interior (entered from the front) or what the path was in
+    // before it (left from the back); a thin sheet has the same medium on both sides.
+    let thin = (material.flags & THIN_WALLED) != 0u;
+    var media = ShadowMedia(vec3(0.0), vec3(0.0));
+    if (HAS_MEDIA) {
+        var beyond = inside;
+        if (!thin) {
+            beyond = select(media_top(media_leave((*path).media, tri.material)), tri.material + 1u, front);
+        }
+        media = ShadowMedia(medium.sigma_t, medium_of(beyond).sigma_t);
+    }
     if (!surface_is_delta(surface)) {
-        if (HAS_NEE || (HAS_ENVIRONMENT && frame.env_pick > 0.0)) {
-            if (defer_shadow) {
-                *shadow = sample_direct(p, ng, surface, rng);
-                (*shadow).contribution = clamp_bounced((*path).beta * (*shadow).contribution);
-            } else {
-                (*path).radiance += clamp_bounced((*path).beta * direct_light(p, ng, surface, rng, rays));
-            }
-        }
-        if (HAS_DELTA_LIGHTS) {
-            (*path).radiance += clamp_bounced((*path).beta * delta_lights_at(p, ng, surface, rays));
-        }
+        add_light_at(path, p, ng, surface, media, rng, shadow, defer_shadow, rays);
     }
     let sample = surface_sample(surface, direction, ng, rng);
     if (!sample.valid) {
@@ -319,14 +416,11 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     if (side == 0.0 || !is_finite3(next) || (transmitted && !surface_transmits(surface))) {
         return false;
     }
-    // Russian roulette: continue with probability q = min(1, max(beta)), re-weighted by 1/q.
-    if (frame.roulette_from_depth > 0u && depth >= frame.roulette_from_depth) {
-        let beta = (*path).beta;
-        let survive = min(max(max(beta.x, beta.y), beta.z), 1.0);
-        if (rng_next(rng) >= survive) {
-            return false;
-        }
-        (*path).beta = beta / survive;
+    if (!survives_roulette(path, rng)) {
+        return false;
+    }
+    if (HAS_MEDIA && transmitted && !thin) {
+        (*path).media = select(media_leave((*path).media, tri.material), media_enter((*path).media, tri.material), front);
     }
     (*path).origin = offset_ray_origin(p, select(ng, -ng, transmitted), frame.offset_scale);
     (*path).direction = next;

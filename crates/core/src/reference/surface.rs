@@ -20,6 +20,7 @@ use crate::math::glass_energy::glass_energy;
 use crate::math::layers::{
     ANISOTROPIC_OFFSET, Layered, Layers, TABLE_CONDUCTOR, TABLE_GLASS, albedo_lookup,
 };
+use crate::math::medium::{hg_phase, sample_hg};
 use crate::math::microfacet::{ENERGY_SIDE, anisotropic_alpha, equivalent_roughness};
 use crate::math::rng::Rng;
 use crate::math::sampling::{onb, sample_cosine_hemisphere, sample_dielectric, sample_metal};
@@ -46,6 +47,10 @@ pub enum Surface {
         frame: [Vec3; 3],
         wo: Vec3,
     },
+    /// A scattering in a medium (`math::medium`): the Henyey–Greenstein phase function with
+    /// anisotropy `g` about the direction the path travelled, f = p (no cosine), sampled exactly.
+    /// Such a vertex has no normal (the callers pass `ng` = 0) and sees lights on every side.
+    Phase { direction: Vec3, g: f32 },
 }
 
 /// The PBR material's inputs at a hit: its lobe's factors times their textures
@@ -165,7 +170,7 @@ impl Surface {
     /// Whether the lobe may send a path below the geometric surface.
     pub fn transmits(&self) -> bool {
         match self {
-            Surface::Dielectric { .. } => true,
+            Surface::Dielectric { .. } | Surface::Phase { .. } => true,
             Surface::Pbr { bsdf, .. } => {
                 bsdf.base.transmission > 0.0 || bsdf.base.diffuse_transmission > 0.0
             }
@@ -180,6 +185,7 @@ impl Surface {
     /// 1.5%), where Cycles, taking such a lobe as singular, shows nothing.
     pub fn lit_through(&self) -> bool {
         match self {
+            Surface::Phase { .. } => true,
             Surface::Pbr { bsdf, .. } => {
                 let b = &bsdf.base;
                 b.diffuse_transmission > 0.0
@@ -205,6 +211,10 @@ impl Surface {
             Surface::Pbr { bsdf, frame, wo } => {
                 let local = Vec3::new(wi.dot(frame[0]), wi.dot(frame[1]), wi.dot(frame[2]));
                 bsdf.eval(*wo, local)
+            }
+            Surface::Phase { direction, g } => {
+                let p = hg_phase(direction.dot(wi), *g);
+                (Vec3::splat(p), p)
             }
             Surface::Metal { .. } | Surface::Dielectric { .. } => (Vec3::ZERO, 0.0),
         }
@@ -240,6 +250,15 @@ impl Surface {
                     direction: d,
                     weight: s.weight,
                     pdf: if d.dot(ng) > 0.0 { s.pdf } else { 0.0 },
+                }
+            }
+            Surface::Phase { direction, g } => {
+                let (u1, u2) = (rng.next_f32(), rng.next_f32());
+                let d = sample_hg(direction, g, u1, u2);
+                SurfaceSample {
+                    direction: d,
+                    weight: Vec3::ONE,
+                    pdf: hg_phase(direction.dot(d), g),
                 }
             }
             Surface::Lambert { albedo, ns } => {

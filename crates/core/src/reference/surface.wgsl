@@ -23,7 +23,21 @@ struct Surface {
     fuzz: f32,
     // Glass: n_transmitted / n_incident.
     eta: f32,
+    // A phase function (SURFACE_PHASE): its Henyey-Greenstein anisotropy, about the direction of
+    // travel held in `wo`.
+    g: f32,
     bsdf: Layered,
+}
+
+// A scattering in a medium (surface.rs `Surface::Phase`): no material kind, so a tag beyond them.
+const SURFACE_PHASE: u32 = 0xffffu;
+
+fn phase_surface(direction: vec3<f32>, g: f32) -> Surface {
+    var s: Surface;
+    s.kind = SURFACE_PHASE;
+    s.wo = direction;
+    s.g = g;
+    return s;
 }
 
 // The PBR material's inputs at a hit: its lobe's factors times their textures
@@ -179,19 +193,22 @@ fn surface_is_delta(s: Surface) -> bool {
 const LIT_THROUGH_MIN_ALPHA: f32 = 0.01;
 
 fn surface_lit_through(s: Surface) -> bool {
-    return HAS_PBR && s.kind == MAT_PBR && (s.bsdf.base.diffuse_transmission > 0.0
+    return s.kind == SURFACE_PHASE || HAS_PBR && s.kind == MAT_PBR && (s.bsdf.base.diffuse_transmission > 0.0
         || (s.bsdf.base.transmission > 0.0 && min(s.bsdf.base.alpha.x, s.bsdf.base.alpha.y) >= LIT_THROUGH_MIN_ALPHA));
 }
 
 // Whether the lobe may send a path below the geometric surface.
 fn surface_transmits(s: Surface) -> bool {
-    return s.kind == MAT_DIELECTRIC || (HAS_PBR && s.kind == MAT_PBR
+    return s.kind == MAT_DIELECTRIC || s.kind == SURFACE_PHASE || (HAS_PBR && s.kind == MAT_PBR
         && (s.bsdf.base.transmission > 0.0 || s.bsdf.base.diffuse_transmission > 0.0));
 }
 
 // f |cos θ| towards world direction wi (xyz) and the BSDF-sampling pdf of wi (w); zero for the
 // delta lobes (never asked).
 fn surface_eval(s: Surface, wi: vec3<f32>) -> vec4<f32> {
+    if (HAS_MEDIA && s.kind == SURFACE_PHASE) {
+        return vec4(hg_phase(dot(s.wo, wi), s.g));
+    }
     if (HAS_PBR && s.kind == MAT_PBR) {
         return layered_eval(s.bsdf, s.wo, vec3(dot(wi, s.t), dot(wi, s.b), dot(wi, s.n)));
     }
@@ -218,6 +235,14 @@ struct SurfaceSample {
 fn surface_sample(s: Surface, direction: vec3<f32>, ng: vec3<f32>, rng: ptr<function, Sampler>) -> SurfaceSample {
     var out: SurfaceSample;
     out.valid = true;
+    if (HAS_MEDIA && s.kind == SURFACE_PHASE) {
+        let u1 = rng_next(rng);
+        let u2 = rng_next(rng);
+        out.direction = sample_hg(s.wo, s.g, u1, u2);
+        out.weight = vec3(1.0);
+        out.pdf = hg_phase(dot(s.wo, out.direction), s.g);
+        return out;
+    }
     if (HAS_METAL && s.kind == MAT_METAL) {
         out.direction = sample_metal(direction, s.n, s.fuzz, rng);
         out.weight = s.color;

@@ -104,6 +104,7 @@ pub fn encode_archive(scene: &Scene, format: &str, path: &Path) -> Result<Vec<u8
         textures,
         lights: scene.lights.clone(),
         environment,
+        fog: scene.fog,
     };
     let json = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| err(format!("encoding {MANIFEST}: {e}")))?;
@@ -226,6 +227,7 @@ pub fn decode_archive(
         settings: project_settings(manifest.settings),
         lights: manifest.lights,
         environment,
+        fog: manifest.fog,
     };
     check_scene(&scene).map_err(|m| archive.error(format!("{MANIFEST}: {m}")))?;
     Ok(scene)
@@ -270,6 +272,7 @@ fn check_scene(scene: &Scene) -> Result<(), String> {
     if let Some(env) = &scene.environment {
         env.validate()?;
     }
+    scene.fog.validate()?;
     let c = &scene.camera;
     if !(finite(&c.from) && finite(&c.to) && finite(&c.up) && c.vfov_deg.is_finite()) {
         return Err("camera: every number must be finite".into());

@@ -33,6 +33,13 @@ pub(super) struct Manifest {
     pub(super) lights: Vec<crate::light::Light>,
     #[serde(default)]
     pub(super) environment: Option<EnvironmentEntry>,
+    /// The scene's fog (`crate::fog`), left out when there is none.
+    #[serde(default, skip_serializing_if = "no_fog")]
+    pub(super) fog: crate::fog::Fog,
+}
+
+fn no_fog(fog: &crate::fog::Fog) -> bool {
+    *fog == crate::fog::Fog::default()
 }
 
 #[derive(Serialize, Deserialize)]
