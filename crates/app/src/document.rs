@@ -231,6 +231,7 @@ fn same_scene(a: &Scene, b: &Scene) -> bool {
         && same_textures
         && a.camera == b.camera
         && a.ambient == b.ambient
+        && a.fog == b.fog
         && a.settings == b.settings
         && a.lights == b.lights
         && same_environment(a, b)

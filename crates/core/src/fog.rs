@@ -71,7 +71,7 @@ impl Fog {
                 self.albedo
             ));
         }
-        if !(self.anisotropy.abs() < 1.0) {
+        if self.anisotropy.is_nan() || self.anisotropy.abs() >= 1.0 {
             return Err(format!(
                 "fog anisotropy must lie in (-1, 1), got {}",
                 self.anisotropy

@@ -371,7 +371,7 @@ impl Pbr {
         for c in self.multiscatter_color {
             unit("multiscatter_color", c)?;
         }
-        if !(self.scatter_anisotropy.abs() < 1.0) {
+        if self.scatter_anisotropy.is_nan() || self.scatter_anisotropy.abs() >= 1.0 {
             return Err(format!(
                 "{what}: pbr scatter_anisotropy must lie in (-1, 1), got {}",
                 self.scatter_anisotropy

@@ -367,7 +367,10 @@ impl<'a> Renderer<'a> {
             && (frame.emitter_count > 0) == (self.frame.emitter_count > 0)
             && frame.emitter_count as usize <= scene.emitters.len()
             && frame.sampler == self.frame.sampler
-            && frame.light_sampler == self.frame.light_sampler;
+            && frame.light_sampler == self.frame.light_sampler
+            // Fog compiles the media in (`HAS_MEDIA`).
+            && rt_core::math::medium::is_vacuum(&frame.fog)
+                == rt_core::math::medium::is_vacuum(&self.frame.fog);
         if !same_pipeline || pixels > self.capacity_pixels || self.adaptive.enabled() {
             return Err(GpuError::Options(
                 "this frame needs a new renderer (another pipeline, more pixels or adaptive \

@@ -228,6 +228,31 @@ fn a_physically_based_material_and_the_studio_environment_from_the_panels() {
     assert_eq!(env.strength, rt_core::sky::DAYLIGHT_STRENGTH);
 }
 
+/// The Lights panel's fog: "Add fog" fills the Cornell box with one mean free path across it
+/// (saved with the scene's other light, undone in one step), and the render it starts has it.
+#[test]
+fn fog_from_the_lights_panel_and_undone() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    assert!(!harness.state().doc.scene.fog.is_on());
+    harness.get_by_label("Add fog").click();
+    harness.run_ok();
+    let fog = harness.state().doc.scene.fog;
+    let (lo, hi) = harness.state().doc.scene.bounds().unwrap();
+    assert!(
+        (fog.density * (hi - lo).max_element() - 1.0).abs() < 1e-4,
+        "{fog:?}"
+    );
+    assert!(fog.validate().is_ok());
+    harness.get_by_label_contains("light travels");
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert!(!harness.state().doc.scene.fog.is_on(), "adding fog undoes");
+}
+
 #[test]
 fn a_bare_model_is_lit_by_the_default_environment() {
     let mut scene = rt_core::Scene::default();

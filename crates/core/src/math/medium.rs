@@ -138,7 +138,7 @@ pub fn free_flight(m: &Medium, t_max: f32, rng: &mut Rng) -> FreeFlight {
 pub fn single_scatter_albedo(c: f32) -> f32 {
     // Exact at the ends (the fit gives ~6·10⁻⁶ at 0): black absorbs only, and then free flight
     // takes the transmittance outright.
-    if !(c > 0.0) {
+    if c.is_nan() || c <= 0.0 {
         return 0.0;
     }
     if c >= 1.0 {

@@ -1,4 +1,4 @@
-//! The Lights panel: the ambient colour, the environment map, the emissive objects and the
+//! The Lights panel: the ambient colour, the environment map, the fog, the emissive objects and the
 //! point, spot and directional lights, and the buttons that add lights.
 
 use egui::{DragValue, Ui};
@@ -138,6 +138,7 @@ pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
             .edit("change ambient", "ambient", |s| s.ambient = ambient);
     }
     environment_rows(app, ui);
+    super::fog::fog_rows(app, ui);
     let mut clicked = None;
     for (i, object) in app.doc.scene.objects.iter().enumerate() {
         if is_light(object) {

@@ -270,6 +270,22 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
             }
             p.attenuation_distance = on.then_some(d);
         });
+        if !p.thin_walled && p.attenuation_distance.is_some() {
+            ui.horizontal(|ui| {
+                ui.label("Scattering colour");
+                ui.color_edit_button_rgb(&mut p.multiscatter_color)
+                    .on_hover_text(
+                        "The colour a thick piece takes as light scatters inside it (milk, jade,                          wax); black: clear, absorbing only",
+                    );
+            });
+            if p.multiscatter_color != [0.0; 3] {
+                ui.add(
+                    egui::Slider::new(&mut p.scatter_anisotropy, -0.95..=0.95)
+                        .text("scatter forward"),
+                )
+                .on_hover_text("How much the inside scatters light onward rather than back");
+            }
+        }
     }
     layer_fields(ui, p, textures);
     ui.horizontal(|ui| {

@@ -1,11 +1,12 @@
 //! Side panels: the object and light lists, the inspector (material, transform), the camera and the
 //! render settings, and the status bar. Each edits a copy and commits it as one undoable edit.
 //!
-//! One file per panel: `objects.rs`, `lights.rs` (and the environment), `inspector.rs` (the
+//! One file per panel: `objects.rs`, `lights.rs` (and the environment; `fog.rs` its fog rows), `inspector.rs` (the
 //! selected object or light) with its material editing in `material.rs`, `camera.rs`,
 //! `render.rs` and `status.rs`. The helpers several of them share live here.
 
 mod camera;
+mod fog;
 mod inspector;
 mod lights;
 mod material;

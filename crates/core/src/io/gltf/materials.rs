@@ -3,7 +3,7 @@
 //! `KHR_texture_transform` rt can honour; `KHR_materials_specular`, `KHR_materials_clearcoat`,
 //! `KHR_materials_sheen`, `KHR_materials_anisotropy`, `KHR_materials_diffuse_transmission` and
 //! `KHR_materials_iridescence` with their textures (the coat's own normal map included), and
-//! `KHR_materials_dispersion`.
+//! `KHR_materials_dispersion`, and the draft `KHR_materials_volume_scatter`.
 
 use super::Loader;
 use super::buffers::read_uri;
@@ -277,6 +277,22 @@ impl Loader<'_> {
                 self.json_slot(d, "diffuseTransmissionTexture", baked)?;
             out.diffuse_transmission_color_texture =
                 self.json_slot(d, "diffuseTransmissionColorTexture", baked)?;
+        }
+        // The draft `KHR_materials_volume_scatter` (glTF PR 2453): the colour the volume takes
+        // after scattering many times, and its phase function's anisotropy.
+        if let Some(v) = m.extension_value("KHR_materials_volume_scatter") {
+            if let Some(c) = v.get("multiscatterColor").and_then(|c| c.as_array())
+                && c.len() == 3
+            {
+                for (out, v) in out.multiscatter_color.iter_mut().zip(c) {
+                    *out = v.as_f64().map_or(0.0, |x| unit(x as f32, 0.0));
+                }
+            }
+            out.scatter_anisotropy = v
+                .get("scatterAnisotropy")
+                .and_then(gltf::json::Value::as_f64)
+                .filter(|x| x.is_finite())
+                .map_or(0.0, |x| (x as f32).clamp(-0.99, 0.99));
         }
         Ok(out)
     }

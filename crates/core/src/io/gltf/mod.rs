@@ -54,6 +54,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_volume",
+    "KHR_materials_volume_scatter",
     "KHR_texture_transform",
 ];
 
