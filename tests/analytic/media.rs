@@ -81,8 +81,9 @@ fn scattering_media_keep_a_glowing_room_as_bright() {
 }
 
 /// A lens-filling emitter seen through a slab 0.5 thick whose volume absorbs with attenuation
-/// colour c at distance 1 (σ_t = −ln c) shows Le·c^½ per channel; through fog of density 0.7 that
-/// only absorbs, over a distance of 2, Le·e^−1.4. Index-matched (IOR 1), so nothing reflects;
+/// colour c at distance 1 (σ_t = −ln c) shows Le·c^½ per channel; from a camera inside such a
+/// volume, 1.25 from its far side, Le·c^1.25; through fog of density 0.7 that only absorbs, over a
+/// distance of 2, Le·e^−1.4. Index-matched (IOR 1), so nothing reflects;
 /// a 2° view, so every ray crosses the same thickness (within 2·10⁻⁴).
 #[test]
 fn absorbing_slab_and_fog_follow_beer_lambert_per_channel() {
@@ -127,6 +128,26 @@ fn absorbing_slab_and_fog_follow_beer_lambert_per_channel() {
         [want[0], want[1], want[2]],
         1e-3,
         "slab",
+    );
+    // The camera under water: inside the volume (its probe rays meet its inside first), 1.25 units
+    // of it before the emitter.
+    let mut water = through_slab.clone();
+    water.objects[1].mesh = std::sync::Arc::new(cuboid(
+        Vec3::new(-10.0, -10.0, -1.25),
+        Vec3::new(10.0, 10.0, 0.5),
+        false,
+    ));
+    {
+        let g = GpuScene::build(&water).unwrap();
+        let frame = rt_core::frame::frame_for(&water, &g).unwrap();
+        assert_eq!(frame.camera_media, 2, "inside material 1");
+    }
+    let want: Vec<f32> = (0..3).map(|k| le[k] * c[k].powf(1.25)).collect();
+    assert_all_pixels(
+        &render(ctx, &water),
+        [want[0], want[1], want[2]],
+        1e-3,
+        "camera inside the volume",
     );
     let mut in_fog = scene(vec![emitter], view, [0.0; 3], settings(8, 8, 4, 4));
     in_fog.fog = rt_core::fog::Fog {

@@ -91,7 +91,58 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         clamp_max: clamp_max(settings.clamp),
         light_sampler: u32::from(!gpu_scene.light_tree.is_empty()),
         fog: scene.fog.medium(),
+        camera_media: camera_media(gpu_scene, basis.origin),
+        _pad0: 0,
+        _pad1: 0,
+        _pad2: 0,
     })
+}
+
+/// The medium stack a camera at `origin` starts in: the closed volume it sits inside (glass,
+/// water, a scattering object: a material that transmits into a volume), found by probe rays that
+/// must all first meet that material's inside; else empty (the fog, or vacuum). Three probes, so a
+/// camera behind one open face is not taken to be inside.
+pub fn camera_media(gpu_scene: &GpuScene, origin: glam::Vec3) -> u32 {
+    use crate::gpu_types::{DielectricLobe, PbrLobe, THIN_WALLED};
+    use crate::material_kind::MaterialKind;
+    if gpu_scene.triangles.is_empty() {
+        return 0;
+    }
+    let probes = [
+        glam::Vec3::new(0.267, 0.803, 0.533),
+        glam::Vec3::new(-0.577, -0.408, 0.707),
+        glam::Vec3::new(0.408, -0.577, -0.707),
+    ];
+    let mut inside = None;
+    for d in probes {
+        let d = d.normalize();
+        let hit = crate::reference::trace(gpu_scene, origin, d, f32::MAX);
+        if hit.triangle == u32::MAX {
+            return 0;
+        }
+        let tri = &gpu_scene.triangles[hit.triangle as usize];
+        let (v0, v1, v2) = (
+            glam::Vec3::from(tri.v0),
+            glam::Vec3::from(tri.v1),
+            glam::Vec3::from(tri.v2),
+        );
+        let from_inside = d.dot((v1 - v0).cross(v2 - v0)) > 0.0;
+        let material = &gpu_scene.materials[tri.material as usize];
+        let volume = material.flags & THIN_WALLED == 0
+            && match MaterialKind::from_tag(material.kind) {
+                Some(MaterialKind::Dielectric) => material.lobe_of::<DielectricLobe>().ior > 0.0,
+                Some(MaterialKind::Pbr) => {
+                    let lobe = material.lobe_of::<PbrLobe>();
+                    lobe.transmission > 0.0 || lobe.diffuse_transmission > 0.0
+                }
+                _ => false,
+            };
+        if !(from_inside && volume) || inside.is_some_and(|m| m != tri.material) {
+            return 0;
+        }
+        inside = Some(tri.material);
+    }
+    inside.map_or(0, |m| crate::reference::path::media_enter(0, m))
 }
 
 /// The firefly clamp as the kernels read it (`Frame::clamp_max`): the value where it is a positive

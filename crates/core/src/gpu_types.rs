@@ -438,6 +438,12 @@ pub struct Frame {
     /// The medium filling all space outside closed objects (the scene's fog; zero: vacuum), where
     /// the camera is.
     pub fog: Medium, // 176
+    /// The medium stack a camera ray starts with (`reference::path::media_top`): empty (the fog)
+    /// unless the camera sits inside a closed volume (`frame::camera_media`).
+    pub camera_media: u32, // 208
+    pub _pad0: u32,           // 212
+    pub _pad1: u32,           // 216
+    pub _pad2: u32,           // 220
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power
@@ -690,7 +696,11 @@ pub fn layouts() -> Vec<StructLayout> {
                 sample_offset,
                 clamp_max,
                 light_sampler,
-                fog
+                fog,
+                camera_media,
+                _pad0,
+                _pad1,
+                _pad2
             ]
         ),
         layout!("Emitter", Emitter, [triangle, alias_index, threshold, leaf]),

@@ -215,6 +215,10 @@ struct Frame {
     clamp_max: f32,              // 168: the firefly clamp on bounced light (0: off)
     light_sampler: u32,          // 172: 0 emitters by power (alias table), 1 by the light tree
     fog: Medium,                 // 176: the medium outside closed objects (zero: vacuum)
+    camera_media: u32,           // 208: the medium stack camera rays start with (path.rs media_top)
+    _pad0: u32,                  // 212 (uniform arrays need a 16-byte stride: three words)
+    _pad1: u32,
+    _pad2: u32,
 }
 
 struct Emitter {

@@ -191,7 +191,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         radiance: Vec3::ZERO,
         prev_bsdf_pdf: 0.0,
         tree_normal: 0,
-        media: 0,
+        media: frame.camera_media,
         depth: 0,
         rng,
         first_hit: None,

@@ -122,7 +122,7 @@ fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<v
 // A new path through pixel (x, y): its camera ray.
 fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     let cam = camera_ray_origin_dir(x, y, rng);
-    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, 0u);
+    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, frame.camera_media);
 }
 
 // The medium stack (path.rs `media_top`, `media_enter`, `media_leave`, `medium_of`): id 0 the
