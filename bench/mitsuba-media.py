@@ -5,21 +5,27 @@ means, 32-px blocks, each object's own pixels).
 
 The scene (y up): a grey floor, a square area light above it facing down, a ball of a chromatic
 scattering volume and a slab of a forward-scattering one lying on the floor, both behind
-index-matched boundaries (no refraction, no reflection). Matched per object:
+index-matched boundaries (no refraction, no reflection), and in front a dense one behind a smooth
+boundary of index 1.4 (subsurface scattering: rt's test renders it from `Pbr::subsurface`, which
+maps onto the same medium). Matched per object:
   floor   glTF base 0.5, roughness 1, KHR_materials_specular 0   Mitsuba diffuse 0.5
-  light   emissive 1 x KHR_materials_emissive_strength 8        area, radiance 8 (front face)
+  light   emissive 1 x KHR_materials_emissive_strength 2        area, radiance 2 (front face),
+          2 x 2, 2.4 above the floor
   ball    transmission 1, IOR 1, KHR_materials_volume            null BSDF, interior homogeneous:
           (attenuation colour C at distance D) and the draft      sigma_t = -ln(C)/D, albedo = the
           KHR_materials_volume_scatter (multiscatterColor M,      single-scattering albedo of M
           scatterAnisotropy G)                                    (rt_core::math::medium's
                                                                   inversion), hg g = G
   slab    as the ball, grey, g 0.6                                as the ball
+  skin    as the ball, IOR 1.4 (mean free paths 0.2, 0.12, 0.08)  dielectric int_ior 1.4, interior
+                                                                  as the ball's
 The fog variant adds rt's `--fog-density 0.15 --fog-anisotropy 0.3` (albedo 1); in Mitsuba a
 homogeneous medium that the sensor sits in and that is the exterior of every shape.
 
 Needs: `pip install mitsuba` (llvm_ad_rgb: `apt-get install libllvm19`) and a release rt-cli.
 
 Usage: bench/mitsuba-media.py [--spp 4096] [--rt-spp 1024] [--out tests/data/mitsuba-media]
+(Mitsuba renders the scene without fog at twice --spp.)
 Writes OUT/{scene.gltf,reference.exr,reference-fog.exr} and prints the comparison.
 """
 
@@ -43,6 +49,13 @@ FOG = {"density": 0.15, "anisotropy": 0.3}
 # (attenuation colour, attenuation distance, multiscatter colour, anisotropy)
 BALL = ([0.05, 0.1, 0.2], 0.5, [0.9, 0.7, 0.5], 0.3)
 SLAB = ([0.22, 0.22, 0.22], 1.0, [0.8, 0.8, 0.8], 0.6)
+# Subsurface scattering: mean free paths (0.2, 0.12, 0.08), i.e. attenuation colour e^(-0.1/r) at
+# distance 0.1, behind a smooth boundary of index 1.4 (rt's `subsurface` maps onto exactly this).
+SKIN = ([math.exp(-0.1 / r) for r in (0.2, 0.12, 0.08)], 0.1, [0.9, 0.6, 0.45], 0.0)
+SKIN_IOR = 1.4
+
+
+MEDIA = {"ball": BALL, "slab": SLAB, "skin": SKIN}
 
 
 def single_scatter_albedo(c):
@@ -93,12 +106,14 @@ def objects():
     """(name, vertices, counter-clockwise faces)."""
     yield "floor", [(-3, 0, -3), (-3, 0, 3), (3, 0, 3), (3, 0, -3)], [(0, 1, 2), (0, 2, 3)]
     # Facing down (counter-clockwise seen from below).
-    yield "light", [(-0.5, 2.4, -0.5), (0.5, 2.4, -0.5), (0.5, 2.4, 0.5), (-0.5, 2.4, 0.5)], \
+    yield "light", [(-1, 2.4, -1), (1, 2.4, -1), (1, 2.4, 1), (-1, 2.4, 1)], \
         [(0, 1, 2), (0, 2, 3)]
     v, f = sphere(-0.75, 0.57, 0.0, 0.55)
     yield "ball", v, f
     v, f = box((0.1, 0.02, -0.6), (1.5, 0.52, 0.6))
     yield "slab", v, f
+    v, f = sphere(0.15, 0.32, 1.0, 0.3)
+    yield "skin", v, f
 
 
 def gltf_material(name):
@@ -110,14 +125,14 @@ def gltf_material(name):
     if name == "light":
         return {"name": name, "emissiveFactor": [1, 1, 1],
                 "extensions": {**no_specular, "KHR_materials_emissive_strength":
-                               {"emissiveStrength": 8.0}},
+                               {"emissiveStrength": 2.0}},
                 "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1],
                                          "metallicFactor": 0, "roughnessFactor": 1}}
-    colour, distance, multiscatter, g = BALL if name == "ball" else SLAB
+    colour, distance, multiscatter, g = MEDIA[name]
     return {"name": name, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1],
                                                    "metallicFactor": 0, "roughnessFactor": 0},
             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
-                           "KHR_materials_ior": {"ior": 1.0},
+                           "KHR_materials_ior": {"ior": SKIN_IOR if name == "skin" else 1.0},
                            "KHR_materials_volume": {"thicknessFactor": 1.0,
                                                     "attenuationColor": colour,
                                                     "attenuationDistance": distance},
@@ -199,10 +214,13 @@ def mitsuba_scene(mi, tmp, spp, fog):
             shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.5] * 3}}
         elif name == "light":
             shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0] * 3}}
-            shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": [8.0] * 3}}
+            shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": [2.0] * 3}}
+        elif name == "skin":
+            shape["bsdf"] = {"type": "dielectric", "int_ior": SKIN_IOR, "ext_ior": 1.0}
+            shape["interior"] = medium(SKIN)
         else:
             shape["bsdf"] = {"type": "null"}
-            shape["interior"] = medium(BALL if name == "ball" else SLAB)
+            shape["interior"] = medium(MEDIA[name])
         if fog:
             shape["exterior"] = {"type": "ref", "id": "fog"}
         scene[f"shape_{i}"] = shape
@@ -268,17 +286,19 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     write_gltf(out / "scene.gltf")
     for fog, name in ((False, "reference.exr"), (True, "reference-fog.exr")):
+        # Twice the samples without fog, where they are cheap and the dense ball's noise is not.
+        spp = args.spp if fog else 2 * args.spp
         with tempfile.TemporaryDirectory() as tmp:
             started = time.perf_counter()
-            scene = mi.load_dict(mitsuba_scene(mi, tmp, args.spp, fog))
-            image = mi.render(scene, spp=args.spp, seed=7)
+            scene = mi.load_dict(mitsuba_scene(mi, tmp, spp, fog))
+            image = mi.render(scene, spp=spp, seed=7)
             mi.Bitmap(image).write(str(out / name))
             t_mitsuba = time.perf_counter() - started
             rt_out = Path(tmp) / "rt.exr"
             t_rt = rt_render(out, args.rt_spp, rt_out, fog)
             means, blocks, bad = compare(mi, rt_out, out / name)
         print(f"{'with' if fog else 'without'} fog: Mitsuba 3 {mi.__version__} llvm_ad_rgb, "
-              f"{args.spp} spp: {t_mitsuba:.1f} s; rt (CPU backend) {args.rt_spp} spp: "
+              f"{spp} spp: {t_mitsuba:.1f} s; rt (CPU backend) {args.rt_spp} spp: "
               f"{t_rt:.1f} s (with start-up)")
         for ch, (a, b, d) in zip("RGB", means):
             print(f"  mean {ch}: rt {a:.5f} Mitsuba {b:.5f} ({100 * d:+.2f}%)")

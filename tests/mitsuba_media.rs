@@ -24,7 +24,46 @@ fn media_scene() -> rt_core::Scene {
     scene.camera.vfov_deg = 35.0;
     scene.ambient = [0.0; 3];
     scene.settings = settings(WIDTH, HEIGHT, 64, 64);
+    // The dense ball in front as rt's subsurface scattering (base colour, radius) rather than the
+    // glTF's volume: the same medium behind the same boundary, which Mitsuba's reference has.
+    let skin = scene
+        .objects
+        .iter_mut()
+        .find(|o| o.name == "skin")
+        .expect("the subsurface ball");
+    let from_gltf = skin.material.clone();
+    skin.material = pbr(rt_core::material::Pbr {
+        base_color: [0.9, 0.6, 0.45],
+        roughness: 0.0,
+        ior: 1.4,
+        subsurface: 1.0,
+        subsurface_radius: [0.2, 0.12, 0.08],
+        ..Default::default()
+    });
+    let medium = |m: &rt_core::Material| {
+        rt_core::GpuScene::build(&scene_with(m.clone())).unwrap().materials[0].medium
+    };
+    let (a, b) = (medium(&from_gltf), medium(&skin.material));
+    for c in 0..3 {
+        assert!(
+            (a.sigma_t[c] / b.sigma_t[c] - 1.0).abs() < 1e-4
+                && (a.sigma_s[c] / b.sigma_s[c] - 1.0).abs() < 1e-4,
+            "subsurface {b:?} vs the glTF volume {a:?}"
+        );
+    }
     scene
+}
+
+/// A scene of one small quad of material `m`.
+fn scene_with(m: rt_core::Material) -> rt_core::Scene {
+    rt_core::Scene {
+        objects: vec![object(
+            "probe",
+            rt_core::shapes::quad(glam::Vec3::ZERO, glam::Vec3::Z, 1.0),
+            m,
+        )],
+        ..Default::default()
+    }
 }
 
 fn assert_matches_mitsuba(scene: &rt_core::Scene, reference: &str) {

@@ -19,7 +19,8 @@ fn assert_mean(image: &rt_gpu::Image, expected: f64, what: &str) {
 /// Inside a closed room of albedo a = ½ emitting Le = ½ the radiance is Le/(1 − a) = 1 everywhere.
 /// Fog that scatters without absorbing changes where light goes, never how much: with any density
 /// and anisotropy the room stays 1, and so it does with a scattering ball (its interior medium,
-/// entered and left through index-matched glass) in the fog. Paths run until Russian roulette ends
+/// entered and left through index-matched glass) in the fog, and with a white subsurface-scattering
+/// ball behind a refracting boundary. Paths run until Russian roulette ends
 /// them, so every scattering order counts.
 #[test]
 fn scattering_media_keep_a_glowing_room_as_bright() {
@@ -30,15 +31,32 @@ fn scattering_media_keep_a_glowing_room_as_bright() {
         ior: 1.0,
         tint: [1.0; 3],
     };
-    for (density, g, ball_density) in [
-        (0.6, 0.0, 0.0),
-        (3.0, 0.85, 0.0),
-        (1.5, -0.6, 0.0),
-        (0.4, 0.3, 8.0),
+    // Subsurface scattering: white inside, behind a smooth boundary of index 1.4 (Fresnel and total
+    // internal reflection at every crossing), radius per channel.
+    let mut facets = ball.clone();
+    facets.normals = None; // flat: shading normals would lose energy at grazing angles
+    let skin = pbr(rt_core::material::Pbr {
+        base_color: [1.0; 3],
+        roughness: 0.0,
+        ior: 1.4,
+        subsurface: 1.0,
+        subsurface_radius: [0.2, 0.1, 0.05],
+        scatter_anisotropy: 0.4,
+        ..Default::default()
+    });
+    for (density, g, ball_density, subsurface) in [
+        (0.6, 0.0, 0.0, false),
+        (3.0, 0.85, 0.0, false),
+        (1.5, -0.6, 0.0, false),
+        (0.4, 0.3, 8.0, false),
+        (0.2, 0.0, 0.0, true),
     ] {
         let mut objects = vec![object("room", room.clone(), Material::lambertian([0.5; 3]))];
         if ball_density > 0.0 {
             objects.push(object("ball", ball.clone(), glass.clone()));
+        }
+        if subsurface {
+            objects.push(object("skin", facets.clone(), skin.clone()));
         }
         let mut scene = scene(
             objects,
@@ -64,7 +82,9 @@ fn scattering_media_keep_a_glowing_room_as_bright() {
             gpu_scene.features.media = true;
         }
         let image = render_gpu(ctx, &scene, &gpu_scene, RenderOptions::default());
-        let what = format!("fog σ_t {density} g {g}, ball σ_t {ball_density}");
+        let what = format!(
+            "fog σ_t {density} g {g}, ball σ_t {ball_density}, subsurface {subsurface}"
+        );
         assert_mean(&image, 1.0, &what);
         // The CPU twin too (it shares the GPU's random numbers, not its arithmetic).
         let frame = rt_core::frame::frame_for(&scene, &gpu_scene).unwrap();

@@ -202,6 +202,11 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
         Material::Emissive { color, intensity } => gpu.emission = color.map(|c| c * intensity),
         Material::Pbr(ref p) => {
             gpu.color = p.base_color;
+            let subsurface = if p.thin_walled { 0.0 } else { p.subsurface };
+            if subsurface > 0.0 {
+                // The colour moves from the surface into the volume (`Pbr::subsurface`).
+                gpu.color = p.base_color.map(|c| c + (1.0 - c) * subsurface);
+            }
             gpu.emission = p.emission.map(|c| c * p.emission_strength);
             gpu.alpha = p.alpha;
             gpu.alpha_cutoff = p.alpha_cutoff;
@@ -211,7 +216,7 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
             gpu.set_lobe(PbrLobe {
                 metallic: p.metallic,
                 roughness: p.roughness,
-                transmission: p.transmission,
+                transmission: p.transmission.max(subsurface),
                 // At η = 1 exactly the BSDF's refraction half-vector vanishes (the light passes
                 // unbent) and its samples were NaN: 1 + 10⁻⁴ passes it the same (F0 ~ 10⁻⁹).
                 ior: p.ior.max(1.0 + 1e-4),
@@ -235,7 +240,9 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
                 dispersion: p.dispersion,
                 _pad: [0.0; 2],
             });
-            if !p.thin_walled {
+            if subsurface > 0.0 {
+                gpu.medium = subsurface_medium(p);
+            } else if !p.thin_walled {
                 gpu.medium = interior_medium(p);
             }
         }
@@ -255,5 +262,65 @@ fn interior_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
         anisotropy: p.scatter_anisotropy,
         sigma_s: std::array::from_fn(|c| albedo[c] * sigma_t[c]),
         _pad: 0.0,
+    }
+}
+
+/// The volume under a subsurface-scattering surface: mean free path `subsurface_radius` (σ_t =
+/// 1/radius per channel), looking like the base colour after many scatterings.
+fn subsurface_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
+    let sigma_t = p.subsurface_radius.map(|r| 1.0 / r);
+    let albedo = p
+        .base_color
+        .map(crate::math::medium::single_scatter_albedo);
+    gpu_types::Medium {
+        sigma_t,
+        anisotropy: p.scatter_anisotropy,
+        sigma_s: std::array::from_fn(|c| albedo[c] * sigma_t[c]),
+        _pad: 0.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::Pbr;
+
+    /// A volume's medium from its attenuation and multiple-scattering colour, subsurface's from its
+    /// radius and the base colour (which then leaves the surface), none behind a thin sheet.
+    #[test]
+    fn volumes_and_subsurface_become_media() {
+        let volume = Pbr {
+            transmission: 1.0,
+            attenuation_color: [0.5, 0.25, 1.0],
+            attenuation_distance: Some(2.0),
+            multiscatter_color: [1.0, 0.0, 0.5],
+            ..Pbr::default()
+        };
+        let m = gpu_material(&Material::Pbr(Box::new(volume.clone()))).medium;
+        let ln2 = std::f32::consts::LN_2;
+        assert_eq!(m.sigma_t, [ln2 / 2.0, ln2, 0.0]);
+        assert_eq!(m.sigma_s[0], m.sigma_t[0], "white scatters all");
+        assert_eq!(m.sigma_s[1], 0.0, "black absorbs only");
+        let thin = Pbr {
+            thin_walled: true,
+            subsurface: 1.0,
+            ..volume.clone()
+        };
+        assert_eq!(
+            gpu_material(&Material::Pbr(Box::new(thin))).medium,
+            gpu_types::Medium::default()
+        );
+        let skin = Pbr {
+            base_color: [0.8, 0.5, 0.25],
+            subsurface: 0.5,
+            subsurface_radius: [0.5, 0.25, 0.125],
+            ..volume
+        };
+        let g = gpu_material(&Material::Pbr(Box::new(skin)));
+        assert_eq!(g.medium.sigma_t, [2.0, 4.0, 8.0]);
+        let rho = crate::math::medium::single_scatter_albedo(0.8);
+        assert!((g.medium.sigma_s[0] - 2.0 * rho).abs() < 1e-6);
+        assert_eq!(g.color, [0.9, 0.75, 0.625]);
+        assert_eq!(g.lobe_of::<PbrLobe>().transmission, 1.0);
     }
 }

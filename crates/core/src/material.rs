@@ -138,8 +138,20 @@ pub struct Pbr {
     /// gives the extinction σ_t; this gives the single-scattering albedo ρ by the inversion of
     /// `math::medium::single_scatter_albedo`, σ_s = ρ σ_t. Black: absorption only.
     pub multiscatter_color: Rgb,
-    /// The Henyey–Greenstein anisotropy g of that scattering, in (−1, 1): > 0 forward.
+    /// The Henyey–Greenstein anisotropy g of that scattering (and of `subsurface`'s), in (−1, 1):
+    /// > 0 forward.
     pub scatter_anisotropy: f32,
+    /// Subsurface scattering's weight in [0, 1] (Blender's Subsurface Weight): that share of the
+    /// surface lets light through its dielectric boundary (`ior`, `roughness`) into a scattering
+    /// volume whose colour after many scatterings is the base colour factor and whose mean free
+    /// path is `subsurface_radius` (a random walk, as Cycles'). It takes the place of the volume
+    /// the attenuation and `multiscatter_color` describe. The surface itself is then white where
+    /// the weight is 1 (the colour comes from inside), the base colour where it is 0, mixed
+    /// between; a base colour image tints the surface only. Needs a closed mesh.
+    pub subsurface: f32,
+    /// How far light travels inside between scatterings, per channel, in scene units (Blender's
+    /// Radius × Scale; skin scatters red farthest), each > 0.
+    pub subsurface_radius: Rgb,
 }
 
 /// glTF's alpha modes: how a surface's coverage α (base colour alpha) cuts it.
@@ -207,6 +219,9 @@ impl Default for Pbr {
             iridescence_thickness_texture: None,
             multiscatter_color: [0.0; 3],
             scatter_anisotropy: 0.0,
+            subsurface: 0.0,
+            // Blender's default radius (1, 0.2, 0.1) × its default scale 0.05 (metres).
+            subsurface_radius: [0.05, 0.01, 0.005],
         }
     }
 }
@@ -370,6 +385,14 @@ impl Pbr {
         }
         for c in self.multiscatter_color {
             unit("multiscatter_color", c)?;
+        }
+        unit("subsurface", self.subsurface)?;
+        if !self.subsurface_radius.iter().all(|r| r.is_finite() && *r > 0.0) {
+            return Err(format!(
+                "{what}: pbr subsurface_radius must be finite and > 0 per channel (scene units), \
+                 got {:?}",
+                self.subsurface_radius
+            ));
         }
         if self.scatter_anisotropy.is_nan() || self.scatter_anisotropy.abs() >= 1.0 {
             return Err(format!(

@@ -131,6 +131,8 @@ fn rich_scene() -> Scene {
         dispersion: 0.4,
         multiscatter_color: [0.9, 0.5, 0.2],
         scatter_anisotropy: -0.3,
+        subsurface: 0.8,
+        subsurface_radius: [0.3, 0.1, 0.05],
     }));
     let (map, _) = rt_core::EnvironmentMap::from_texels(
         3,

@@ -287,6 +287,7 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
             }
         }
     }
+    subsurface_fields(ui, p);
     layer_fields(ui, p, textures);
     ui.horizontal(|ui| {
         ui.label("Emission");
@@ -308,6 +309,35 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
         "An image (sRGB) multiplying the emission: a screen, a lamp's pattern",
     );
     alpha_fields(ui, p);
+}
+
+/// Subsurface scattering (Blender's Subsurface Weight and Radius): its weight and, when on, how far
+/// light travels inside per colour.
+fn subsurface_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
+    if p.thin_walled {
+        return;
+    }
+    ui.add(egui::Slider::new(&mut p.subsurface, 0.0..=1.0).text("subsurface"))
+        .on_hover_text(
+            "Light entering the surface and scattering inside before it leaves (skin, wax, \
+             marble, milk); the base colour becomes the colour inside. Needs a closed mesh",
+        );
+    if p.subsurface > 0.0 {
+        ui.horizontal(|ui| {
+            ui.label("radius").on_hover_text(
+                "How far light travels inside between scatterings, for red, green and blue, in \
+                 scene units",
+            );
+            for (r, channel) in p.subsurface_radius.iter_mut().zip(["R", "G", "B"]) {
+                ui.add(
+                    DragValue::new(r)
+                        .speed(0.001)
+                        .range(1e-5..=1e6)
+                        .prefix(format!("{channel} ")),
+                );
+            }
+        });
+    }
 }
 
 /// The dielectric's specular strength and tint, the clear coat, the sheen, the diffuse
