@@ -41,7 +41,10 @@ fn media_scene() -> rt_core::Scene {
         ..Default::default()
     });
     let medium = |m: &rt_core::Material| {
-        rt_core::GpuScene::build(&scene_with(m.clone())).unwrap().materials[0].medium
+        rt_core::GpuScene::build(&scene_with(m.clone()))
+            .unwrap()
+            .materials[0]
+            .medium
     };
     let (a, b) = (medium(&from_gltf), medium(&skin.material));
     for c in 0..3 {

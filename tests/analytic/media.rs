@@ -82,9 +82,8 @@ fn scattering_media_keep_a_glowing_room_as_bright() {
             gpu_scene.features.media = true;
         }
         let image = render_gpu(ctx, &scene, &gpu_scene, RenderOptions::default());
-        let what = format!(
-            "fog σ_t {density} g {g}, ball σ_t {ball_density}, subsurface {subsurface}"
-        );
+        let what =
+            format!("fog σ_t {density} g {g}, ball σ_t {ball_density}, subsurface {subsurface}");
         assert_mean(&image, 1.0, &what);
         // The CPU twin too (it shares the GPU's random numbers, not its arithmetic).
         let frame = rt_core::frame::frame_for(&scene, &gpu_scene).unwrap();

@@ -269,9 +269,7 @@ fn interior_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
 /// 1/radius per channel), looking like the base colour after many scatterings.
 fn subsurface_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
     let sigma_t = p.subsurface_radius.map(|r| 1.0 / r);
-    let albedo = p
-        .base_color
-        .map(crate::math::medium::single_scatter_albedo);
+    let albedo = p.base_color.map(crate::math::medium::single_scatter_albedo);
     gpu_types::Medium {
         sigma_t,
         anisotropy: p.scatter_anisotropy,

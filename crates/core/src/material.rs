@@ -387,7 +387,11 @@ impl Pbr {
             unit("multiscatter_color", c)?;
         }
         unit("subsurface", self.subsurface)?;
-        if !self.subsurface_radius.iter().all(|r| r.is_finite() && *r > 0.0) {
+        if !self
+            .subsurface_radius
+            .iter()
+            .all(|r| r.is_finite() && *r > 0.0)
+        {
             return Err(format!(
                 "{what}: pbr subsurface_radius must be finite and > 0 per channel (scene units), \
                  got {:?}",
