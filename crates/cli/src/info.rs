@@ -56,6 +56,16 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
         ),
         None => println!("environment: none"),
     }
+    if scene.fog.is_on() {
+        let f = &scene.fog;
+        println!(
+            "fog: density {} (mean free path {:.3}), albedo {:?}, anisotropy {}",
+            f.density,
+            1.0 / f.density,
+            f.albedo,
+            f.anisotropy
+        );
+    }
     println!("lights: {}", scene.lights.len());
     if verbose {
         // Where loading time goes: parsing the file, then flattening and the BVH build.

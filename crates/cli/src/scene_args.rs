@@ -65,7 +65,7 @@ pub struct SceneArgs {
     /// Fog filling the space outside closed objects: its extinction σ_t per scene unit (light
     /// travels 1/σ_t on average before it meets the fog; 0 removes it). Lights at infinity (the
     /// sun, the environment) do not reach through it.
-    #[arg(long, value_name = "SIGMA_T")]
+    #[arg(long, value_name = "SIGMA_T", allow_hyphen_values = true)]
     pub fog_density: Option<f32>,
     /// The fog's single-scattering albedo per channel, in [0, 1] (default 1,1,1: scatters all).
     #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]

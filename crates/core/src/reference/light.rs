@@ -59,6 +59,10 @@ impl ShadowMedia {
         } else {
             self.above
         };
+        // Vacuum, the common case, without three exponentials.
+        if sigma == Vec3::ZERO {
+            return Vec3::ONE;
+        }
         transmittance(sigma, distance)
     }
 }

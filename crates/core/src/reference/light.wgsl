@@ -26,7 +26,12 @@ fn shadow_transmittance(media: ShadowMedia, dir: vec3<f32>, ng: vec3<f32>, dista
     if (!HAS_MEDIA) {
         return vec3(1.0);
     }
-    return transmittance(select(media.above, media.below, dot(dir, ng) < 0.0), distance);
+    let sigma = select(media.above, media.below, dot(dir, ng) < 0.0);
+    // Vacuum, the common case, without three exponentials.
+    if (all(sigma == vec3(0.0))) {
+        return vec3(1.0);
+    }
+    return transmittance(sigma, distance);
 }
 
 // The power heuristic (beta = 2) weight of the strategy with density a against one with density b:

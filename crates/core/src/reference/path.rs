@@ -246,11 +246,18 @@ pub fn medium_of(scene: &GpuScene, frame: &Frame, id: u32) -> Medium {
 pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit) -> bool {
     let lights_sampled =
         frame.emitter_count > 0 || frame.env_pick > 0.0 || frame.light_sampler == 1;
+    // Whether the scene has media at all (the kernels' `HAS_MEDIA`): without, none of their
+    // bookkeeping is done.
+    let media_on = scene.features.media || !is_vacuum(&frame.fog);
     // The segment just traced crossed the medium the path is in: free flight decides whether it
     // scattered on the way (a vertex in the medium) or reached the hit, dimmed.
     let inside = media_top(path.media);
-    let medium = medium_of(scene, frame, inside);
-    if !is_vacuum(&medium) {
+    let medium = if media_on {
+        medium_of(scene, frame, inside)
+    } else {
+        Medium::default()
+    };
+    if media_on && !is_vacuum(&medium) {
         let t_max = if hit.triangle == MISS { FAR } else { hit.t };
         let flight = free_flight(&medium, t_max, &mut path.rng);
         path.beta *= flight.weight;
@@ -440,17 +447,20 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     // Beyond a closed surface lies its interior (entered from the front) or what the path was in
     // before it (left from the back); a thin sheet has the same medium on both sides.
     let thin = material.flags & THIN_WALLED != 0;
-    let beyond = if thin {
-        inside
-    } else if front {
-        tri.material + 1
-    } else {
-        media_top(media_leave(path.media, tri.material))
-    };
-    let media = ShadowMedia {
-        above: Vec3::from(medium.sigma_t),
-        below: Vec3::from(medium_of(scene, frame, beyond).sigma_t),
-    };
+    let mut media = ShadowMedia::default();
+    if media_on {
+        let beyond = if thin {
+            inside
+        } else if front {
+            tri.material + 1
+        } else {
+            media_top(media_leave(path.media, tri.material))
+        };
+        media = ShadowMedia {
+            above: Vec3::from(medium.sigma_t),
+            below: Vec3::from(medium_of(scene, frame, beyond).sigma_t),
+        };
+    }
     if !surface.is_delta() {
         add_light_at(scene, frame, path, p, ng, &surface, &media, lights_sampled);
     }
@@ -472,7 +482,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     if !survives_roulette(frame, path) {
         return false;
     }
-    if transmitted && !thin {
+    if media_on && transmitted && !thin {
         path.media = if front {
             media_enter(path.media, tri.material)
         } else {
