@@ -182,3 +182,74 @@ fn absorbing_slab_and_fog_follow_beer_lambert_per_channel() {
         "absorbing fog",
     );
 }
+
+/// Media at numerical extremes and a volume that never closes render finite pixels on both
+/// backends: fog far thinner and far denser than the scene (10⁻³⁰ and 10³⁰ per unit), a forward
+/// peak of g = 0.999, a one-sided transmissive quad (entered, never left: its interior fills the
+/// rest of the path, documented), and a scattering volume behind it.
+#[test]
+fn media_at_extremes_and_an_open_volume_stay_finite() {
+    let Some(ctx) = gpu() else { return };
+    let pane = pbr(rt_core::material::Pbr {
+        base_color: [1.0; 3],
+        roughness: 0.1,
+        transmission: 1.0,
+        attenuation_color: [0.3, 0.6, 0.9],
+        attenuation_distance: Some(0.5),
+        multiscatter_color: [0.9, 0.9, 0.9],
+        scatter_anisotropy: 0.999 - 1e-4,
+        ..Default::default()
+    });
+    let lamp = Material::Emissive {
+        color: [4.0; 3],
+        intensity: 1.0,
+    };
+    for (density, g) in [(1e-30, 0.0), (1e30, 0.5), (0.5, 0.999), (0.5, -0.999)] {
+        let mut s = scene(
+            vec![
+                object(
+                    "pane",
+                    quad(Vec3::new(0.0, 0.0, -1.0), Vec3::Z, 1.5),
+                    pane.clone(),
+                ),
+                object(
+                    "lamp",
+                    quad(Vec3::new(0.0, 1.0, -2.0), -Vec3::Y, 1.0),
+                    lamp.clone(),
+                ),
+                object(
+                    "floor",
+                    quad(Vec3::new(0.0, -1.0, -2.0), Vec3::Y, 6.0),
+                    Material::lambertian([0.5; 3]),
+                ),
+            ],
+            camera(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0), 70.0),
+            [0.2; 3],
+            settings(12, 12, 8, 12),
+        );
+        s.fog = rt_core::fog::Fog {
+            density,
+            albedo: [0.9, 0.7, 1.0],
+            anisotropy: g,
+        };
+        let what = format!("fog {density} g {g}");
+        let image = render(ctx, &s);
+        assert!(
+            image
+                .pixels
+                .iter()
+                .all(|p| p[..3].iter().all(|v| v.is_finite() && *v >= 0.0)),
+            "{what}: a pixel is not finite on the GPU"
+        );
+        let gpu_scene = GpuScene::build(&s).unwrap();
+        let frame = rt_core::frame::frame_for(&s, &gpu_scene).unwrap();
+        let cpu = rt_core::reference::render(&gpu_scene, &frame, 8);
+        assert!(
+            cpu.mean
+                .iter()
+                .flatten()
+                .all(|v| v.is_finite() && *v >= 0.0),
+            "{what}: a pixel is not finite on the CPU"
+        );
+    }
+}

@@ -250,10 +250,15 @@ fn gpu_material(material: &Material) -> gpu_types::Material {
     gpu
 }
 
+/// The densest medium a material packs into: a radius or distance near f32's smallest would make
+/// σ_t infinite, and ρ·∞ NaN where a channel absorbs all (σ_s = 0·∞). Light crosses 10⁻³⁰ of a
+/// unit before it meets such a medium: opaque at any scene scale.
+const MAX_EXTINCTION: f32 = 1e30;
+
 /// The medium inside a PBR volume: extinction from the attenuation, scattering from the
 /// multiple-scattering colour (`Pbr::multiscatter_color`).
 fn interior_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
-    let sigma_t = p.extinction();
+    let sigma_t = p.extinction().map(|s| s.min(MAX_EXTINCTION));
     let albedo = p
         .multiscatter_color
         .map(crate::math::medium::single_scatter_albedo);
@@ -268,7 +273,7 @@ fn interior_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
 /// The volume under a subsurface-scattering surface: mean free path `subsurface_radius` (σ_t =
 /// 1/radius per channel), looking like the base colour after many scatterings.
 fn subsurface_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
-    let sigma_t = p.subsurface_radius.map(|r| 1.0 / r);
+    let sigma_t = p.subsurface_radius.map(|r| (1.0 / r).min(MAX_EXTINCTION));
     let albedo = p.base_color.map(crate::math::medium::single_scatter_albedo);
     gpu_types::Medium {
         sigma_t,
@@ -320,5 +325,18 @@ mod tests {
         assert!((g.medium.sigma_s[0] - 2.0 * rho).abs() < 1e-6);
         assert_eq!(g.color, [0.9, 0.75, 0.625]);
         assert_eq!(g.lobe_of::<PbrLobe>().transmission, 1.0);
+        // A subnormal radius and a black channel: finite, not 0·∞.
+        let extreme = Pbr {
+            base_color: [0.0, 0.5, 1.0],
+            subsurface: 1.0,
+            subsurface_radius: [1e-40, 1.0, 1.0],
+            ..Pbr::default()
+        };
+        let m = gpu_material(&Material::Pbr(Box::new(extreme))).medium;
+        assert!(
+            m.sigma_t.iter().chain(&m.sigma_s).all(|v| v.is_finite()),
+            "{m:?}"
+        );
+        assert_eq!(m.sigma_s[0], 0.0);
     }
 }

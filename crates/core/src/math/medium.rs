@@ -77,6 +77,12 @@ pub fn is_vacuum(m: &Medium) -> bool {
     Vec3::from(m.sigma_t) == Vec3::ZERO
 }
 
+/// The medium's single-scattering albedo σ_s/σ_t per channel (0 where it is vacuum).
+pub fn scattering_albedo(m: &Medium) -> Vec3 {
+    let (sigma_t, sigma_s) = (Vec3::from(m.sigma_t), Vec3::from(m.sigma_s));
+    Vec3::select(sigma_t.cmpgt(Vec3::ZERO), sigma_s / sigma_t, Vec3::ZERO)
+}
+
 /// Where a path crossing a medium next interacts, within `t_max`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FreeFlight {

@@ -31,6 +31,10 @@ fn is_vacuum(m: Medium) -> bool {
     return all(m.sigma_t == vec3(0.0));
 }
 
+fn scattering_albedo(m: Medium) -> vec3<f32> {
+    return select(vec3(0.0), m.sigma_s / m.sigma_t, m.sigma_t > vec3(0.0));
+}
+
 struct FreeFlight {
     weight: vec3<f32>,
     t: f32,

@@ -147,7 +147,7 @@ pub fn scene_hashes(scene: &Scene, gpu_scene: &GpuScene) -> (String, String, Str
         "camera": scene.camera,
         "ambient": scene.ambient,
     });
-    // Only where there is fog, so parts of scenes without it keep their hashes.
+    // Only where there is fog, so the settings hash of a scene without it stays as it was.
     if scene.fog.is_on() {
         decisive["fog"] = serde_json::json!(scene.fog);
     }

@@ -23,7 +23,7 @@ use crate::gpu_types::{
 use crate::material_kind::MaterialKind;
 use crate::math::dispersion::{channel_ior, pick_channel};
 use crate::math::intersect::offset_ray_origin;
-use crate::math::medium::{FAR, free_flight, is_vacuum};
+use crate::math::medium::{FAR, free_flight, is_vacuum, scattering_albedo};
 use crate::math::rng::{self, Rng};
 use crate::math::sampling::*;
 
@@ -550,6 +550,14 @@ fn scatter_in_medium(
     medium: &Medium,
     lights_sampled: bool,
 ) -> bool {
+    // The denoiser's guides where the camera ray scatters first: the medium's albedo, and a normal
+    // facing back along the ray.
+    if path.depth == 0
+        && let Some(f) = path.first_hit.as_mut()
+    {
+        f.albedo = scattering_albedo(medium);
+        f.normal = -path.direction;
+    }
     if path.depth + 1 >= frame.max_depth {
         return false;
     }

@@ -190,6 +190,10 @@ fn survives_roulette(path: ptr<function, PathState>, rng: ptr<function, Sampler>
 // A scattering in `medium` at p, where the path's free flight ended (path.rs `scatter_in_medium`).
 fn scatter_in_medium(path: ptr<function, PathState>, p: vec3<f32>, medium: Medium, rng: ptr<function, Sampler>,
                      shadow: ptr<function, ShadowRay>, defer_shadow: bool, rays: ptr<function, u32>) -> bool {
+    if (WRITE_AOVS && (*path).depth == 0u) {
+        aov_albedo = scattering_albedo(medium);
+        aov_normal = -(*path).direction;
+    }
     if ((*path).depth + 1u >= frame.max_depth) {
         return false;
     }

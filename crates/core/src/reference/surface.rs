@@ -383,3 +383,28 @@ fn coat_frame(inputs: &PbrInputs, wo: Vec3, ng: Vec3, base: [Vec3; 3]) -> Option
     let row = |a: Vec3| Vec3::new(a.dot(base[0]), a.dot(base[1]), a.dot(base[2]));
     Some(Mat3::from_cols(row(tc), row(bc), row(nc)).transpose())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A phase function's sample carries the density its evaluation gives that direction (so MIS
+    /// weighs a light it finds by the same pdf next-event estimation uses), f equals that density
+    /// (f/p = 1: the weight is exactly 1), and it sees lights on every side.
+    #[test]
+    fn phase_samples_carry_their_evaluated_pdf() {
+        let mut rng = Rng::new(5, 0, 1);
+        let direction = Vec3::new(0.2, -0.9, 0.4).normalize();
+        for g in [-0.8, 0.0, 0.6, 0.95] {
+            let s = Surface::Phase { direction, g };
+            assert!(s.lit_through() && !s.is_delta());
+            for _ in 0..1000 {
+                let sample = s.sample(direction, Vec3::ZERO, &mut rng).expect("a sample");
+                let (f, pdf) = s.eval(sample.direction);
+                assert!((sample.pdf - pdf).abs() <= 1e-5 * pdf.max(1.0), "g {g}");
+                assert_eq!(f, Vec3::splat(pdf));
+                assert_eq!(sample.weight, Vec3::ONE);
+            }
+        }
+    }
+}

@@ -193,8 +193,8 @@ fn surface_is_delta(s: Surface) -> bool {
 const LIT_THROUGH_MIN_ALPHA: f32 = 0.01;
 
 fn surface_lit_through(s: Surface) -> bool {
-    return s.kind == SURFACE_PHASE || HAS_PBR && s.kind == MAT_PBR && (s.bsdf.base.diffuse_transmission > 0.0
-        || (s.bsdf.base.transmission > 0.0 && min(s.bsdf.base.alpha.x, s.bsdf.base.alpha.y) >= LIT_THROUGH_MIN_ALPHA));
+    return s.kind == SURFACE_PHASE || (HAS_PBR && s.kind == MAT_PBR && (s.bsdf.base.diffuse_transmission > 0.0
+        || (s.bsdf.base.transmission > 0.0 && min(s.bsdf.base.alpha.x, s.bsdf.base.alpha.y) >= LIT_THROUGH_MIN_ALPHA)));
 }
 
 // Whether the lobe may send a path below the geometric surface.

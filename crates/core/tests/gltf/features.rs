@@ -218,6 +218,17 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
         "KHR_materials_diffuse_transmission".into(),
         json!({"diffuseTransmissionFactor": 0.25, "diffuseTransmissionColorFactor": [0.5, 1.0, 0.0]}),
     );
+    // Diffuse transmission alone, without a volume: a thin sheet (a leaf, paper), no medium
+    // behind it.
+    let mut sheet = doc.clone();
+    let e = sheet["materials"][0]["extensions"].as_object_mut().unwrap();
+    e.remove("KHR_materials_volume");
+    e.remove("KHR_materials_transmission");
+    let sheet = load(&embedded(sheet), None).unwrap();
+    let Material::Pbr(p) = &sheet.objects[0].material else {
+        panic!("PBR expected")
+    };
+    assert!(p.diffuse_transmission > 0.0 && p.transmission == 0.0 && p.thin_walled);
     let scene = load(&embedded(doc), None).unwrap();
     let Material::Pbr(p) = &scene.objects[0].material else {
         panic!("PBR expected")
@@ -229,6 +240,7 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
         (p.diffuse_transmission, p.diffuse_transmission_color),
         (0.25, [0.5, 1.0, 0.0])
     );
+    assert!(!p.thin_walled, "with a volume, transmission leads into it");
     assert_eq!(
         (
             p.iridescence,

@@ -250,7 +250,7 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
         .on_hover_text("Index of refraction: water 1.333, glass 1.5, diamond 2.417");
     ui.add(egui::Slider::new(&mut p.transmission, 0.0..=1.0).text("transmission"))
         .on_hover_text("How much light passes through (glass 1)");
-    if p.transmission > 0.0 {
+    if p.transmission > 0.0 || p.diffuse_transmission > 0.0 {
         ui.checkbox(&mut p.thin_walled, "thin-walled")
             .on_hover_text("A sheet (a window pane, a leaf): light passes through without bending");
         ui.horizontal(|ui| {
@@ -275,7 +275,8 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
                 ui.label("Scattering colour");
                 ui.color_edit_button_rgb(&mut p.multiscatter_color)
                     .on_hover_text(
-                        "The colour a thick piece takes as light scatters inside it (milk, jade,                          wax); black: clear, absorbing only",
+                        "The colour a thick piece takes as light scatters inside it (milk, jade, wax); black: \
+                         clear, absorbing only",
                     );
             });
             if p.multiscatter_color != [0.0; 3] {

@@ -151,8 +151,10 @@ impl Loader<'_> {
             roughness: clamp01(pbr.roughness_factor()),
             ior,
             transmission: clamp01(transmission),
-            // glTF: transmission without a volume is a thin-walled surface.
-            thin_walled: transmission > 0.0 && volume.is_none(),
+            // glTF: transmission (specular or diffuse) without a volume is a thin-walled surface
+            // (no medium behind it: a leaf or a sheet of paper does not swallow the fog).
+            thin_walled: volume.is_none()
+                && (transmission > 0.0 || layers.diffuse_transmission > 0.0),
             attenuation_color: colour(attenuation_color).map(|c| c.min(1.0)),
             attenuation_distance,
             emission: colour(m.emissive_factor()),

@@ -9,8 +9,9 @@ use crate::material::{Material, Rgb};
 use crate::scene::{RenderSettings, Transform};
 
 /// The format version this build writes; it reads this and every earlier one. Version 2 added
-/// point, spot and directional lights (`lights`); version 3 the PBR material and environment maps.
-pub const FORMAT_VERSION: u32 = 4;
+/// point, spot and directional lights (`lights`); version 3 the PBR material and environment maps;
+/// version 5 the fog and scattering and subsurface volumes.
+pub const FORMAT_VERSION: u32 = 5;
 pub const PROJECT_FORMAT: &str = "rt-project";
 pub const LIGHTING_FORMAT: &str = "rt-lighting";
 

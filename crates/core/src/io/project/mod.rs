@@ -1,8 +1,9 @@
 //! Project files: a whole scene in one zip archive, so that a project can be mailed or moved
 //! without breaking paths.
 //!
-//! Layout (format version 4; version 1 had no `lights`, versions before 3 no environment, before 4
-//! no texture samplers, PBR emission textures or alpha modes):
+//! Layout (format version 5; version 1 had no `lights`, versions before 3 no environment, before 4
+//! no texture samplers, PBR emission textures or alpha modes, before 5 no fog, volume scattering
+//! or subsurface):
 //! - `project.json`: `{"format": "rt-project", "version": 1, ...}` with the camera, ambient light,
 //!   render settings (all but the diagnostic `nee_only`), and per object its name, material,
 //!   transform and the mesh entry it uses; per texture its name, size, sampler and image entry.
