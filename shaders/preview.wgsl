@@ -1,7 +1,7 @@
 // The editor's raster preview: each object shaded by its material's colour or texture under the
 // ambient light, the scene's point, spot and sun lights and the emissive objects (approximated as
 // point lights at their centres), lights
-// drawn glowing, the selection highlighted, and a ground grid. An approximation for placing things,
+// drawn glowing, the selection highlighted, fog as a haze, and a ground grid. An approximation for placing things,
 // not an estimate of the rendered image: the path tracer is the truth.
 
 const MAX_PREVIEW_LIGHTS: u32 = 8u;
@@ -24,12 +24,13 @@ struct PreviewView {
     view_proj: mat4x4<f32>,
     // xyz: camera position; w: exposure (scale applied before tone mapping).
     eye: vec4<f32>,
-    // rgb: ambient radiance; a unused.
+    // rgb: ambient radiance; a: the fog's density (0: none).
     ambient: vec4<f32>,
     light_count: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
+    // The radiance thick fog glows with (types.rs `PreviewView::fog_r`).
+    fog_r: f32,
+    fog_g: f32,
+    fog_b: f32,
     lights: array<PreviewLight, 8>,
 }
 
@@ -156,6 +157,13 @@ fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
         }
         // A PBR material's emission (colour x strength), the radiance the render gives it.
         radiance += o.emission.rgb;
+    }
+    // Fog between the eye and the surface: what lies behind it dims by exp(-density d) and the fog
+    // glows in its place (a uniform single-scattering approximation of the render's).
+    let density = view.ambient.a;
+    if density > 0.0 {
+        let t = exp(-density * length(view.eye.xyz - in.world));
+        radiance = radiance * t + vec3<f32>(view.fog_r, view.fog_g, view.fog_b) * (1.0 - t);
     }
     var color = display(radiance);
     if o.flags.x != 0u {

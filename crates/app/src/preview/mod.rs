@@ -167,14 +167,24 @@ pub fn build_frame(
     } else {
         1.0
     };
+    // Fog: what it glows with where it is thick, single scattering of the irradiance at the scene's
+    // centre, evenly (albedo · E / 4π); the shader blends it in by exp(−σ_t d).
+    let fog = &scene.fog;
+    let glow = if fog.is_on() {
+        Vec3::from(fog.albedo) * reference / (4.0 * std::f32::consts::PI)
+    } else {
+        Vec3::ZERO
+    };
     let mut view = PreviewView {
         view_proj: view_proj.to_cols_array_2d(),
         eye: Vec3::from(camera.from).extend(exposure).to_array(),
-        ambient: Vec3::from(scene.ambient).extend(0.0).to_array(),
+        ambient: Vec3::from(scene.ambient)
+            .extend(if fog.is_on() { fog.density } else { 0.0 })
+            .to_array(),
         light_count: lights.len() as u32,
-        _pad0: 0,
-        _pad1: 0,
-        _pad2: 0,
+        fog_r: glow.x,
+        fog_g: glow.y,
+        fog_b: glow.z,
         lights: [PreviewLight::default(); MAX_PREVIEW_LIGHTS],
     };
     view.lights[..lights.len()].copy_from_slice(&lights);

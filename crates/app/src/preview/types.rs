@@ -25,9 +25,11 @@ pub struct PreviewView {
     pub eye: [f32; 4],
     pub ambient: [f32; 4],
     pub light_count: u32,
-    pub _pad0: u32,
-    pub _pad1: u32,
-    pub _pad2: u32,
+    /// The fog's glow (`preview.wgsl`): the radiance it scatters towards the eye where it is
+    /// thick, per channel (its density is `ambient`'s w).
+    pub fog_r: f32,
+    pub fog_g: f32,
+    pub fog_b: f32,
     pub lights: [PreviewLight; MAX_PREVIEW_LIGHTS],
 }
 
@@ -144,9 +146,9 @@ mod tests {
                 eye,
                 ambient,
                 light_count,
-                _pad0,
-                _pad1,
-                _pad2,
+                fog_r,
+                fog_g,
+                fog_b,
                 lights
             ]
         );

@@ -217,3 +217,52 @@ fn clicking_a_light_mark_selects_the_light() {
     assert_eq!(harness.state().selected_light, None);
     assert_eq!(harness.state().selection, Some(0), "the floor");
 }
+
+/// Fog in the raster preview, as in the render: thick smoke (it only absorbs) darkens everything
+/// behind it, the lamp included; thick white fog hides the lamp in an even glow.
+#[test]
+fn fog_hazes_the_preview() {
+    if !have_gpu() {
+        return;
+    }
+    let centre_stats = |image: &image::RgbaImage| {
+        let (w, h) = image.dimensions();
+        let values: Vec<f64> = (h * 2 / 5..h * 3 / 5)
+            .flat_map(|y| (w * 2 / 5..w * 3 / 5).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let p = image.get_pixel(x, y).0;
+                (f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2])) / 3.0
+            })
+            .collect();
+        let n = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / n;
+        let spread = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+        (mean, spread)
+    };
+    let (_h, clear, _) = editor_on(floor_and_lamp(), "editor-fog-clear.png");
+    let (clear_mean, clear_spread) = centre_stats(&clear);
+    let mut smoke = floor_and_lamp();
+    smoke.fog = rt_core::fog::Fog {
+        density: 1.0,
+        albedo: [0.0; 3],
+        anisotropy: 0.0,
+    };
+    let (_h, smoky, shot) = editor_on(smoke, "editor-fog-smoke.png");
+    let (smoke_mean, _) = centre_stats(&smoky);
+    assert!(
+        smoke_mean < 0.25 * clear_mean,
+        "smoke {smoke_mean} against {clear_mean} without it (screenshot {shot})"
+    );
+    let mut white = floor_and_lamp();
+    white.fog = rt_core::fog::Fog {
+        density: 1.0,
+        ..Default::default()
+    };
+    let (_h, foggy, shot) = editor_on(white, "editor-fog-white.png");
+    let (fog_mean, fog_spread) = centre_stats(&foggy);
+    assert!(
+        fog_mean > 2.0 * smoke_mean && fog_spread < 0.25 * clear_spread,
+        "white fog: mean {fog_mean}, spread {fog_spread} against {clear_spread} clear \
+         (screenshot {shot})"
+    );
+}
