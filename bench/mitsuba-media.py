@@ -41,6 +41,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from mitsuba_images import compare
+
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
 WIDTH, HEIGHT, DEPTH = 160, 120, 64
@@ -242,36 +244,6 @@ def rt_render(out, spp, target, fog):
     return time.perf_counter() - started
 
 
-def pixels(mi, path):
-    bitmap = mi.Bitmap(str(path))
-    channels = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
-    data = list(mi.TensorXf(bitmap).array)
-    idx = [channels.index(c) for c in ("R", "G", "B")]
-    n = len(channels)
-    return [data[i * n + c] for i in range(WIDTH * HEIGHT) for c in idx]
-
-
-def compare(mi, image, reference):
-    a, b = pixels(mi, image), pixels(mi, reference)
-    means = []
-    for ch in range(3):
-        ma, mb = sum(a[ch::3]) / (WIDTH * HEIGHT), sum(b[ch::3]) / (WIDTH * HEIGHT)
-        means.append((ma, mb, ma / mb - 1))
-    blocks, bad = 0, 0
-    for by in range(0, HEIGHT - 31, 32):
-        for bx in range(0, WIDTH - 31, 32):
-            sa = sb = 0.0
-            for y in range(by, by + 32):
-                i, j = 3 * (y * WIDTH + bx), 3 * (y * WIDTH + bx + 32)
-                sa += sum(a[i:j])
-                sb += sum(b[i:j])
-            if sa + sb < 1e-3 * 32 * 32 * 3:
-                continue  # dark in both (the black beyond the floor)
-            blocks += 1
-            bad += abs(sa / sb - 1) > 0.05
-    return means, blocks, bad
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--spp", type=int, default=4096)
@@ -296,7 +268,7 @@ def main():
             t_mitsuba = time.perf_counter() - started
             rt_out = Path(tmp) / "rt.exr"
             t_rt = rt_render(out, args.rt_spp, rt_out, fog)
-            means, blocks, bad = compare(mi, rt_out, out / name)
+            means, blocks, bad = compare(mi, rt_out, out / name, WIDTH, HEIGHT)
         print(f"{'with' if fog else 'without'} fog: Mitsuba 3 {mi.__version__} llvm_ad_rgb, "
               f"{spp} spp: {t_mitsuba:.1f} s; rt (CPU backend) {args.rt_spp} spp: "
               f"{t_rt:.1f} s (with start-up)")

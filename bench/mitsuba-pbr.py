@@ -42,6 +42,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from mitsuba_images import compare
+
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
 WIDTH, HEIGHT, DEPTH = 256, 192, 8
@@ -191,34 +193,6 @@ def rt_render(out, spp, target):
     return time.perf_counter() - started
 
 
-def pixels(mi, path):
-    bitmap = mi.Bitmap(str(path))
-    channels = [bitmap.struct_()[i].name for i in range(bitmap.channel_count())]
-    data = list(mi.TensorXf(bitmap).array)
-    idx = [channels.index(c) for c in ("R", "G", "B")]
-    n = len(channels)
-    return [data[i * n + c] for i in range(WIDTH * HEIGHT) for c in idx]
-
-
-def compare(mi, image, reference):
-    a, b = pixels(mi, image), pixels(mi, reference)
-    means = []
-    for ch in range(3):
-        ma, mb = sum(a[ch::3]) / (WIDTH * HEIGHT), sum(b[ch::3]) / (WIDTH * HEIGHT)
-        means.append((ma, mb, ma / mb - 1))
-    blocks, bad = 0, 0
-    for by in range(0, HEIGHT, 32):
-        for bx in range(0, WIDTH, 32):
-            sa = sb = 0.0
-            for y in range(by, by + 32):
-                i, j = 3 * (y * WIDTH + bx), 3 * (y * WIDTH + bx + 32)
-                sa += sum(a[i:j])
-                sb += sum(b[i:j])
-            blocks += 1
-            bad += abs(sa / sb - 1) > 0.05
-    return means, blocks, bad
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--spp", type=int, default=4096)
@@ -241,7 +215,7 @@ def main():
         t_mitsuba = time.perf_counter() - started
         rt_out = Path(tmp) / "rt.exr"
         t_rt = rt_render(out, args.rt_spp, rt_out)
-        means, blocks, bad = compare(mi, rt_out, out / "reference.exr")
+        means, blocks, bad = compare(mi, rt_out, out / "reference.exr", WIDTH, HEIGHT)
     print(f"Mitsuba 3 {mi.__version__} llvm_ad_rgb, {args.spp} spp: {t_mitsuba:.1f} s")
     print(f"rt {args.rt_spp} spp: {t_rt:.1f} s (with start-up)")
     for ch, (a, b, d) in zip("RGB", means):

@@ -45,12 +45,7 @@ fn closed_room_radiance_is_the_geometric_series() {
                 assert_all_pixels(&image, [expected; 3], 1e-5, &what);
                 continue;
             }
-            let (mean, std_error) = pixel_mean_and_error(&image);
-            let expected = f64::from(expected);
-            assert!(
-                (mean - expected).abs() <= 4.0 * std_error + 1e-6,
-                "{what}: mean {mean} vs {expected} (σ {std_error})"
-            );
+            assert_mean(&image, f64::from(expected), &what);
         }
     }
 }

@@ -6,16 +6,6 @@ use super::*;
 use rt_core::gpu_types::Medium;
 use rt_core::shapes::cuboid;
 
-/// The image's mean red value must be `expected` within four standard errors (every pixel has the
-/// same expected value).
-fn assert_mean(image: &rt_gpu::Image, expected: f64, what: &str) {
-    let (mean, std_error) = pixel_mean_and_error(image);
-    assert!(
-        (mean - expected).abs() <= 4.0 * std_error + 1e-6,
-        "{what}: mean {mean} vs {expected} (σ {std_error})"
-    );
-}
-
 /// Inside a closed room of albedo a = ½ emitting Le = ½ the radiance is Le/(1 − a) = 1 everywhere.
 /// Fog that scatters without absorbing changes where light goes, never how much: with any density
 /// and anisotropy the room stays 1, and so it does with a scattering ball (its interior medium,

@@ -409,6 +409,36 @@ pub fn object_sums(
     })
 }
 
+/// Each object's own pixels (`object_sums`) against another renderer's reference image: the sum
+/// of its channels within `tolerance` (relative) of the reference's, so a small object cannot hide
+/// behind the image's mean. Prints each object's difference.
+pub fn assert_objects_match(
+    scene: &Scene,
+    image: &Image,
+    path: &std::path::Path,
+    who: &str,
+    tolerance: f64,
+) {
+    let sums = object_sums(scene, image, path);
+    for (object, (ours, theirs, pixels)) in scene.objects.iter().zip(sums) {
+        if pixels == 0 {
+            continue;
+        }
+        let difference = ours.iter().sum::<f64>() / theirs.iter().sum::<f64>() - 1.0;
+        eprintln!(
+            "{}: {pixels} pixels, rt/{who} {:+.2}%",
+            object.name,
+            100.0 * difference
+        );
+        assert!(
+            difference.abs() <= tolerance,
+            "{}: rt differs from {who} by {:+.2}% over its {pixels} pixels",
+            object.name,
+            100.0 * difference
+        );
+    }
+}
+
 /// As `object_sums`, for the pixels of object `name` in `tile` × `tile` squares of the image:
 /// entry (y / tile) · ⌈width / tile⌉ + x / tile.
 pub fn object_tile_sums(
