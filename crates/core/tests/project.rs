@@ -313,6 +313,7 @@ fn lighting_files_carry_only_ambient_and_emitters() {
     let scene = rich_scene();
     let lighting = Lighting::of(&scene);
     assert_eq!(lighting.lights.len(), 1, "the Cornell box has one light");
+    assert!(lighting.fog.is_on(), "the fog travels with the lighting");
     let dir = std::env::temp_dir().join(format!("rt-lighting-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("studio.rtlight");
@@ -329,6 +330,7 @@ fn lighting_files_carry_only_ambient_and_emitters() {
     };
     loaded.apply(&mut other);
     assert_eq!(other.ambient, scene.ambient);
+    assert_eq!(other.fog, scene.fog);
     assert_eq!(Lighting::of(&other), lighting);
     assert_eq!(
         other.lights.len(),

@@ -144,7 +144,9 @@ fn file_menu(app: &mut RtApp, ui: &mut egui::Ui) {
     ui.separator();
     if ui
         .button("Load lighting…")
-        .on_hover_text("Replace the ambient light and all lights with those of a .rtlight file")
+        .on_hover_text(
+            "Replace the ambient light, all lights and the fog with those of a .rtlight file",
+        )
         .clicked()
         && let Some(path) = rfd::FileDialog::new()
             .add_filter("rt lighting", &[LIGHTING_EXTENSION])
@@ -154,7 +156,7 @@ fn file_menu(app: &mut RtApp, ui: &mut egui::Ui) {
     }
     if ui
         .button("Save lighting…")
-        .on_hover_text("Save the ambient light and all lights to reuse in other projects")
+        .on_hover_text("Save the ambient light, all lights and the fog to reuse in other projects")
         .clicked()
         && let Some(path) = rfd::FileDialog::new()
             .add_filter("rt lighting", &[LIGHTING_EXTENSION])

@@ -53,6 +53,8 @@ pub struct Lighting {
     pub lights: Vec<Object>,
     /// Point, spot and directional lights.
     pub delta_lights: Vec<crate::light::Light>,
+    /// The fog (the Lights panel's too).
+    pub fog: crate::fog::Fog,
 }
 
 impl Lighting {
@@ -66,10 +68,11 @@ impl Lighting {
                 .cloned()
                 .collect(),
             delta_lights: scene.lights.clone(),
+            fog: scene.fog,
         }
     }
 
-    /// Replaces the scene's ambient light and emissive objects with these.
+    /// Replaces the scene's ambient light, emissive objects, lights and fog with these.
     pub fn apply(&self, scene: &mut Scene) {
         scene
             .objects
@@ -77,6 +80,7 @@ impl Lighting {
         scene.objects.extend(self.lights.iter().cloned());
         scene.lights = self.delta_lights.clone();
         scene.ambient = self.ambient;
+        scene.fog = self.fog;
     }
 }
 
@@ -98,6 +102,7 @@ pub fn save_lighting(lighting: &Lighting, path: &Path) -> Result<()> {
         objects: lighting.lights.clone(),
         ambient: lighting.ambient,
         lights: lighting.delta_lights.clone(),
+        fog: lighting.fog,
         ..Scene::default()
     };
     let bytes = encode_archive(&scene, LIGHTING_FORMAT, path)?;
@@ -121,6 +126,7 @@ pub fn load_lighting(path: &Path) -> Result<Lighting> {
         ambient: scene.ambient,
         lights: scene.objects,
         delta_lights: scene.lights,
+        fog: scene.fog,
     })
 }
 
