@@ -26,15 +26,8 @@ pub fn validate(scene: &Scene) -> Result<()> {
 /// Camera, image, path-length and emitter parameters; the renderer fills in the per-dispatch fields.
 pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
     let settings = &scene.settings;
-    settings.validate().map_err(Error::Scene)?;
+    validate(scene)?;
     let basis = scene.camera.basis().map_err(Error::Scene)?;
-    if !scene.ambient.iter().all(|c| c.is_finite() && *c >= 0.0) {
-        return Err(Error::Scene(format!(
-            "ambient colour must be finite and >= 0, got {:?}",
-            scene.ambient
-        )));
-    }
-    scene.fog.validate().map_err(Error::Scene)?;
     Ok(Frame {
         cam_origin: basis.origin.to_array(),
         lens_radius: scene.camera.aperture_radius,

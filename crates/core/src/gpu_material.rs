@@ -258,26 +258,27 @@ const MAX_EXTINCTION: f32 = 1e30;
 /// The medium inside a PBR volume: extinction from the attenuation, scattering from the
 /// multiple-scattering colour (`Pbr::multiscatter_color`).
 fn interior_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
-    let sigma_t = p.extinction().map(|s| s.min(MAX_EXTINCTION));
-    let albedo = p
-        .multiscatter_color
-        .map(crate::math::medium::single_scatter_albedo);
-    gpu_types::Medium {
-        sigma_t,
-        anisotropy: p.scatter_anisotropy,
-        sigma_s: std::array::from_fn(|c| albedo[c] * sigma_t[c]),
-        _pad: 0.0,
-    }
+    scattering_medium(p.extinction(), p.multiscatter_color, p.scatter_anisotropy)
 }
 
 /// The volume under a subsurface-scattering surface: mean free path `subsurface_radius` (σ_t =
 /// 1/radius per channel), looking like the base colour after many scatterings.
 fn subsurface_medium(p: &crate::material::Pbr) -> gpu_types::Medium {
-    let sigma_t = p.subsurface_radius.map(|r| (1.0 / r).min(MAX_EXTINCTION));
-    let albedo = p.base_color.map(crate::math::medium::single_scatter_albedo);
+    scattering_medium(
+        p.subsurface_radius.map(|r| 1.0 / r),
+        p.base_color,
+        p.scatter_anisotropy,
+    )
+}
+
+/// A medium of extinction `sigma_t` (capped) that looks `colour` after many scatterings
+/// (`math::medium::single_scatter_albedo`), with Henyey–Greenstein anisotropy `g`.
+fn scattering_medium(sigma_t: [f32; 3], colour: [f32; 3], g: f32) -> gpu_types::Medium {
+    let sigma_t = sigma_t.map(|s| s.min(MAX_EXTINCTION));
+    let albedo = colour.map(crate::math::medium::single_scatter_albedo);
     gpu_types::Medium {
         sigma_t,
-        anisotropy: p.scatter_anisotropy,
+        anisotropy: g,
         sigma_s: std::array::from_fn(|c| albedo[c] * sigma_t[c]),
         _pad: 0.0,
     }
