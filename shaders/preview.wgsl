@@ -1,36 +1,58 @@
-// The editor's raster preview: each object shaded by its material's colour or texture under the
-// ambient light, the scene's point, spot and sun lights and the emissive objects (approximated as
-// point lights at their centres), lights
-// drawn glowing, the selection highlighted, fog as a haze, and a ground grid. An approximation for placing things,
-// not an estimate of the rendered image: the path tracer is the truth.
+// The raster preview (the editor's first view and `rt-cli preview`): each object shaded with the
+// render's metallic-roughness model in the render's units, written as linear radiance for the
+// render's view transform to display.
+//
+// Per light, L = (f_diffuse + f_specular) E, E = I cosθ / d² (point, spot; an emitter's I follows
+// its projected area) or the sun's irradiance × cosθ, dimmed by the light's shadow map (3 × 3
+// comparisons). f_specular = D G₂ F / (4 cosθo cosθi) (GGX, height-correlated Smith, Schlick's
+// Fresnel) scaled by 1 + F0 (1/E(μo) − 1) for the energy multiple scattering keeps, as the render's
+// tables do; f_diffuse = (1 − metallic)(1 − transmission)(1 − E_spec(μo)) base/π.
+// Image-based light (Karis' split sum): the environment prefiltered per roughness (`env_blur`,
+// built on the CPU by `environment.rs`) times F0 A + B from the BRDF table (A + B = rt-core's GGX
+// albedo table), and the cosine-convolved environment times the diffuse albedo; bounce light as a
+// uniform radiance from the radiosity ambient term. Transmission shows what lies behind through a
+// blended pass (grey, unrefracted); emitters show their emission.
+// An approximation for placing things: the path tracer is the truth.
 
 const MAX_PREVIEW_LIGHTS: u32 = 8u;
-// How an object is shaded (PreviewObject.flags.w; crates/app/src/preview/types.rs `look`).
-const LOOK_DIFFUSE: u32 = 0u;
-const LOOK_METAL: u32 = 1u;
-const LOOK_GLASS: u32 = 2u;
-const LOOK_EMITTER: u32 = 3u;
+const PI: f32 = 3.14159265358979;
+// PreviewLight.shadow.x (crates/gpu/src/preview/types.rs `light_kind`).
+const LIGHT_POINT: u32 = 0u;
+const LIGHT_SPOT: u32 = 1u;
+const LIGHT_SUN: u32 = 2u;
+const LIGHT_EMITTER: u32 = 3u;
+// PreviewLight.shadow.y of a light without a shadow map.
+const NO_SHADOW: u32 = 0xffffffffu;
+// Layers of `env_blur`: GGX-prefiltered at roughness 0.25, 0.5, 0.75, 1, then cosine-convolved.
+const ENV_ROUGH_LAYERS: f32 = 4.0;
+const ENV_DIFFUSE_LAYER: u32 = 4u;
 
 struct PreviewLight {
-    // xyz: position; w unused.
     position: vec4<f32>,
-    // rgb: radiant intensity (W/sr-like, in scene units) over pi; a: a spot's cos(inner angle).
-    intensity: vec4<f32>,
-    // xyz: a spot's axis; w: cos(outer angle), or -2 (types.rs NO_CONE) for the other lights.
+    // rgb: W/sr (point, spot), W/m² (sun) or an emitter's radiance; a: an emitter's isotropic area.
+    color: vec4<f32>,
+    // xyz: spot axis, sun travel direction, or an emitter's area-weighted normal; w: cos(outer).
     direction: vec4<f32>,
+    // x: cos(inner); y: 1 for glTF's squared falloff; z: a shadow-map texel's size per unit of
+    // distance (a sun's: in all).
+    cone: vec4<f32>,
+    // x: kind; y: first shadow layer; z: layer count; w: emitting object + 1.
+    shadow: vec4<u32>,
 }
 
 struct PreviewView {
     view_proj: mat4x4<f32>,
-    // xyz: camera position; w: exposure (scale applied before tone mapping).
+    inverse_view_proj: mat4x4<f32>,
+    // xyz: camera position; w: the environment's rotation in turns.
     eye: vec4<f32>,
-    // rgb: ambient radiance; a: the fog's density (0: none).
-    ambient: vec4<f32>,
+    // rgb: the fog's glow; a: its density.
+    fog: vec4<f32>,
     light_count: u32,
-    // The radiance thick fog glows with (types.rs `PreviewView::fog_r`).
-    fog_r: f32,
-    fog_g: f32,
-    fog_b: f32,
+    // The radiance bounce light adds from every direction (frame.rs `bounce_radiance`); scalars,
+    // not a vec3: a uniform would align it to 16 bytes.
+    bounce_r: f32,
+    bounce_g: f32,
+    bounce_b: f32,
     lights: array<PreviewLight, 8>,
 }
 
@@ -38,17 +60,25 @@ struct PreviewObject {
     model: mat4x4<f32>,
     // Columns 0..2: the inverse transpose of the model's linear part.
     normal_matrix: mat4x4<f32>,
-    // rgb: reflectance (albedo, metal colour, glass tint); a: an alpha mask's threshold on the
-    // image's alpha (cutoff / alpha factor; 0 cuts nothing).
-    color: vec4<f32>,
-    // rgb: emitted radiance; black for non-emitters.
+    // rgb: base colour; a: an alpha mask's threshold on the image's alpha.
+    base_color: vec4<f32>,
+    // rgb: emitted radiance; a: the material's alpha.
     emission: vec4<f32>,
-    // x: selected, y: textured, z: has vertex normals, w: 0 diffuse, 1 metal, 2 glass, 3 emitter.
+    // metallic, roughness, transmission, dielectric F0.
+    params: vec4<f32>,
+    // x: selected, y: textured, z: has vertex normals.
     flags: vec4<u32>,
 }
 
 @group(0) @binding(0) var<uniform> view: PreviewView;
 @group(0) @binding(1) var<storage, read> objects: array<PreviewObject>;
+@group(0) @binding(2) var<storage, read> shadow_matrices: array<mat4x4<f32>>;
+@group(0) @binding(3) var shadow_map: texture_depth_2d_array;
+@group(0) @binding(4) var shadow_sampler: sampler_comparison;
+@group(0) @binding(5) var env_sharp: texture_2d<f32>;
+@group(0) @binding(6) var env_blur: texture_2d_array<f32>;
+@group(0) @binding(7) var brdf_table: texture_2d<f32>;
+@group(0) @binding(8) var linear_sampler: sampler;
 @group(1) @binding(0) var albedo_texture: texture_2d<f32>;
 @group(1) @binding(1) var albedo_sampler: sampler;
 
@@ -79,98 +109,268 @@ fn vs_mesh(v: MeshVertex, @builtin(instance_index) object: u32) -> MeshVarying {
     return out;
 }
 
-fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
-    let lo = c * 12.92;
-    let hi = 1.055 * pow(max(c, vec3<f32>(0.0)), vec3<f32>(1.0 / 2.4)) - 0.055;
-    return select(hi, lo, c <= vec3<f32>(0.0031308));
+// The shadow pass: instance = layer × (objects' capacity) + object.
+@vertex
+fn vs_shadow(v: MeshVertex, @builtin(instance_index) instance: u32) -> @builtin(position) vec4<f32> {
+    let capacity = arrayLength(&objects);
+    let o = objects[instance % capacity];
+    let world = o.model * vec4<f32>(v.position, 1.0);
+    return shadow_matrices[instance / capacity] * world;
 }
 
-// Reinhard on each channel, then sRGB: the offscreen target is plain RGBA8 (see the blit).
-fn display(radiance: vec3<f32>) -> vec4<f32> {
-    let x = radiance * view.eye.w;
-    return vec4<f32>(srgb_encode(x / (vec3<f32>(1.0) + x)), 1.0);
+// Radiance arriving from direction d, from the environment prefiltered for `roughness`.
+fn environment(d: vec3<f32>, roughness: f32) -> vec3<f32> {
+    var u = atan2(d.x, -d.z) * (0.5 / PI) - view.eye.w;
+    u = u - floor(u);
+    let uv = vec2<f32>(u, acos(clamp(d.y, -1.0, 1.0)) / PI);
+    let sharp = textureSampleLevel(env_sharp, linear_sampler, uv, 0.0).rgb;
+    let level = clamp(roughness, 0.0, 1.0) * ENV_ROUGH_LAYERS;
+    if level < 1.0 {
+        let blur = textureSampleLevel(env_blur, linear_sampler, uv, 0u, 0.0).rgb;
+        return mix(sharp, blur, level);
+    }
+    let lo = u32(min(floor(level), ENV_ROUGH_LAYERS)) - 1u;
+    let hi = min(lo + 1u, u32(ENV_ROUGH_LAYERS) - 1u);
+    let a = textureSampleLevel(env_blur, linear_sampler, uv, lo, 0.0).rgb;
+    let b = textureSampleLevel(env_blur, linear_sampler, uv, hi, 0.0).rgb;
+    return mix(a, b, level - floor(level));
 }
 
-@fragment
-fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
+fn irradiance_over_pi(n: vec3<f32>) -> vec3<f32> {
+    var u = atan2(n.x, -n.z) * (0.5 / PI) - view.eye.w;
+    u = u - floor(u);
+    let uv = vec2<f32>(u, acos(clamp(n.y, -1.0, 1.0)) / PI);
+    return textureSampleLevel(env_blur, linear_sampler, uv, ENV_DIFFUSE_LAYER, 0.0).rgb;
+}
+
+// The split-sum scale and bias (A, B) of a GGX reflector at (μ, roughness): E = F0 A + B.
+fn brdf_scale_bias(mu: f32, roughness: f32) -> vec2<f32> {
+    let n = f32(textureDimensions(brdf_table).x);
+    let uv = vec2<f32>(clamp(mu, 0.5 / n, 1.0 - 0.5 / n), (clamp(roughness, 0.0, 1.0) * (n - 1.0) + 0.5) / n);
+    return textureSampleLevel(brdf_table, linear_sampler, uv, 0.0).rg;
+}
+
+fn ggx_d(n_h: f32, a2: f32) -> f32 {
+    let k = n_h * n_h * (a2 - 1.0) + 1.0;
+    return a2 / max(PI * k * k, 1e-12);
+}
+
+// G₂ / (4 cosθo cosθi), height-correlated.
+fn smith_visibility(n_v: f32, n_l: f32, a2: f32) -> f32 {
+    let gv = n_l * sqrt(n_v * n_v * (1.0 - a2) + a2);
+    let gl = n_v * sqrt(n_l * n_l * (1.0 - a2) + a2);
+    return 0.5 / max(gv + gl, 1e-12);
+}
+
+fn fresnel_schlick(f0: vec3<f32>, c: f32) -> vec3<f32> {
+    let x = 1.0 - clamp(c, 0.0, 1.0);
+    let x2 = x * x;
+    return f0 + (vec3<f32>(1.0) - f0) * (x2 * x2 * x);
+}
+
+// Which layer of a light's shadow map holds point p: a point light's cube face by the major axis.
+fn shadow_layer(light: PreviewLight, p: vec3<f32>) -> u32 {
+    if light.shadow.z < 6u {
+        return light.shadow.y;
+    }
+    let d = p - light.position.xyz;
+    let a = abs(d);
+    if a.x >= a.y && a.x >= a.z {
+        return light.shadow.y + select(1u, 0u, d.x > 0.0);
+    }
+    if a.y >= a.z {
+        return light.shadow.y + select(3u, 2u, d.y > 0.0);
+    }
+    return light.shadow.y + select(5u, 4u, d.z > 0.0);
+}
+
+// The fraction of the light's shadow map that sees p (1: lit), pushed along the normal by about a
+// texel so that a surface does not shadow itself.
+fn shadow(light: PreviewLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    if light.shadow.y == NO_SHADOW {
+        return 1.0;
+    }
+    var texel = light.cone.z;
+    if light.shadow.x != LIGHT_SUN {
+        texel *= length(p - light.position.xyz);
+    }
+    let q = p + n * (2.0 * texel);
+    let layer = shadow_layer(light, q);
+    let clip = shadow_matrices[layer] * vec4<f32>(q, 1.0);
+    if clip.w <= 0.0 {
+        return 1.0;
+    }
+    let ndc = clip.xyz / clip.w;
+    if abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0 {
+        return 1.0;
+    }
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    let step = 1.0 / f32(textureDimensions(shadow_map).x);
+    var lit = 0.0;
+    for (var y = -1; y <= 1; y++) {
+        for (var x = -1; x <= 1; x++) {
+            let at = uv + vec2<f32>(f32(x), f32(y)) * step;
+            lit += textureSampleCompareLevel(shadow_map, shadow_sampler, at, layer, ndc.z);
+        }
+    }
+    return lit / 9.0;
+}
+
+// Irradiance-like factor of a light at p: what multiplies (f cosθ) in L (E / cosθ), and the
+// direction towards it.
+struct Incoming {
+    strength: vec3<f32>,
+    l: vec3<f32>,
+}
+
+fn incoming(light: PreviewLight, p: vec3<f32>) -> Incoming {
+    var out: Incoming;
+    if light.shadow.x == LIGHT_SUN {
+        out.l = -light.direction.xyz;
+        out.strength = light.color.rgb;
+        return out;
+    }
+    let d = light.position.xyz - p;
+    let d2 = max(dot(d, d), 1e-12);
+    out.l = d * inverseSqrt(d2);
+    var intensity = light.color.rgb;
+    if light.shadow.x == LIGHT_SPOT {
+        let c = dot(-out.l, light.direction.xyz);
+        let t = clamp((c - light.direction.w) / max(light.cone.x - light.direction.w, 1e-6), 0.0, 1.0);
+        intensity *= select(t * t * (3.0 - 2.0 * t), t * t, light.cone.y > 0.5);
+    } else if light.shadow.x == LIGHT_EMITTER {
+        // Radiance × projected area towards p: the area-weighted normal's part plus an isotropic
+        // part (exact for a flat emitter and for a sphere).
+        intensity *= max(dot(light.direction.xyz, -out.l), 0.0) + light.color.a;
+    }
+    out.strength = intensity / d2;
+    return out;
+}
+
+struct Shaded {
+    radiance: vec3<f32>,
+    // How much of what lies behind shows through (transmission).
+    through: f32,
+}
+
+fn shade(o: PreviewObject, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>) -> Shaded {
+    let v = normalize(view.eye.xyz - p);
+    var n = n_in;
+    // Two-sided: shade the side that faces the camera.
+    if dot(n, v) < 0.0 {
+        n = -n;
+    }
+    let metallic = clamp(o.params.x, 0.0, 1.0);
+    let roughness = clamp(o.params.y, 0.0, 1.0);
+    let transmission = clamp(o.params.z, 0.0, 1.0) * (1.0 - metallic);
+    let a = max(roughness * roughness, 2e-3);
+    let a2 = a * a;
+    let f0 = mix(vec3<f32>(o.params.w), base, metallic);
+    let n_v = max(dot(n, v), 1e-4);
+    let ab = brdf_scale_bias(n_v, roughness);
+    let e_spec = f0 * ab.x + vec3<f32>(ab.y);
+    let e_white = max(ab.x + ab.y, 1e-3);
+    let compensation = vec3<f32>(1.0) + f0 * (1.0 / e_white - 1.0);
+    let diffuse = (1.0 - metallic) * (1.0 - transmission) * (vec3<f32>(1.0) - e_spec) * base / PI;
+    var radiance = vec3<f32>(0.0);
+    for (var i = 0u; i < min(view.light_count, MAX_PREVIEW_LIGHTS); i++) {
+        let light = view.lights[i];
+        let inc = incoming(light, p);
+        let n_l = dot(n, inc.l);
+        if n_l <= 0.0 || all(inc.strength <= vec3<f32>(0.0)) {
+            continue;
+        }
+        let h = normalize(inc.l + v);
+        let spec = ggx_d(max(dot(n, h), 0.0), a2) * smith_visibility(n_v, n_l, a2)
+            * fresnel_schlick(f0, dot(v, h)) * compensation;
+        radiance += (diffuse + spec) * inc.strength * n_l * shadow(light, p, n);
+    }
+    // Image-based light: the prefiltered environment along the mirror direction, the diffuse part
+    // from its cosine convolution.
+    let r = reflect(-v, n);
+    let bounce = vec3<f32>(view.bounce_r, view.bounce_g, view.bounce_b);
+    radiance += (environment(r, roughness) + bounce) * e_spec * compensation;
+    radiance += diffuse * PI * (irradiance_over_pi(n) + bounce);
+    radiance += o.emission.rgb;
+    var out: Shaded;
+    out.radiance = radiance;
+    let f = fresnel_schlick(f0, n_v);
+    out.through = transmission * (1.0 - dot(f, vec3<f32>(1.0 / 3.0))) * dot(base, vec3<f32>(1.0 / 3.0));
+    return out;
+}
+
+// The fog between the eye and p: what lies behind dims by exp(−σ_t d) and the fog glows in its place.
+fn fogged(radiance: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    let density = view.fog.a;
+    if density <= 0.0 {
+        return radiance;
+    }
+    let t = exp(-density * length(view.eye.xyz - p));
+    return radiance * t + view.fog.rgb * (1.0 - t);
+}
+
+fn surface(in: MeshVarying) -> vec4<f32> {
     // Derivatives and texture sampling need uniform control flow: take them first.
     let face = cross(dpdx(in.world), dpdy(in.world));
     let sampled = textureSample(albedo_texture, albedo_sampler, in.uv);
-    let texel = sampled.rgb;
     let o = objects[in.object];
-    if sampled.a < o.color.a {
+    if sampled.a < o.base_color.a {
         discard;
     }
-    let to_eye = normalize(view.eye.xyz - in.world);
     var n = normalize(face);
     if o.flags.z != 0u && dot(in.normal, in.normal) > 0.0 {
         n = normalize(in.normal);
     }
-    // Two-sided: shade the side that faces the camera.
-    if dot(n, to_eye) < 0.0 {
-        n = -n;
-    }
-    var albedo = o.color.rgb;
-    // A texture replaces the albedo, as in the renderer.
+    var base = o.base_color.rgb;
+    // A texture replaces the base colour, as in the renderer.
     if o.flags.y != 0u {
-        albedo = texel;
+        base = sampled.rgb;
     }
-    var radiance: vec3<f32>;
-    if o.flags.w == LOOK_EMITTER {
-        // Lights glow in their colour at a fixed display brightness, whatever their power.
-        let e = o.emission.rgb / max(max(o.emission.r, max(o.emission.g, o.emission.b)), 1e-6);
-        radiance = (vec3<f32>(0.5) + 3.5 * e) / max(view.eye.w, 1e-6);
-    } else {
-        var irradiance = view.ambient.rgb;
-        var highlight = vec3<f32>(0.0);
-        // emission.w: a PBR material's roughness (its Blinn-Phong equivalent exponent 2/alpha^2 - 2
-        // sizes the highlight), or < 0 for the other materials (exponent 64).
-        let r = o.emission.w;
-        let shininess = select(64.0, clamp(2.0 / max(r * r * r * r, 1e-4) - 2.0, 2.0, 2048.0), r >= 0.0);
-        for (var i = 0u; i < min(view.light_count, MAX_PREVIEW_LIGHTS); i++) {
-            let light = view.lights[i];
-            let d = light.position.xyz - in.world;
-            let d2 = max(dot(d, d), 1e-12);
-            let l = d * inverseSqrt(d2);
-            var intensity = light.intensity.rgb;
-            if light.direction.w > -1.5 {
-                // A spot: the renderer's smoothstep falloff between its cones.
-                let c = dot(-l, light.direction.xyz);
-                let t = clamp((c - light.direction.w) / max(light.intensity.a - light.direction.w, 1e-6), 0.0, 1.0);
-                intensity *= t * t * (3.0 - 2.0 * t);
-            }
-            irradiance += intensity * max(dot(n, l), 0.0) / d2;
-            let h = normalize(l + to_eye);
-            highlight += intensity / d2 * pow(max(dot(n, h), 0.0), shininess) * (shininess + 2.0) / 66.0;
-        }
-        // A weak headlight keeps unlit sides readable.
-        let fill = 0.08 / max(view.eye.w, 1e-6) * max(dot(n, to_eye), 0.0);
-        radiance = albedo * (irradiance + vec3<f32>(fill));
-        if o.flags.w == LOOK_METAL {
-            radiance = radiance * 0.6 + albedo * highlight;
-        } else if o.flags.w == LOOK_DIFFUSE && r >= 0.0 {
-            // A PBR dielectric: its specular layer reflects about 4% of the light, untinted.
-            radiance += 0.04 * highlight;
-        } else if o.flags.w == LOOK_GLASS {
-            let fresnel = pow(1.0 - max(dot(n, to_eye), 0.0), 5.0);
-            radiance = radiance * 0.35 + highlight + vec3<f32>(fresnel) / max(view.eye.w, 1e-6);
-        }
-        // A PBR material's emission (colour x strength), the radiance the render gives it.
-        radiance += o.emission.rgb;
-    }
-    // Fog between the eye and the surface: what lies behind it dims by exp(-density d) and the fog
-    // glows in its place (a uniform single-scattering approximation of the render's).
-    let density = view.ambient.a;
-    if density > 0.0 {
-        let t = exp(-density * length(view.eye.xyz - in.world));
-        radiance = radiance * t + vec3<f32>(view.fog_r, view.fog_g, view.fog_b) * (1.0 - t);
-    }
-    var color = display(radiance);
+    let shaded = shade(o, base, in.world, n);
+    var radiance = fogged(shaded.radiance, in.world);
     if o.flags.x != 0u {
-        let rim = pow(1.0 - max(dot(n, to_eye), 0.0), 2.0);
-        color = vec4<f32>(mix(color.rgb, vec3<f32>(1.0, 0.55, 0.1), 0.25 + 0.6 * rim), 1.0);
+        let to_eye = normalize(view.eye.xyz - in.world);
+        let rim = pow(1.0 - abs(dot(n, to_eye)), 2.0);
+        radiance = mix(radiance, vec3<f32>(1.0, 0.3, 0.02), 0.2 + 0.6 * rim);
     }
-    return color;
+    // Premultiplied by the material's alpha; the blended pass keeps 1 − a of what lies behind.
+    let alpha = o.emission.a * select(1.0, sampled.a, o.flags.y != 0u);
+    return vec4<f32>(radiance * alpha, alpha * (1.0 - shaded.through));
+}
+
+@fragment
+fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
+    return surface(in);
+}
+
+// The background: the environment seen along each pixel's view ray (a full-screen triangle at the
+// far plane).
+struct BackgroundVarying {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+@vertex
+fn vs_background(@builtin(vertex_index) index: u32) -> BackgroundVarying {
+    let x = f32((index << 1u) & 2u) * 2.0 - 1.0;
+    let y = f32(index & 2u) * 2.0 - 1.0;
+    var out: BackgroundVarying;
+    out.clip = vec4<f32>(x, y, 1.0, 1.0);
+    out.ndc = vec2<f32>(x, y);
+    return out;
+}
+
+@fragment
+fn fs_background(in: BackgroundVarying) -> @location(0) vec4<f32> {
+    let far = view.inverse_view_proj * vec4<f32>(in.ndc, 1.0, 1.0);
+    let near = view.inverse_view_proj * vec4<f32>(in.ndc, 0.0, 1.0);
+    let d = normalize(far.xyz / far.w - near.xyz / near.w);
+    var radiance = environment(d, 0.0);
+    if view.fog.a > 0.0 {
+        // Rays that leave the scene travel on through the fog: all glow.
+        radiance = view.fog.rgb;
+    }
+    return vec4<f32>(radiance, 1.0);
 }
 
 struct GridVertex {
@@ -183,15 +383,21 @@ struct GridVarying {
     @location(0) color: vec4<f32>,
 }
 
+fn srgb_decode(c: vec3<f32>) -> vec3<f32> {
+    let lo = c / 12.92;
+    let hi = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
+    return select(hi, lo, c <= vec3<f32>(0.04045));
+}
+
 @vertex
 fn vs_grid(v: GridVertex) -> GridVarying {
     var out: GridVarying;
     out.clip = view.view_proj * vec4<f32>(v.position, 1.0);
-    out.color = v.color;
+    out.color = vec4<f32>(srgb_decode(v.color.rgb), v.color.a);
     return out;
 }
 
 @fragment
 fn fs_grid(in: GridVarying) -> @location(0) vec4<f32> {
-    return in.color;
+    return vec4<f32>(in.color.rgb * in.color.a, in.color.a);
 }

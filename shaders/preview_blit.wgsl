@@ -1,5 +1,6 @@
-// Copies the offscreen image into egui's pass. The offscreen image holds sRGB-encoded values; a
-// target that encodes sRGB itself gets them decoded first.
+// Shows the raster preview's image (linear radiance) in egui's pass as the path-traced view shows
+// its own: the standard view at exposure 0 (each channel clamped to [0, 1]), sRGB-encoded unless
+// the target encodes it.
 override TARGET_IS_SRGB: bool = false;
 
 @group(0) @binding(0) var blit_source: texture_2d<f32>;
@@ -21,17 +22,17 @@ fn vs_blit(@builtin(vertex_index) index: u32) -> BlitVarying {
     return out;
 }
 
-fn srgb_decode(c: vec3<f32>) -> vec3<f32> {
-    let lo = c / 12.92;
-    let hi = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
-    return select(hi, lo, c <= vec3<f32>(0.04045));
+fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
+    let lo = c * 12.92;
+    let hi = 1.055 * pow(max(c, vec3<f32>(0.0)), vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(hi, lo, c <= vec3<f32>(0.0031308));
 }
 
 @fragment
 fn fs_blit(in: BlitVarying) -> @location(0) vec4<f32> {
-    let c = textureSample(blit_source, blit_sampler, in.uv);
+    let c = clamp(textureSample(blit_source, blit_sampler, in.uv).rgb, vec3<f32>(0.0), vec3<f32>(1.0));
     if TARGET_IS_SRGB {
-        return vec4<f32>(srgb_decode(c.rgb), 1.0);
+        return vec4<f32>(c, 1.0);
     }
-    return vec4<f32>(c.rgb, 1.0);
+    return vec4<f32>(srgb_encode(c), 1.0);
 }

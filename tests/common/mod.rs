@@ -466,8 +466,6 @@ fn region_sums(
     region: impl Fn(usize, u32, u32) -> Option<usize>,
 ) -> Vec<([f64; 3], [f64; 3], usize)> {
     let (width, height) = (image.width, image.height);
-    let gpu_scene = rt_core::GpuScene::build(scene).unwrap();
-    let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
     let theirs: Vec<[f32; 3]> = ::image::open(path)
         .unwrap_or_else(|e| panic!("reading {}: {e}", path.display()))
         .to_rgb32f()
@@ -475,33 +473,46 @@ fn region_sums(
         .map(|p| p.0)
         .collect();
     let mut sums = vec![([0.0f64; 3], [0.0f64; 3], 0usize); regions];
-    for y in 0..height {
-        for x in 0..width {
+    for (i, hit) in pixel_hits(scene, width, height).into_iter().enumerate() {
+        let Some((object, _)) = hit else {
+            continue;
+        };
+        let (x, y) = (i as u32 % width, i as u32 / width);
+        let Some(r) = region(object, x, y) else {
+            continue;
+        };
+        let s = &mut sums[r];
+        for (c, (ours, reference)) in s.0.iter_mut().zip(&mut s.1).enumerate() {
+            *ours += f64::from(image.pixels[i][c]);
+            *reference += f64::from(theirs[i][c]);
+        }
+        s.2 += 1;
+    }
+    sums
+}
+
+/// Per pixel of a `width` × `height` image of `scene`: the object a camera ray through its centre
+/// first lands on (the pinhole camera's) and where, or `None` where the ray leaves the scene.
+pub fn pixel_hits(scene: &Scene, width: u32, height: u32) -> Vec<Option<(usize, Vec3)>> {
+    let gpu_scene = rt_core::GpuScene::build(scene).unwrap();
+    let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
+    let origin = Vec3::from(frame.cam_origin);
+    (0..width * height)
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
             let sx =
                 (2.0 * (x as f32 + 0.5) / width as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
             let sy = (1.0 - 2.0 * (y as f32 + 0.5) / height as f32) * frame.tan_half_vfov;
             let direction = (sx * Vec3::from(frame.cam_u) + sy * Vec3::from(frame.cam_v)
                 - Vec3::from(frame.cam_w))
             .normalize();
-            let hit =
-                rt_core::reference::trace(&gpu_scene, frame.cam_origin.into(), direction, f32::MAX);
-            if hit.triangle == u32::MAX {
-                continue;
-            }
-            let object = gpu_scene.triangles[hit.triangle as usize].material as usize;
-            let Some(r) = region(object, x, y) else {
-                continue;
-            };
-            let i = (y * width + x) as usize;
-            let s = &mut sums[r];
-            for (c, (ours, reference)) in s.0.iter_mut().zip(&mut s.1).enumerate() {
-                *ours += f64::from(image.pixels[i][c]);
-                *reference += f64::from(theirs[i][c]);
-            }
-            s.2 += 1;
-        }
-    }
-    sums
+            let hit = rt_core::reference::trace(&gpu_scene, origin, direction, f32::MAX);
+            (hit.triangle != u32::MAX).then(|| {
+                let object = gpu_scene.triangles[hit.triangle as usize].material as usize;
+                (object, origin + direction * hit.t)
+            })
+        })
+        .collect()
 }
 
 /// Compares a render with another renderer's reference image (`path`, an EXR of the same size):

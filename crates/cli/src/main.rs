@@ -8,6 +8,7 @@ mod interactive;
 mod merge;
 mod options;
 mod plot;
+mod preview;
 mod render;
 mod scene_args;
 mod series;
@@ -36,6 +37,9 @@ struct Cli {
 enum Command {
     /// Render a scene (the embedded Cornell box when none is given) to an image.
     Render(render::RenderArgs),
+    /// The editor's raster preview of a scene, saved as an image (same scene and view flags as
+    /// render; milliseconds, an approximation of the render).
+    Preview(preview::PreviewArgs),
     /// Merge render parts (`render --shard`) into the frame: exact, and itself a part as .exr.
     Merge(merge::MergeArgs),
     /// Print a scene's objects, materials, triangle count and bounds.
@@ -76,6 +80,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render::run(args, cli.verbose),
         Command::Info(args) => info::run(args, cli.verbose),
+        Command::Preview(args) => preview::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Compare(args) => compare::run(args),

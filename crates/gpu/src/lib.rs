@@ -32,6 +32,7 @@ mod outputs;
 mod pipeline_cache;
 mod pipeline_lifetime;
 pub mod pipelines;
+pub mod preview;
 pub mod progressive;
 pub mod renderer;
 pub mod shaders;

@@ -243,7 +243,7 @@ pub const TRACE_RAYS_HW: ShaderModule = ShaderModule {
     ],
 };
 
-/// The editor's raster preview (used by `rt-app`; validated here with the others).
+/// The raster preview (`crate::preview`: the editor's first view and `rt-cli preview`).
 pub const PREVIEW: ShaderModule = ShaderModule {
     name: "preview",
     files: &["shaders/preview.wgsl"],

@@ -165,7 +165,7 @@ impl RtApp {
     pub fn from_creation_context(cc: &eframe::CreationContext<'_>, options: &AppOptions) -> Self {
         let mut app = RtApp::new(options, Some(cc.egui_ctx.clone()));
         if let Some(render_state) = &cc.wgpu_render_state {
-            crate::preview::gpu::install(render_state);
+            crate::preview::install(render_state);
             app.preview_available = true;
             let info = render_state.adapter.get_info();
             app.display_adapter = Some(rt_gpu::context::adapter_label(&info));

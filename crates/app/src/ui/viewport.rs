@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3};
 use super::{gizmo, light_marks};
 use crate::app::RtApp;
 use crate::navigation;
-use crate::preview::{build_frame, gpu::PreviewCallback};
+use crate::preview::{PreviewCallback, build_frame};
 
 pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());

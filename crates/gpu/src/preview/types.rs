@@ -5,52 +5,73 @@ use bytemuck::{Pod, Zeroable};
 
 pub const MAX_PREVIEW_LIGHTS: usize = 8;
 
-#[repr(C, align(16))]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
-pub struct PreviewLight {
-    pub position: [f32; 4],
-    /// rgb: radiant intensity over π; a: a spot's cos(inner angle).
-    pub intensity: [f32; 4],
-    /// xyz: a spot's axis (where it shines); w: cos(outer angle), or `NO_CONE` for the others.
-    pub direction: [f32; 4],
+/// `PreviewLight::shadow[1]` of a light without a shadow map.
+pub const NO_SHADOW: u32 = u32::MAX;
+
+/// What a preview light is (`PreviewLight::shadow[0]`, the `LIGHT_*` constants of the shader).
+pub mod light_kind {
+    pub const POINT: u32 = 0;
+    pub const SPOT: u32 = 1;
+    pub const SUN: u32 = 2;
+    /// An emissive object, drawn as a light at its centre whose intensity follows the object's
+    /// projected area (`frame.rs`, `emitter_light`).
+    pub const EMITTER: u32 = 3;
 }
 
-/// `PreviewLight::direction`'s w for a light without a cone (below any cosine).
-pub const NO_CONE: f32 = -2.0;
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PreviewLight {
+    /// xyz: where the light is (a sun's is unused); w: unused.
+    pub position: [f32; 4],
+    /// rgb: radiant intensity in W/sr (point, spot), irradiance in W/m² (sun) or an emitter's
+    /// radiance; a: an emitter's isotropic part of its projected area, (A − |N|)/4.
+    pub color: [f32; 4],
+    /// xyz: a spot's axis or a sun's direction of travel (unit), or an emitter's area-weighted
+    /// normal N; w: a spot's cos(outer angle).
+    pub direction: [f32; 4],
+    /// x: a spot's cos(inner angle); y: 1 for glTF's squared falloff, 0 for smoothstep; z: the
+    /// world-space size of a shadow-map texel per unit of distance from the light (a sun's: in
+    /// all), how far a lookup is pushed along the normal.
+    pub cone: [f32; 4],
+    /// x: `light_kind`; y: its first shadow-map layer (`NO_SHADOW`: none); z: its layer count
+    /// (6 for a point light's cube, else 1); w: the emitting object's index + 1 (0: none), which
+    /// its own shadow map leaves out.
+    pub shadow: [u32; 4],
+}
 
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct PreviewView {
     pub view_proj: [[f32; 4]; 4],
+    /// The inverse of `view_proj` (the background's view directions).
+    pub inverse_view_proj: [[f32; 4]; 4],
+    /// xyz: the camera's position; w: the environment's rotation about +y in radians.
     pub eye: [f32; 4],
-    pub ambient: [f32; 4],
+    /// rgb: the fog's glow (the radiance it scatters towards the eye where it is thick); a: its
+    /// density (0: none).
+    pub fog: [f32; 4],
     pub light_count: u32,
-    /// The fog's glow (`preview.wgsl`): the radiance it scatters towards the eye where it is
-    /// thick, per channel (its density is `ambient`'s w).
-    pub fog_r: f32,
-    pub fog_g: f32,
-    pub fog_b: f32,
+    /// The radiance bounce light adds from every direction (`frame.rs`, `bounce_radiance`).
+    pub bounce_r: f32,
+    pub bounce_g: f32,
+    pub bounce_b: f32,
     pub lights: [PreviewLight; MAX_PREVIEW_LIGHTS],
 }
 
-/// How the preview shades an object (`PreviewObject::flags[3]`, the `LOOK_*` constants of
-/// `shaders/preview.wgsl`): an approximation chosen per material, not the material's kind
-/// (`rt_core::MaterialKind`); the preview's match over `Material` gives each material one.
-pub mod look {
-    pub const DIFFUSE: u32 = 0;
-    pub const METAL: u32 = 1;
-    pub const GLASS: u32 = 2;
-    pub const EMITTER: u32 = 3;
-}
-
 #[repr(C, align(16))]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PreviewObject {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 4],
-    pub color: [f32; 4],
+    /// rgb: base colour; a: an alpha mask's threshold on the image's alpha (cutoff / alpha factor;
+    /// 0 cuts nothing).
+    pub base_color: [f32; 4],
+    /// rgb: emitted radiance (black for non-emitters); a: the material's alpha (blended objects).
     pub emission: [f32; 4],
-    /// selected, textured, has vertex normals, kind.
+    /// metallic, roughness, transmission, specular reflectance at normal incidence of its
+    /// dielectric layer (0 for a plain Lambertian).
+    pub params: [f32; 4],
+    /// selected, textured, has vertex normals, unused.
     pub flags: [u32; 4],
 }
 
@@ -67,6 +88,7 @@ pub struct MeshVertex {
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GridVertex {
     pub position: [f32; 3],
+    /// sRGB-encoded colour; alpha: the fade.
     pub color: [f32; 4],
 }
 
@@ -76,7 +98,7 @@ mod tests {
     use std::mem::{offset_of, size_of};
 
     fn wgsl_layout(name: &str) -> (usize, Vec<(String, usize)>) {
-        let source = rt_gpu::shaders::PREVIEW.source();
+        let source = crate::shaders::PREVIEW.source();
         let module = naga::front::wgsl::parse_str(&source).expect("preview.wgsl parses");
         let ty = module
             .types
@@ -107,14 +129,15 @@ mod tests {
     }
 
     #[test]
-    fn preview_looks_match_the_shader() {
-        let source = rt_gpu::shaders::PREVIEW.source();
+    fn preview_light_kinds_match_the_shader() {
+        let source = crate::shaders::PREVIEW.source();
         let module = naga::front::wgsl::parse_str(&source).expect("preview.wgsl parses");
         for (name, value) in [
-            ("LOOK_DIFFUSE", look::DIFFUSE),
-            ("LOOK_METAL", look::METAL),
-            ("LOOK_GLASS", look::GLASS),
-            ("LOOK_EMITTER", look::EMITTER),
+            ("LIGHT_POINT", light_kind::POINT),
+            ("LIGHT_SPOT", light_kind::SPOT),
+            ("LIGHT_SUN", light_kind::SUN),
+            ("LIGHT_EMITTER", light_kind::EMITTER),
+            ("NO_SHADOW", NO_SHADOW),
         ] {
             let (_, c) = module
                 .constants
@@ -136,26 +159,27 @@ mod tests {
         check!(
             "PreviewLight",
             PreviewLight,
-            [position, intensity, direction]
+            [position, color, direction, cone, shadow]
         );
         check!(
             "PreviewView",
             PreviewView,
             [
                 view_proj,
+                inverse_view_proj,
                 eye,
-                ambient,
+                fog,
                 light_count,
-                fog_r,
-                fog_g,
-                fog_b,
+                bounce_r,
+                bounce_g,
+                bounce_b,
                 lights
             ]
         );
         check!(
             "PreviewObject",
             PreviewObject,
-            [model, normal_matrix, color, emission, flags]
+            [model, normal_matrix, base_color, emission, params, flags]
         );
     }
 }

@@ -6,9 +6,9 @@ use std::sync::Arc;
 use rt_core::Mesh;
 use wgpu::util::DeviceExt;
 
-use super::PreviewResources;
-use crate::preview::PreviewFrame;
-use crate::preview::types::MeshVertex;
+use super::PreviewRenderer;
+use super::frame::PreviewFrame;
+use super::types::MeshVertex;
 
 pub(super) struct CachedMesh {
     pub(super) vertices: wgpu::Buffer,
@@ -25,7 +25,7 @@ pub(super) struct CachedTexture {
     last_used: u64,
 }
 
-impl PreviewResources {
+impl PreviewRenderer {
     /// Uploads the meshes and textures of `frame` not cached yet, marks those it uses as used at
     /// `now`, and drops the ones it has not used for a while.
     pub(super) fn update_caches(
@@ -44,7 +44,7 @@ impl PreviewResources {
         }
         for texture in frame.textures.iter().flatten() {
             let key = Arc::as_ptr(&texture.texels) as *const u8 as usize;
-            let (layout, sampler) = (&self.texture_layout, &self.sampler);
+            let (layout, sampler) = (&self.pipelines.texture_layout, &self.pipelines.sampler);
             self.textures
                 .entry(key)
                 .or_insert_with(|| CachedTexture {

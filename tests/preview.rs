@@ -1,0 +1,202 @@
+//! The raster preview (`rt_gpu::preview`, the editor's first view and `rt-cli preview`) against the
+//! path tracer on a small showroom: every object's mean colour within 25% of the converged render
+//! of the same view (the emitter within 5%; docs/editor.md records each), the emitter visibly
+//! bright, a metal brighter at its highlight than a diffuse surface of the same base colour, and
+//! the floor dark where a box blocks the sun.
+
+mod common;
+
+use common::{camera, object, pbr, pixel_hits, scene, settings};
+use glam::Vec3;
+use rt_core::material::Pbr;
+use rt_core::shapes::{cuboid, quad, uv_sphere};
+use rt_core::{Light, LightKind, Material, Object, Scene};
+
+const WIDTH: u32 = 160;
+const HEIGHT: u32 = 120;
+
+fn at(mut o: Object, position: [f32; 3]) -> Object {
+    o.transform.translation = position;
+    o
+}
+
+/// A grey floor under a sun, a point light and a dim sky; on it a gold sphere, a diffuse sphere of
+/// gold's base colour, a red box (which shades part of the floor from the sun), and an orange lamp.
+fn showroom() -> Scene {
+    let gold = [1.0, 0.77, 0.34];
+    let objects = vec![
+        object(
+            "floor",
+            quad(Vec3::ZERO, Vec3::Y, 12.0),
+            pbr(Pbr {
+                base_color: [0.5; 3],
+                roughness: 0.8,
+                ..Default::default()
+            }),
+        ),
+        at(
+            object(
+                "gold",
+                uv_sphere(0.5, 32, 64),
+                pbr(Pbr {
+                    base_color: gold,
+                    metallic: 1.0,
+                    roughness: 0.3,
+                    ..Default::default()
+                }),
+            ),
+            [-1.2, 0.5, 0.0],
+        ),
+        at(
+            object(
+                "ochre",
+                uv_sphere(0.5, 32, 64),
+                pbr(Pbr {
+                    base_color: gold,
+                    roughness: 0.5,
+                    ..Default::default()
+                }),
+            ),
+            [0.0, 0.5, 0.0],
+        ),
+        object(
+            "red box",
+            cuboid(Vec3::new(0.8, 0.0, -0.4), Vec3::new(1.6, 0.8, 0.4), false),
+            pbr(Pbr {
+                base_color: [0.7, 0.08, 0.06],
+                roughness: 0.4,
+                ..Default::default()
+            }),
+        ),
+        at(
+            object(
+                "lamp",
+                uv_sphere(0.2, 16, 32),
+                Material::Emissive {
+                    color: [1.0, 0.5, 0.15],
+                    intensity: 6.0,
+                },
+            ),
+            [0.6, 1.5, 1.0],
+        ),
+    ];
+    let mut s = scene(
+        objects,
+        camera(Vec3::new(0.0, 2.2, 5.0), Vec3::new(0.0, 0.4, 0.0), 40.0),
+        [0.15; 3],
+        settings(WIDTH, HEIGHT, 256, 8),
+    );
+    let mut sun = Light::new(LightKind::Directional, "sun");
+    sun.direction = Vec3::new(0.5, -1.0, -0.3).normalize().to_array();
+    sun.intensity = 3.0;
+    let mut point = Light::new(LightKind::Point, "point");
+    point.position = [-1.5, 2.5, 1.5];
+    point.intensity = 3.0;
+    s.lights = vec![sun, point];
+    s
+}
+
+fn luminance(c: [f32; 3]) -> f64 {
+    f64::from(0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2])
+}
+
+#[test]
+fn the_preview_looks_like_the_render_object_by_object() {
+    let Some(ctx) = common::gpu() else { return };
+    let scene = showroom();
+    let frame =
+        rt_gpu::preview::build_frame(&scene, &scene.camera, scene.bounds(), None, [WIDTH, HEIGHT]);
+    let preview = rt_gpu::preview::render_image(ctx, &frame).expect("the preview renders");
+    let render: Vec<[f32; 3]> = common::render(ctx, &scene)
+        .pixels
+        .iter()
+        .map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    for (name, image) in [("preview", &preview), ("render", &render)] {
+        let path = dir.join(format!("showroom-{name}.png"));
+        rt_core::output::save_image(&path, WIDTH, HEIGHT, image, 0.0).expect("saved");
+        eprintln!("{name}: {}", path.display());
+    }
+    assert!(preview.iter().flatten().all(|c| c.is_finite() && *c >= 0.0));
+
+    let hits = pixel_hits(&scene, WIDTH, HEIGHT);
+    let mean = |image: &[[f32; 3]], keep: &dyn Fn(usize, Vec3) -> bool| {
+        let (mut sum, mut n) = ([0.0f64; 3], 0usize);
+        for (pixel, hit) in image.iter().zip(&hits) {
+            if let Some((object, p)) = *hit
+                && keep(object, p)
+            {
+                for c in 0..3 {
+                    sum[c] += f64::from(pixel[c]);
+                }
+                n += 1;
+            }
+        }
+        assert!(n > 20, "{n} pixels");
+        sum.map(|s| (s / n as f64) as f32)
+    };
+    // Each object's mean colour (its luminance) against the render's.
+    let mut worst = 0.0f64;
+    for (i, o) in scene.objects.iter().enumerate() {
+        let ours = mean(&preview, &|object, _| object == i);
+        let theirs = mean(&render, &|object, _| object == i);
+        let ratio = luminance(ours) / luminance(theirs);
+        eprintln!(
+            "{:8} preview {:.3?} render {:.3?}: {:+.1}%",
+            o.name,
+            ours,
+            theirs,
+            100.0 * (ratio - 1.0)
+        );
+        worst = worst.max((ratio - 1.0).abs());
+        if matches!(o.material, Material::Emissive { .. }) {
+            assert!((ratio - 1.0).abs() < 0.05, "{}: {ratio}", o.name);
+        }
+    }
+    assert!(
+        worst <= 0.25,
+        "an object is {:.0}% off the render",
+        100.0 * worst
+    );
+
+    // The lamp shows its emission, brighter than anything it lights.
+    let lamp = mean(&preview, &|object, _| object == 4);
+    let floor = mean(&preview, &|object, _| object == 0);
+    assert!(
+        luminance(lamp) > 5.0 * luminance(floor),
+        "{lamp:?} vs {floor:?}"
+    );
+    // Gold's highlight outshines the diffuse sphere of the same base colour.
+    let peak = |object: usize| {
+        preview
+            .iter()
+            .zip(&hits)
+            .filter(|(_, h)| h.is_some_and(|(o, _)| o == object))
+            .map(|(p, _)| luminance(*p))
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        peak(1) > 1.5 * peak(2),
+        "gold {} vs ochre {}",
+        peak(1),
+        peak(2)
+    );
+    // The floor where the red box blocks the sun (a shadow ray towards it meets something).
+    let gpu_scene = rt_core::GpuScene::build(&scene).unwrap();
+    let towards_sun = -Vec3::from(scene.lights[0].direction);
+    let shaded = |p: Vec3| {
+        rt_core::reference::trace(&gpu_scene, p + Vec3::Y * 1e-3, towards_sun, f32::MAX).triangle
+            != u32::MAX
+    };
+    let near = |p: Vec3| p.x.abs() < 3.0 && p.z.abs() < 2.0;
+    for (name, image) in [("preview", &preview), ("render", &render)] {
+        let dark = luminance(mean(image, &|o, p| o == 0 && near(p) && shaded(p)));
+        let lit = luminance(mean(image, &|o, p| o == 0 && near(p) && !shaded(p)));
+        eprintln!("{name}: floor in shadow {dark:.3}, in the sun {lit:.3}");
+        assert!(
+            dark < 0.6 * lit,
+            "{name}: shadowed floor {dark} vs lit {lit}"
+        );
+    }
+}
