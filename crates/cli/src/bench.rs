@@ -50,7 +50,11 @@ pub struct BenchArgs {
     /// denoised view against a reference.
     #[arg(long)]
     interactive: bool,
-    /// The interactive view's size.
+    /// Measure the editor's raster preview instead (`rt_gpu::preview`): its first frame and the
+    /// frames of a camera orbit, at --view-size.
+    #[arg(long, conflicts_with = "interactive")]
+    preview: bool,
+    /// The interactive view's (and the preview's) size.
     #[arg(long, default_value = "1280x720", value_parser = crate::interactive::parse_size)]
     view_size: [u32; 2],
     /// How long the interactive view refines after the drag.
@@ -227,7 +231,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     };
     options.validate()?;
     let suite = bench_suite(&args)?;
-    if args.interactive {
+    if args.interactive || args.preview {
         let mut scenes = Vec::new();
         // A name that matches exactly selects that scene alone ("cornell", not its variants).
         let exact = args
@@ -245,6 +249,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
             if wanted {
                 scenes.push((name, scene()?));
             }
+        }
+        if args.preview {
+            return crate::preview_bench::run(&ctx, scenes, args.view_size);
         }
         let interactive = crate::interactive::InteractiveArgs {
             size: args.view_size,
@@ -378,9 +385,9 @@ fn megabytes(mb: Option<f64>) -> String {
 
 /// The suite on the native CPU backend: the same scenes, paths/s, rays/s and peak memory.
 fn run_on_cpu(args: &BenchArgs) -> Result<()> {
-    if args.interactive || args.generic || args.engine.kernel.is_some() {
+    if args.interactive || args.preview || args.generic || args.engine.kernel.is_some() {
         anyhow::bail!(
-            "--interactive, --generic and --kernel measure the GPU path; drop them with --device cpu"
+            "--interactive, --preview, --generic and --kernel measure the GPU path; drop them with --device cpu"
         );
     }
     let label = format!(

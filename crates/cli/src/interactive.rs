@@ -70,7 +70,7 @@ impl Frames {
     }
 }
 
-fn percentile(values: &[Duration], p: f64) -> Duration {
+pub fn percentile(values: &[Duration], p: f64) -> Duration {
     if values.is_empty() {
         return Duration::ZERO;
     }
@@ -79,12 +79,12 @@ fn percentile(values: &[Duration], p: f64) -> Duration {
     sorted[((sorted.len() - 1) as f64 * p).round() as usize]
 }
 
-fn ms(d: Duration) -> f64 {
+pub fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
 }
 
 /// The camera orbited by `degrees` about the vertical through its target.
-fn orbit(scene: &Scene, degrees: f32) -> Scene {
+pub fn orbit(scene: &Scene, degrees: f32) -> Scene {
     let mut scene = scene.clone();
     let to = glam::Vec3::from(scene.camera.to);
     let offset = glam::Vec3::from(scene.camera.from) - to;

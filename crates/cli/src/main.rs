@@ -9,6 +9,7 @@ mod merge;
 mod options;
 mod plot;
 mod preview;
+mod preview_bench;
 mod render;
 mod scene_args;
 mod series;

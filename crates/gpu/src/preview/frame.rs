@@ -354,6 +354,10 @@ pub fn build_frame(
         fog: glow
             .extend(if fog.is_on() { fog.density } else { 0.0 })
             .to_array(),
+        ambient: match &scene.environment {
+            Some(_) => [0.0; 4],
+            None => Vec3::from(scene.ambient).extend(1.0).to_array(),
+        },
         light_count: lights.len() as u32,
         bounce_r: bounce.x,
         bounce_g: bounce.y,

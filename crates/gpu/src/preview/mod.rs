@@ -269,6 +269,19 @@ impl PreviewRenderer {
         self.draw_meshes(&mut pass, frame, true);
     }
 
+    /// Draws `frame` and waits until the GPU has finished it (what a frame costs, for benchmarks).
+    pub fn draw_and_wait(&mut self, ctx: &GpuContext, frame: &PreviewFrame) -> Result<()> {
+        ctx.scoped(|| {
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            self.render(&ctx.device, &ctx.queue, &mut encoder, frame);
+            ctx.queue.submit([encoder.finish()]);
+        })?;
+        ctx.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Wgpu(e.to_string()))?;
+        Ok(())
+    }
+
     fn draw_meshes(&self, pass: &mut wgpu::RenderPass<'_>, frame: &PreviewFrame, blended: bool) {
         for (i, mesh) in frame.meshes.iter().enumerate() {
             if frame.blended.get(i).copied().unwrap_or(false) != blended {

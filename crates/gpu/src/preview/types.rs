@@ -50,6 +50,9 @@ pub struct PreviewView {
     /// rgb: the fog's glow (the radiance it scatters towards the eye where it is thick); a: its
     /// density (0: none).
     pub fog: [f32; 4],
+    /// rgb: a constant environment's radiance (the ambient colour); a: 1 when the environment is
+    /// constant, which the shader then reads here instead of from its images.
+    pub ambient: [f32; 4],
     pub light_count: u32,
     /// The radiance bounce light adds from every direction (`frame.rs`, `bounce_radiance`).
     pub bounce_r: f32,
@@ -169,6 +172,7 @@ mod tests {
                 inverse_view_proj,
                 eye,
                 fog,
+                ambient,
                 light_count,
                 bounce_r,
                 bounce_g,
