@@ -169,6 +169,7 @@ impl RtApp {
             app.preview_available = true;
             let info = render_state.adapter.get_info();
             app.display_adapter = Some(rt_gpu::context::adapter_label(&info));
+            app.live.enabled = opens_path_traced(info.device_type);
         }
         app
     }
@@ -196,12 +197,37 @@ impl RtApp {
     }
 }
 
+/// Whether the viewport opens path-traced: on a discrete GPU, whose first image takes a few
+/// milliseconds; integrated GPUs and CPU adapters (lavapipe) open on the raster preview, which
+/// answers at once there (P switches either way).
+pub fn opens_path_traced(device_type: wgpu::DeviceType) -> bool {
+    device_type == wgpu::DeviceType::DiscreteGpu
+}
+
 impl RenderView {
     /// The exposure and view transform the viewer shows and saves with.
     pub fn view(&self) -> rt_core::output::View {
         rt_core::output::View {
             transform: self.transform,
             exposure_stops: self.exposure,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_discrete_gpus_open_the_viewport_path_traced() {
+        assert!(opens_path_traced(wgpu::DeviceType::DiscreteGpu));
+        for other in [
+            wgpu::DeviceType::IntegratedGpu,
+            wgpu::DeviceType::Cpu,
+            wgpu::DeviceType::VirtualGpu,
+            wgpu::DeviceType::Other,
+        ] {
+            assert!(!opens_path_traced(other), "{other:?}");
         }
     }
 }

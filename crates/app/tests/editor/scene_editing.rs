@@ -521,7 +521,8 @@ fn picking_a_preset_from_the_gallery() {
         app.gallery.ready() == rt_app::presets::PRESETS.len()
     });
     harness.run_ok();
-    harness.get_by_label("Gold").click();
+    // Below the material's sections: clicked as a screen reader would, wherever it has scrolled.
+    harness.get_by_label("Gold").click_accesskit();
     harness.run_ok();
     let gold = rt_app::presets::PRESETS
         .iter()
@@ -542,4 +543,57 @@ fn picking_a_preset_from_the_gallery() {
     image
         .save(std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("editor-gallery.png"))
         .unwrap();
+}
+
+/// The Inspector shows one physically based material in sections whatever the kind; looking at a
+/// Lambertian object leaves it Lambertian, and the old kinds are presets to start from.
+#[test]
+fn the_inspector_shows_one_sectioned_material_and_presets() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("tall_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "tall_block");
+    let before = harness.state().doc.scene.objects[index].material.clone();
+    assert!(matches!(before, Material::Lambertian { .. }));
+    for section in [
+        "Base",
+        "Specular",
+        "Transmission",
+        "Coat",
+        "Sheen",
+        "Emission",
+        "Alpha",
+    ] {
+        harness.get_by_label(section);
+    }
+    harness.get_by_label("Start from");
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.objects[index].material,
+        before,
+        "showing a material does not change it"
+    );
+    // Opening a section shows its fields.
+    harness.get_by_label("Coat").click();
+    harness.run_ok();
+    assert!(harness.get_all_by_label("clear coat").next().is_some());
+    // An edit makes the material physically based, keeping the colour, in one undo step.
+    let Material::Lambertian { albedo, .. } = before else {
+        unreachable!()
+    };
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::Slider, "roughness")
+        .set_value_accesskit(0.3);
+    harness.run_ok();
+    let Material::Pbr(p) = &harness.state().doc.scene.objects[index].material else {
+        panic!("a physically based material after the edit")
+    };
+    assert_eq!((p.roughness, p.base_color, p.specular), (0.3, albedo, 0.0));
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(harness.state().doc.scene.objects[index].material, before);
 }

@@ -3,7 +3,7 @@
 
 use egui::{DragValue, Ui};
 
-use super::material::{kind_list, kind_of, material_fields, with_kind};
+use super::material::{kind_list, kind_of, material_editor, with_kind};
 use super::vec3_row;
 use crate::app::RtApp;
 use crate::presets::PRESETS;
@@ -129,26 +129,6 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
     ui.label(format!("{} triangles", object.mesh.indices.len()));
 
     ui.add_space(4.0);
-    ui.strong("Material");
-    let current = kind_of(&object.material);
-    ui.horizontal_wrapped(|ui| {
-        for (kind, label, tip) in kind_list() {
-            if ui
-                .selectable_label(current == kind, label)
-                .on_hover_text(tip)
-                .clicked()
-                && current != kind
-            {
-                object.material = with_kind(&object.material, kind, texture_count);
-            }
-        }
-    });
-    material_fields(ui, &mut object.material, texture_count, &mut choose_texture);
-    if let Some(material) = gallery(app, ui) {
-        object.material = material;
-    }
-
-    ui.add_space(4.0);
     ui.strong("Transform").on_hover_text(
         "Scale, then rotate (X, Y, Z in degrees), then translate; drag or type, arrow keys nudge",
     );
@@ -195,6 +175,28 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
             app.ui.pending_delete = Some(index);
         }
     });
+
+    ui.add_space(4.0);
+    ui.strong("Material");
+    let current = kind_of(&object.material);
+    ui.horizontal_wrapped(|ui| {
+        ui.weak("Start from")
+            .on_hover_text("Presets of the material below: each sets it to a simple kind");
+        for (kind, label, tip) in kind_list() {
+            if ui
+                .selectable_label(current == kind, label)
+                .on_hover_text(tip)
+                .clicked()
+                && current != kind
+            {
+                object.material = with_kind(&object.material, kind, texture_count);
+            }
+        }
+    });
+    material_editor(ui, &mut object.material, texture_count, &mut choose_texture);
+    if let Some(material) = gallery(app, ui) {
+        object.material = material;
+    }
 
     if object != app.doc.scene.objects[index] {
         app.doc.edit(

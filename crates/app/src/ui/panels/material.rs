@@ -1,5 +1,8 @@
-//! Material editing for the Inspector: the material kinds, switching between them, and the fields
-//! of each kind (the physically based material's textures and alpha included).
+//! Material editing for the Inspector: one physically based material in sections (base, specular,
+//! transmission, subsurface, coat, sheen, thin film, anisotropy, emission, alpha), which every
+//! material is shown as; the other kinds (diffuse, texture, metal, glass, emissive) are presets
+//! to start from. A material of another kind shows as its physically based equivalent
+//! (`as_pbr`) and becomes physically based when a field is changed.
 
 use egui::{DragValue, Ui};
 use rt_core::{Material, MaterialKind};
@@ -87,78 +90,90 @@ pub(super) fn with_kind(m: &Material, kind: Kind, textures: usize) -> Material {
     }
 }
 
-pub(super) fn material_fields(
+/// The physically based material a material of another kind is shown as: a Lambertian is rough
+/// with no specular layer (F0 = F90 = 0: what is left is base/π), a glass smooth and transmitting
+/// with its tint as base colour, an emitter black without a specular layer and with its emission;
+/// a metal's fuzz becomes GGX roughness, which spreads its reflection a little differently.
+pub(super) fn as_pbr(material: &Material) -> rt_core::material::Pbr {
+    use rt_core::material::Pbr;
+    match material {
+        Material::Pbr(p) => (**p).clone(),
+        Material::Lambertian { albedo, texture } => Pbr {
+            base_color: *albedo,
+            texture: *texture,
+            roughness: 1.0,
+            specular: 0.0,
+            ..Default::default()
+        },
+        Material::Metal { albedo, fuzz } => Pbr {
+            base_color: *albedo,
+            metallic: 1.0,
+            roughness: *fuzz,
+            ..Default::default()
+        },
+        Material::Dielectric { ior, tint } => Pbr {
+            base_color: *tint,
+            ior: *ior,
+            roughness: 0.0,
+            transmission: 1.0,
+            ..Default::default()
+        },
+        Material::Emissive { color, intensity } => Pbr {
+            base_color: [0.0; 3],
+            specular: 0.0,
+            emission: *color,
+            emission_strength: *intensity,
+            ..Default::default()
+        },
+    }
+}
+
+/// The sectioned editor over `material`: it stays as it is until a field changes, and then becomes
+/// the physically based material the fields describe.
+pub(super) fn material_editor(
     ui: &mut Ui,
     material: &mut Material,
     textures: usize,
     choose: &mut bool,
 ) {
-    match material {
-        Material::Lambertian {
-            albedo,
-            texture: None,
-        } => {
-            ui.horizontal(|ui| {
-                ui.label("Colour");
-                ui.color_edit_button_rgb(albedo)
-                    .on_hover_text("Diffuse reflectance (albedo)");
-            });
-        }
-        Material::Lambertian {
-            texture: Some(t), ..
-        } => {
-            ui.horizontal(|ui| {
-                ui.label("Image");
-                egui::ComboBox::from_id_salt("texture")
-                    .selected_text(format!("texture {t}"))
-                    .show_ui(ui, |ui| {
-                        for i in 0..textures {
-                            ui.selectable_value(t, i, format!("texture {i}"));
-                        }
-                    })
-                    .response
-                    .on_hover_text("Which of the scene's images colours this object");
-                if ui
-                    .button("Choose image…")
-                    .on_hover_text("Load a PNG, JPEG, PPM or EXR image as this object's colour")
-                    .clicked()
-                {
-                    *choose = true;
-                }
-            });
-        }
-        Material::Metal { albedo, fuzz } => {
-            ui.horizontal(|ui| {
-                ui.label("Colour");
-                ui.color_edit_button_rgb(albedo)
-                    .on_hover_text("Reflectance at normal incidence");
-            });
-            ui.add(egui::Slider::new(fuzz, 0.0..=1.0).text("fuzz"))
-                .on_hover_text("0 is a perfect mirror; 1 is very rough");
-        }
-        Material::Dielectric { ior, tint } => {
-            ui.add(egui::Slider::new(ior, 1.0..=4.0).text("IOR"))
-                .on_hover_text("Index of refraction: water 1.333, glass 1.5, diamond 2.417");
-            ui.horizontal(|ui| {
-                ui.label("Tint");
-                ui.color_edit_button_rgb(tint)
-                    .on_hover_text("Colour of light passing through");
-            });
-        }
-        Material::Emissive { color, intensity } => {
-            ui.horizontal(|ui| {
-                ui.label("Colour");
-                ui.color_edit_button_rgb(color)
-                    .on_hover_text("Colour of the emitted light");
-            });
-            ui.horizontal(|ui| {
-                ui.label("Intensity");
-                ui.add(DragValue::new(intensity).speed(0.1).range(0.0..=1e9))
-                    .on_hover_text("Emitted radiance = colour × intensity (W/(sr m²) per unit)");
-            });
-        }
-        Material::Pbr(p) => pbr_fields(ui, p, textures, choose),
+    let mut p = as_pbr(material);
+    let before = p.clone();
+    pbr_sections(ui, &mut p, textures, choose);
+    if differs(&before, &p) {
+        *material = Material::Pbr(Box::new(p));
     }
+}
+
+/// Whether an edit changed the material: a colour field hands its value back through its own
+/// conversion (up to about 1e-5 off), which is no change.
+fn differs(a: &rt_core::material::Pbr, b: &rt_core::material::Pbr) -> bool {
+    fn apart(a: &serde_json::Value, b: &serde_json::Value) -> bool {
+        use serde_json::Value;
+        match (a, b) {
+            (Value::Number(x), Value::Number(y)) => {
+                let (x, y) = (x.as_f64().unwrap_or(0.0), y.as_f64().unwrap_or(0.0));
+                (x - y).abs() > 1e-4 * x.abs().max(y.abs()).max(1.0)
+            }
+            (Value::Array(x), Value::Array(y)) => {
+                x.len() != y.len() || x.iter().zip(y).any(|(x, y)| apart(x, y))
+            }
+            (Value::Object(x), Value::Object(y)) => {
+                x.len() != y.len() || x.iter().any(|(k, v)| y.get(k).is_none_or(|w| apart(v, w)))
+            }
+            _ => a != b,
+        }
+    }
+    match (serde_json::to_value(a), serde_json::to_value(b)) {
+        (Ok(a), Ok(b)) => apart(&a, &b),
+        _ => a != b,
+    }
+}
+
+/// A section of the editor: open at first when it holds something other than its defaults.
+fn section(ui: &mut Ui, title: &str, open: bool, body: impl FnOnce(&mut Ui)) {
+    egui::CollapsingHeader::new(title)
+        .default_open(open)
+        .show(ui, body);
 }
 
 /// A combo choosing one of the scene's images (or none) for a texture slot.
@@ -187,8 +202,41 @@ fn texture_slot(
     });
 }
 
-/// Every parameter of the physically based material (glTF metallic-roughness).
-fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choose: &mut bool) {
+/// Every parameter of the physically based material (glTF metallic-roughness and its
+/// `KHR_materials_*` layers), in sections.
+fn pbr_sections(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choose: &mut bool) {
+    let d = rt_core::material::Pbr::default();
+    section(ui, "Base", true, |ui| base_fields(ui, p, textures, choose));
+    let specular =
+        p.specular != d.specular || p.specular_color != d.specular_color || p.ior != d.ior;
+    section(ui, "Specular", specular, |ui| specular_fields(ui, p));
+    let transmits = p.transmission > 0.0 || p.diffuse_transmission > 0.0;
+    section(ui, "Transmission", transmits, |ui| {
+        transmission_fields(ui, p)
+    });
+    if !p.thin_walled {
+        section(ui, "Subsurface", p.subsurface > 0.0, |ui| {
+            subsurface_fields(ui, p)
+        });
+    }
+    section(ui, "Coat", p.clearcoat > 0.0, |ui| coat_fields(ui, p));
+    let sheen = p.sheen_color.iter().any(|&c| c > 0.0);
+    section(ui, "Sheen", sheen, |ui| sheen_fields(ui, p));
+    section(ui, "Thin film", p.iridescence > 0.0, |ui| {
+        film_fields(ui, p)
+    });
+    section(ui, "Anisotropy", p.anisotropy > 0.0, |ui| {
+        anisotropy_fields(ui, p)
+    });
+    let emits = p.emission_strength > 0.0 && p.emission.iter().any(|&c| c > 0.0);
+    section(ui, "Emission", emits, |ui| emission_fields(ui, p, textures));
+    let alpha = p.alpha_mode != rt_core::material::AlphaMode::Opaque;
+    section(ui, "Alpha", alpha, |ui| alpha_fields(ui, p));
+    layer_images(ui, p, textures);
+}
+
+/// Base colour (and its image), metallic, roughness and their image, the normal map.
+fn base_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choose: &mut bool) {
     ui.horizontal(|ui| {
         ui.label("Base colour");
         ui.color_edit_button_rgb(&mut p.base_color)
@@ -222,6 +270,10 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
             *choose = true;
         }
     });
+    ui.add(egui::Slider::new(&mut p.metallic, 0.0..=1.0).text("metallic"))
+        .on_hover_text("0: plastic, wood, stone; 1: metal");
+    ui.add(egui::Slider::new(&mut p.roughness, 0.0..=1.0).text("roughness"))
+        .on_hover_text("0 is a mirror; 1 is matte");
     texture_slot(
         ui,
         "Metal/rough image",
@@ -242,14 +294,35 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
         ui.add(egui::Slider::new(&mut p.normal_scale, 0.0..=2.0).text("normal strength"))
             .on_hover_text("Scales the normal map's tilt");
     }
-    ui.add(egui::Slider::new(&mut p.metallic, 0.0..=1.0).text("metallic"))
-        .on_hover_text("0: plastic, wood, stone; 1: metal");
-    ui.add(egui::Slider::new(&mut p.roughness, 0.0..=1.0).text("roughness"))
-        .on_hover_text("0 is a mirror; 1 is matte");
+}
+
+/// The dielectric layer: its index of refraction, strength and tint.
+fn specular_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
     ui.add(egui::Slider::new(&mut p.ior, 1.0..=3.0).text("IOR"))
         .on_hover_text("Index of refraction: water 1.333, glass 1.5, diamond 2.417");
+    ui.add(egui::Slider::new(&mut p.specular, 0.0..=1.0).text("specular"))
+        .on_hover_text("Scales the non-metal's reflection (1: what the IOR gives; 0: none)");
+    ui.horizontal(|ui| {
+        ui.label("Specular tint");
+        ui.color_edit_button_rgb(&mut p.specular_color)
+            .on_hover_text("Tints the non-metal's reflection at normal incidence");
+    });
+}
+
+/// Light through the surface: refraction with its medium (absorption, scattering, dispersion), and
+/// diffuse transmission through thin sheets.
+fn transmission_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
     ui.add(egui::Slider::new(&mut p.transmission, 0.0..=1.0).text("transmission"))
         .on_hover_text("How much light passes through (glass 1)");
+    ui.add(egui::Slider::new(&mut p.diffuse_transmission, 0.0..=1.0).text("diffuse transmission"))
+        .on_hover_text("Light through a thin diffuse sheet: leaves, paper, lampshades");
+    if p.diffuse_transmission > 0.0 {
+        ui.horizontal(|ui| {
+            ui.label("Transmitted colour");
+            ui.color_edit_button_rgb(&mut p.diffuse_transmission_color)
+                .on_hover_text("The colour of the light that comes through");
+        });
+    }
     if p.transmission > 0.0 || p.diffuse_transmission > 0.0 {
         ui.checkbox(&mut p.thin_walled, "thin-walled")
             .on_hover_text("A sheet (a window pane, a leaf): light passes through without bending");
@@ -288,8 +361,16 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
             }
         }
     }
-    subsurface_fields(ui, p);
-    layer_fields(ui, p, textures);
+    if p.transmission > 0.0 && !p.thin_walled {
+        ui.add(egui::Slider::new(&mut p.dispersion, 0.0..=2.0).text("dispersion"))
+            .on_hover_text(
+                "Splits white light into colours, as a prism or a diamond does (20 / Abbe number: \
+                 crown glass 0.3, flint 0.6, diamond 0.9)",
+            );
+    }
+}
+
+fn emission_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
     ui.horizontal(|ui| {
         ui.label("Emission");
         ui.color_edit_button_rgb(&mut p.emission)
@@ -307,9 +388,8 @@ fn pbr_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize, choo
         "pbr emission image",
         &mut p.emission_texture,
         textures,
-        "An image (sRGB) multiplying the emission: a screen, a lamp's pattern",
+        "An sRGB image multiplying the emission: a screen, a lamp's pattern",
     );
-    alpha_fields(ui, p);
 }
 
 /// Subsurface scattering (Blender's Subsurface Weight and Radius): its weight and, when on, how far
@@ -341,23 +421,18 @@ fn subsurface_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
     }
 }
 
-/// The dielectric's specular strength and tint, the clear coat, the sheen, the diffuse
-/// transmission, the thin film and the anisotropy (glTF's `KHR_materials_*`; Blender's Specular,
-/// Coat, Sheen, Transmission, Thin Film and Anisotropic).
-fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
-    ui.add(egui::Slider::new(&mut p.specular, 0.0..=1.0).text("specular"))
-        .on_hover_text("Scales the non-metal's reflection (1: what the IOR gives; 0: none)");
-    ui.horizontal(|ui| {
-        ui.label("Specular tint");
-        ui.color_edit_button_rgb(&mut p.specular_color)
-            .on_hover_text("Tints the non-metal's reflection at normal incidence");
-    });
+/// The clear coat (Blender's Coat; glTF's `KHR_materials_clearcoat`).
+fn coat_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
     ui.add(egui::Slider::new(&mut p.clearcoat, 0.0..=1.0).text("clear coat"))
         .on_hover_text("A glossy varnish over everything (car paint, lacquered wood)");
     if p.clearcoat > 0.0 {
         ui.add(egui::Slider::new(&mut p.clearcoat_roughness, 0.0..=1.0).text("coat roughness"))
             .on_hover_text("0: a mirror-like varnish; 1: a satin one");
     }
+}
+
+/// Sheen (cloth, velvet; `KHR_materials_sheen`).
+fn sheen_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
     ui.horizontal(|ui| {
         ui.label("Sheen");
         ui.color_edit_button_rgb(&mut p.sheen_color)
@@ -367,15 +442,10 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
         ui.add(egui::Slider::new(&mut p.sheen_roughness, 0.0..=1.0).text("sheen roughness"))
             .on_hover_text("0: a narrow rim; 1: a broad glow");
     }
-    ui.add(egui::Slider::new(&mut p.diffuse_transmission, 0.0..=1.0).text("diffuse transmission"))
-        .on_hover_text("Light through a thin diffuse sheet: leaves, paper, lampshades");
-    if p.diffuse_transmission > 0.0 {
-        ui.horizontal(|ui| {
-            ui.label("Transmitted colour");
-            ui.color_edit_button_rgb(&mut p.diffuse_transmission_color)
-                .on_hover_text("The colour of the light that comes through");
-        });
-    }
+}
+
+/// A thin film's interference (`KHR_materials_iridescence`; Blender's Thin Film).
+fn film_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
     ui.add(egui::Slider::new(&mut p.iridescence, 0.0..=1.0).text("iridescence"))
         .on_hover_text("A thin film's rainbow: soap bubbles, oil on water, anodised metal");
     if p.iridescence > 0.0 {
@@ -394,13 +464,10 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
             .on_hover_text("The thickness where the film thickness image is black");
         }
     }
-    if p.transmission > 0.0 && !p.thin_walled {
-        ui.add(egui::Slider::new(&mut p.dispersion, 0.0..=2.0).text("dispersion"))
-            .on_hover_text(
-                "Splits white light into colours, as a prism or a diamond does (20 / Abbe number: \
-                 crown glass 0.3, flint 0.6, diamond 0.9)",
-            );
-    }
+}
+
+/// A highlight stretched along one direction (`KHR_materials_anisotropy`; Blender's Anisotropic).
+fn anisotropy_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
     ui.add(egui::Slider::new(&mut p.anisotropy, 0.0..=1.0).text("anisotropy"))
         .on_hover_text("Stretches the highlight along one direction: brushed metal, satin, hair");
     if p.anisotropy > 0.0 {
@@ -410,7 +477,10 @@ fn layer_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
                 .on_hover_text("The direction the highlight stretches, from the mesh's tangent");
         });
     }
-    // The layers' images, as glTF packs them.
+}
+
+/// The layers' images, as glTF packs them.
+fn layer_images(ui: &mut Ui, p: &mut rt_core::material::Pbr, textures: usize) {
     ui.collapsing("Layer images", |ui| {
         for (label, id, slot, hover) in [
             (
@@ -518,5 +588,52 @@ fn alpha_fields(ui: &mut Ui, p: &mut rt_core::material::Pbr) {
     if p.alpha_mode == AlphaMode::Mask {
         ui.add(egui::Slider::new(&mut p.alpha_cutoff, 0.0..=1.0).text("alpha cutoff"))
             .on_hover_text("Alpha below this is a hole");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A colour handed back a rounding off is no edit; a real change is.
+    #[test]
+    fn only_real_edits_convert_a_material() {
+        let a = rt_core::material::Pbr::default();
+        let mut b = a.clone();
+        b.base_color[0] += 1e-7;
+        assert!(!differs(&a, &b));
+        b.roughness += 0.01;
+        assert!(differs(&a, &b));
+        let mut c = a.clone();
+        c.texture = Some(0);
+        assert!(differs(&a, &c));
+    }
+
+    /// The kinds map onto the physically based material with their colours.
+    #[test]
+    fn other_kinds_show_as_their_physically_based_equivalents() {
+        let p = as_pbr(&Material::lambertian([0.2, 0.3, 0.4]));
+        assert_eq!(
+            (p.base_color, p.specular, p.metallic),
+            ([0.2, 0.3, 0.4], 0.0, 0.0)
+        );
+        let p = as_pbr(&Material::Metal {
+            albedo: [0.9, 0.6, 0.2],
+            fuzz: 0.3,
+        });
+        assert_eq!((p.metallic, p.roughness), (1.0, 0.3));
+        let p = as_pbr(&Material::Dielectric {
+            ior: 1.33,
+            tint: [0.9; 3],
+        });
+        assert_eq!((p.transmission, p.ior, p.roughness), (1.0, 1.33, 0.0));
+        let p = as_pbr(&Material::Emissive {
+            color: [1.0, 0.5, 0.2],
+            intensity: 7.0,
+        });
+        assert_eq!(
+            (p.emission, p.emission_strength, p.base_color),
+            ([1.0, 0.5, 0.2], 7.0, [0.0; 3])
+        );
     }
 }
