@@ -68,7 +68,9 @@ struct PreviewObject {
     emission: vec4<f32>,
     // metallic, roughness, transmission, dielectric F0.
     params: vec4<f32>,
-    // x: selected, y: textured, z: has vertex normals.
+    // x: the normal map's strength.
+    extra: vec4<f32>,
+    // x: selected, y: has a normal map, z: has vertex normals.
     flags: vec4<u32>,
 }
 
@@ -81,13 +83,18 @@ struct PreviewObject {
 @group(0) @binding(6) var env_blur: texture_2d_array<f32>;
 @group(0) @binding(7) var brdf_table: texture_2d<f32>;
 @group(0) @binding(8) var linear_sampler: sampler;
+// A material's images (white, or a flat normal, where it has none).
 @group(1) @binding(0) var albedo_texture: texture_2d<f32>;
 @group(1) @binding(1) var albedo_sampler: sampler;
+@group(1) @binding(2) var metal_rough_texture: texture_2d<f32>;
+@group(1) @binding(3) var normal_texture: texture_2d<f32>;
+@group(1) @binding(4) var emission_texture: texture_2d<f32>;
 
 struct MeshVertex {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    @location(3) color: vec3<f32>,
 }
 
 // The object's material travels as flat varyings: a fragment reads no storage (lavapipe loads
@@ -101,6 +108,8 @@ struct MeshVarying {
     @location(4) @interpolate(flat) emission: vec4<f32>,
     @location(5) @interpolate(flat) params: vec4<f32>,
     @location(6) @interpolate(flat) flags: vec4<u32>,
+    @location(7) color: vec3<f32>,
+    @location(8) @interpolate(flat) extra: vec4<f32>,
 }
 
 @vertex
@@ -116,6 +125,8 @@ fn vs_mesh(v: MeshVertex, @builtin(instance_index) object: u32) -> MeshVarying {
     out.emission = o.emission;
     out.params = o.params;
     out.flags = o.flags;
+    out.color = v.color;
+    out.extra = o.extra;
     return out;
 }
 
@@ -324,11 +335,33 @@ fn fogged(radiance: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
     return radiance * t + view.fog.rgb * (1.0 - t);
 }
 
+// A tangent-space normal map's normal (x, y scaled by `strength`) in the frame of the UVs'
+// screen-space derivatives about n (Schüler's cotangent frame: no tangents stored; v up, as the
+// render's MikkTSpace frame).
+fn normal_mapped(n: vec3<f32>, texel: vec3<f32>, strength: f32, dp: mat2x3<f32>, duv: mat2x2<f32>) -> vec3<f32> {
+    let dp2perp = cross(dp[1], n);
+    let dp1perp = cross(n, dp[0]);
+    let t = dp2perp * duv[0].x + dp1perp * duv[1].x;
+    let b = dp2perp * duv[0].y + dp1perp * duv[1].y;
+    let scale = max(dot(t, t), dot(b, b));
+    if scale <= 0.0 {
+        return n;
+    }
+    let m = (texel * 2.0 - vec3<f32>(1.0)) * vec3<f32>(strength, strength, 1.0);
+    let mapped = (t * m.x + b * m.y) * inverseSqrt(scale) + n * m.z;
+    return select(n, normalize(mapped), dot(mapped, mapped) > 0.0);
+}
+
 fn surface(in: MeshVarying) -> vec4<f32> {
     // Derivatives and texture sampling need uniform control flow: take them first.
-    let face = cross(dpdx(in.world), dpdy(in.world));
+    let dp = mat2x3<f32>(dpdx(in.world), dpdy(in.world));
+    let duv = mat2x2<f32>(dpdx(in.uv), dpdy(in.uv));
+    let face = cross(dp[0], dp[1]);
     let sampled = textureSample(albedo_texture, albedo_sampler, in.uv);
-    let o = in;
+    let metal_rough = textureSample(metal_rough_texture, albedo_sampler, in.uv);
+    let bump = textureSample(normal_texture, albedo_sampler, in.uv).rgb;
+    let glow = textureSample(emission_texture, albedo_sampler, in.uv).rgb;
+    var o = in;
     if sampled.a < o.base_color.a {
         discard;
     }
@@ -336,20 +369,26 @@ fn surface(in: MeshVarying) -> vec4<f32> {
     if o.flags.z != 0u && dot(in.normal, in.normal) > 0.0 {
         n = normalize(in.normal);
     }
-    var base = o.base_color.rgb;
-    // A texture replaces the base colour, as in the renderer.
+    let to_eye = normalize(view.eye.xyz - in.world);
     if o.flags.y != 0u {
-        base = sampled.rgb;
+        // Tilted about the side that faces the camera, as the render's two-sided shading sees it.
+        let facing = select(-n, n, dot(n, to_eye) >= 0.0);
+        n = normal_mapped(facing, bump, o.extra.x, dp, duv);
     }
+    // glTF's factors times their images: base colour (and the vertex colour), roughness in green
+    // and metallic in blue, emission.
+    let base = o.base_color.rgb * sampled.rgb * in.color;
+    o.params.x *= metal_rough.b;
+    o.params.y *= metal_rough.g;
+    o.emission = vec4<f32>(o.emission.rgb * glow, o.emission.a);
     let shaded = shade(o, base, in.world, n);
     var radiance = fogged(shaded.radiance, in.world);
     if o.flags.x != 0u {
-        let to_eye = normalize(view.eye.xyz - in.world);
         let rim = pow(1.0 - abs(dot(n, to_eye)), 2.0);
         radiance = mix(radiance, vec3<f32>(1.0, 0.3, 0.02), 0.2 + 0.6 * rim);
     }
     // Premultiplied by the material's alpha; the blended pass keeps 1 − a of what lies behind.
-    let alpha = o.emission.a * select(1.0, sampled.a, o.flags.y != 0u);
+    let alpha = o.emission.a * sampled.a;
     return vec4<f32>(radiance * alpha, alpha * (1.0 - shaded.through));
 }
 

@@ -1,5 +1,6 @@
 //! The preview's GPU copies of the scene's meshes and textures, cached by the `Arc` they come from
-//! so that a frame uploads only what is new, and dropped a while after the scene stops using them.
+//! so that a frame uploads only what is new, with each material's textures bound together, all
+//! dropped a while after the scene stops using them.
 
 use std::sync::Arc;
 
@@ -7,7 +8,7 @@ use rt_core::Mesh;
 use wgpu::util::DeviceExt;
 
 use super::PreviewRenderer;
-use super::frame::PreviewFrame;
+use super::frame::{MaterialTextures, PreviewFrame, TextureRef};
 use super::types::MeshVertex;
 
 pub(super) struct CachedMesh {
@@ -20,9 +21,28 @@ pub(super) struct CachedMesh {
 }
 
 pub(super) struct CachedTexture {
-    pub(super) bind_group: wgpu::BindGroup,
+    view: wgpu::TextureView,
     _texels: Arc<[u8]>,
     last_used: u64,
+}
+
+/// A material's textures bound together, keyed by their images' cache keys.
+pub(super) struct CachedBinding {
+    pub(super) bind_group: wgpu::BindGroup,
+    last_used: u64,
+}
+
+/// The cache key of a texture slot's image: its texels' address, and whether it holds colour
+/// (sRGB-encoded) or data (linear); 0 for an empty slot.
+fn texture_key(texture: Option<&TextureRef>, srgb: bool) -> usize {
+    texture.map_or(0, |t| {
+        (Arc::as_ptr(&t.texels) as *const u8 as usize) | usize::from(srgb)
+    })
+}
+
+/// The bind-group key of a material's slots.
+pub(super) fn binding_key(textures: &MaterialTextures) -> [usize; 4] {
+    std::array::from_fn(|slot| texture_key(textures.slots[slot].as_ref(), SRGB_SLOTS[slot]))
 }
 
 impl PreviewRenderer {
@@ -42,42 +62,69 @@ impl PreviewRenderer {
                 .or_insert_with(|| upload_mesh(device, mesh))
                 .last_used = now;
         }
-        for texture in frame.textures.iter().flatten() {
-            let key = Arc::as_ptr(&texture.texels) as *const u8 as usize;
-            let (layout, sampler) = (&self.pipelines.texture_layout, &self.pipelines.sampler);
-            self.textures
-                .entry(key)
-                .or_insert_with(|| CachedTexture {
-                    bind_group: texture_bind_group(
-                        device,
-                        queue,
-                        layout,
-                        sampler,
-                        &texture.texels,
-                        texture.width,
-                        texture.height,
-                    ),
-                    _texels: texture.texels.clone(),
-                    last_used: now,
-                })
-                .last_used = now;
+        for material in &frame.textures {
+            for (slot, texture) in material.slots.iter().enumerate() {
+                let Some(texture) = texture else { continue };
+                let srgb = SRGB_SLOTS[slot];
+                self.textures
+                    .entry(texture_key(Some(texture), srgb))
+                    .or_insert_with(|| CachedTexture {
+                        view: upload_texture(
+                            device,
+                            queue,
+                            &texture.texels,
+                            [texture.width, texture.height],
+                            srgb,
+                        ),
+                        _texels: texture.texels.clone(),
+                        last_used: now,
+                    })
+                    .last_used = now;
+            }
+            let key = binding_key(material);
+            if key == [0; 4] {
+                continue;
+            }
+            if !self.bindings.contains_key(&key) {
+                let views: [&wgpu::TextureView; 4] = std::array::from_fn(|slot| {
+                    self.textures
+                        .get(&key[slot])
+                        .map_or(&self.defaults[slot], |t| &t.view)
+                });
+                let bind_group = self.pipelines.texture_bind_group(device, views);
+                self.bindings.insert(
+                    key,
+                    CachedBinding {
+                        bind_group,
+                        last_used: now,
+                    },
+                );
+            }
+            if let Some(binding) = self.bindings.get_mut(&key) {
+                binding.last_used = now;
+            }
         }
         // Buffers of meshes and textures no longer in the scene go after a few frames (undo may
         // bring them back at once).
         self.meshes.retain(|_, m| now - m.last_used < 120);
         self.textures.retain(|_, t| now - t.last_used < 120);
+        self.bindings.retain(|_, b| now - b.last_used < 120);
     }
 }
 
-pub(super) fn texture_bind_group(
+/// Which slots hold colour (sRGB-encoded, decoded by the sampler): base colour and emission; the
+/// metallic-roughness image and the normal map hold data.
+pub(super) const SRGB_SLOTS: [bool; 4] = [true, false, false, true];
+
+/// A texture of `texels` (RGBA8, row-major); a malformed or oversized image becomes one white
+/// texel rather than an error in the middle of a frame.
+pub(super) fn upload_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
-    layout: &wgpu::BindGroupLayout,
-    sampler: &wgpu::Sampler,
     texels: &[u8],
-    width: u32,
-    height: u32,
-) -> wgpu::BindGroup {
+    [width, height]: [u32; 2],
+    srgb: bool,
+) -> wgpu::TextureView {
     let limit = device.limits().max_texture_dimension_2d;
     let valid = texels.len() == width as usize * height as usize * 4
         && width > 0
@@ -90,7 +137,7 @@ pub(super) fn texture_bind_group(
         (&[255u8, 255, 255, 255][..], 1, 1)
     };
     let descriptor = wgpu::TextureDescriptor {
-        label: Some("preview albedo"),
+        label: Some("preview material image"),
         size: wgpu::Extent3d {
             width,
             height,
@@ -99,31 +146,22 @@ pub(super) fn texture_bind_group(
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        format: if srgb {
+            wgpu::TextureFormat::Rgba8UnormSrgb
+        } else {
+            wgpu::TextureFormat::Rgba8Unorm
+        },
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     };
-    let texture = device.create_texture_with_data(
-        queue,
-        &descriptor,
-        wgpu::util::TextureDataOrder::LayerMajor,
-        texels,
-    );
-    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("preview albedo"),
-        layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(&view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::Sampler(sampler),
-            },
-        ],
-    })
+    device
+        .create_texture_with_data(
+            queue,
+            &descriptor,
+            wgpu::util::TextureDataOrder::LayerMajor,
+            texels,
+        )
+        .create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 fn upload_mesh(device: &wgpu::Device, mesh: &Arc<Mesh>) -> CachedMesh {
@@ -140,6 +178,11 @@ fn upload_mesh(device: &wgpu::Device, mesh: &Arc<Mesh>) -> CachedMesh {
                 .as_ref()
                 .and_then(|t| t.get(i))
                 .map_or([0.0; 2], |t| t.to_array()),
+            color: mesh
+                .colors
+                .as_ref()
+                .and_then(|c| c.get(i))
+                .map_or([1.0; 3], |c| c.to_array()),
         })
         .collect();
     let indices: Vec<u32> = mesh
@@ -150,7 +193,7 @@ fn upload_mesh(device: &wgpu::Device, mesh: &Arc<Mesh>) -> CachedMesh {
         .copied()
         .collect();
     let vertex_bytes: &[u8] = if vertices.is_empty() {
-        &[0; 32]
+        &[0; std::mem::size_of::<MeshVertex>()]
     } else {
         bytemuck::cast_slice(&vertices)
     };

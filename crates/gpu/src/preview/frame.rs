@@ -25,6 +25,13 @@ pub struct TextureRef {
     pub height: u32,
 }
 
+/// A material's images: base colour, metallic-roughness, normal map, emission (`None`: the slot's
+/// neutral default: white, or a flat normal).
+#[derive(Clone, Default)]
+pub struct MaterialTextures {
+    pub slots: [Option<TextureRef>; 4],
+}
+
 /// The light from outside the scene: the environment map (times `strength`) or the constant
 /// ambient radiance. `key` names it for the renderer's cache of its prefiltered copies.
 #[derive(Clone)]
@@ -42,7 +49,7 @@ pub struct PreviewFrame {
     pub view: PreviewView,
     pub objects: Vec<PreviewObject>,
     pub meshes: Vec<Arc<Mesh>>,
-    pub textures: Vec<Option<TextureRef>>,
+    pub textures: Vec<MaterialTextures>,
     /// Objects drawn after the opaque ones, over what they cover (transmission, alpha blending).
     pub blended: Vec<bool>,
     pub grid: Vec<GridVertex>,
@@ -169,9 +176,14 @@ fn scene_light(light: &rt_core::Light, radius: f32) -> Ranked {
 /// transmission, F0], alpha, texture). Kinds other than PBR map onto the same model.
 fn material_params(material: &Material) -> ([f32; 3], Vec3, [f32; 4], f32, Option<usize>) {
     match material {
-        Material::Lambertian { albedo, texture } => {
-            (*albedo, Vec3::ZERO, [0.0, 1.0, 0.0, 0.0], 1.0, *texture)
-        }
+        // A Lambertian's image replaces its colour (the PBR base colour multiplies its image).
+        Material::Lambertian { albedo, texture } => (
+            if texture.is_some() { [1.0; 3] } else { *albedo },
+            Vec3::ZERO,
+            [0.0, 1.0, 0.0, 0.0],
+            1.0,
+            *texture,
+        ),
         Material::Metal { albedo, fuzz } => (
             *albedo,
             Vec3::ZERO,
@@ -383,7 +395,28 @@ pub fn build_frame(
             _ => 0.0,
         };
         let (base, emission, params, alpha, texture) = material_params(&object.material);
-        let texture = texture.and_then(|t| scene.textures.get(t));
+        let image = |slot: Option<usize>| {
+            slot.and_then(|t| scene.textures.get(t))
+                .map(|t| TextureRef {
+                    texels: t.rgba8.clone(),
+                    width: t.width,
+                    height: t.height,
+                })
+        };
+        let (maps, normal_scale) = match &object.material {
+            Material::Pbr(p) => (
+                [
+                    image(p.texture),
+                    image(p.metallic_roughness_texture),
+                    image(p.normal_texture),
+                    image(p.emission_texture),
+                ],
+                p.normal_scale,
+            ),
+            _ => ([image(texture), None, None, None], 1.0),
+        };
+        // A normal map needs the interpolated normals it tilts (the render's rule too).
+        let normal_mapped = maps[2].is_some() && object.mesh.normals.is_some();
         blended.push(alpha < 1.0 || (params[2] > 0.0 && params[0] < 1.0));
         objects.push(PreviewObject {
             model: model.to_cols_array_2d(),
@@ -391,19 +424,16 @@ pub fn build_frame(
             base_color: Vec3::from(base).extend(mask).to_array(),
             emission: emission.extend(alpha).to_array(),
             params,
+            extra: [normal_scale, 0.0, 0.0, 0.0],
             flags: [
                 u32::from(selection == Some(i)),
-                u32::from(texture.is_some()),
+                u32::from(normal_mapped),
                 u32::from(object.mesh.normals.is_some()),
                 0,
             ],
         });
         meshes.push(object.mesh.clone());
-        textures.push(texture.map(|t| TextureRef {
-            texels: t.rgba8.clone(),
-            width: t.width,
-            height: t.height,
-        }));
+        textures.push(MaterialTextures { slots: maps });
     }
     let grid = bounds.map_or_else(
         || grid_lines(Vec3::ZERO, 1.0),

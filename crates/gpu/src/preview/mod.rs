@@ -22,10 +22,10 @@ use wgpu::util::DeviceExt;
 
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
-use cache::{CachedMesh, CachedTexture};
+use cache::{CachedBinding, CachedMesh, CachedTexture};
 pub use frame::{
-    PreviewEnvironment, PreviewFrame, TextureRef, build_frame, grid_lines, grid_step,
-    view_projection,
+    MaterialTextures, PreviewEnvironment, PreviewFrame, TextureRef, build_frame, grid_lines,
+    grid_step, view_projection,
 };
 use pipelines::Pipelines;
 
@@ -65,10 +65,13 @@ pub struct PreviewRenderer {
     matrices_buffer: wgpu::Buffer,
     shadow_bind_group: wgpu::BindGroup,
     view_bind_group: Option<wgpu::BindGroup>,
+    /// Each texture slot's neutral image (white, or a flat normal), and a binding of all four.
+    defaults: [wgpu::TextureView; 4],
     white: wgpu::BindGroup,
     brdf: wgpu::TextureView,
     meshes: HashMap<usize, CachedMesh>,
     textures: HashMap<usize, CachedTexture>,
+    bindings: HashMap<[usize; 4], CachedBinding>,
     shadow_maps: ShadowMaps,
     environment: Option<EnvironmentTextures>,
     target: Option<Target>,
@@ -168,15 +171,15 @@ impl PreviewRenderer {
         let matrices_buffer = pipelines::matrices_buffer(device, shadows::MAX_SHADOW_LAYERS);
         let shadow_bind_group =
             pipelines.shadow_bind_group(device, &objects_buffer, &matrices_buffer);
-        let white = cache::texture_bind_group(
-            device,
-            queue,
-            &pipelines.texture_layout,
-            &pipelines.sampler,
-            &[255, 255, 255, 255],
-            1,
-            1,
-        );
+        let defaults: [wgpu::TextureView; 4] = std::array::from_fn(|slot| {
+            let texel = if slot == 2 {
+                [128, 128, 255, 255]
+            } else {
+                [255; 4]
+            };
+            cache::upload_texture(device, queue, &texel, [1, 1], cache::SRGB_SLOTS[slot])
+        });
+        let white = pipelines.texture_bind_group(device, std::array::from_fn(|s| &defaults[s]));
         let side = environment::BRDF_TABLE_SIDE as u32;
         let brdf_texels: Vec<[f32; 3]> = environment::brdf_table()
             .iter()
@@ -191,10 +194,12 @@ impl PreviewRenderer {
             matrices_buffer,
             shadow_bind_group,
             view_bind_group: None,
+            defaults,
             white,
             brdf,
             meshes: HashMap::new(),
             textures: HashMap::new(),
+            bindings: HashMap::new(),
             shadow_maps: shadow_maps(device, 1),
             environment: None,
             target: None,
@@ -293,13 +298,11 @@ impl PreviewRenderer {
             if cached.index_count == 0 {
                 continue;
             }
-            let texture = frame.textures[i]
-                .as_ref()
-                .and_then(|t| {
-                    self.textures
-                        .get(&(Arc::as_ptr(&t.texels) as *const u8 as usize))
-                })
-                .map_or(&self.white, |t| &t.bind_group);
+            let texture = frame
+                .textures
+                .get(i)
+                .and_then(|t| self.bindings.get(&cache::binding_key(t)))
+                .map_or(&self.white, |b| &b.bind_group);
             pass.set_bind_group(1, texture, &[]);
             pass.set_vertex_buffer(0, cached.vertices.slice(..));
             pass.set_index_buffer(cached.indices.slice(..), wgpu::IndexFormat::Uint32);

@@ -108,10 +108,13 @@ impl Pipelines {
             ],
         });
         let texture_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("preview texture"),
+            label: Some("preview material images"),
             entries: &[
                 texture_entry(0, float, d2),
                 sampler_entry(1, wgpu::SamplerBindingType::Filtering),
+                texture_entry(2, float, d2),
+                texture_entry(3, float, d2),
+                texture_entry(4, float, d2),
             ],
         });
         let mesh_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -134,8 +137,7 @@ impl Pipelines {
                 bias: wgpu::DepthBiasState::default(),
             })
         };
-        let mesh_attributes =
-            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
+        let mesh_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x3];
         let mesh_buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<MeshVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -321,6 +323,32 @@ impl Pipelines {
                     binding: 8,
                     resource: wgpu::BindingResource::Sampler(&self.clamped),
                 },
+            ],
+        })
+    }
+
+    /// A material's images: base colour, metallic-roughness, normal map, emission.
+    pub(super) fn texture_bind_group(
+        &self,
+        device: &wgpu::Device,
+        [base, metal_rough, normal, emission]: [&wgpu::TextureView; 4],
+    ) -> wgpu::BindGroup {
+        let texture = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("preview material images"),
+            layout: &self.texture_layout,
+            entries: &[
+                texture(0, base),
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
+                texture(2, metal_rough),
+                texture(3, normal),
+                texture(4, emission),
             ],
         })
     }

@@ -74,17 +74,21 @@ pub struct PreviewObject {
     /// metallic, roughness, transmission, specular reflectance at normal incidence of its
     /// dielectric layer (0 for a plain Lambertian).
     pub params: [f32; 4],
-    /// selected, textured, has vertex normals, unused.
+    /// x: the normal map's strength; yzw: unused.
+    pub extra: [f32; 4],
+    /// selected, has a normal map, has vertex normals, unused.
     pub flags: [u32; 4],
 }
 
-/// Interleaved vertex: position, normal (zero when the mesh has none), UV.
+/// Interleaved vertex: position, normal (zero when the mesh has none), UV, colour (white when the
+/// mesh has none; it multiplies the base colour, as in the render).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct MeshVertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     pub uv: [f32; 2],
+    pub color: [f32; 3],
 }
 
 #[repr(C)]
@@ -183,7 +187,15 @@ mod tests {
         check!(
             "PreviewObject",
             PreviewObject,
-            [model, normal_matrix, base_color, emission, params, flags]
+            [
+                model,
+                normal_matrix,
+                base_color,
+                emission,
+                params,
+                extra,
+                flags
+            ]
         );
     }
 }
