@@ -485,3 +485,45 @@ fn a_prism_splits_white_light() {
         }
     }
 }
+
+/// `KHR_materials_diffuse_transmission` against its formula: a thin sheet without a specular layer
+/// (specular 0, so Fresnel is 0) is mix(diffuse_brdf(base), diffuse_btdf(dtColor), dt). Under a
+/// sun of irradiance E at 60°, seen from the lit side it has radiance (1 − dt)·base/π · E cos60°,
+/// from the far side dt·dtColor/π · E cos60°: exactly (a delta light, one sample per pixel).
+#[test]
+fn a_diffuse_transmitting_sheet_follows_the_gltf_formula() {
+    let Some(ctx) = gpu() else { return };
+    let angle = 60f32.to_radians();
+    let mut sun = rt_core::Light::new(rt_core::LightKind::Directional, "sun");
+    sun.direction = [angle.sin(), -angle.cos(), 0.0];
+    sun.intensity = 3.0;
+    let (dt, base, color) = (0.6, [0.2, 0.4, 0.8], [1.0, 0.5, 0.25]);
+    let sheet = pbr(rt_core::material::Pbr {
+        base_color: base,
+        roughness: 1.0,
+        specular: 0.0,
+        diffuse_transmission: dt,
+        diffuse_transmission_color: color,
+        thin_walled: true,
+        ..Default::default()
+    });
+    let e = 3.0 * angle.cos() / std::f32::consts::PI;
+    for (from, expected) in [
+        (Vec3::new(0.0, 5.0, 0.001), base.map(|b| (1.0 - dt) * b * e)),
+        (Vec3::new(0.0, -5.0, 0.001), color.map(|c| dt * c * e)),
+    ] {
+        let mut s = scene(
+            vec![object(
+                "sheet",
+                quad(Vec3::ZERO, Vec3::Y, 100.0),
+                sheet.clone(),
+            )],
+            camera(from, Vec3::ZERO, 30.0),
+            [0.0; 3],
+            settings(8, 8, 4, 2),
+        );
+        s.lights.push(sun.clone());
+        let what = if from.y > 0.0 { "lit side" } else { "far side" };
+        assert_all_pixels(&render(ctx, &s), expected, 1e-4, what);
+    }
+}

@@ -9,6 +9,7 @@
 
 mod broken_input;
 mod features;
+mod khronos_samples;
 mod textures;
 
 use std::path::Path;
