@@ -9,9 +9,10 @@
 // tables do; f_diffuse = (1 − metallic)(1 − transmission)(1 − E_spec(μo)) base/π.
 // Image-based light (Karis' split sum): the environment prefiltered per roughness (`env_blur`,
 // built on the CPU by `environment.rs`) times F0 A + B from the BRDF table (A + B = rt-core's GGX
-// albedo table), and the cosine-convolved environment times the diffuse albedo; bounce light as a
-// uniform radiance from the radiosity ambient term. Transmission shows what lies behind through a
-// blended pass (grey, unrefracted); emitters show their emission.
+// albedo table), and the cosine-convolved environment times the diffuse albedo, both dimmed by the
+// share of the sky an irradiance volume's probes see; bounce light from the same probes (an
+// ambient cube per probe, bounce.rs). Transmission shows what lies behind through a blended pass
+// (grey, unrefracted); emitters show their emission.
 // An approximation for placing things: the path tracer is the truth.
 
 const MAX_PREVIEW_LIGHTS: u32 = 8u;
@@ -49,12 +50,14 @@ struct PreviewView {
     fog: vec4<f32>,
     // rgb: a constant environment's radiance; a: 1 when the environment is constant (no lookups).
     ambient: vec4<f32>,
+    // The irradiance volume's bounds (xyz; bounce.rs).
+    probe_lo: vec4<f32>,
+    probe_hi: vec4<f32>,
     light_count: u32,
-    // The radiance bounce light adds from every direction (frame.rs `bounce_radiance`); scalars,
-    // not a vec3: a uniform would align it to 16 bytes.
-    bounce_r: f32,
-    bounce_g: f32,
-    bounce_b: f32,
+    // Scalars, not a vec3: a uniform would align it to 16 bytes.
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
     lights: array<PreviewLight, 8>,
 }
 
@@ -68,7 +71,7 @@ struct PreviewObject {
     emission: vec4<f32>,
     // metallic, roughness, transmission, dielectric F0.
     params: vec4<f32>,
-    // x: the normal map's strength.
+    // x: the normal map's strength; y: the dielectric layer's F90 (glTF's `specular`; 0 without one).
     extra: vec4<f32>,
     // x: selected, y: has a normal map, z: has vertex normals.
     flags: vec4<u32>,
@@ -83,6 +86,9 @@ struct PreviewObject {
 @group(0) @binding(6) var env_blur: texture_2d_array<f32>;
 @group(0) @binding(7) var brdf_table: texture_2d<f32>;
 @group(0) @binding(8) var linear_sampler: sampler;
+// The irradiance volume: texel (axis · nx + x, y, z) holds probe (x, y, z)'s bounce irradiance/π
+// (rgb) and sky visibility (a) from side axis (+x, −x, +y, −y, +z, −z).
+@group(0) @binding(9) var probes: texture_3d<f32>;
 // A material's images (white, or a flat normal, where it has none).
 @group(1) @binding(0) var albedo_texture: texture_2d<f32>;
 @group(1) @binding(1) var albedo_sampler: sampler;
@@ -170,6 +176,39 @@ fn irradiance_over_pi(n: vec3<f32>) -> vec3<f32> {
     return textureSampleLevel(env_blur, linear_sampler, uv, ENV_DIFFUSE_LAYER, 0.0).rgb;
 }
 
+// The volume's probes interpolated at p, side `axis` (kept inside that side's block of texels).
+fn probe(p: vec3<f32>, axis: u32) -> vec4<f32> {
+    let size = vec3<f32>(textureDimensions(probes));
+    let dims = vec3<f32>(size.x / 6.0, size.y, size.z);
+    let extent = max(view.probe_hi.xyz - view.probe_lo.xyz, vec3<f32>(1e-6));
+    let f = clamp((p - view.probe_lo.xyz) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * dims;
+    let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5));
+    let uvw = vec3<f32>((f32(axis) * dims.x + c.x) / size.x, c.y / size.y, c.z / size.z);
+    return textureSampleLevel(probes, linear_sampler, uvw, 0.0);
+}
+
+// Bounce irradiance/π (rgb) and sky visibility (a) towards direction d at a surface point p with
+// normal n: the ambient cube's three sides facing d, weighted by d's squared components, looked up
+// half a cell off the surface (so a wall's probes behind it, inside an object, weigh less).
+fn ambient_cube(p: vec3<f32>, n: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
+    let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
+    let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
+    let q = p + n * 0.5 * min(cell.x, min(cell.y, cell.z));
+    let w = d * d;
+    // Sides with no weight are not read (a wall facing along an axis reads one).
+    var sum = vec4<f32>(0.0);
+    if w.x > 1e-4 {
+        sum += w.x * probe(q, select(1u, 0u, d.x >= 0.0));
+    }
+    if w.y > 1e-4 {
+        sum += w.y * probe(q, select(3u, 2u, d.y >= 0.0));
+    }
+    if w.z > 1e-4 {
+        sum += w.z * probe(q, select(5u, 4u, d.z >= 0.0));
+    }
+    return sum / max(w.x + w.y + w.z, 1e-6);
+}
+
 // The split-sum scale and bias (A, B) of a GGX reflector at (μ, roughness): E = F0 A + B.
 fn brdf_scale_bias(mu: f32, roughness: f32) -> vec2<f32> {
     let n = f32(textureDimensions(brdf_table).x);
@@ -189,10 +228,10 @@ fn smith_visibility(n_v: f32, n_l: f32, a2: f32) -> f32 {
     return 0.5 / max(gv + gl, 1e-12);
 }
 
-fn fresnel_schlick(f0: vec3<f32>, c: f32) -> vec3<f32> {
+fn fresnel_schlick(f0: vec3<f32>, f90: f32, c: f32) -> vec3<f32> {
     let x = 1.0 - clamp(c, 0.0, 1.0);
     let x2 = x * x;
-    return f0 + (vec3<f32>(1.0) - f0) * (x2 * x2 * x);
+    return f0 + (vec3<f32>(f90) - f0) * (x2 * x2 * x);
 }
 
 // Which layer of a light's shadow map holds point p: a point light's cube face by the major axis.
@@ -291,10 +330,14 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>) -> Shad
     let transmission = clamp(o.params.z, 0.0, 1.0) * (1.0 - metallic);
     let a = max(roughness * roughness, 2e-3);
     let a2 = a * a;
+    // Schlick's Fresnel from F0 to F90: glTF's `specular` scales both for a dielectric; a metal's
+    // F90 is 1; a material without a specular layer (Lambertian, emitter) has neither.
     let f0 = mix(vec3<f32>(o.params.w), base, metallic);
+    let f90 = mix(o.extra.y, 1.0, metallic);
+    let specular = f90 > 0.0 || any(f0 > vec3<f32>(0.0));
     let n_v = max(dot(n, v), 1e-4);
     let ab = brdf_scale_bias(n_v, roughness);
-    let e_spec = f0 * ab.x + vec3<f32>(ab.y);
+    let e_spec = f0 * ab.x + vec3<f32>(f90 * ab.y);
     let e_white = max(ab.x + ab.y, 1e-3);
     let compensation = vec3<f32>(1.0) + f0 * (1.0 / e_white - 1.0);
     let diffuse = (1.0 - metallic) * (1.0 - transmission) * (vec3<f32>(1.0) - e_spec) * base / PI;
@@ -306,21 +349,28 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>) -> Shad
         if n_l <= 0.0 || all(inc.strength <= vec3<f32>(0.0)) {
             continue;
         }
-        let h = normalize(inc.l + v);
-        let spec = ggx_d(max(dot(n, h), 0.0), a2) * smith_visibility(n_v, n_l, a2)
-            * fresnel_schlick(f0, dot(v, h)) * compensation;
-        radiance += (diffuse + spec) * inc.strength * n_l * shadow(light, p, n);
+        var f = diffuse;
+        if specular {
+            let h = normalize(inc.l + v);
+            f += ggx_d(max(dot(n, h), 0.0), a2) * smith_visibility(n_v, n_l, a2)
+                * fresnel_schlick(f0, f90, dot(v, h)) * compensation;
+        }
+        radiance += f * inc.strength * n_l * shadow(light, p, n);
     }
-    // Image-based light: the prefiltered environment along the mirror direction, the diffuse part
-    // from its cosine convolution.
-    let r = reflect(-v, n);
-    let bounce = vec3<f32>(view.bounce_r, view.bounce_g, view.bounce_b);
-    radiance += (environment(r, roughness) + bounce) * e_spec * compensation;
-    radiance += diffuse * PI * (irradiance_over_pi(n) + bounce);
+    // Image-based light, dimmed by how much of the environment the volume's probes see, and the
+    // bounce light: along the mirror direction for the specular layer (a surface without one
+    // skips it), from the cosine convolution for the diffuse part.
+    let around = ambient_cube(p, n, n);
+    radiance += diffuse * PI * (irradiance_over_pi(n) * around.a + around.rgb);
+    if specular {
+        let r = reflect(-v, n);
+        let ahead = ambient_cube(p, n, r);
+        radiance += (environment(r, roughness) * ahead.a + ahead.rgb) * e_spec * compensation;
+    }
     radiance += o.emission.rgb;
     var out: Shaded;
     out.radiance = radiance;
-    let f = fresnel_schlick(f0, n_v);
+    let f = fresnel_schlick(f0, f90, n_v);
     out.through = transmission * (1.0 - dot(f, vec3<f32>(1.0 / 3.0))) * dot(base, vec3<f32>(1.0 / 3.0));
     return out;
 }

@@ -1,8 +1,9 @@
 //! The raster preview (`rt_gpu::preview`, the editor's first view and `rt-cli preview`) against the
-//! path tracer on a small showroom: every object's mean colour within 25% of the converged render
-//! of the same view (the emitter within 5%; docs/editor.md records each), the emitter visibly
-//! bright, a metal brighter at its highlight than a diffuse surface of the same base colour, and
-//! the floor dark where a box blocks the sun.
+//! path tracer, object by object (docs/editor.md records each): on a small showroom every object's
+//! mean colour within 10% of the converged render of the same view, the emitter visibly bright, a
+//! metal brighter at its highlight than a diffuse surface of the same base colour, and the floor
+//! dark where a box blocks the sun; in the Cornell box, lit as much by bounce light as by its lamp,
+//! every object within 25%; under an environment map, every object but the glass within 25%.
 
 mod common;
 
@@ -242,27 +243,19 @@ fn the_preview_looks_like_the_render_object_by_object() {
     }
 }
 
-/// The Cornell box, lit by bounce light as much as by its lamp, and a scene of every PBR feature
-/// under an environment map, each object against the render (docs/editor.md records every one).
-/// What holds: emitters within 10%, the metal sphere under the environment within 25%, and each
-/// Cornell wall's colour; what does not (the preview's one uniform bounce light overlights the
-/// box's floor and blocks by 1.9–4×; its glass shows no refraction of the sky) is recorded, not
-/// hidden.
+/// The Cornell box, lit by bounce light as much as by its lamp (the irradiance volume's work), and
+/// a scene of every PBR feature under an environment map: each object within 25% of the render,
+/// but the glass, whose refraction of the bright sky the preview does not draw (it shows what lies
+/// behind, greyed: recorded in docs/editor.md, not hidden). Each Cornell wall keeps its hue.
 #[test]
 fn the_preview_of_a_room_and_of_an_environment_lit_scene_per_object() {
     let Some(ctx) = common::gpu() else { return };
     let mut cornell = rt_core::assets::cornell_box().expect("embedded scene");
     cornell.settings = common::settings(128, 128, 256, 8);
     let pair = preview_and_render(ctx, &cornell, "cornell");
-    let ratios = pair.object_ratios(&cornell);
-    let ratio = |ratios: &[(String, f64)], name: &str| {
-        ratios
-            .iter()
-            .find(|(n, _)| n == name)
-            .unwrap_or_else(|| panic!("{name} in view"))
-            .1
-    };
-    assert!((ratio(&ratios, "light") - 1.0).abs() < 0.1);
+    for (name, ratio) in pair.object_ratios(&cornell) {
+        assert!((ratio - 1.0).abs() <= 0.25, "Cornell box, {name}: {ratio}");
+    }
     for (image, which) in [(&pair.preview, "preview"), (&pair.render, "render")] {
         let object = |name: &str| cornell.objects.iter().position(|o| o.name == name).unwrap();
         let (red, green) = (object("left_wall_red"), object("right_wall_green"));
@@ -276,7 +269,12 @@ fn the_preview_of_a_room_and_of_an_environment_lit_scene_per_object() {
     }
     let pbr = common::pbr_scene_with_environment(160, 120);
     let pair = preview_and_render(ctx, &pbr, "pbr-environment");
-    let ratios = pair.object_ratios(&pbr);
-    assert!((ratio(&ratios, "glowing plate") - 1.0).abs() < 0.1);
-    assert!((ratio(&ratios, "sphere") - 1.0).abs() < 0.25);
+    for (name, ratio) in pair.object_ratios(&pbr) {
+        if !name.contains("glass") {
+            assert!(
+                (ratio - 1.0).abs() <= 0.25,
+                "environment scene, {name}: {ratio}"
+            );
+        }
+    }
 }

@@ -12,6 +12,7 @@ use rt_core::light::SpotFalloff;
 use rt_core::material::AlphaMode;
 use rt_core::{Camera, LightKind, Material, Mesh, Scene};
 
+use super::bounce::{IrradianceVolume, irradiance_volume};
 use super::shadows::{ShadowPlan, plan_shadows};
 use super::types::{
     GridVertex, MAX_PREVIEW_LIGHTS, NO_SHADOW, PreviewLight, PreviewObject, PreviewView, light_kind,
@@ -55,6 +56,8 @@ pub struct PreviewFrame {
     pub grid: Vec<GridVertex>,
     pub shadows: ShadowPlan,
     pub environment: PreviewEnvironment,
+    /// Bounce light (`bounce.rs`).
+    pub volume: Arc<IrradianceVolume>,
 }
 
 /// The projection the preview uses for `camera` at `aspect`, with depth range fitted to the scene.
@@ -86,7 +89,7 @@ fn luminance(c: Vec3) -> f32 {
 /// An emissive object's shape as a light: its area A, centroid and area-weighted normal N (front
 /// faces, counter-clockwise). Its projected area towards a unit direction ω, Σ Aᵢ max(nᵢ·ω, 0), is
 /// taken as max(N·ω, 0) + (A − |N|)/4: exact for a flat emitter and for a sphere.
-fn emitter_shape(object: &rt_core::Object) -> (f32, Vec3, Vec3) {
+pub(super) fn emitter_shape(object: &rt_core::Object) -> (f32, Vec3, Vec3) {
     let m = object.transform.matrix();
     let mesh = &object.mesh;
     let mut area = 0.0;
@@ -174,7 +177,9 @@ fn scene_light(light: &rt_core::Light, radius: f32) -> Ranked {
 
 /// The shader's parameters of a material: (base colour, emission, [metallic, roughness,
 /// transmission, F0], alpha, texture). Kinds other than PBR map onto the same model.
-fn material_params(material: &Material) -> ([f32; 3], Vec3, [f32; 4], f32, Option<usize>) {
+pub(super) fn material_params(
+    material: &Material,
+) -> ([f32; 3], Vec3, [f32; 4], f32, Option<usize>) {
     match material {
         // A Lambertian's image replaces its colour (the PBR base colour multiplies its image).
         Material::Lambertian { albedo, texture } => (
@@ -222,57 +227,25 @@ fn material_params(material: &Material) -> ([f32; 3], Vec3, [f32; 4], f32, Optio
     }
 }
 
-/// The preview's stand-in for bounce light: the ambient term of progressive radiosity (Cohen et
-/// al. 1988), L = ρ/(1 − ρ̄) · Φ / (π A), with ρ the surfaces' area-weighted mean albedo times how
-/// enclosed the scene is (its surface area over its bounding box's, at most 1: a room keeps its
-/// light, a floor under the sky lets most of it go), Φ the lights' power that reaches the scene
-/// and A its surface area (ρ̄: ρ's luminance). Uniform: it lights what no light reaches directly (a Cornell box's
-/// faces turned from its lamp) as the render's bounces do, on average.
-fn bounce_radiance(scene: &Scene, lights: &[PreviewLight], bounds: Option<(Vec3, Vec3)>) -> Vec3 {
-    let Some((lo, hi)) = bounds else {
-        return Vec3::ZERO;
+/// The environment's mean radiance (what a surface open to all of it receives over π), or the
+/// ambient colour.
+fn sky_radiance(scene: &Scene) -> Vec3 {
+    let Some(env) = &scene.environment else {
+        return Vec3::from(scene.ambient);
     };
-    let size = (hi - lo).max(Vec3::splat((hi - lo).max_element() * 1e-3));
-    let box_area = 2.0 * (size.x * size.y + size.y * size.z + size.z * size.x);
-    let (mut area, mut reflected) = (0.0f32, Vec3::ZERO);
-    for object in &scene.objects {
-        let (base, _, params, _, _) = material_params(&object.material);
-        if matches!(object.material, Material::Emissive { .. }) {
-            continue;
-        }
-        let (a, _, _) = emitter_shape(object);
-        // What a surface sends on: its diffuse albedo, or a metal's colour.
-        let albedo = Vec3::from(base) * (1.0 - params[2] * (1.0 - params[0]));
-        area += a;
-        reflected += albedo * a;
+    let map = &env.map;
+    let (mut sum, mut weight) = (Vec3::ZERO, 0.0f32);
+    for (i, t) in map.texels.iter().enumerate() {
+        let row = (i as u32 / map.width.max(1)) as f32;
+        let w = (std::f32::consts::PI * (row + 0.5) / map.height.max(1) as f32).sin();
+        sum += Vec3::from(*t) * w;
+        weight += w;
     }
-    if area <= 0.0 || !area.is_finite() {
-        return Vec3::ZERO;
+    if weight > 0.0 {
+        sum / weight * env.strength.max(0.0)
+    } else {
+        Vec3::ZERO
     }
-    let enclosure = (area / box_area).min(1.0);
-    // The first bounce takes the surfaces' colour; the later ones, a geometric series in the
-    // mean albedo's luminance (per channel, a red room's series would redden white walls).
-    let albedo = reflected / area * enclosure;
-    let rho = luminance(albedo).min(0.95);
-    let mut power = Vec3::ZERO;
-    for light in lights {
-        let color = Vec3::from_slice(&light.color[..3]);
-        power += match light.shadow[0] {
-            light_kind::EMITTER => {
-                let normal = Vec3::from_slice(&light.direction[..3]).length();
-                color * std::f32::consts::PI * (normal + 4.0 * light.color[3])
-            }
-            light_kind::SUN => {
-                let d = Vec3::from_slice(&light.direction[..3]).abs();
-                color * (d.x * size.y * size.z + d.y * size.z * size.x + d.z * size.x * size.y)
-            }
-            light_kind::SPOT => {
-                color * std::f32::consts::TAU * (1.0 - light.direction[3]) * enclosure
-            }
-            _ => color * 4.0 * std::f32::consts::PI * enclosure,
-        };
-    }
-    albedo / (1.0 - rho) * power / (std::f32::consts::PI * area)
 }
 
 /// The environment's cache key: the map's address and strength, or the ambient radiance.
@@ -328,7 +301,7 @@ pub fn build_frame(
     ranked.truncate(MAX_PREVIEW_LIGHTS);
     let mut lights: Vec<PreviewLight> = ranked.into_iter().map(|r| r.light).collect();
     let shadows = plan_shadows(&mut lights, scene, center, radius);
-    let bounce = bounce_radiance(scene, &lights, bounds);
+    let volume = irradiance_volume(scene, &lights, bounds, sky_radiance(scene));
 
     // Fog: what it glows with where it is thick, single scattering of the irradiance at the scene's
     // centre, evenly (albedo · E / 4π); the shader blends it in by exp(−σ_t d).
@@ -370,10 +343,12 @@ pub fn build_frame(
             Some(_) => [0.0; 4],
             None => Vec3::from(scene.ambient).extend(1.0).to_array(),
         },
+        probe_lo: volume.lo.extend(0.0).to_array(),
+        probe_hi: volume.hi.extend(0.0).to_array(),
         light_count: lights.len() as u32,
-        bounce_r: bounce.x,
-        bounce_g: bounce.y,
-        bounce_b: bounce.z,
+        _pad0: 0,
+        _pad1: 0,
+        _pad2: 0,
         lights: [PreviewLight::default(); MAX_PREVIEW_LIGHTS],
     };
     view.lights[..lights.len()].copy_from_slice(&lights);
@@ -403,6 +378,13 @@ pub fn build_frame(
                     height: t.height,
                 })
         };
+        // The dielectric layer's F90: glTF's `specular` scales it with F0; glass and metals (whose
+        // own F90, 1, the shader takes) have one at full strength; Lambertians and emitters none.
+        let f90 = match &object.material {
+            Material::Pbr(p) => p.specular.clamp(0.0, 1.0),
+            Material::Dielectric { .. } | Material::Metal { .. } => 1.0,
+            Material::Lambertian { .. } | Material::Emissive { .. } => 0.0,
+        };
         let (maps, normal_scale) = match &object.material {
             Material::Pbr(p) => (
                 [
@@ -424,7 +406,7 @@ pub fn build_frame(
             base_color: Vec3::from(base).extend(mask).to_array(),
             emission: emission.extend(alpha).to_array(),
             params,
-            extra: [normal_scale, 0.0, 0.0, 0.0],
+            extra: [normal_scale, f90, 0.0, 0.0],
             flags: [
                 u32::from(selection == Some(i)),
                 u32::from(normal_mapped),
@@ -455,6 +437,7 @@ pub fn build_frame(
         grid,
         shadows,
         environment: environment(scene),
+        volume,
     }
 }
 
@@ -598,23 +581,31 @@ mod tests {
         );
     }
 
-    /// Bounce light: a closed room lit from inside keeps most of its light (the Cornell box's
-    /// walls reflect about half of it: the ambient term is about its direct light's), a room with
-    /// black walls none.
+    /// Bounce light: in the Cornell box a probe gets more from below (the lit floor) than from
+    /// above (the ceiling, lit only by bounces), sees the sky only through the open front, and
+    /// with black walls gets none.
     #[test]
     fn a_closed_room_fills_with_bounce_light_and_a_black_one_does_not() {
         let scene = rt_core::assets::cornell_box().expect("embedded scene");
         let frame = build_frame(&scene, &scene.camera, scene.bounds(), None, [64, 64]);
-        let bounce = Vec3::new(
-            frame.view.bounce_r,
-            frame.view.bounce_g,
-            frame.view.bounce_b,
-        );
-        eprintln!("Cornell box bounce radiance {bounce}");
-        assert!(
-            bounce.min_element() > 0.02 && bounce.max_element() < 1.0,
-            "{bounce}"
-        );
+        let v = &frame.volume;
+        assert_eq!(v.dims, [4, 4, 4]);
+        let (below, above) = (v.at([1, 2, 2], 3), v.at([1, 2, 2], 2));
+        eprintln!("bounce from below {below:?}, from above {above:?}");
+        assert!(below[0] > above[0] && above[0] > 0.0, "{below:?} {above:?}");
+        // The box is open towards −z (the camera): its back wall hides the sky from every probe,
+        // and the front row sees the opening.
+        for z in 0..4 {
+            for y in 0..4 {
+                for x in 0..4 {
+                    let (back, front) = (v.at([x, y, z], 4)[3], v.at([x, y, 0], 5)[3]);
+                    assert!(
+                        back < 0.05 && front > 0.3,
+                        "sky {back} behind, {front} in front"
+                    );
+                }
+            }
+        }
         let mut black = scene.clone();
         for o in &mut black.objects {
             if !matches!(o.material, Material::Emissive { .. }) {
@@ -625,7 +616,7 @@ mod tests {
             }
         }
         let frame = build_frame(&black, &black.camera, black.bounds(), None, [64, 64]);
-        assert_eq!(frame.view.bounce_r, 0.0);
+        assert!(frame.volume.texels.iter().all(|t| t[0] == 0.0));
     }
 
     /// A flat emitter's light is all along its normal; a closed one's is isotropic.

@@ -4,10 +4,12 @@
 //! through the render's view transform (the editor's blit, or `rt_core::output` for a file).
 //!
 //! Per frame: the shadow maps when an object or light moved (`shadows.rs`), the prefiltered
-//! environment when it changed (`environment.rs`), then one pass: the opaque objects, the
+//! environment when it changed (`environment.rs`), the irradiance volume when the geometry,
+//! materials or lights changed (`bounce.rs`), then one pass: the opaque objects, the
 //! environment behind them, the ground grid, and the blended objects (transmission, alpha) over
 //! them. The shading is `shaders/preview.wgsl`'s.
 
+pub mod bounce;
 mod cache;
 pub mod environment;
 mod frame;
@@ -48,6 +50,49 @@ struct ShadowMaps {
     key: Option<u64>,
 }
 
+/// The irradiance volume's texture and the volume it holds (compared by address).
+struct ProbeTexture {
+    volume: Arc<bounce::IrradianceVolume>,
+    view: wgpu::TextureView,
+}
+
+fn probe_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    volume: &Arc<bounce::IrradianceVolume>,
+) -> ProbeTexture {
+    let [nx, ny, nz] = volume.dims;
+    let data: Vec<half::f16> = volume
+        .texels
+        .iter()
+        .flatten()
+        .map(|&c| half::f16::from_f32(c.clamp(0.0, 65000.0)))
+        .collect();
+    let texture = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("preview irradiance volume"),
+            size: wgpu::Extent3d {
+                width: 6 * nx,
+                height: ny,
+                depth_or_array_layers: nz,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: wgpu::TextureFormat::Rgba16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&data),
+    );
+    ProbeTexture {
+        volume: volume.clone(),
+        view: texture.create_view(&Default::default()),
+    }
+}
+
 struct EnvironmentTextures {
     key: u64,
     sharp: wgpu::TextureView,
@@ -74,6 +119,7 @@ pub struct PreviewRenderer {
     bindings: HashMap<[usize; 4], CachedBinding>,
     shadow_maps: ShadowMaps,
     environment: Option<EnvironmentTextures>,
+    probes: Option<ProbeTexture>,
     target: Option<Target>,
     frame: u64,
 }
@@ -202,6 +248,7 @@ impl PreviewRenderer {
             bindings: HashMap::new(),
             shadow_maps: shadow_maps(device, 1),
             environment: None,
+            probes: None,
             target: None,
             frame: 0,
         }
@@ -409,13 +456,21 @@ impl PreviewRenderer {
             });
             rebind = true;
         }
+        if self
+            .probes
+            .as_ref()
+            .is_none_or(|p| !Arc::ptr_eq(&p.volume, &frame.volume))
+        {
+            self.probes = Some(probe_texture(device, queue, &frame.volume));
+            rebind = true;
+        }
         if rebind {
             self.shadow_bind_group = self.pipelines.shadow_bind_group(
                 device,
                 &self.objects_buffer,
                 &self.matrices_buffer,
             );
-            if let Some(env) = &self.environment {
+            if let (Some(env), Some(probes)) = (&self.environment, &self.probes) {
                 self.view_bind_group = Some(self.pipelines.view_bind_group(
                     device,
                     [
@@ -424,7 +479,7 @@ impl PreviewRenderer {
                         &self.matrices_buffer,
                     ],
                     &self.shadow_maps.array,
-                    [&env.sharp, &env.blur, &self.brdf],
+                    [&env.sharp, &env.blur, &self.brdf, &probes.view],
                 ));
             }
         }

@@ -95,6 +95,7 @@ impl Pipelines {
                 texture_entry(6, float, d2_array),
                 texture_entry(7, float, d2),
                 sampler_entry(8, wgpu::SamplerBindingType::Filtering),
+                texture_entry(9, float, wgpu::TextureViewDimension::D3),
             ],
         });
         // The shadow pass binds only what its vertex stage reads: the maps it draws into cannot
@@ -282,14 +283,14 @@ impl Pipelines {
         }
     }
 
-    /// The frame's bindings: the view, objects and shadow views' buffers, the shadow maps, and the
-    /// environment's sharp and prefiltered images and the BRDF table.
+    /// The frame's bindings: the view, objects and shadow views' buffers, the shadow maps, the
+    /// environment's sharp and prefiltered images, the BRDF table and the irradiance volume.
     pub(super) fn view_bind_group(
         &self,
         device: &wgpu::Device,
         [view, objects, matrices]: [&wgpu::Buffer; 3],
         shadow_maps: &wgpu::TextureView,
-        [sharp, blur, brdf]: [&wgpu::TextureView; 3],
+        [sharp, blur, brdf, probes]: [&wgpu::TextureView; 4],
     ) -> wgpu::BindGroup {
         let texture = |binding, view| wgpu::BindGroupEntry {
             binding,
@@ -323,6 +324,7 @@ impl Pipelines {
                     binding: 8,
                     resource: wgpu::BindingResource::Sampler(&self.clamped),
                 },
+                texture(9, probes),
             ],
         })
     }

@@ -53,11 +53,13 @@ pub struct PreviewView {
     /// rgb: a constant environment's radiance (the ambient colour); a: 1 when the environment is
     /// constant, which the shader then reads here instead of from its images.
     pub ambient: [f32; 4],
+    /// The irradiance volume's bounds (`bounce.rs`; xyz, w unused).
+    pub probe_lo: [f32; 4],
+    pub probe_hi: [f32; 4],
     pub light_count: u32,
-    /// The radiance bounce light adds from every direction (`frame.rs`, `bounce_radiance`).
-    pub bounce_r: f32,
-    pub bounce_g: f32,
-    pub bounce_b: f32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
     pub lights: [PreviewLight; MAX_PREVIEW_LIGHTS],
 }
 
@@ -74,7 +76,8 @@ pub struct PreviewObject {
     /// metallic, roughness, transmission, specular reflectance at normal incidence of its
     /// dielectric layer (0 for a plain Lambertian).
     pub params: [f32; 4],
-    /// x: the normal map's strength; yzw: unused.
+    /// x: the normal map's strength; y: the dielectric layer's reflectance at grazing angles (F90:
+    /// glTF's `specular`, 0 for materials without a specular layer); zw: unused.
     pub extra: [f32; 4],
     /// selected, has a normal map, has vertex normals, unused.
     pub flags: [u32; 4],
@@ -177,10 +180,12 @@ mod tests {
                 eye,
                 fog,
                 ambient,
+                probe_lo,
+                probe_hi,
                 light_count,
-                bounce_r,
-                bounce_g,
-                bounce_b,
+                _pad0,
+                _pad1,
+                _pad2,
                 lights
             ]
         );
