@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use rt_gpu::preview::PreviewRenderer;
-pub use rt_gpu::preview::{PreviewFrame, build_frame, grid_step};
+pub use rt_gpu::preview::{PreviewFrame, build_interactive_frame, grid_step};
 
 pub struct PreviewResources {
     renderer: PreviewRenderer,

@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3};
 use super::{gizmo, light_marks};
 use crate::app::RtApp;
 use crate::navigation;
-use crate::preview::{PreviewCallback, build_frame};
+use crate::preview::{PreviewCallback, build_interactive_frame};
 
 pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
@@ -89,13 +89,18 @@ pub fn viewport(app: &mut RtApp, ui: &mut Ui) {
             );
         }
         _ if app.preview_available => {
-            let frame = build_frame(
+            let frame = build_interactive_frame(
                 &app.doc.scene,
                 &app.doc.scene.camera,
                 app.doc.bounds(),
                 app.selection,
                 size_px,
             );
+            if frame.settling {
+                // A large scene's bounce light is being rebuilt: look again soon.
+                ui.ctx()
+                    .request_repaint_after(std::time::Duration::from_millis(50));
+            }
             painter.add(egui_wgpu::Callback::new_paint_callback(
                 rect,
                 PreviewCallback(Arc::new(frame)),

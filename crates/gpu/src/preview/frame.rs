@@ -58,6 +58,8 @@ pub struct PreviewFrame {
     pub environment: PreviewEnvironment,
     /// Bounce light (`bounce.rs`).
     pub volume: Arc<IrradianceVolume>,
+    /// The bounce light is still being rebuilt on a thread (`build_interactive_frame`).
+    pub settling: bool,
 }
 
 /// The projection the preview uses for `camera` at `aspect`, with depth range fitted to the scene.
@@ -275,13 +277,37 @@ fn environment(scene: &Scene) -> PreviewEnvironment {
 }
 
 /// Builds the frame for `scene` (whose bounds are given) seen by `camera` in a viewport of
-/// `size_px` pixels.
+/// `size_px` pixels, with everything it draws complete (`rt-cli preview`, tests, benchmarks).
 pub fn build_frame(
     scene: &Scene,
     camera: &Camera,
     bounds: Option<(Vec3, Vec3)>,
     selection: Option<usize>,
     size_px: [u32; 2],
+) -> PreviewFrame {
+    frame_with(scene, camera, bounds, selection, size_px, true)
+}
+
+/// As `build_frame`, for an interactive view: a large scene's bounce light is rebuilt on a thread
+/// after a change, and until it is ready the frame shows the last one and is `settling` (draw
+/// again soon).
+pub fn build_interactive_frame(
+    scene: &Scene,
+    camera: &Camera,
+    bounds: Option<(Vec3, Vec3)>,
+    selection: Option<usize>,
+    size_px: [u32; 2],
+) -> PreviewFrame {
+    frame_with(scene, camera, bounds, selection, size_px, false)
+}
+
+fn frame_with(
+    scene: &Scene,
+    camera: &Camera,
+    bounds: Option<(Vec3, Vec3)>,
+    selection: Option<usize>,
+    size_px: [u32; 2],
+    wait: bool,
 ) -> PreviewFrame {
     let aspect = size_px[0].max(1) as f32 / size_px[1].max(1) as f32;
     let view_proj = view_projection(camera, aspect, bounds);
@@ -301,7 +327,7 @@ pub fn build_frame(
     ranked.truncate(MAX_PREVIEW_LIGHTS);
     let mut lights: Vec<PreviewLight> = ranked.into_iter().map(|r| r.light).collect();
     let shadows = plan_shadows(&mut lights, scene, center, radius);
-    let volume = irradiance_volume(scene, &lights, bounds, sky_radiance(scene));
+    let (volume, settling) = irradiance_volume(scene, &lights, bounds, sky_radiance(scene), wait);
 
     // Fog: what it glows with where it is thick, single scattering of the irradiance at the scene's
     // centre, evenly (albedo · E / 4π); the shader blends it in by exp(−σ_t d).
@@ -438,6 +464,7 @@ pub fn build_frame(
         shadows,
         environment: environment(scene),
         volume,
+        settling,
     }
 }
 
@@ -617,6 +644,33 @@ mod tests {
         }
         let frame = build_frame(&black, &black.camera, black.bounds(), None, [64, 64]);
         assert!(frame.volume.texels.iter().all(|t| t[0] == 0.0));
+    }
+
+    /// An interactive frame of a large scene shows the last bounce light while a thread builds the
+    /// new one, and says so; a later frame gets the new one.
+    #[test]
+    fn a_large_scenes_bounce_light_is_built_on_a_thread() {
+        let mut scene = rt_core::assets::cornell_box().expect("embedded scene");
+        let mut ball = scene.objects[0].clone();
+        ball.name = "ball".into();
+        ball.mesh = rt_core::shapes::uv_sphere(80.0, 120, 200).into();
+        ball.transform.translation = [280.0, 300.0, 280.0];
+        scene.objects.push(ball);
+        assert!(scene.triangle_count() > crate::preview::bounce::SYNC_TRIANGLES);
+        let frame = |scene: &Scene| {
+            build_interactive_frame(scene, &scene.camera, scene.bounds(), None, [64, 64])
+        };
+        assert!(frame(&scene).settling, "the first frame does not wait");
+        let started = std::time::Instant::now();
+        let done = loop {
+            let f = frame(&scene);
+            if !f.settling {
+                break f;
+            }
+            assert!(started.elapsed().as_secs() < 60, "the volume never arrived");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        };
+        assert_eq!(done.volume.dims, [4, 4, 4]);
     }
 
     /// A flat emitter's light is all along its normal; a closed one's is isotropic.

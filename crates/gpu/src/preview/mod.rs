@@ -26,8 +26,8 @@ use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 use cache::{CachedBinding, CachedMesh, CachedTexture};
 pub use frame::{
-    MaterialTextures, PreviewEnvironment, PreviewFrame, TextureRef, build_frame, grid_lines,
-    grid_step, view_projection,
+    MaterialTextures, PreviewEnvironment, PreviewFrame, TextureRef, build_frame,
+    build_interactive_frame, grid_lines, grid_step, view_projection,
 };
 use pipelines::Pipelines;
 
