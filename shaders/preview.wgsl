@@ -4,9 +4,9 @@
 //
 // Per light, L = (f_diffuse + f_specular) E, E = I cosθ / d² (point, spot; an emitter's I follows
 // its projected area) or the sun's irradiance × cosθ, dimmed by the light's shadow map (four
-// bilinear comparisons). f_specular = D G₂ F / (4 cosθo cosθi) (GGX, height-correlated Smith, Schlick's
-// Fresnel) scaled by 1 + F0 (1/E(μo) − 1) for the energy multiple scattering keeps, as the render's
-// tables do; f_diffuse = (1 − metallic)(1 − transmission)(1 − E_spec(μo)) base/π.
+// bilinear comparisons). f_specular = D G₂ F / (4 cosθo cosθi) (GGX, height-correlated Smith,
+// Schlick's Fresnel from F0 to F90) scaled by 1 + F0 (1/E(μo) − 1) for the energy multiple
+// scattering keeps, as the render's tables do; f_diffuse = (1 − metallic)(1 − transmission)(1 − E_spec(μo)) base/π.
 // Image-based light (Karis' split sum): the environment prefiltered per roughness (`env_blur`,
 // built on the CPU by `environment.rs`) times F0 A + B from the BRDF table (A + B = rt-core's GGX
 // albedo table), and the cosine-convolved environment times the diffuse albedo, both dimmed by the
@@ -16,12 +16,19 @@
 // An approximation for placing things: the path tracer is the truth.
 
 const MAX_PREVIEW_LIGHTS: u32 = 8u;
+// Shadow-map layers at most (crates/gpu/src/preview/shadows.rs `MAX_SHADOW_LAYERS`).
+const MAX_SHADOW_LAYERS: u32 = 14u;
 const PI: f32 = 3.14159265358979;
 // PreviewLight.shadow.x (crates/gpu/src/preview/types.rs `light_kind`).
 const LIGHT_POINT: u32 = 0u;
 const LIGHT_SPOT: u32 = 1u;
 const LIGHT_SUN: u32 = 2u;
 const LIGHT_EMITTER: u32 = 3u;
+// PreviewObject.flags.y: which of the material's images it has (types.rs `image_slot`).
+const TEX_BASE: u32 = 1u;
+const TEX_METAL_ROUGH: u32 = 2u;
+const TEX_NORMAL: u32 = 4u;
+const TEX_EMISSION: u32 = 8u;
 // PreviewLight.shadow.y of a light without a shadow map.
 const NO_SHADOW: u32 = 0xffffffffu;
 // Layers of `env_blur`: GGX-prefiltered at roughness 0.25, 0.5, 0.75, 1, then cosine-convolved.
@@ -73,13 +80,15 @@ struct PreviewObject {
     params: vec4<f32>,
     // x: the normal map's strength; y: the dielectric layer's F90 (glTF's `specular`; 0 without one).
     extra: vec4<f32>,
-    // x: selected, y: has a normal map, z: has vertex normals.
+    // x: selected, y: its images (TEX_*), z: has vertex normals.
     flags: vec4<u32>,
 }
 
 @group(0) @binding(0) var<uniform> view: PreviewView;
 @group(0) @binding(1) var<storage, read> objects: array<PreviewObject>;
-@group(0) @binding(2) var<storage, read> shadow_matrices: array<mat4x4<f32>>;
+// Each shadow-map layer's view (a uniform: read per fragment, and lavapipe loads storage one lane
+// at a time).
+@group(0) @binding(2) var<uniform> shadow_matrices: array<mat4x4<f32>, MAX_SHADOW_LAYERS>;
 @group(0) @binding(3) var shadow_map: texture_depth_2d_array;
 @group(0) @binding(4) var shadow_sampler: sampler_comparison;
 @group(0) @binding(5) var env_sharp: texture_2d<f32>;
@@ -336,7 +345,10 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>) -> Shad
     let f90 = mix(o.extra.y, 1.0, metallic);
     let specular = f90 > 0.0 || any(f0 > vec3<f32>(0.0));
     let n_v = max(dot(n, v), 1e-4);
-    let ab = brdf_scale_bias(n_v, roughness);
+    var ab = vec2<f32>(1.0, 0.0);
+    if specular {
+        ab = brdf_scale_bias(n_v, roughness);
+    }
     let e_spec = f0 * ab.x + vec3<f32>(f90 * ab.y);
     let e_white = max(ab.x + ab.y, 1e-3);
     let compensation = vec3<f32>(1.0) + f0 * (1.0 / e_white - 1.0);
@@ -407,11 +419,21 @@ fn surface(in: MeshVarying) -> vec4<f32> {
     let dp = mat2x3<f32>(dpdx(in.world), dpdy(in.world));
     let duv = mat2x2<f32>(dpdx(in.uv), dpdy(in.uv));
     let face = cross(dp[0], dp[1]);
-    let sampled = textureSample(albedo_texture, albedo_sampler, in.uv);
-    let metal_rough = textureSample(metal_rough_texture, albedo_sampler, in.uv);
-    let bump = textureSample(normal_texture, albedo_sampler, in.uv).rgb;
-    let glow = textureSample(emission_texture, albedo_sampler, in.uv).rgb;
     var o = in;
+    // The images have one level each: sampled at it, only where the material has them (a texture
+    // lookup is a good part of a fragment's cost on lavapipe).
+    var sampled = vec4<f32>(1.0);
+    if (o.flags.y & TEX_BASE) != 0u {
+        sampled = textureSampleLevel(albedo_texture, albedo_sampler, in.uv, 0.0);
+    }
+    var metal_rough = vec4<f32>(1.0);
+    if (o.flags.y & TEX_METAL_ROUGH) != 0u {
+        metal_rough = textureSampleLevel(metal_rough_texture, albedo_sampler, in.uv, 0.0);
+    }
+    var glow = vec3<f32>(1.0);
+    if (o.flags.y & TEX_EMISSION) != 0u {
+        glow = textureSampleLevel(emission_texture, albedo_sampler, in.uv, 0.0).rgb;
+    }
     if sampled.a < o.base_color.a {
         discard;
     }
@@ -420,8 +442,9 @@ fn surface(in: MeshVarying) -> vec4<f32> {
         n = normalize(in.normal);
     }
     let to_eye = normalize(view.eye.xyz - in.world);
-    if o.flags.y != 0u {
+    if (o.flags.y & TEX_NORMAL) != 0u {
         // Tilted about the side that faces the camera, as the render's two-sided shading sees it.
+        let bump = textureSampleLevel(normal_texture, albedo_sampler, in.uv, 0.0).rgb;
         let facing = select(-n, n, dot(n, to_eye) >= 0.0);
         n = normal_mapped(facing, bump, o.extra.x, dp, duv);
     }

@@ -24,7 +24,7 @@ use glam::Vec3;
 use rt_core::{Material, Scene};
 
 use super::frame::material_params;
-use super::types::{PreviewLight, light_kind};
+use super::types::{CUBE_SIDES, PreviewLight, light_kind};
 
 /// Rays per probe.
 pub const PROBE_RAYS: usize = 128;
@@ -32,15 +32,6 @@ pub const PROBE_RAYS: usize = 128;
 pub const MAX_TRIANGLES: usize = 100_000;
 /// Probes along the scene's largest side.
 const PROBES_ACROSS: f32 = 4.0;
-
-const AXES: [Vec3; 6] = [
-    Vec3::X,
-    Vec3::NEG_X,
-    Vec3::Y,
-    Vec3::NEG_Y,
-    Vec3::Z,
-    Vec3::NEG_Z,
-];
 
 /// The probes, laid out as the shader's 3D texture: texel (axis · nx + ix, iy, iz) holds
 /// [bounce irradiance/π (rgb), sky visibility] of probe (ix, iy, iz) from side `axis`.
@@ -242,7 +233,7 @@ fn compute(
                 let mut back = 0;
                 for &d in &rays {
                     let hit = rt_core::reference::trace(&gpu, c, d, f32::MAX);
-                    let cosines = AXES.map(|a| a.dot(d).max(0.0));
+                    let cosines = CUBE_SIDES.map(|a| a.dot(d).max(0.0));
                     for k in 0..6 {
                         weight[k] += cosines[k];
                     }

@@ -423,8 +423,13 @@ fn frame_with(
             ),
             _ => ([image(texture), None, None, None], 1.0),
         };
-        // A normal map needs the interpolated normals it tilts (the render's rule too).
-        let normal_mapped = maps[2].is_some() && object.mesh.normals.is_some();
+        // Bit k: slot k holds an image; a normal map needs the interpolated normals it tilts (the
+        // render's rule too).
+        let images = maps
+            .iter()
+            .enumerate()
+            .filter(|(slot, map)| map.is_some() && (*slot != 2 || object.mesh.normals.is_some()))
+            .fold(0, |bits, (slot, _)| bits | 1 << slot);
         blended.push(alpha < 1.0 || (params[2] > 0.0 && params[0] < 1.0));
         objects.push(PreviewObject {
             model: model.to_cols_array_2d(),
@@ -435,7 +440,7 @@ fn frame_with(
             extra: [normal_scale, f90, 0.0, 0.0],
             flags: [
                 u32::from(selection == Some(i)),
-                u32::from(normal_mapped),
+                images,
                 u32::from(object.mesh.normals.is_some()),
                 0,
             ],

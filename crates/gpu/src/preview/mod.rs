@@ -214,7 +214,7 @@ impl PreviewRenderer {
         });
         let objects_capacity = 16;
         let objects_buffer = pipelines::objects_buffer(device, objects_capacity);
-        let matrices_buffer = pipelines::matrices_buffer(device, shadows::MAX_SHADOW_LAYERS);
+        let matrices_buffer = pipelines::matrices_buffer(device);
         let shadow_bind_group =
             pipelines.shadow_bind_group(device, &objects_buffer, &matrices_buffer);
         let defaults: [wgpu::TextureView; 4] = std::array::from_fn(|slot| {

@@ -88,7 +88,7 @@ impl Pipelines {
             entries: &[
                 buffer_entry(0, vf, wgpu::BufferBindingType::Uniform),
                 buffer_entry(1, vf, storage),
-                buffer_entry(2, vf, storage),
+                buffer_entry(2, vf, wgpu::BufferBindingType::Uniform),
                 texture_entry(3, wgpu::TextureSampleType::Depth, d2_array),
                 sampler_entry(4, wgpu::SamplerBindingType::Comparison),
                 texture_entry(5, float, d2),
@@ -105,7 +105,7 @@ impl Pipelines {
             label: Some("preview shadow"),
             entries: &[
                 buffer_entry(1, vertex, storage),
-                buffer_entry(2, vertex, storage),
+                buffer_entry(2, vertex, wgpu::BufferBindingType::Uniform),
             ],
         });
         let texture_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -241,33 +241,27 @@ impl Pipelines {
             multiview_mask: None,
             cache: None,
         });
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("preview"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
-        // The environment wraps around in u and stops at the poles; the BRDF table is clamped by
-        // the same sampler (its u never leaves [0, 1]).
-        let clamped = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("preview environment"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::ClampToEdge,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
-        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("preview shadow"),
-            address_mode_u: wgpu::AddressMode::ClampToEdge,
-            address_mode_v: wgpu::AddressMode::ClampToEdge,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            compare: Some(wgpu::CompareFunction::LessEqual),
-            ..Default::default()
-        });
+        let linear = |label, (u, v), compare| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: u,
+                address_mode_v: v,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                compare,
+                ..Default::default()
+            })
+        };
+        let (repeat, clamp) = (wgpu::AddressMode::Repeat, wgpu::AddressMode::ClampToEdge);
+        let sampler = linear("preview", (repeat, repeat), None);
+        // The environment wraps around in u and stops at the poles. The BRDF table and the
+        // irradiance volume share it: their lookups keep within their texels' centres.
+        let clamped = linear("preview environment", (repeat, clamp), None);
+        let shadow_sampler = linear(
+            "preview shadow",
+            (clamp, clamp),
+            Some(wgpu::CompareFunction::LessEqual),
+        );
         Pipelines {
             opaque,
             blended,
@@ -387,11 +381,12 @@ pub(super) fn objects_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Bu
     })
 }
 
-pub(super) fn matrices_buffer(device: &wgpu::Device, layers: usize) -> wgpu::Buffer {
+/// The shadow-map layers' views: a uniform array of `MAX_SHADOW_LAYERS` matrices.
+pub(super) fn matrices_buffer(device: &wgpu::Device) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("preview shadow views"),
-        size: (layers.max(1) * 64) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        size: (super::shadows::MAX_SHADOW_LAYERS * 64) as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }

@@ -13,7 +13,7 @@ use std::hash::{Hash, Hasher};
 use glam::{Mat4, Vec3};
 use rt_core::Scene;
 
-use super::types::{PreviewLight, light_kind};
+use super::types::{CUBE_SIDES, PreviewLight, light_kind};
 
 /// Side of every shadow-map layer, in texels.
 pub const SHADOW_SIZE: u32 = 1024;
@@ -45,15 +45,7 @@ fn look(eye: Vec3, forward: Vec3) -> Mat4 {
 fn cube(eye: Vec3, near: f32, far: f32) -> [Mat4; 6] {
     let projection =
         glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_2, 1.0, near, far);
-    [
-        Vec3::X,
-        Vec3::NEG_X,
-        Vec3::Y,
-        Vec3::NEG_Y,
-        Vec3::Z,
-        Vec3::NEG_Z,
-    ]
-    .map(|forward| projection * look(eye, forward))
+    CUBE_SIDES.map(|forward| projection * look(eye, forward))
 }
 
 /// Gives the strongest of `lights` (sorted strongest first) shadow maps within the layer budget,

@@ -5,6 +5,26 @@ use bytemuck::{Pod, Zeroable};
 
 pub const MAX_PREVIEW_LIGHTS: usize = 8;
 
+/// The six sides of a cube in the order the shader numbers them (`shadow_layer`, `ambient_cube` in
+/// `preview.wgsl`): +x, −x, +y, −y, +z, −z; a point light's shadow cube and a probe's ambient cube.
+pub const CUBE_SIDES: [glam::Vec3; 6] = [
+    glam::Vec3::X,
+    glam::Vec3::NEG_X,
+    glam::Vec3::Y,
+    glam::Vec3::NEG_Y,
+    glam::Vec3::Z,
+    glam::Vec3::NEG_Z,
+];
+
+/// `PreviewObject::flags[1]`: which images a material has (the `TEX_*` constants of the shader);
+/// the slots of `MaterialTextures` in order.
+pub mod image_slot {
+    pub const BASE: u32 = 1;
+    pub const METAL_ROUGH: u32 = 2;
+    pub const NORMAL: u32 = 4;
+    pub const EMISSION: u32 = 8;
+}
+
 /// `PreviewLight::shadow[1]` of a light without a shadow map.
 pub const NO_SHADOW: u32 = u32::MAX;
 
@@ -79,7 +99,7 @@ pub struct PreviewObject {
     /// x: the normal map's strength; y: the dielectric layer's reflectance at grazing angles (F90:
     /// glTF's `specular`, 0 for materials without a specular layer); zw: unused.
     pub extra: [f32; 4],
-    /// selected, has a normal map, has vertex normals, unused.
+    /// selected, its images (`image_slot` bits), has vertex normals, unused.
     pub flags: [u32; 4],
 }
 
@@ -148,6 +168,14 @@ mod tests {
             ("LIGHT_SUN", light_kind::SUN),
             ("LIGHT_EMITTER", light_kind::EMITTER),
             ("NO_SHADOW", NO_SHADOW),
+            ("TEX_BASE", image_slot::BASE),
+            ("TEX_METAL_ROUGH", image_slot::METAL_ROUGH),
+            ("TEX_NORMAL", image_slot::NORMAL),
+            ("TEX_EMISSION", image_slot::EMISSION),
+            (
+                "MAX_SHADOW_LAYERS",
+                crate::preview::shadows::MAX_SHADOW_LAYERS as u32,
+            ),
         ] {
             let (_, c) = module
                 .constants
