@@ -230,12 +230,28 @@ pub(super) fn material_params(
 }
 
 /// The environment's mean radiance (what a surface open to all of it receives over π), or the
-/// ambient colour.
+/// ambient colour; an environment's is kept for the next frames (a large image takes milliseconds).
 fn sky_radiance(scene: &Scene) -> Vec3 {
+    // Holding the map keeps its address, the key, from being reused.
+    type Last = Option<(Arc<EnvironmentMap>, Vec3)>;
+    static LAST: std::sync::Mutex<Last> = std::sync::Mutex::new(None);
     let Some(env) = &scene.environment else {
         return Vec3::from(scene.ambient);
     };
-    let map = &env.map;
+    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+    let mean = match last.as_ref() {
+        Some((map, mean)) if Arc::ptr_eq(map, &env.map) => *mean,
+        _ => {
+            let mean = mean_radiance(&env.map);
+            *last = Some((env.map.clone(), mean));
+            mean
+        }
+    };
+    mean * env.strength.max(0.0)
+}
+
+/// An environment map's mean radiance over the sphere (rows weighted by their solid angle).
+fn mean_radiance(map: &EnvironmentMap) -> Vec3 {
     let (mut sum, mut weight) = (Vec3::ZERO, 0.0f32);
     for (i, t) in map.texels.iter().enumerate() {
         let row = (i as u32 / map.width.max(1)) as f32;
@@ -244,7 +260,7 @@ fn sky_radiance(scene: &Scene) -> Vec3 {
         weight += w;
     }
     if weight > 0.0 {
-        sum / weight * env.strength.max(0.0)
+        sum / weight
     } else {
         Vec3::ZERO
     }
