@@ -23,7 +23,7 @@ use std::sync::{Arc, Mutex};
 use glam::Vec3;
 use rt_core::{Material, Scene};
 
-use super::frame::material_params;
+use super::surfaces::{emitter_shape, material_params};
 use super::types::{CUBE_SIDES, PreviewLight, light_kind};
 
 /// Rays per probe.
@@ -76,7 +76,7 @@ fn mean_albedo(scene: &Scene, bounds: (Vec3, Vec3)) -> (Vec3, f32, f32) {
         if matches!(object.material, Material::Emissive { .. }) {
             continue;
         }
-        let a = super::frame::emitter_shape(object).0;
+        let a = emitter_shape(object).0;
         area += a;
         reflected += diffuse_albedo(&object.material) * a;
     }

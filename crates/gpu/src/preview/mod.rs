@@ -15,6 +15,7 @@ pub mod environment;
 mod frame;
 mod pipelines;
 pub mod shadows;
+mod surfaces;
 pub mod types;
 
 use std::collections::HashMap;
