@@ -220,3 +220,45 @@ fn the_denoised_view_arrives_and_names_its_denoiser() {
     );
     assert!(view.shut_down(Duration::from_secs(30)));
 }
+
+/// The view on the native CPU backend (a machine without a GPU): no adapter needed; it starts
+/// coarse, refines to full resolution, denoises, and its full-resolution samples are exactly the
+/// CPU backend's for the same frame (the same sums: a restart per step loses nothing); a change
+/// restarts it.
+#[test]
+fn the_cpu_view_refines_denoises_and_equals_the_cpu_backend() {
+    let mut view = LiveView::start_on_cpu(small_view_settings(), || {});
+    let scene = cornell(48, 32);
+    request(&mut view, &scene);
+    let shown = tick_until(&mut view, "full resolution with 2 samples, denoised", |v| {
+        v.raw().is_some_and(|r| r.pixel_size == 1 && r.samples >= 2)
+            && v.denoised().is_some_and(|d| d.pixel_size == 1)
+    });
+    // A small view's coarse steps take well under a UI frame here: the ticks see some of them.
+    assert!(
+        shown.windows(2).all(|w| w[1].0 <= w[0].0),
+        "steps only get finer: {shown:?}"
+    );
+    let raw = view.raw().unwrap().clone();
+    assert_eq!((raw.width, raw.height), (48, 32));
+
+    let gpu_scene = rt_core::GpuScene::build(&scene).unwrap();
+    let frame = rt_core::frame::frame_for(&scene, &gpu_scene).unwrap();
+    let mut cpu = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
+    let go = std::sync::atomic::AtomicBool::new(false);
+    assert!(cpu.add_batch(&gpu_scene, &frame, raw.samples, &go));
+    let expected = cpu.pixels();
+    assert!(expected.iter().any(|p| p[0] > 0.0), "all black");
+    for (i, (v, e)) in raw.pixels.iter().zip(&expected).enumerate() {
+        assert_eq!(v, &[e[0], e[1], e[2]], "pixel {i} at {} spp", raw.samples);
+    }
+
+    let mut moved = scene.clone();
+    moved.camera.vfov_deg += 5.0;
+    request(&mut view, &moved);
+    let generation = view.generation();
+    tick_until(&mut view, "an image of the change", |v| {
+        v.raw().is_some_and(|r| r.generation == generation)
+    });
+    assert!(view.shut_down(Duration::from_secs(30)));
+}

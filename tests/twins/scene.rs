@@ -351,7 +351,7 @@ fn the_surface_dispatch_matches_its_twin() {
     });
     let kernel = TwinKernel {
         words_in: 56,
-        words_out: 15,
+        words_out: 16,
         body: "var m: Material;
     m.kind = u_in(item, 0u); m.color = v3_in(item, 1u); m.flags = u_in(item, 4u);
     for (var k = 0u; k < 8u; k++) {
@@ -374,7 +374,8 @@ fn the_surface_dispatch_matches_its_twin() {
     put_u(item, 7u, u32(x.valid));
     put3(item, 8u, select(vec3(0.0), x.direction, x.valid));
     put3(item, 11u, select(vec3(0.0), x.weight, x.valid));
-    put(item, 14u, select(0.0, x.pdf, x.valid));",
+    put(item, 14u, select(0.0, x.pdf, x.valid));
+    put(item, 15u, surface_relative_eta(s));",
         sobol: false,
     };
     let gpu_out = kernel.run(ctx, &input);
@@ -422,9 +423,9 @@ fn the_surface_dispatch_matches_its_twin() {
             let sample = s.sample(d, ng, &mut rng);
             out.push(u32::from(sample.is_some()));
             let gpu_dir = Vec3::new(
-                f32::from_bits(gpu_out[item * 15 + 8]),
-                f32::from_bits(gpu_out[item * 15 + 9]),
-                f32::from_bits(gpu_out[item * 15 + 10]),
+                f32::from_bits(gpu_out[item * 16 + 8]),
+                f32::from_bits(gpu_out[item * 16 + 9]),
+                f32::from_bits(gpu_out[item * 16 + 10]),
             );
             let (dir, weight, pdf) = match (sample, s) {
                 (None, _) => (Vec3::ZERO, Vec3::ZERO, 0.0),
@@ -432,7 +433,7 @@ fn the_surface_dispatch_matches_its_twin() {
                 (Some(x), Surface::Pbr { .. }) => {
                     if (x.direction - gpu_dir).length() > 1e-3 {
                         other_branch += 1;
-                        return gpu_out[item * 15..item * 15 + 15].to_vec();
+                        return gpu_out[item * 16..item * 16 + 16].to_vec();
                     }
                     // Rotating the direction into the shading frame and back rounds it (and a coat
                     // in a frame of its own rotates it once more), and a narrow lobe (pdf up to
@@ -441,7 +442,7 @@ fn the_surface_dispatch_matches_its_twin() {
                     let (fc, p) = s.eval(gpu_dir);
                     let mis = if gpu_dir.dot(ng) > 0.0 { p } else { 0.0 };
                     let rust = [(fc / p).to_array().as_slice(), &[mis]].concat();
-                    let gpu = &gpu_out[item * 15 + 11..item * 15 + 15];
+                    let gpu = &gpu_out[item * 16 + 11..item * 16 + 15];
                     for (r, g) in rust.iter().zip(gpu) {
                         let g = f32::from_bits(*g);
                         assert!(
@@ -449,7 +450,7 @@ fn the_surface_dispatch_matches_its_twin() {
                             "surface: PBR item {item}: Rust {rust:?}, GPU {g}"
                         );
                     }
-                    let g = |k: usize| f32::from_bits(gpu_out[item * 15 + k]);
+                    let g = |k: usize| f32::from_bits(gpu_out[item * 16 + k]);
                     (gpu_dir, Vec3::new(g(11), g(12), g(13)), g(14))
                 }
                 (Some(x), _) => (x.direction, x.weight, x.pdf),
@@ -457,6 +458,7 @@ fn the_surface_dispatch_matches_its_twin() {
             out.extend(bits(&[
                 dir.x, dir.y, dir.z, weight.x, weight.y, weight.z, pdf,
             ]));
+            out.push(s.relative_eta().to_bits());
             out
         })
         .collect();
@@ -475,7 +477,7 @@ fn the_surface_dispatch_matches_its_twin() {
         name: "surface",
         rel: 2e-4,
         abs: 1e-5,
-        exact_words: &[0, 1, 2, 7],
+        exact_words: &[0, 1, 2, 7, 15],
     }
-    .check_rows(&gpu_out, 15, &rows);
+    .check_rows(&gpu_out, 16, &rows);
 }

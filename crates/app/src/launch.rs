@@ -24,9 +24,10 @@ struct Args {
     /// name.
     #[arg(long, default_value = "auto")]
     adapter: String,
-    /// What renders the render windows: gpu, cpu (rt's native CPU backend) or auto (a hardware
-    /// GPU when there is one, else cpu); the Render panel's Device changes it.
-    #[arg(long, default_value = "gpu", value_parser = ["auto", "gpu", "cpu"])]
+    /// What renders the render windows and the path-traced viewport: auto (the default: a
+    /// hardware GPU when there is one, else cpu), gpu, or cpu (rt's native CPU backend); the
+    /// Render panel's Device changes it.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "gpu", "cpu"])]
     device: String,
     /// Render a few samples, save an image, a project and a screenshot into DIR, and quit (a
     /// test of the real window).
@@ -72,9 +73,9 @@ pub fn main() -> ExitCode {
             std::env::var_os("RT_NO_RAY_QUERY").as_deref(),
         ),
         render_device: match args.device.as_str() {
-            "auto" => crate::render_job::DeviceChoice::Auto,
+            "gpu" => crate::render_job::DeviceChoice::Gpu,
             "cpu" => crate::render_job::DeviceChoice::Cpu,
-            _ => crate::render_job::DeviceChoice::Gpu,
+            _ => crate::render_job::DeviceChoice::Auto,
         },
     };
     let native = eframe::NativeOptions {

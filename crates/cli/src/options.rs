@@ -100,18 +100,19 @@ pub struct EngineArgs {
     /// native CPU backend), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     pub adapter: AdapterChoice,
-    /// What renders: gpu (a GPU through wgpu; lavapipe where there is none), cpu (rt's native CPU
-    /// backend, the estimator's Rust twin on every core: the same samples, so the same image and
-    /// mergeable parts), or auto (a hardware GPU if there is one, else cpu).
-    #[arg(long, value_enum, default_value = "gpu")]
+    /// What renders: auto (the default: a hardware GPU if there is one, else cpu), gpu (a GPU
+    /// through wgpu; lavapipe where there is none) or cpu (rt's native CPU backend, the
+    /// estimator's Rust twin on every core: the same samples, so the same image and mergeable
+    /// parts).
+    #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceArg,
 }
 
 /// `--device` values (`rt_gpu::progressive::Device`).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DeviceArg {
-    Auto,
     #[default]
+    Auto,
     Gpu,
     Cpu,
 }

@@ -15,9 +15,12 @@ const W: u32 = 32;
 const H: u32 = 24;
 const SPP: u32 = 9;
 
+/// A part rendered on the GPU (the suite's subject: the GPU kernels' parts; `cpu_device.rs`
+/// merges CPU parts with them).
 fn shard(dir: &Path, name: &str, extra: &[&str]) -> PathBuf {
     let out = dir.join(format!("{name}.exr"));
-    let (code, stderr) = render_cornell(W, H, SPP, &out, extra);
+    let extra = [&["--device", "gpu"], extra].concat();
+    let (code, stderr) = render_cornell(W, H, SPP, &out, &extra);
     assert_eq!(code, 0, "{extra:?}: {stderr}");
     out
 }
@@ -99,7 +102,7 @@ fn merged_shards_are_the_one_machine_render_bit_for_bit() {
 
     // And the plain render's colour and variance (what a user compares) are the merged ones.
     let plain = dir.join("plain.exr");
-    let (code, stderr) = render_cornell(W, H, SPP, &plain, &[]);
+    let (code, stderr) = render_cornell(W, H, SPP, &plain, &["--device", "gpu"]);
     assert_eq!(code, 0, "{stderr}");
     assert_eq!(exr_rgb(&plain), exr_rgb(&merged));
     let merged_png = dir.join("merged.png");
@@ -107,7 +110,10 @@ fn merged_shards_are_the_one_machine_render_bit_for_bit() {
     assert_eq!(code, 0, "{stderr}");
     assert!(dir.join("merged.denoised.png").is_file(), "{stderr}");
     let plain_png = dir.join("plain.png");
-    assert_eq!(render_cornell(W, H, SPP, &plain_png, &[]).0, 0);
+    assert_eq!(
+        render_cornell(W, H, SPP, &plain_png, &["--device", "gpu"]).0,
+        0
+    );
     assert_eq!(
         image::open(&plain_png).unwrap().into_rgb8().into_raw(),
         image::open(&merged_png).unwrap().into_rgb8().into_raw()
@@ -211,7 +217,7 @@ fn a_shard_that_dies_leaves_no_part_and_a_rerun_completes_the_set() {
     // Killed by the batch system mid-render.
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_rt-cli"))
         .args([
-            "render", "--width", "256", "--height", "256", "--spp", "100000",
+            "render", "--device", "gpu", "--width", "256", "--height", "256", "--spp", "100000",
         ])
         .args(["--shard", "1/2", "-o"])
         .arg(&b)
@@ -228,7 +234,7 @@ fn a_shard_that_dies_leaves_no_part_and_a_rerun_completes_the_set() {
         H,
         SPP,
         &b,
-        &["--shard", "1/2"],
+        &["--device", "gpu", "--shard", "1/2"],
         &[("RT_FAULT_LOSE_DEVICE_AFTER_BATCHES", "0")],
     );
     assert_eq!(code, 2, "{stderr}");

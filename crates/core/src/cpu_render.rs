@@ -90,6 +90,17 @@ impl CpuAccumulation {
         count: u32,
         cancel: &AtomicBool,
     ) -> bool {
+        self.add_batch_until(scene, frame, count, &|| cancel.load(Ordering::Relaxed))
+    }
+
+    /// `add_batch`, cancelled when `stop` says so (asked before each row).
+    pub fn add_batch_until(
+        &mut self,
+        scene: &GpuScene,
+        frame: &Frame,
+        count: u32,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
         let width = self.width as usize;
         let first = self.first_sample + self.samples;
         let stopped = &self.stopped;
@@ -97,7 +108,7 @@ impl CpuAccumulation {
         let rows: Vec<Option<(Vec<PixelBatch>, u64)>> = (0..self.height)
             .into_par_iter()
             .map(|y| {
-                if cancel.load(Ordering::Relaxed) {
+                if stop() {
                     return None;
                 }
                 let mut row = vec![PixelBatch::default(); width];

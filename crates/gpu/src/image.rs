@@ -111,6 +111,17 @@ pub struct Aovs {
     pub emission: Vec<[f32; 3]>,
 }
 
+impl From<&rt_core::part::Guides> for Aovs {
+    /// The CPU backend's guides (`rt_core::cpu_render`), kept the same way.
+    fn from(g: &rt_core::part::Guides) -> Self {
+        Aovs {
+            albedo: g.albedo.clone(),
+            normal: g.normal.clone(),
+            emission: g.emission.clone(),
+        }
+    }
+}
+
 impl Image {
     /// The image denoised by `choice` (`rt_core::denoiser`: Open Image Denoise where it loads, or
     /// the edge-avoiding À-Trous filter) with `aovs` as guides and, for À-Trous, the per-pixel

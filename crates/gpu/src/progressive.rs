@@ -18,10 +18,10 @@ use crate::renderer::Renderer;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Device {
     /// A hardware GPU when wgpu finds one, else the CPU backend (software adapters such as
-    /// lavapipe are slower than it, so they do not count).
+    /// lavapipe are slower than it, so they do not count): the default.
+    #[default]
     Auto,
     /// The GPU through wgpu (lavapipe on a machine without one).
-    #[default]
     Gpu,
     /// rt's native CPU backend.
     Cpu,
@@ -153,11 +153,7 @@ impl<'a> Progressive<'a> {
     pub fn read_aovs(&self) -> Result<Option<Aovs>> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_aovs()?,
-            Progressive::Cpu(c) => c.accumulation.guides().map(|g| Aovs {
-                albedo: g.albedo.clone(),
-                normal: g.normal.clone(),
-                emission: g.emission.clone(),
-            }),
+            Progressive::Cpu(c) => c.accumulation.guides().map(Aovs::from),
         })
     }
 }
@@ -171,7 +167,7 @@ pub fn cpu_label() -> String {
 }
 
 /// The CPU accumulation as the image the rest of rt saves and measures.
-fn image_of(accumulation: &CpuAccumulation) -> Image {
+pub(crate) fn image_of(accumulation: &CpuAccumulation) -> Image {
     Image {
         width: accumulation.width,
         height: accumulation.height,

@@ -65,6 +65,9 @@ pub struct LiveViewport {
     pub texture: Option<egui::TextureHandle>,
     /// (change, samples, pixel size, denoised) the texture was made from.
     pub texture_key: Option<(u64, u32, u32, bool)>,
+    /// Whether the running view traces on the CPU backend (a change of the Render panel's Device
+    /// restarts it).
+    pub on_cpu: bool,
 }
 
 impl Default for LiveViewport {
@@ -77,6 +80,7 @@ impl Default for LiveViewport {
             show_denoised: true,
             texture: None,
             texture_key: None,
+            on_cpu: false,
         }
     }
 }

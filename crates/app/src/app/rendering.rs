@@ -96,14 +96,28 @@ impl RtApp {
             self.live.texture_key = None;
             return;
         }
+        // The view traces where the render windows do (the Render panel's Device): on a machine
+        // without a GPU, the CPU backend, which answers at once where lavapipe would first compile
+        // its kernels.
+        let on_cpu = self.ui.render_device.on_cpu(false).0;
+        if self.live.on_cpu != on_cpu {
+            self.live.view = None;
+            self.live.key = None;
+            self.live.on_cpu = on_cpu;
+        }
         let waker = self.waker();
         let device = self.device.clone();
         let view = self.live.view.get_or_insert_with(|| {
-            rt_gpu::live::LiveView::start(
-                move || device.get().map_err(|e| format!("{e:#}")),
-                rt_gpu::live::LiveSettings::default(),
-                waker,
-            )
+            let settings = rt_gpu::live::LiveSettings::default();
+            if on_cpu {
+                rt_gpu::live::LiveView::start_on_cpu(settings, waker)
+            } else {
+                rt_gpu::live::LiveView::start(
+                    move || device.get().map_err(|e| format!("{e:#}")),
+                    settings,
+                    waker,
+                )
+            }
         });
         view.show_denoised = self.live.show_denoised;
         let key = (self.doc.revision(), size);

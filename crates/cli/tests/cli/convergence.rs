@@ -159,7 +159,7 @@ fn a_verbose_render_reports_its_longest_dispatch() {
     }
     let dir = temp_dir("verbose");
     let out = dir.join("v.png");
-    let (code, stderr) = render_cornell(32, 32, 8, &out, &["-v"]);
+    let (code, stderr) = render_cornell(32, 32, 8, &out, &["-v", "--device", "gpu"]);
     assert_eq!(code, 0, "{stderr}");
     let line = stderr
         .lines()

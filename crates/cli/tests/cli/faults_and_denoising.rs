@@ -12,7 +12,7 @@ fn fault_mid_render_saves_the_samples_read_back_before(fault_env: &str, says: &s
     let out = dir.join(file);
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_rt-cli"))
         .args([
-            "render", "--width", "24", "--height", "24", "--spp", "100000", "-o",
+            "render", "--device", "gpu", "--width", "24", "--height", "24", "--spp", "100000", "-o",
         ])
         .arg(&out)
         .env(fault_env, "2")

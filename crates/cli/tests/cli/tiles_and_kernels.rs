@@ -82,6 +82,8 @@ fn tiled_renders_honour_every_flag() {
     // not recur, and OIDN's determinism is not what this test is about.
     let flag_sets: [&[&str]; 2] = [
         &[
+            "--device",
+            "gpu",
             "--denoise=atrous",
             "--clamp",
             "2",
@@ -138,13 +140,15 @@ fn tracing_with_ray_queries_without_them_is_a_clear_error() {
     let dir = temp_dir("trace-hw");
     let out = dir.join("img.png");
     let off = [("RT_NO_RAY_QUERY", "1")];
-    let (code, stderr) = render_cornell_with_env(8, 8, 1, &out, &["--trace", "hw"], &off);
+    let gpu_hw = ["--device", "gpu", "--trace", "hw"];
+    let (code, stderr) = render_cornell_with_env(8, 8, 1, &out, &gpu_hw, &off);
     assert_eq!(code, 2, "{stderr}");
     assert!(
         stderr.contains("no ray queries") && stderr.contains("--trace bvh"),
         "{stderr}"
     );
-    let (code, stderr) = render_cornell_with_env(8, 8, 1, &out, &["--trace", "bvh"], &off);
+    let gpu_bvh = ["--device", "gpu", "--trace", "bvh"];
+    let (code, stderr) = render_cornell_with_env(8, 8, 1, &out, &gpu_bvh, &off);
     assert_eq!(code, 0, "{stderr}");
     assert!(stderr.contains("tracing rt's BVH"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();

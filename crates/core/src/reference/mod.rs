@@ -16,7 +16,9 @@
 //! Camera rays and rays leaving specular surfaces (metal, glass) count emitters with weight 1.
 //!
 //! Russian roulette (from segment `frame.roulette_from_depth` on): after scattering, the path goes on
-//! with probability q = min(1, max component of β) and β is divided by q, so E[β'] = β (unbiased).
+//! with probability q = min(1, max component of β·η²) and β is divided by q, so E[β'] = β
+//! (unbiased); η² is the product over the refractions so far (`PathState::eta_scale`), which
+//! undoes the 1/η² that radiance takes inside glass.
 //!
 //! Each file is the twin of the WGSL file of its stem beside it (`bvh.rs` of `bvh.wgsl`,
 //! `cwbvh.rs` of `cwbvh.wgsl`, `path.rs` of `path.wgsl`, `light.rs` of `light.wgsl`, `light_tree.rs` of

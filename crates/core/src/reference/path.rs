@@ -154,6 +154,10 @@ pub struct PathState {
     pub tree_normal: u32,
     /// The media the path is in (`media_top`, `media_enter`, `media_leave`).
     pub media: u32,
+    /// The product of η² over the interfaces the path refracted through: refraction scales
+    /// radiance by 1/η², which moves radiance without losing energy, so Russian roulette judges
+    /// β · `eta_scale` (a path inside glass is not dimmer than it carries).
+    pub eta_scale: f32,
     /// Segments traced so far (0: the camera ray).
     pub depth: u32,
     pub rng: Rng,
@@ -192,6 +196,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         prev_bsdf_pdf: 0.0,
         tree_normal: 0,
         media: frame.camera_media,
+        eta_scale: 1.0,
         depth: 0,
         rng,
         first_hit: None,
@@ -479,6 +484,10 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     if transmitted && !surface.transmits() {
         return false;
     }
+    if transmitted && !thin {
+        let eta = surface.relative_eta();
+        path.eta_scale *= eta * eta;
+    }
     if !survives_roulette(frame, path) {
         return false;
     }
@@ -526,10 +535,12 @@ fn add_light_at(
     path.radiance += clamp_bounced(delta, frame, path.depth + 1);
 }
 
-/// Russian roulette: the path continues with probability q = min(1, max β), re-weighted by 1/q.
+/// Russian roulette: the path continues with probability q = min(1, max(β · η²)), re-weighted by
+/// 1/q (unbiased for any q > 0; `eta_scale` undoes refraction's 1/η², as pbrt-v4 and Mitsuba 3
+/// do, so that paths inside glass are not killed for a dimming they will undo on the way out).
 fn survives_roulette(frame: &Frame, path: &mut PathState) -> bool {
     if frame.roulette_from_depth > 0 && path.depth >= frame.roulette_from_depth {
-        let survive = path.beta.max_element().min(1.0);
+        let survive = (path.beta * path.eta_scale).max_element().min(1.0);
         if path.rng.next_f32() >= survive {
             return false;
         }

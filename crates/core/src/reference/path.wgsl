@@ -37,6 +37,9 @@ struct PathState {
     tree_normal: u32,
     // The media the path is in (path.rs `media_top`): two 16-bit ids, the innermost low.
     media: u32,
+    // The product of eta^2 over the interfaces refracted through (path.rs `eta_scale`), which
+    // Russian roulette undoes.
+    eta_scale: f32,
 }
 
 // A next-event estimation ray: `contribution` reaches the path's radiance if nothing lies within
@@ -122,7 +125,7 @@ fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<v
 // A new path through pixel (x, y): its camera ray.
 fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     let cam = camera_ray_origin_dir(x, y, rng);
-    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, frame.camera_media);
+    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, frame.camera_media, 1.0);
 }
 
 // The medium stack (path.rs `media_top`, `media_enter`, `media_leave`, `medium_of`): id 0 the
@@ -174,11 +177,13 @@ fn add_light_at(path: ptr<function, PathState>, p: vec3<f32>, ng: vec3<f32>, sur
     }
 }
 
-// Russian roulette: continue with probability q = min(1, max(beta)), re-weighted by 1/q.
+// Russian roulette: continue with probability q = min(1, max(beta * eta_scale)), re-weighted by 1/q
+// (path.rs `survives_roulette`).
 fn survives_roulette(path: ptr<function, PathState>, rng: ptr<function, Sampler>) -> bool {
     if (frame.roulette_from_depth > 0u && (*path).depth >= frame.roulette_from_depth) {
         let beta = (*path).beta;
-        let survive = min(max(max(beta.x, beta.y), beta.z), 1.0);
+        let judged = beta * (*path).eta_scale;
+        let survive = min(max(max(judged.x, judged.y), judged.z), 1.0);
         if (rng_next(rng) >= survive) {
             return false;
         }
@@ -419,6 +424,10 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     // twin, rather than sending NaN into the traversal and the sums.
     if (side == 0.0 || !is_finite3(next) || (transmitted && !surface_transmits(surface))) {
         return false;
+    }
+    if (transmitted && !thin) {
+        let eta = surface_relative_eta(surface);
+        (*path).eta_scale *= eta * eta;
     }
     if (!survives_roulette(path, rng)) {
         return false;

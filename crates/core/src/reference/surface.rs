@@ -195,6 +195,16 @@ impl Surface {
         }
     }
 
+    /// η = n_transmitted / n_incident of the refraction this surface's transmission makes (1 where
+    /// it refracts nothing): what scales a refracted path's radiance by 1/η².
+    pub fn relative_eta(&self) -> f32 {
+        match self {
+            Surface::Dielectric { eta, .. } => *eta,
+            Surface::Pbr { bsdf, .. } if bsdf.base.transmission > 0.0 => bsdf.base.eta,
+            _ => 1.0,
+        }
+    }
+
     /// f · |cosθ| towards world direction `wi` and the BSDF-sampling pdf of `wi` (zero for the
     /// delta lobes, which are never asked).
     pub fn eval(&self, wi: Vec3) -> (Vec3, f32) {

@@ -197,6 +197,18 @@ fn surface_lit_through(s: Surface) -> bool {
         || (s.bsdf.base.transmission > 0.0 && min(s.bsdf.base.alpha.x, s.bsdf.base.alpha.y) >= LIT_THROUGH_MIN_ALPHA)));
 }
 
+// n_transmitted / n_incident of the refraction the surface's transmission makes, 1 where it refracts
+// nothing (surface.rs `relative_eta`).
+fn surface_relative_eta(s: Surface) -> f32 {
+    if (HAS_DIELECTRIC && s.kind == MAT_DIELECTRIC) {
+        return s.eta;
+    }
+    if (HAS_PBR && s.kind == MAT_PBR && s.bsdf.base.transmission > 0.0) {
+        return s.bsdf.base.eta;
+    }
+    return 1.0;
+}
+
 // Whether the lobe may send a path below the geometric surface.
 fn surface_transmits(s: Surface) -> bool {
     return s.kind == MAT_DIELECTRIC || s.kind == SURFACE_PHASE || (HAS_PBR && s.kind == MAT_PBR

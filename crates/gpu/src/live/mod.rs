@@ -7,6 +7,7 @@
 //! The UI side (`LiveView`) is polled once per UI frame (`tick`): it takes what the threads sent,
 //! drops anything from before the last change, and lets the render thread start its next slice.
 
+mod backend;
 pub mod ladder;
 mod scenes;
 pub mod slicing;
@@ -232,6 +233,24 @@ impl LiveView {
     /// takes a while), `wake` asks the UI for a frame (called after each slice and image).
     pub fn start(
         open: impl FnOnce() -> Result<Arc<GpuContext>, String> + Send + 'static,
+        settings: LiveSettings,
+        wake: impl Fn() + Send + Sync + 'static,
+    ) -> LiveView {
+        Self::start_on(move || open().map(Some), settings, wake)
+    }
+
+    /// `start` on the native CPU backend (`rt_core::cpu_render`): the view a machine without a
+    /// GPU gets, the same samples as the GPU's for the same frame.
+    pub fn start_on_cpu(
+        settings: LiveSettings,
+        wake: impl Fn() + Send + Sync + 'static,
+    ) -> LiveView {
+        Self::start_on(|| Ok(None), settings, wake)
+    }
+
+    /// `open` gives the GPU, or `None` for the CPU backend.
+    fn start_on(
+        open: impl FnOnce() -> Result<Option<Arc<GpuContext>>, String> + Send + 'static,
         settings: LiveSettings,
         wake: impl Fn() + Send + Sync + 'static,
     ) -> LiveView {

@@ -8,11 +8,12 @@ use std::time::{Duration, Instant};
 
 use rt_core::{GpuScene, Scene};
 
+use super::backend::LiveRenderer;
 use super::ladder::Ladder;
 use super::scenes::{Rebuild, SceneCache};
 use super::slicing::{SliceClock, dispatch_target};
 use super::{Event, LiveFrame, LiveRequest, LiveSettings, Message, Shared};
-use crate::{Aovs, GpuContext, Image, RenderOptions, Renderer};
+use crate::{Aovs, GpuContext, Image, RenderOptions};
 
 /// A denoise to run: the newest image of a step and its guides.
 struct DenoiseJob {
@@ -68,8 +69,9 @@ impl DenoiseSlot {
     }
 }
 
+/// `open` gives the GPU the view renders on, or `None` for the native CPU backend.
 pub(super) fn spawn(
-    open: impl FnOnce() -> Result<Arc<GpuContext>, String> + Send + 'static,
+    open: impl FnOnce() -> Result<Option<Arc<GpuContext>>, String> + Send + 'static,
     settings: LiveSettings,
     inbox: Receiver<Message>,
     outbox: Sender<Event>,
@@ -90,7 +92,7 @@ pub(super) fn spawn(
         .spawn(move || {
             let result = open().and_then(|ctx| {
                 let mut thread = RenderThread {
-                    ctx: &ctx,
+                    ctx: ctx.as_deref(),
                     settings,
                     shared: &shared,
                     outbox: &outbox,
@@ -193,7 +195,8 @@ struct Job {
 }
 
 struct RenderThread<'a> {
-    ctx: &'a GpuContext,
+    /// The GPU; `None`: the CPU backend renders.
+    ctx: Option<&'a GpuContext>,
     settings: super::LiveSettings,
     shared: &'a Shared,
     outbox: &'a Sender<Event>,
@@ -205,7 +208,7 @@ struct RenderThread<'a> {
 impl<'a> RenderThread<'a> {
     fn run(&mut self, inbox: &Receiver<Message>) -> Result<(), String> {
         let mut job: Option<Job> = None;
-        let mut renderer: Option<(Renderer<'a>, Arc<GpuScene>)> = None;
+        let mut renderer: Option<(LiveRenderer<'a>, Arc<GpuScene>)> = None;
         let mut interacting = false;
         loop {
             // The newest request wins; block while there is nothing to render.
@@ -310,7 +313,7 @@ impl<'a> RenderThread<'a> {
     fn prepare(
         &self,
         job: &mut Job,
-        renderer: &mut Option<(Renderer<'a>, Arc<GpuScene>)>,
+        renderer: &mut Option<(LiveRenderer<'a>, Arc<GpuScene>)>,
     ) -> Result<(), String> {
         let [w, h] = job.ladder.resolution(job.size);
         let mut step_scene = job.scene.clone();
@@ -321,7 +324,7 @@ impl<'a> RenderThread<'a> {
         job.last_shown = None;
         if let Some((r, built)) = renderer.as_mut()
             && Arc::ptr_eq(built, &job.gpu_scene)
-            && r.restart(&job.gpu_scene, frame).is_ok()
+            && r.restart(&job.gpu_scene, frame)
         {
             return Ok(());
         }
@@ -336,10 +339,7 @@ impl<'a> RenderThread<'a> {
             ..Default::default()
         };
         *renderer = None;
-        let mut r = Renderer::for_scene(self.ctx, &full, &job.gpu_scene, options)
-            .map_err(|e| e.to_string())?;
-        r.restart(&job.gpu_scene, frame)
-            .map_err(|e| e.to_string())?;
+        let r = LiveRenderer::new(self.ctx, &full, &job.gpu_scene, frame, options)?;
         *renderer = Some((r, job.gpu_scene.clone()));
         Ok(())
     }
@@ -348,7 +348,7 @@ impl<'a> RenderThread<'a> {
     fn slice(
         &self,
         job: &mut Job,
-        renderer: &mut Renderer<'a>,
+        renderer: &mut LiveRenderer<'a>,
         interacting: bool,
     ) -> Result<bool, String> {
         // The first slice after a change may run three budgets: the user is waiting for exactly
@@ -375,11 +375,9 @@ impl<'a> RenderThread<'a> {
                 return Ok(false);
             }
             let traced = Instant::now();
-            let stats = renderer
-                .render_slice(max, |last| {
-                    clock.another(last) && shared.current(generation)
-                })
-                .map_err(|e| e.to_string())?;
+            let stats = renderer.render_slice(max, |last| clock.another(last), &|| {
+                !shared.current(generation)
+            })?;
             job.spent[0] += traced.elapsed();
             if !stats.complete || !shared.current(generation) {
                 return Ok(false);
@@ -433,12 +431,12 @@ impl<'a> RenderThread<'a> {
     fn show(
         &self,
         job: &mut Job,
-        renderer: &Renderer<'a>,
+        renderer: &LiveRenderer<'a>,
         step_first: bool,
         interacting: bool,
     ) -> Result<(), String> {
         let read_started = Instant::now();
-        let image = renderer.read_image().map_err(|e| e.to_string())?;
+        let image = renderer.read_image()?;
         log::debug!(
             "live: {}x{} at {} spp read back in {:.1?}",
             image.width,
@@ -471,7 +469,7 @@ impl<'a> RenderThread<'a> {
         let denoise_due = denoise_due && !(interacting && job.ladder.pixel_size() == 1);
         if self.settings.denoise
             && denoise_due
-            && let Some(aovs) = renderer.read_aovs().map_err(|e| e.to_string())?
+            && let Some(aovs) = renderer.read_aovs()?
         {
             self.slot.put(DenoiseJob {
                 generation: job.generation,
