@@ -208,7 +208,11 @@ fn mesh_scene(path: &Path) -> Result<Scene> {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    if args.engine.on_cpu()?.0 {
+    let on_cpu = args.engine.on_cpu()?.0;
+    if args.interactive || args.preview {
+        return run_views(&args, on_cpu);
+    }
+    if on_cpu {
         return run_on_cpu(&args);
     }
     let ctx = open_device(&args.engine.adapter)?;
@@ -231,41 +235,6 @@ pub fn run(args: BenchArgs) -> Result<()> {
     };
     options.validate()?;
     let suite = bench_suite(&args)?;
-    if args.interactive || args.preview {
-        let mut scenes = Vec::new();
-        // A name that matches exactly selects that scene alone ("cornell", not its variants).
-        let exact = args
-            .only
-            .as_ref()
-            .is_some_and(|o| suite.iter().any(|(n, _)| n == o));
-        for (name, scene) in suite {
-            let wanted = args.only.as_ref().is_none_or(|o| {
-                if exact {
-                    name == *o
-                } else {
-                    name.contains(o.as_str())
-                }
-            });
-            if wanted {
-                scenes.push((name, scene()?));
-            }
-        }
-        if args.preview {
-            return crate::preview_bench::run(&ctx, scenes, args.view_size);
-        }
-        let interactive = crate::interactive::InteractiveArgs {
-            size: args.view_size,
-            seconds: args.seconds,
-            reference_dir: args.reference_dir.clone(),
-            reference_spp: args.reference_spp,
-            no_denoise: args.no_denoise,
-            kernel: args
-                .engine
-                .kernel
-                .map_or(rt_gpu::live::LiveSettings::default().kernel, Into::into),
-        };
-        return crate::interactive::run(ctx, scenes, &interactive);
-    }
     println!(
         "{:<12} {:>9} {:>9} {:>9} {:>6} {:>9} {:>9} {:>9} {:>9} {:>9}",
         "scene",
@@ -383,11 +352,57 @@ fn megabytes(mb: Option<f64>) -> String {
     mb.map_or_else(|| "-".into(), |mb| format!("{mb:.0}"))
 }
 
+/// `--interactive` and `--preview`: the editor's path-traced view (on the CPU backend where that
+/// is the device) and its raster preview (always a GPU pass), per scene of the suite.
+fn run_views(args: &BenchArgs, on_cpu: bool) -> Result<()> {
+    let suite = bench_suite(args)?;
+    let mut scenes = Vec::new();
+    // A name that matches exactly selects that scene alone ("cornell", not its variants).
+    let exact = args
+        .only
+        .as_ref()
+        .is_some_and(|o| suite.iter().any(|(n, _)| n == o));
+    for (name, scene) in suite {
+        let wanted = args.only.as_ref().is_none_or(|o| {
+            if exact {
+                name == *o
+            } else {
+                name.contains(o.as_str())
+            }
+        });
+        if wanted {
+            scenes.push((name, scene()?));
+        }
+    }
+    if args.preview {
+        // The raster preview is a GPU pass whatever renders the path-traced images.
+        let ctx = open_device(&args.engine.adapter)?;
+        return crate::preview_bench::run(&ctx, scenes, args.view_size);
+    }
+    let interactive = crate::interactive::InteractiveArgs {
+        size: args.view_size,
+        seconds: args.seconds,
+        reference_dir: args.reference_dir.clone(),
+        reference_spp: args.reference_spp,
+        no_denoise: args.no_denoise,
+        kernel: args
+            .engine
+            .kernel
+            .map_or(rt_gpu::live::LiveSettings::default().kernel, Into::into),
+    };
+    let ctx = if on_cpu {
+        None
+    } else {
+        Some(open_device(&args.engine.adapter)?)
+    };
+    crate::interactive::run(ctx, scenes, &interactive)
+}
+
 /// The suite on the native CPU backend: the same scenes, paths/s, rays/s and peak memory.
 fn run_on_cpu(args: &BenchArgs) -> Result<()> {
-    if args.interactive || args.preview || args.generic || args.engine.kernel.is_some() {
+    if args.generic || args.engine.kernel.is_some() {
         anyhow::bail!(
-            "--interactive, --preview, --generic and --kernel measure the GPU path; drop them with --device cpu"
+            "--generic and --kernel measure the GPU kernels; drop them with --device cpu"
         );
     }
     let label = format!(

@@ -126,7 +126,7 @@ fn until(
 /// The scene's reference at the view's size: read from the reference folder, or rendered there
 /// first with `reference_spp` samples.
 fn reference(
-    ctx: &GpuContext,
+    ctx: Option<&GpuContext>,
     name: &str,
     scene: &Scene,
     args: &InteractiveArgs,
@@ -153,14 +153,26 @@ fn reference(
             path.display()
         );
         let gpu_scene = rt_core::GpuScene::build(&scene)?;
-        let mut renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, RenderOptions::default())?;
-        renderer.render(args.reference_spp, |_| true)?;
-        let image = renderer.read_image()?;
+        let pixels = match ctx {
+            Some(ctx) => {
+                let mut renderer =
+                    Renderer::for_scene(ctx, &scene, &gpu_scene, RenderOptions::default())?;
+                renderer.render(args.reference_spp, |_| true)?;
+                renderer.read_image()?.rgb()
+            }
+            None => {
+                let frame = rt_core::frame::frame_for(&scene, &gpu_scene)?;
+                let mut cpu = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
+                let go = std::sync::atomic::AtomicBool::new(false);
+                cpu.add_batch(&gpu_scene, &frame, args.reference_spp, &go);
+                cpu.pixels().iter().map(|p| [p[0], p[1], p[2]]).collect()
+            }
+        };
         rt_core::output::save_image(
             &path,
-            image.width,
-            image.height,
-            &image.rgb(),
+            args.size[0],
+            args.size[1],
+            &pixels,
             rt_core::output::View::default(),
         )?;
     }
@@ -176,42 +188,56 @@ fn rel_mse(pixels: &[[f32; 3]], size: [u32; 2], reference: &RgbImage) -> Option<
     compare(&image, reference).ok().map(|e| e.rel_mse)
 }
 
-/// Runs the measurement on each scene and prints one block per scene.
-pub fn run(ctx: GpuContext, suite: Vec<(String, Scene)>, args: &InteractiveArgs) -> Result<()> {
-    let ctx = Arc::new(ctx);
+/// Runs the measurement on each scene and prints one block per scene: on `ctx`'s GPU, or on the
+/// native CPU backend without one (as the editor's view runs where that is the device).
+pub fn run(
+    ctx: Option<GpuContext>,
+    suite: Vec<(String, Scene)>,
+    args: &InteractiveArgs,
+) -> Result<()> {
+    let ctx = ctx.map(Arc::new);
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
     println!(
-        "interactive viewport, {}x{}, adapter {}, {cores} cores, denoiser {}",
+        "interactive viewport, {}x{}, {}, {cores} cores, denoiser {}",
         args.size[0],
         args.size[1],
-        ctx.adapter_label(),
+        ctx.as_ref()
+            .map_or_else(rt_gpu::progressive::cpu_label, |c| format!(
+                "adapter {}",
+                c.adapter_label()
+            )),
         match rt_core::oidn::Oidn::get() {
             Ok(o) => format!("Open Image Denoise ({})", o.path().display()),
             Err(_) => "À-Trous (OIDN not installed)".into(),
         }
     );
     for (name, scene) in suite {
-        let reference = reference(&ctx, &name, &scene, args)?;
-        measure(&ctx, &name, &scene, args, reference.as_ref())?;
+        let reference = reference(ctx.as_deref(), &name, &scene, args)?;
+        measure(ctx.as_ref(), &name, &scene, args, reference.as_ref())?;
     }
     Ok(())
 }
 
 fn measure(
-    ctx: &Arc<GpuContext>,
+    ctx: Option<&Arc<GpuContext>>,
     name: &str,
     scene: &Scene,
     args: &InteractiveArgs,
     reference: Option<&RgbImage>,
 ) -> Result<()> {
     let size = args.size;
-    let shared = ctx.clone();
     let settings = LiveSettings {
         denoise: !args.no_denoise,
         kernel: args.kernel,
         ..Default::default()
     };
-    let mut view = LiveView::start(move || Ok(shared), settings, || {});
+    let mut view = match ctx {
+        Some(ctx) => {
+            let shared = ctx.clone();
+            LiveView::start(move || Ok(shared), settings, || {})
+        }
+        None => LiveView::start_on_cpu(settings, || {}),
+    };
     let mut frames = Frames::default();
 
     // Opening: builds the GPU scene and compiles the pipelines (lavapipe caches them on disk).
