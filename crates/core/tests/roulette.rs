@@ -1,8 +1,9 @@
 #![allow(clippy::unwrap_used)]
 //! Russian roulette is unbiased: on the CPU backend, the Cornell box with a smooth glass ball and a
 //! rough glass ball (paths that refract in and out, where the roulette undoes 1/η²) renders to the
-//! same image as without roulette, over the whole image and over the balls: a paired Z-test on
-//! the difference of the two estimates, sample by sample.
+//! same image as without roulette, over the whole image and over the balls, and so does the same
+//! box filled with fog (roulette after a scattering): a paired Z-test on the difference of the two
+//! estimates, sample by sample.
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -108,10 +109,9 @@ fn mean_without(scene: &Scene, pixels: &[usize]) -> f64 {
         / pixels.len() as f64
 }
 
-#[test]
-fn roulette_leaves_the_image_and_the_glass_balls_unchanged() {
-    let scene = glass_cornell();
-    let differences = paired_differences(&scene);
+/// The image and the two balls' pixels keep their means with roulette.
+fn assert_roulette_unbiased(scene: &Scene) {
+    let differences = paired_differences(scene);
     let all: Vec<usize> = (0..(SIZE * SIZE) as usize).collect();
     // The pixels that see each ball: the camera looks down the box's axis (x = 278), the balls
     // sit 88 mm either side of it, their centres about 0.38 and 0.62 of the way across and 0.42
@@ -128,7 +128,7 @@ fn roulette_leaves_the_image_and_the_glass_balls_unchanged() {
     ];
     for (name, pixels) in regions {
         let (d, z) = z_score(&differences, &pixels);
-        let level = mean_without(&scene, &pixels);
+        let level = mean_without(scene, &pixels);
         assert!(level > 0.0, "{name}: black");
         // |Z| < 4.5: three checks, a false alarm about once in 10⁵ runs. A roulette whose
         // survivors are re-weighted 5% too little fails it (Z ≈ −6).
@@ -137,4 +137,22 @@ fn roulette_leaves_the_image_and_the_glass_balls_unchanged() {
             "{name}: roulette changes the mean luminance {level:.5} by {d:.2e}, Z = {z:.2}"
         );
     }
+}
+
+#[test]
+fn roulette_leaves_the_image_and_the_glass_balls_unchanged() {
+    assert_roulette_unbiased(&glass_cornell());
+}
+
+/// In fog a scattering is a vertex where roulette is played too (after the phase sample).
+#[test]
+fn roulette_in_fog_leaves_the_image_unchanged() {
+    let mut scene = glass_cornell();
+    // About one mean free path across the box (556 mm).
+    scene.fog = rt_core::fog::Fog {
+        density: 1.0 / 556.0,
+        albedo: [0.9, 0.8, 0.7],
+        anisotropy: 0.3,
+    };
+    assert_roulette_unbiased(&scene);
 }
