@@ -118,13 +118,15 @@ pub enum DeviceArg {
 }
 
 impl EngineArgs {
-    /// Whether the CPU backend renders, and why (the summary's `device:` line). `--adapter` and
-    /// `--kernel` choose how a GPU renders: with `--device cpu` they are an error, and they make
-    /// `auto` a GPU.
+    /// Whether the CPU backend renders, and why (the summary's `device:` line). `--adapter`,
+    /// `--kernel` and `--trace hw` choose how a GPU renders: with `--device cpu` they are an
+    /// error, and they make `auto` a GPU.
     pub fn on_cpu(&self) -> anyhow::Result<(bool, String)> {
         let gpu_flags: Vec<&str> = [
             (self.kernel.is_some(), "--kernel"),
             (self.adapter != AdapterChoice::Auto, "--adapter"),
+            // Ray queries are a GPU's (`--trace bvh` is what the CPU backend does anyway).
+            (self.trace == TraceArg::Hw, "--trace hw"),
         ]
         .into_iter()
         .filter_map(|(given, flag)| given.then_some(flag))

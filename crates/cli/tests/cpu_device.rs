@@ -106,6 +106,7 @@ fn the_cpu_backend_refuses_flags_that_choose_a_gpu() {
     for (flags, named) in [
         (&["--adapter", "cpu"][..], "--adapter"),
         (&["--kernel", "megakernel"], "--kernel"),
+        (&["--trace", "hw"], "--trace hw"),
     ] {
         let mut args = vec!["render", "--device", "cpu", "-o", out.to_str().unwrap()];
         args.extend(flags);
@@ -195,7 +196,9 @@ fn auto_picks_a_backend_and_says_why() {
     if has_gpu() {
         let stderr = render(&["--adapter", "lavapipe"]);
         assert!(
-            stderr.contains("device:         GPU (auto: --adapter or --kernel asks for a GPU)"),
+            stderr.contains(
+                "device:         GPU (auto: --adapter, --kernel or --trace hw asks for a GPU)"
+            ),
             "{stderr}"
         );
     }

@@ -29,12 +29,13 @@ pub enum Device {
 
 impl Device {
     /// Whether the CPU backend renders, and why (for a summary line). `gpu_flags`: the caller
-    /// was asked for a particular adapter or kernel, which makes `Auto` a GPU.
+    /// was asked for a particular adapter, kernel or ray queries, which makes `Auto` a GPU.
     pub fn on_cpu(self, gpu_flags: bool) -> (bool, String) {
         match self {
-            Device::Auto if gpu_flags => {
-                (false, "auto: --adapter or --kernel asks for a GPU".into())
-            }
+            Device::Auto if gpu_flags => (
+                false,
+                "auto: --adapter, --kernel or --trace hw asks for a GPU".into(),
+            ),
             Device::Auto => match hardware_gpu_cached() {
                 Some(name) => (false, format!("auto: hardware GPU {name}")),
                 None => (
