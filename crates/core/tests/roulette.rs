@@ -6,11 +6,10 @@
 //! estimates, sample by sample.
 
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 
 use rayon::prelude::*;
-use rt_core::cpu_render::CpuAccumulation;
 use rt_core::material::Pbr;
+use rt_core::math::sampling::luminance;
 use rt_core::reference::radiance;
 use rt_core::scene::{Object, Transform};
 use rt_core::{GpuScene, Material, Scene};
@@ -20,6 +19,13 @@ const SPP: u32 = 1024;
 
 fn glass_cornell() -> Scene {
     let mut scene = rt_core::assets::cornell_box().unwrap();
+    // Brighter walls: long paths, where roulette plays (from the fifth vertex), carry more of the
+    // image, so a wrong re-weighting shows sooner.
+    for object in &mut scene.objects {
+        if let Material::Lambertian { albedo, .. } = &mut object.material {
+            *albedo = albedo.map(|a| (a * 1.3).min(0.9));
+        }
+    }
     let ball = Arc::new(rt_core::shapes::uv_sphere(90.0, 24, 48));
     let at = |x: f32, y: f32, z: f32| Transform {
         translation: [x, y, z],
@@ -51,10 +57,19 @@ fn glass_cornell() -> Scene {
     scene
 }
 
-/// Per pixel: the mean and the variance of the mean of L_roulette − L_none in luminance, over
-/// samples paired by their random numbers (the same sample index and seed: both paths agree up to
-/// the first roulette, so the difference has little variance and the test is sharp).
-fn paired_differences(scene: &Scene) -> Vec<(f64, f64)> {
+/// One pixel's paired samples, in luminance.
+struct PixelPairs {
+    /// The mean of L_roulette − L_none and that mean's variance.
+    difference: f64,
+    variance: f64,
+    /// The mean of L_none (the level the difference is judged against, for the message).
+    without: f64,
+}
+
+/// Per pixel, L_roulette − L_none over samples paired by their random numbers (the same sample
+/// index and seed: both paths agree up to the first roulette, so the difference has little
+/// variance and the test is sharp).
+fn paired_differences(scene: &Scene) -> Vec<PixelPairs> {
     let frame_with = |roulette: bool| {
         let mut scene = scene.clone();
         scene.settings.russian_roulette = roulette;
@@ -64,49 +79,36 @@ fn paired_differences(scene: &Scene) -> Vec<(f64, f64)> {
     };
     let (gpu, with) = frame_with(true);
     let (_, without) = frame_with(false);
-    let lum = |c: glam::Vec3| f64::from(c.dot(glam::Vec3::new(0.2126, 0.7152, 0.0722)));
     (0..SIZE * SIZE)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % SIZE, i / SIZE);
-            let (mut sum, mut sum_sq) = (0.0, 0.0);
+            let (mut sum, mut sum_sq, mut level) = (0.0, 0.0, 0.0);
             for s in 0..SPP {
-                let d =
-                    lum(radiance(&gpu, &with, x, y, s)) - lum(radiance(&gpu, &without, x, y, s));
+                let plain = f64::from(luminance(radiance(&gpu, &without, x, y, s)));
+                let d = f64::from(luminance(radiance(&gpu, &with, x, y, s))) - plain;
                 sum += d;
                 sum_sq += d * d;
+                level += plain;
             }
             let n = f64::from(SPP);
             let mean = sum / n;
-            (mean, (sum_sq / n - mean * mean).max(0.0) / (n - 1.0))
+            PixelPairs {
+                difference: mean,
+                variance: (sum_sq / n - mean * mean).max(0.0) / (n - 1.0),
+                without: level / n,
+            }
         })
         .collect()
 }
 
-/// The mean over `pixels` of the paired difference and its Z score.
-fn z_score(d: &[(f64, f64)], pixels: &[usize]) -> (f64, f64) {
+/// Over `pixels`: the mean luminance without roulette, the mean paired difference and its Z score.
+fn z_score(pairs: &[PixelPairs], pixels: &[usize]) -> (f64, f64, f64) {
     let n = pixels.len() as f64;
-    let mean = pixels.iter().map(|&i| d[i].0).sum::<f64>() / n;
-    let var = pixels.iter().map(|&i| d[i].1).sum::<f64>() / (n * n);
-    (mean, mean / var.sqrt())
-}
-
-/// The image's mean luminance without roulette (for the message).
-fn mean_without(scene: &Scene, pixels: &[usize]) -> f64 {
-    let mut scene = scene.clone();
-    scene.settings.russian_roulette = false;
-    let gpu = GpuScene::build(&scene).unwrap();
-    let frame = rt_core::frame::frame_for(&scene, &gpu).unwrap();
-    let mut acc = CpuAccumulation::new(&frame, 0, None, false);
-    assert!(acc.add_batch(&gpu, &frame, 16, &AtomicBool::new(false)));
-    let p = acc.pixels();
-    pixels
-        .iter()
-        .map(|&i| {
-            0.2126 * f64::from(p[i][0]) + 0.7152 * f64::from(p[i][1]) + 0.0722 * f64::from(p[i][2])
-        })
-        .sum::<f64>()
-        / pixels.len() as f64
+    let sum = |f: fn(&PixelPairs) -> f64| pixels.iter().map(|&i| f(&pairs[i])).sum::<f64>();
+    let mean = sum(|p| p.difference) / n;
+    let var = sum(|p| p.variance) / (n * n);
+    (sum(|p| p.without) / n, mean, mean / var.sqrt())
 }
 
 /// The image and the two balls' pixels keep their means with roulette.
@@ -127,11 +129,11 @@ fn assert_roulette_unbiased(scene: &Scene) {
         ("the other glass ball", block(SIZE * 9 / 16, SIZE * 11 / 16)),
     ];
     for (name, pixels) in regions {
-        let (d, z) = z_score(&differences, &pixels);
-        let level = mean_without(scene, &pixels);
+        let (level, d, z) = z_score(&differences, &pixels);
         assert!(level > 0.0, "{name}: black");
         // |Z| < 4.5: three checks, a false alarm about once in 10⁵ runs. A roulette whose
-        // survivors are re-weighted 5% too little fails it (Z ≈ −6).
+        // survivors are re-weighted 5% too little fails it in the clear box (Z ≈ −5.3); in the
+        // darker fog, 10% does (Z ≈ −7.4).
         assert!(
             z.abs() < 4.5,
             "{name}: roulette changes the mean luminance {level:.5} by {d:.2e}, Z = {z:.2}"

@@ -2,6 +2,11 @@
 //! (`rt_core::cpu_render`) where the device is the CPU: the same calls (restart on a new frame, a
 //! slice of samples, read the image and the denoiser's guides), so the ladder, the slicing and the
 //! denoise thread do not know which one runs.
+//!
+//! Not `progressive::Progressive`, which drives a final render: that borrows its scene for the
+//! render's lifetime and sizes its CPU batches to about 250 ms, where the view keeps its renderer
+//! beside the `Arc` of the scene it was built on (a restart may bring another) and cuts a batch
+//! short on every change.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
