@@ -19,11 +19,11 @@ const MAX_PREVIEW_LIGHTS: u32 = 8u;
 // Shadow-map layers at most (crates/gpu/src/preview/shadows.rs `MAX_SHADOW_LAYERS`).
 const MAX_SHADOW_LAYERS: u32 = 14u;
 const PI: f32 = 3.14159265358979;
-// PreviewLight.shadow.x (crates/gpu/src/preview/types.rs `light_kind`).
-const LIGHT_POINT: u32 = 0u;
-const LIGHT_SPOT: u32 = 1u;
-const LIGHT_SUN: u32 = 2u;
-const LIGHT_EMITTER: u32 = 3u;
+// PreviewLight.shadow.x: crates/core/src/light_kind.rs `LightTag` (checked by the preview's tests).
+const LIGHT_POINT: u32 = 1u;
+const LIGHT_SPOT: u32 = 2u;
+const LIGHT_DIRECTIONAL: u32 = 3u;
+const LIGHT_EMITTER: u32 = 5u;
 // PreviewObject.flags.y: which of the material's images it has (types.rs `image_slot`).
 const TEX_BASE: u32 = 1u;
 const TEX_METAL_ROUGH: u32 = 2u;
@@ -266,7 +266,7 @@ fn shadow(light: PreviewLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
         return 1.0;
     }
     var texel = light.cone.z;
-    if light.shadow.x != LIGHT_SUN {
+    if light.shadow.x != LIGHT_DIRECTIONAL {
         texel *= length(p - light.position.xyz);
     }
     let q = p + n * (2.0 * texel);
@@ -299,7 +299,7 @@ struct Incoming {
 
 fn incoming(light: PreviewLight, p: vec3<f32>) -> Incoming {
     var out: Incoming;
-    if light.shadow.x == LIGHT_SUN {
+    if light.shadow.x == LIGHT_DIRECTIONAL {
         out.l = -light.direction.xyz;
         out.strength = light.color.rgb;
         return out;

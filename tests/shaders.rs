@@ -303,7 +303,7 @@ fn the_binding_table_matches_every_tracing_kernel() {
 /// sentinel, material flags, texture slots and sampler bits) have the same values in `rt_core::gpu_types` and in `crates/core/src/gpu_types.wgsl`.
 #[test]
 fn shared_constants_match_wgsl() {
-    use rt_core::gpu_types::{self, NO_TEXTURE, light_kind};
+    use rt_core::gpu_types::{self, NO_TEXTURE};
     use rt_core::math::{glass_energy, layers};
     use rt_core::{Filter, TextureSampler, Wrap};
     // The s-wrap bits of a sampler (t repeats), or its filter bit.
@@ -340,13 +340,32 @@ fn shared_constants_match_wgsl() {
             );
         }
     }
+    // Every light tag the path tracer's records use, and no other LIGHT_* constant but the
+    // light tree's depth: the kernels' list is the table's.
+    for tag in rt_core::LightTag::ALL {
+        let defined = parsed
+            .constants
+            .iter()
+            .any(|(_, c)| c.name.as_deref() == Some(tag.wgsl_constant()));
+        assert_eq!(defined, tag.in_path_tracer(), "{tag:?} in the kernels");
+        if defined {
+            assert_eq!(value(tag.wgsl_constant()), tag.tag(), "{tag:?}");
+        }
+    }
+    for (_, c) in parsed.constants.iter() {
+        let name = c.name.as_deref().unwrap_or("");
+        assert!(
+            !name.starts_with("LIGHT_")
+                || name == "LIGHT_TREE_DEPTH"
+                || rt_core::LightTag::ALL
+                    .iter()
+                    .any(|t| t.wgsl_constant() == name),
+            "{name}: a light kind the LightTag table lacks"
+        );
+    }
     for (wgsl, rust) in [
         ("ENERGY_SIDE", rt_core::math::microfacet::ENERGY_SIDE as u32),
         ("NO_TEXTURE", NO_TEXTURE),
-        ("LIGHT_POINT", light_kind::POINT),
-        ("LIGHT_SPOT", light_kind::SPOT),
-        ("LIGHT_DIRECTIONAL", light_kind::DIRECTIONAL),
-        ("LIGHT_SPOT_GLTF", light_kind::SPOT_GLTF),
         ("THIN_WALLED", gpu_types::THIN_WALLED),
         ("ALPHA_MASK", gpu_types::ALPHA_MASK),
         ("ALPHA_BLEND", gpu_types::ALPHA_BLEND),

@@ -90,11 +90,11 @@ fn nee_with_mis_nee_only_and_bsdf_sampling_converge_to_the_same_image() {
     let (n_mis, n_nee, n_bsdf) = (2048u32, 4096u32, 16384u32);
     let (mis, frame) = render(&scene, n_mis);
     assert_eq!(frame.emitter_count, 6);
-    assert_eq!(frame.light_strategy, 0);
+    assert_eq!(frame.nee_only, 0);
     scene.settings.nee_only = true;
     let (nee, frame) = render(&scene, n_nee);
     assert_eq!(
-        frame.light_strategy, 1,
+        frame.nee_only, 1,
         "NEE-only run must say so to the estimator"
     );
     scene.settings.nee_only = false;
@@ -250,7 +250,7 @@ fn light_tree_power_sampling_and_bsdf_sampling_converge_to_the_same_image() {
     assert_eq!((frame.emitter_count, frame.light_sampler), (80, 1));
     scene.settings.nee_only = true;
     let (tree_nee, frame) = render(&scene, n_nee);
-    assert_eq!((frame.light_strategy, frame.light_sampler), (1, 1));
+    assert_eq!((frame.nee_only, frame.light_sampler), (1, 1));
     scene.settings.nee_only = false;
     scene.settings.light_sampler = rt_core::LightSampler::Power;
     let (power, frame) = render(&scene, n_power);

@@ -305,17 +305,14 @@ fn render_failed(
     save_after_failure(args, last_image, error.into())
 }
 
-/// The largest accumulation buffer this adapter allows: the adapter's limit, or less when
-/// `RT_MAX_ACCUMULATION_BYTES` says so (tests use it to render small images in tiles).
+/// The largest accumulation buffer this adapter allows: the adapter's limit, or less where a test
+/// asks (`rt_gpu::faults::max_accumulation_bytes`).
 fn max_accumulation_bytes(ctx: &GpuContext) -> u64 {
     let limits = ctx.device.limits();
     let limit = limits
         .max_storage_buffer_binding_size
         .min(limits.max_buffer_size);
-    std::env::var("RT_MAX_ACCUMULATION_BYTES")
-        .ok()
-        .and_then(|v| v.trim().parse::<u64>().ok())
-        .map_or(limit, |cap| cap.clamp(16, limit))
+    rt_gpu::faults::max_accumulation_bytes().map_or(limit, |cap| cap.clamp(16, limit))
 }
 
 /// Renders an image too large for one accumulation buffer in bands of rows (see

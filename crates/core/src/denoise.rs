@@ -51,7 +51,7 @@ impl Default for DenoiseParams {
 }
 
 fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+    crate::math::sampling::luminance(glam::Vec3::from(c))
 }
 
 fn dist2(a: [f32; 3], b: [f32; 3]) -> f32 {

@@ -66,7 +66,7 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         tile_row_begin: 0,
         tile_row_end: settings.height,
         sampler: u32::from(settings.sampler == crate::math::rng::SamplerKind::Sobol),
-        light_strategy: u32::from(settings.nee_only),
+        nee_only: u32::from(settings.nee_only),
         offset_scale: gpu_scene.extent.clamp(1e-30, 1.0),
         active_begin: 0,
         active_count: 0,

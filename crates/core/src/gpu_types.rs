@@ -410,7 +410,7 @@ pub struct Frame {
     /// How emitters found by BSDF sampling and by next-event estimation are combined: 0 the power
     /// heuristic (MIS); 1 next-event estimation only (emitters reached by a diffuse bounce count
     /// zero; a diagnostic estimator for tests, `RenderSettings::nee_only`).
-    pub light_strategy: u32, // 132
+    pub nee_only: u32, // 132
     /// Size of the zone around the origin where ray origins move by a fixed distance instead of by
     /// ULPs of their coordinates: the scene's largest extent, at most 1 (`offset_ray_origin`).
     pub offset_scale: f32, // 136
@@ -495,21 +495,13 @@ pub struct LightNode {
     pub _pad: [u32; 2],     // 200
 }
 
-/// Kinds of `DeltaLight`.
-pub mod light_kind {
-    pub const POINT: u32 = 1;
-    pub const SPOT: u32 = 2;
-    pub const DIRECTIONAL: u32 = 3;
-    /// A spot with glTF's falloff (`light::spot_falloff_gltf`).
-    pub const SPOT_GLTF: u32 = 4;
-}
-
 /// A point, spot or directional light (see `crate::light` for the units).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct DeltaLight {
     pub position: [f32; 3], // 0
-    /// `light_kind`; 0 marks the padding record of a scene without delta lights.
+    /// `LightTag` (`crate::light_kind`); `LightTag::None` marks the padding record of a scene
+    /// without delta lights.
     pub kind: u32, // 12
     /// Unit direction the light travels (spot axis, sun direction).
     pub direction: [f32; 3], // 16
@@ -539,198 +531,5 @@ pub struct Hit {
     pub b2: f32,       // 12
 }
 
-/// A Rust struct's layout as the layout test compares it with WGSL.
-pub struct StructLayout {
-    pub name: &'static str,
-    pub size: usize,
-    pub align: usize,
-    /// (member name, byte offset) in declaration order.
-    pub fields: Vec<(&'static str, usize)>,
-}
-
-/// Name, size, alignment and member offsets of every GPU struct, for the layout test.
-pub fn layouts() -> Vec<StructLayout> {
-    use std::mem::{align_of, offset_of, size_of};
-    macro_rules! layout {
-        ($name:literal, $ty:ty, [$($field:ident),*]) => {
-            StructLayout {
-                name: $name,
-                size: size_of::<$ty>(),
-                align: align_of::<$ty>(),
-                fields: vec![$((stringify!($field), offset_of!($ty, $field))),*],
-            }
-        };
-    }
-    vec![
-        layout!(
-            "Triangle",
-            Triangle,
-            [v0, material, v1, has_normals, v2, has_uvs]
-        ),
-        layout!(
-            "Shading",
-            Shading,
-            [n0, c0, n1, c1, n2, c2, uv0, uv1, uv2, _pad3]
-        ),
-        layout!("TextureSlot", TextureSlot, [offset, width, height]),
-        layout!(
-            "Material",
-            Material,
-            [
-                color,
-                kind,
-                emission,
-                flags,
-                lobe,
-                alpha,
-                alpha_cutoff,
-                samplers,
-                textures,
-                _pad,
-                medium
-            ]
-        ),
-        layout!("Medium", Medium, [sigma_t, anisotropy, sigma_s, _pad]),
-        layout!("MetalLobe", MetalLobe, [fuzz]),
-        layout!("DielectricLobe", DielectricLobe, [ior]),
-        layout!(
-            "PbrLobe",
-            PbrLobe,
-            [
-                metallic,
-                roughness,
-                transmission,
-                ior,
-                _pad0,
-                normal_scale,
-                specular_color,
-                specular,
-                sheen_color,
-                sheen_roughness,
-                clearcoat,
-                clearcoat_roughness,
-                clearcoat_normal_scale,
-                diffuse_transmission,
-                diffuse_transmission_color,
-                iridescence,
-                iridescence_ior,
-                iridescence_thickness_min,
-                iridescence_thickness_max,
-                anisotropy,
-                anisotropy_rotation,
-                dispersion,
-                _pad
-            ]
-        ),
-        layout!(
-            "EnvTexel",
-            EnvTexel,
-            [radiance, pdf, alias_index, threshold, _pad]
-        ),
-        layout!(
-            "BvhNode",
-            BvhNode,
-            [
-                left_min,
-                left,
-                left_max,
-                left_count,
-                right_min,
-                right,
-                right_max,
-                right_count
-            ]
-        ),
-        layout!(
-            "WideBvhNode",
-            WideBvhNode,
-            [
-                origin,
-                exponents_imask,
-                child_base,
-                primitive_base,
-                slots,
-                lo_x,
-                hi_x,
-                lo_y,
-                hi_y,
-                lo_z,
-                hi_z
-            ]
-        ),
-        layout!(
-            "Frame",
-            Frame,
-            [
-                cam_origin,
-                lens_radius,
-                cam_u,
-                focus_distance,
-                cam_v,
-                tan_half_vfov,
-                cam_w,
-                aspect,
-                ambient,
-                max_depth,
-                width,
-                height,
-                seed,
-                sample_base,
-                samples_this_dispatch,
-                row_begin,
-                row_end,
-                emitter_count,
-                emitter_power_inv,
-                roulette_from_depth,
-                tile_row_begin,
-                tile_row_end,
-                sampler,
-                light_strategy,
-                offset_scale,
-                active_begin,
-                active_count,
-                env_width,
-                env_height,
-                env_rotation,
-                env_pick,
-                sample_offset,
-                clamp_max,
-                light_sampler,
-                fog,
-                camera_media,
-                _pad0,
-                _pad1,
-                _pad2
-            ]
-        ),
-        layout!("Emitter", Emitter, [triangle, alias_index, threshold, leaf]),
-        layout!(
-            "LightNode",
-            LightNode,
-            [
-                centre_x,
-                centre_y,
-                centre_z,
-                axis_x,
-                axis_y,
-                axis_z,
-                power,
-                cos_theta_o,
-                sin_theta_o,
-                cos_theta_e,
-                radius,
-                child,
-                leaves,
-                parent,
-                _pad
-            ]
-        ),
-        layout!(
-            "DeltaLight",
-            DeltaLight,
-            [position, kind, direction, cos_inner, power, cos_outer]
-        ),
-        layout!("Ray", Ray, [origin, t_max, direction, _pad]),
-        layout!("Hit", Hit, [t, triangle, b1, b2]),
-    ]
-}
+mod layouts;
+pub use layouts::{StructLayout, layouts};

@@ -203,7 +203,7 @@ struct Frame {
     tile_row_begin: u32,         // 120
     tile_row_end: u32,           // 124
     sampler: u32,                // 128: 0 independent, 1 Sobol (the kernel uses the SOBOL constant)
-    light_strategy: u32,         // 132: 0 MIS (power heuristic), 1 next-event estimation only
+    nee_only: u32,               // 132: 0 MIS (power heuristic), 1 next-event estimation only
     offset_scale: f32,           // 136: see offset_ray_origin
     active_begin: u32,           // 140: adaptive wavefront waves: their pixels' place in active_slots
     active_count: u32,           // 144
@@ -261,6 +261,8 @@ struct Hit {
     b2: f32,         // 12
 }
 
+// DeltaLight.kind: crates/core/src/light_kind.rs `LightTag` (tests/shaders.rs checks the values).
+const LIGHT_NONE: u32 = 0u;
 const LIGHT_POINT: u32 = 1u;
 const LIGHT_SPOT: u32 = 2u;
 const LIGHT_DIRECTIONAL: u32 = 3u;

@@ -20,6 +20,7 @@ pub mod gpu_types;
 pub mod io;
 mod kernel_indices;
 pub mod light;
+pub mod light_kind;
 pub mod light_tree;
 pub mod material;
 pub mod material_kind;
@@ -39,7 +40,8 @@ pub use camera::Camera;
 pub use environment::{Environment, EnvironmentMap};
 pub use error::{Error, Result};
 pub use gpu_scene::{GpuScene, SceneFeatures};
-pub use light::{Light, LightKind};
+pub use light::Light;
+pub use light_kind::{LightKind, LightTag};
 pub use material::Material;
 pub use material_kind::MaterialKind;
 pub use scene::{

@@ -14,15 +14,8 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+pub use crate::light_kind::LightKind;
 use crate::material::Rgb;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LightKind {
-    Point,
-    Spot,
-    Directional,
-}
 
 /// How a spot light fades between its inner and outer cones.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -97,7 +90,7 @@ impl Light {
         {
             return Err(format!("{what}: colour and intensity must be >= 0"));
         }
-        if self.kind != LightKind::Point && Vec3::from(self.direction).length_squared() == 0.0 {
+        if self.kind.has_direction() && Vec3::from(self.direction).length_squared() == 0.0 {
             return Err(format!("{what}: the direction must not be zero"));
         }
         if self.kind == LightKind::Spot
@@ -115,17 +108,11 @@ impl Light {
 
     /// The GPU record.
     pub fn gpu(&self) -> crate::gpu_types::DeltaLight {
-        use crate::gpu_types::light_kind;
         let power = Vec3::from(self.color) * self.intensity;
         let direction = Vec3::from(self.direction).normalize_or(Vec3::NEG_Y);
         crate::gpu_types::DeltaLight {
             position: self.position,
-            kind: match self.kind {
-                LightKind::Point => light_kind::POINT,
-                LightKind::Spot if self.falloff == SpotFalloff::Gltf => light_kind::SPOT_GLTF,
-                LightKind::Spot => light_kind::SPOT,
-                LightKind::Directional => light_kind::DIRECTIONAL,
-            },
+            kind: self.tag().tag(),
             direction: direction.to_array(),
             cos_inner: self.inner_angle_deg.to_radians().cos(),
             power: power.to_array(),

@@ -50,7 +50,8 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 }
 
 /// 8-bit sRGB of a linear radiance value after `exposure_stops`.
-pub fn tone_map_u8(c: f32, exposure_stops: f32) -> u8 {
+#[cfg(test)]
+fn tone_map_u8(c: f32, exposure_stops: f32) -> u8 {
     let v = (c * exposure_stops.exp2()).clamp(0.0, 1.0);
     let v = if v.is_nan() { 0.0 } else { v };
     (linear_to_srgb(v) * 255.0 + 0.5) as u8

@@ -55,10 +55,6 @@ impl Transform {
     pub fn normal_matrix(&self) -> Mat3 {
         Mat3::from_mat4(self.matrix()).inverse().transpose()
     }
-
-    pub fn is_identity(&self) -> bool {
-        *self == Transform::default()
-    }
 }
 
 /// One renderable object.

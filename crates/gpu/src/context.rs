@@ -1,5 +1,6 @@
 //! Adapter and device selection.
 
+#[cfg(feature = "testing")]
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -60,7 +61,8 @@ pub struct GpuContext {
     /// Why the device was lost, once it has been.
     lost: Arc<Mutex<Option<String>>>,
     /// Fault injection (`inject_out_of_memory`): the scoped operation this many calls on fails as
-    /// out of memory; 0 is off.
+    /// out of memory; 0 is off. Only in test builds.
+    #[cfg(feature = "testing")]
     out_of_memory_in: AtomicU32,
 }
 
@@ -250,6 +252,7 @@ impl GpuContext {
             info,
             pipelines: PipelineCache::default(),
             lost,
+            #[cfg(feature = "testing")]
             out_of_memory_in: AtomicU32::new(0),
         })
     }
@@ -355,22 +358,20 @@ impl GpuContext {
     /// `testing` feature, as `crate::faults` is.
     #[cfg(feature = "testing")]
     pub fn inject_out_of_memory(&self, operations: u32) {
-        self.fail_as_out_of_memory_in(operations);
-    }
-
-    /// `inject_out_of_memory` for `crate::faults`, which only injects with `testing`.
-    pub(crate) fn fail_as_out_of_memory_in(&self, operations: u32) {
         self.out_of_memory_in.store(operations, Ordering::SeqCst);
     }
 
     /// Runs `f` and turns any wgpu validation error it caused into `GpuError::Wgpu`, and an
     /// out-of-memory error into `GpuError::OutOfMemory`.
     pub fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T> {
-        let countdown =
-            self.out_of_memory_in
-                .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| n.checked_sub(1));
-        if countdown == Ok(1) {
-            return Err(GpuError::OutOfMemory("injected by a test".into()));
+        #[cfg(feature = "testing")]
+        {
+            let countdown =
+                self.out_of_memory_in
+                    .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| n.checked_sub(1));
+            if countdown == Ok(1) {
+                return Err(GpuError::OutOfMemory("injected by a test".into()));
+            }
         }
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);

@@ -38,6 +38,7 @@ pub mod renderer;
 pub mod shaders;
 pub mod sizing;
 pub mod tiling;
+#[cfg(feature = "testing")]
 pub mod trace_rays;
 pub mod wavefront;
 

@@ -1,5 +1,5 @@
-//! What a caller may ask of a render: the kernel, dispatch sizing, AOVs, adaptive sampling and the
-//! firefly clamp (the contract), and `Tuning`: how the kernels run (measurements, tests and driver
+//! What one run chooses of a render: the kernel, dispatch sizing, AOVs and adaptive sampling (the
+//! contract; what the scene asks of the estimator is in its settings and so in the `Frame`), and `Tuning`: how the kernels run (measurements, tests and driver
 //! workarounds), never what they compute.
 
 use std::time::Duration;
@@ -85,11 +85,6 @@ pub struct RenderOptions {
     /// `with_scene_settings` (and so `Renderer::for_scene`) takes it from the scene's settings
     /// when unset here.
     pub adaptive: Option<Adaptive>,
-    /// Firefly clamp: scale each contribution of bounced light down so its largest channel is at
-    /// most this (directly seen emitters stay exact). Biased (it removes energy); `None` (the
-    /// default) leaves samples alone. `Renderer::for_scene` takes it from the scene's settings
-    /// when unset here.
-    pub clamp: Option<f32>,
     /// The index of the render's first sample: a shard of a larger render (`rt-cli render
     /// --shard`) takes samples `first_sample..first_sample + spp` of the whole image's, with the
     /// same random numbers a one-machine render gives them.
@@ -107,7 +102,6 @@ impl Default for RenderOptions {
             max_samples_per_dispatch: None,
             aovs: false,
             adaptive: None,
-            clamp: None,
             first_sample: 0,
             tuning: Tuning::default(),
         }
@@ -163,11 +157,11 @@ impl Default for Tuning {
 }
 
 impl RenderOptions {
-    /// These options with what the scene's settings decide filled in where they are unset here
-    /// (the firefly clamp), as every render of a scene uses them.
+    /// These options with the scene's adaptive sampling where they set none, as every render of
+    /// a scene uses them. (What the scene asks of the estimator, such as the firefly clamp, is in
+    /// the `Frame`, built by `rt_core::frame::frame_for` alone.)
     pub fn with_scene_settings(self, settings: &rt_core::RenderSettings) -> Self {
         RenderOptions {
-            clamp: self.clamp.or(settings.clamp),
             adaptive: self.adaptive.or(Adaptive::of_settings(settings)),
             ..self
         }

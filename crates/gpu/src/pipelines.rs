@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+#[cfg(feature = "testing")]
 use rt_core::bvh::BvhLayout;
 
 use crate::bindings;
@@ -106,6 +107,7 @@ pub(crate) fn forget(ctx: &GpuContext, pipelines: &Arc<KernelPipelines>) {
 
 /// The nearest-hit pipeline used by tests to check traversal (rt's of `layout`, or the driver's
 /// ray queries with `ray_query`).
+#[cfg(feature = "testing")]
 pub fn trace_rays_pipeline(
     ctx: &GpuContext,
     layout: BvhLayout,

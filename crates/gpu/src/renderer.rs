@@ -115,7 +115,6 @@ impl<'a> Renderer<'a> {
         options: RenderOptions,
     ) -> Result<Self> {
         validate_frame(ctx, scene, &frame, &options)?;
-        let frame = with_clamp(frame, &options);
         let pixels = u64::from(frame.width) * u64::from(tile_rows(&frame));
         let ray_query = ctx.resolve_trace(options.trace, scene) == Trace::Hardware;
         let accel = if ray_query {
@@ -218,7 +217,8 @@ impl<'a> Renderer<'a> {
         }
     }
 
-    /// How often the pipeline was rebuilt (see `RenderOptions::pipeline_lifetime`).
+    /// How often the pipeline was rebuilt (see `RenderOptions::pipeline_lifetime`); for tests.
+    #[cfg(feature = "testing")]
     pub fn pipeline_rebuilds(&self) -> u32 {
         self.lifetime.rebuilds()
     }
@@ -384,7 +384,7 @@ impl<'a> Renderer<'a> {
             ));
         }
         self.outputs.clear(self.ctx)?;
-        self.frame = with_clamp(frame, &self.options);
+        self.frame = frame;
         self.loop_cap = loop_cap(scene, &frame, &self.options);
         self.samples_done = 0;
         self.unfinished = None;
@@ -588,13 +588,4 @@ fn loop_cap(scene: &GpuScene, frame: &Frame, options: &RenderOptions) -> u32 {
     options
         .max_samples_per_dispatch
         .map_or_else(|| sizing::loop_cap(scene, frame), |m| m.max(1))
-}
-
-/// `frame` with the firefly clamp the options ask for (a frame value, so one pipeline serves every
-/// clamp; `RenderOptions::clamp` decides, as `Renderer::for_scene` merges the scene's into it).
-fn with_clamp(frame: Frame, options: &RenderOptions) -> Frame {
-    Frame {
-        clamp_max: rt_core::frame::clamp_max(options.clamp),
-        ..frame
-    }
 }

@@ -61,12 +61,7 @@ impl RtApp {
             .iter()
             .filter(|l| l.kind == kind)
             .count();
-        let name = match kind {
-            rt_core::LightKind::Point => "point light",
-            rt_core::LightKind::Spot => "spot light",
-            rt_core::LightKind::Directional => "sun",
-        };
-        let mut light = rt_core::Light::new(kind, &format!("{name} {}", count + 1));
+        let mut light = rt_core::Light::new(kind, &format!("{} {}", kind.noun(), count + 1));
         light.position = (center + Vec3::Y * size * 0.45).to_array();
         // E = I/h² below the light; a sky of radiance 1 gives E = π.
         let h = size * 0.45;

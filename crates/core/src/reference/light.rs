@@ -30,6 +30,7 @@ use super::surface::Surface;
 use super::texture::{coverage, surface_emission};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame};
+use crate::light_kind::LightTag;
 use crate::light_tree::{DELTA_LEAF, in_tree};
 use crate::math::intersect::offset_ray_origin;
 use crate::math::medium::transmittance;
@@ -241,7 +242,7 @@ pub fn direct_light(
     if occluded(scene, light.origin, light.direction, light.distance) {
         return Vec3::ZERO;
     }
-    let w_light = if frame.light_strategy == 1 || light.p_light == 0.0 {
+    let w_light = if frame.nee_only == 1 || light.p_light == 0.0 {
         1.0
     } else {
         power_heuristic(light.p_light, p_bsdf)
@@ -253,8 +254,7 @@ pub fn direct_light(
 /// irradiance it gives there, normal to that direction (before the surface's cosine): each light
 /// type is one case here (`crate::light` has the units and the spots' falloffs).
 pub fn delta_light_incidence(light: &DeltaLight, origin: Vec3) -> (Vec3, f32, Vec3) {
-    use crate::gpu_types::light_kind;
-    if light.kind == light_kind::DIRECTIONAL {
+    if light.kind == LightTag::Directional.tag() {
         return (
             -Vec3::from(light.direction),
             3.0e38,
@@ -267,9 +267,9 @@ pub fn delta_light_incidence(light: &DeltaLight, origin: Vec3) -> (Vec3, f32, Ve
     let dir = to / distance;
     let mut e = Vec3::from(light.power) / d2;
     let cos = (-dir).dot(Vec3::from(light.direction));
-    if light.kind == light_kind::SPOT {
+    if light.kind == LightTag::Spot.tag() {
         e *= crate::light::spot_falloff(cos, light.cos_inner, light.cos_outer);
-    } else if light.kind == light_kind::SPOT_GLTF {
+    } else if light.kind == LightTag::SpotGltf.tag() {
         e *= crate::light::spot_falloff_gltf(cos, light.cos_inner, light.cos_outer);
     }
     (dir, distance, e)
@@ -328,7 +328,7 @@ pub fn delta_lights_at(
     let lit_through = surface.lit_through();
     let mut sum = Vec3::ZERO;
     for light in &scene.delta_lights {
-        if light.kind == 0 || (frame.light_sampler == 1 && in_tree(light)) {
+        if light.kind == LightTag::None.tag() || (frame.light_sampler == 1 && in_tree(light)) {
             continue;
         }
         let Some((origin, dir, distance, irradiance)) =
@@ -368,7 +368,7 @@ pub fn escaped(scene: &GpuScene, frame: &Frame, direction: Vec3, prev_bsdf_pdf: 
     );
     let mut weight = 1.0;
     if frame.env_pick > 0.0 && prev_bsdf_pdf > 0.0 {
-        weight = if frame.light_strategy == 1 {
+        weight = if frame.nee_only == 1 {
             0.0
         } else {
             power_heuristic(prev_bsdf_pdf, frame.env_pick * pdf)

@@ -156,7 +156,7 @@ fn sample_direct(p: vec3<f32>, ng: vec3<f32>, surface: Surface, media: ShadowMed
     if (all(tr == vec3(0.0))) {
         return none;
     }
-    let w_light = select(power_heuristic(light.p_light, e.w), 1.0, frame.light_strategy == 1u || light.p_light == 0.0);
+    let w_light = select(power_heuristic(light.p_light, e.w), 1.0, frame.nee_only == 1u || light.p_light == 0.0);
     return ShadowRay(light.origin, light.distance, light.direction, 0u, e.xyz * light.radiance_over_pdf * w_light * tr);
 }
 
@@ -251,7 +251,7 @@ fn delta_lights_at(p: vec3<f32>, ng: vec3<f32>, surface: Surface, media: ShadowM
     let tree = HAS_LIGHT_TREE && frame.light_sampler == 1u;
     for (var i = 0u; i < arrayLength(&delta_lights); i++) {
         let light = delta_lights[i];
-        if (light.kind == 0u || (tree && in_light_tree(light))) {
+        if (light.kind == LIGHT_NONE || (tree && in_light_tree(light))) {
             continue;
         }
         let d = delta_light_toward(light, p, ng, above, lit_through);
@@ -284,7 +284,7 @@ fn escaped(direction: vec3<f32>, prev_bsdf_pdf: f32) -> vec3<f32> {
     let e = env_lookup(direction);
     var weight = 1.0;
     if (frame.env_pick > 0.0 && prev_bsdf_pdf > 0.0) {
-        weight = select(power_heuristic(prev_bsdf_pdf, frame.env_pick * e.w), 0.0, frame.light_strategy == 1u);
+        weight = select(power_heuristic(prev_bsdf_pdf, frame.env_pick * e.w), 0.0, frame.nee_only == 1u);
     }
     return e.xyz * weight;
 }

@@ -310,7 +310,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
                 hit.t,
                 cos_l,
             );
-            weight = if frame.light_strategy == 1 {
+            weight = if frame.nee_only == 1 {
                 0.0
             } else {
                 power_heuristic(path.prev_bsdf_pdf, p_light)

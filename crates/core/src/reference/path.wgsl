@@ -7,7 +7,7 @@
 // with Le the front-face emission (or the ambient radiance on a miss); with next-event estimation,
 // diffuse vertices also sample an emitter point, and both strategies are weighted by the power
 // heuristic (emitters seen from the camera or through specular bounces keep weight 1). With
-// frame.light_strategy == 1 (a diagnostic) next-event estimation takes weight 1 and BSDF-sampled
+// frame.nee_only == 1 (a diagnostic) next-event estimation takes weight 1 and BSDF-sampled
 // hits on emitters after a diffuse bounce weight 0.
 
 // Features a scene does not use are compiled out by these pipeline constants (the material
@@ -318,7 +318,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         if (HAS_NEE && frame.emitter_count > 0u && (*path).prev_bsdf_pdf > 0.0 && any(material.emission != vec3(0.0))) {
             let cos_l = -dot(direction, normalize(ng_raw));
             let p_light = emitter_pdf(hit.triangle, (*path).origin, (*path).tree_normal, hit.t, cos_l);
-            weight = select(power_heuristic((*path).prev_bsdf_pdf, p_light), 0.0, frame.light_strategy == 1u);
+            weight = select(power_heuristic((*path).prev_bsdf_pdf, p_light), 0.0, frame.nee_only == 1u);
         }
         let cos_out = -dot(direction, normalize(ng_raw));
         let emitted = (*path).beta * surface_emission(material, tri, hit.triangle, hit.b1, hit.b2, cos_out) * weight;

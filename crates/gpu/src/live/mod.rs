@@ -222,8 +222,6 @@ pub struct LiveView {
     /// When the newest change's first image arrived.
     first_image_after: Option<Duration>,
     error: Option<String>,
-    /// Images that arrived for an earlier change and were dropped.
-    dropped: u64,
     /// Show the denoised image when there is one.
     pub show_denoised: bool,
 }
@@ -285,7 +283,6 @@ impl LiveView {
             previous: None,
             first_image_after: None,
             error,
-            dropped: 0,
             show_denoised,
         }
     }
@@ -345,7 +342,7 @@ impl LiveView {
                     changed = true;
                 }
                 // From before the newest change: never shown.
-                Ok(_) => self.dropped += 1,
+                Ok(_) => {}
                 Err(TryRecvError::Empty) => break,
                 Err(TryRecvError::Disconnected) => {
                     if self.error.is_none() {
@@ -393,18 +390,8 @@ impl LiveView {
         self.first_image_after
     }
 
-    /// Time since the newest change.
-    pub fn since_change(&self) -> Duration {
-        self.changed_at.elapsed()
-    }
-
     pub fn error(&self) -> Option<&str> {
         self.error.as_deref()
-    }
-
-    /// How many images arrived for an earlier change and were dropped unseen.
-    pub fn dropped_stale(&self) -> u64 {
-        self.dropped
     }
 
     /// Stops the threads and waits for them (up to `timeout`); true if they all ended.

@@ -21,6 +21,7 @@ use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
+use rt_core::math::sampling::luminance;
 use rt_core::{Material, Scene};
 
 use super::surfaces::{emitter_shape, material_params};
@@ -94,10 +95,6 @@ fn diffuse_albedo(material: &Material) -> Vec3 {
     Vec3::from(base) * (1.0 - params[2] * (1.0 - params[0]))
 }
 
-fn luminance(c: Vec3) -> f32 {
-    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
-}
-
 /// The ambient term of progressive radiosity (Cohen et al. 1988), for scenes too large for a grid:
 /// L = ρ/(1 − ρ̄) · Φ / (π A), Φ the lights' power that reaches the scene, A its surface area.
 pub fn uniform_bounce(scene: &Scene, lights: &[PreviewLight], bounds: (Vec3, Vec3)) -> Vec3 {
@@ -114,7 +111,7 @@ pub fn uniform_bounce(scene: &Scene, lights: &[PreviewLight], bounds: (Vec3, Vec
                 let normal = Vec3::from_slice(&light.direction[..3]).length();
                 color * PI * (normal + 4.0 * light.color[3])
             }
-            light_kind::SUN => {
+            light_kind::DIRECTIONAL => {
                 let d = Vec3::from_slice(&light.direction[..3]).abs();
                 color * (d.x * size.y * size.z + d.y * size.z * size.x + d.z * size.x * size.y)
             }
@@ -131,7 +128,7 @@ pub fn uniform_bounce(scene: &Scene, lights: &[PreviewLight], bounds: (Vec3, Vec
 /// Direct irradiance from `light` on a surface at `p` facing `n`, with a shadow ray.
 fn direct(gpu: &rt_core::GpuScene, light: &PreviewLight, p: Vec3, n: Vec3) -> Vec3 {
     let color = Vec3::from_slice(&light.color[..3]);
-    let (l, strength, reach) = if light.shadow[0] == light_kind::SUN {
+    let (l, strength, reach) = if light.shadow[0] == light_kind::DIRECTIONAL {
         (-Vec3::from_slice(&light.direction[..3]), color, f32::MAX)
     } else {
         let d = Vec3::from_slice(&light.position[..3]) - p;

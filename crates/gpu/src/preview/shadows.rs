@@ -74,7 +74,7 @@ pub fn plan_shadows(
         let reach = (position - center).length() + radius * 1.01;
         let near = (radius * 1e-3).max(reach * 1e-5);
         let (views, texel_size): (Vec<Mat4>, f32) = match kind {
-            light_kind::SUN => {
+            light_kind::DIRECTIONAL => {
                 let eye = center - axis * (2.0 * radius);
                 let projection = glam::camera::rh::proj::directx::orthographic(
                     -radius,
@@ -142,7 +142,12 @@ mod tests {
         let scene = rt_core::Scene::default();
         let (center, radius) = (Vec3::new(1.0, 2.0, 3.0), 5.0);
         let mut lights = vec![
-            light(light_kind::SUN, Vec3::ZERO, Vec3::new(0.3, -1.0, 0.2), -1.0),
+            light(
+                light_kind::DIRECTIONAL,
+                Vec3::ZERO,
+                Vec3::new(0.3, -1.0, 0.2),
+                -1.0,
+            ),
             light(light_kind::SPOT, center + Vec3::Y * 8.0, Vec3::NEG_Y, 0.8),
             light(light_kind::POINT, center + Vec3::X * 3.0, Vec3::ZERO, -1.0),
             light(light_kind::POINT, center - Vec3::X * 3.0, Vec3::ZERO, -1.0),

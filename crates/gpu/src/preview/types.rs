@@ -28,14 +28,17 @@ pub mod image_slot {
 /// `PreviewLight::shadow[1]` of a light without a shadow map.
 pub const NO_SHADOW: u32 = u32::MAX;
 
-/// What a preview light is (`PreviewLight::shadow[0]`, the `LIGHT_*` constants of the shader).
+/// What a preview light is (`PreviewLight::shadow[0]`, the `LIGHT_*` constants of the shader):
+/// the tags of `rt_core::LightTag`, as constants to match on. A spot's falloff is in its cone, so
+/// glTF's spots are `SPOT` here.
 pub mod light_kind {
-    pub const POINT: u32 = 0;
-    pub const SPOT: u32 = 1;
-    pub const SUN: u32 = 2;
+    use rt_core::LightTag;
+    pub const POINT: u32 = LightTag::Point.tag();
+    pub const SPOT: u32 = LightTag::Spot.tag();
+    pub const DIRECTIONAL: u32 = LightTag::Directional.tag();
     /// An emissive object, drawn as a light at its centre whose intensity follows the object's
     /// projected area (`frame.rs`, `emitter_light`).
-    pub const EMITTER: u32 = 3;
+    pub const EMITTER: u32 = LightTag::Emitter.tag();
 }
 
 #[repr(C, align(16))]
@@ -162,21 +165,33 @@ mod tests {
     fn preview_light_kinds_match_the_shader() {
         let source = crate::shaders::PREVIEW.source();
         let module = naga::front::wgsl::parse_str(&source).expect("preview.wgsl parses");
-        for (name, value) in [
-            ("LIGHT_POINT", light_kind::POINT),
-            ("LIGHT_SPOT", light_kind::SPOT),
-            ("LIGHT_SUN", light_kind::SUN),
-            ("LIGHT_EMITTER", light_kind::EMITTER),
-            ("NO_SHADOW", NO_SHADOW),
-            ("TEX_BASE", image_slot::BASE),
-            ("TEX_METAL_ROUGH", image_slot::METAL_ROUGH),
-            ("TEX_NORMAL", image_slot::NORMAL),
-            ("TEX_EMISSION", image_slot::EMISSION),
-            (
-                "MAX_SHADOW_LAYERS",
-                crate::preview::shadows::MAX_SHADOW_LAYERS as u32,
-            ),
-        ] {
+        let defines = |name: &str| {
+            module
+                .constants
+                .iter()
+                .any(|(_, c)| c.name.as_deref() == Some(name))
+        };
+        // The light tags the preview uses, from the one table (and no others).
+        let tags = rt_core::LightTag::ALL.into_iter().filter(|t| {
+            assert_eq!(defines(t.wgsl_constant()), t.in_preview(), "{t:?}");
+            t.in_preview()
+        });
+        for (name, value) in tags
+            .map(|t| (t.wgsl_constant(), t.tag()))
+            .collect::<Vec<_>>()
+            .into_iter()
+            .chain([
+                ("NO_SHADOW", NO_SHADOW),
+                ("TEX_BASE", image_slot::BASE),
+                ("TEX_METAL_ROUGH", image_slot::METAL_ROUGH),
+                ("TEX_NORMAL", image_slot::NORMAL),
+                ("TEX_EMISSION", image_slot::EMISSION),
+                (
+                    "MAX_SHADOW_LAYERS",
+                    crate::preview::shadows::MAX_SHADOW_LAYERS as u32,
+                ),
+            ])
+        {
             let (_, c) = module
                 .constants
                 .iter()

@@ -17,25 +17,9 @@ fn light_inspector(app: &mut RtApp, ui: &mut Ui, index: usize) {
             .on_hover_text("The light's name");
     });
     ui.horizontal_wrapped(|ui| {
-        for (kind, label, tip) in [
-            (
-                rt_core::LightKind::Point,
-                "Point",
-                "Light from a point, in every direction",
-            ),
-            (
-                rt_core::LightKind::Spot,
-                "Spot",
-                "Light from a point, in a cone",
-            ),
-            (
-                rt_core::LightKind::Directional,
-                "Sun",
-                "Parallel light from far away",
-            ),
-        ] {
-            ui.selectable_value(&mut light.kind, kind, label)
-                .on_hover_text(tip);
+        for kind in rt_core::LightKind::ALL {
+            ui.selectable_value(&mut light.kind, kind, kind.label())
+                .on_hover_text(kind.summary());
         }
     });
     let size = app

@@ -168,26 +168,19 @@ pub fn lights_panel(app: &mut RtApp, ui: &mut Ui) {
     }
     ui.horizontal(|ui| add_area_light_buttons(app, ui, "Add quad light"));
     ui.horizontal(|ui| {
-        if ui
-            .button("Add point light")
-            .on_hover_text("A point light above the centre of the scene (intensity in W/sr)")
-            .clicked()
-        {
-            app.add_delta_light(rt_core::LightKind::Point);
-        }
-        if ui
-            .button("Add spot light")
-            .on_hover_text("A spot light above the centre of the scene, pointing down")
-            .clicked()
-        {
-            app.add_delta_light(rt_core::LightKind::Spot);
-        }
-        if ui
-            .button("Add sun")
-            .on_hover_text("A directional light: parallel light from far away (irradiance in W/m²)")
-            .clicked()
-        {
-            app.add_delta_light(rt_core::LightKind::Directional);
+        for kind in rt_core::LightKind::ALL {
+            let placed = if kind.has_position() {
+                "above the centre of the scene"
+            } else {
+                "at infinity"
+            };
+            if ui
+                .button(format!("Add {}", kind.noun()))
+                .on_hover_text(format!("{}, {placed}", kind.summary()))
+                .clicked()
+            {
+                app.add_delta_light(kind);
+            }
         }
     });
 }
