@@ -18,7 +18,7 @@ const SPP: u32 = 48;
 #[test]
 fn stopped_pixels_hold_the_mean_of_their_own_samples() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = 24;
     scene.settings.height = 24;
     scene.ambient = [0.5; 3];
@@ -90,7 +90,7 @@ fn stopped_pixels_hold_the_mean_of_their_own_samples() {
 #[test]
 fn a_loose_threshold_stops_every_pixel_after_the_minimum() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = 16;
     scene.settings.height = 12;
     scene.settings.samples_per_pixel = 1000;
@@ -130,7 +130,7 @@ fn a_loose_threshold_stops_every_pixel_after_the_minimum() {
 #[test]
 fn a_bad_threshold_is_a_clear_error() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     for bad in [0.0, -1.0, f32::NAN] {
         scene.settings.adaptive_threshold = Some(bad);
         let error = rt_core::frame::validate(&scene).unwrap_err().to_string();

@@ -1,5 +1,5 @@
 //! Renderers on three threads sharing one device, each rebuilding its pipelines before every batch
-//! (`Tuning::pipeline_lifetime` of zero, the lavapipe memory workaround at its most frequent),
+//! (`PipelineRebuilds::Every` of zero, the lavapipe memory workaround at its most frequent),
 //! finish and change no sample: each thread's image equals a render of the same seed without
 //! rebuilds. (A CI run once stalled inside lavapipe with every renderer rebuilding; this test would
 //! then hang, and the harness's time limit fail it.)
@@ -18,7 +18,7 @@ fn concurrent_pipeline_rebuilds_finish_and_change_no_sample() {
         std::thread::scope(|scope| {
             for seed in 0..3 {
                 scope.spawn(move || {
-                    let mut s = rt_core::assets::cornell_box().unwrap();
+                    let mut s = rt_io::assets::cornell_box().unwrap();
                     s.settings.width = 32;
                     s.settings.height = 32;
                     s.settings.seed = seed;
@@ -30,7 +30,7 @@ fn concurrent_pipeline_rebuilds_finish_and_change_no_sample() {
                     };
                     let rebuilding = RenderOptions {
                         tuning: Tuning {
-                            pipeline_lifetime: Some(Duration::ZERO),
+                            pipeline_rebuilds: rt_gpu::PipelineRebuilds::Every(Duration::ZERO),
                             ..Default::default()
                         },
                         ..options

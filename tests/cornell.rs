@@ -14,7 +14,7 @@ const MITSUBA_MEANS: [f64; 3] = [0.241195, 0.142110, 0.060422];
 #[test]
 fn cornell_box_means_match_mitsuba_within_one_percent() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     assert_eq!(scene.settings.max_depth, 8);
     // The image mean is the integral of radiance over the image plane whatever the resolution
     // (box filter, uniform jitter), so a smaller image estimates the same number.
@@ -56,7 +56,7 @@ fn cornell_box_means_match_mitsuba_within_one_percent() {
 #[test]
 fn rel_mse_falls_as_one_over_spp() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = 48;
     scene.settings.height = 48;
     // The −1 slope is the law of independent samples (Sobol points fall a little faster).

@@ -17,7 +17,7 @@ const HEIGHT: u32 = 192;
 fn a_gltf_exported_by_blender_renders_as_cycles_renders_it() {
     let Some(ctx) = gpu() else { return };
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cycles-gltf");
-    let mut scene = rt_core::io::gltf::load_gltf(&data.join("scene.glb"), None).unwrap();
+    let mut scene = rt_io::gltf::load_gltf(&data.join("scene.glb"), None).unwrap();
     assert_eq!(scene.lights.len(), 3, "point, spot and sun come through");
     assert!(scene.environment.is_none());
     scene.settings = settings(WIDTH, HEIGHT, 256, 8);

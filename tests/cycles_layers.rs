@@ -24,7 +24,7 @@ use common::*;
 fn coat_sheen_and_specular_render_as_cycles_renders_them() {
     let Some(ctx) = gpu() else { return };
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cycles-layers");
-    let mut scene = rt_core::io::gltf::load_gltf(&data.join("scene.glb"), None).unwrap();
+    let mut scene = rt_io::gltf::load_gltf(&data.join("scene.glb"), None).unwrap();
     let layered = |name: &str| {
         let o = scene.objects.iter().find(|o| o.name == name).unwrap();
         let rt_core::Material::Pbr(p) = &o.material else {
@@ -151,7 +151,7 @@ fn assert_objects_match(
 fn rough_glass_renders_as_cycles_renders_it() {
     let Some(ctx) = gpu() else { return };
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cycles-glass");
-    let mut scene = rt_core::io::gltf::load_gltf(&data.join("scene.glb"), None).unwrap();
+    let mut scene = rt_io::gltf::load_gltf(&data.join("scene.glb"), None).unwrap();
     for o in scene.objects.iter().filter(|o| o.name != "floor") {
         let rt_core::Material::Pbr(p) = &o.material else {
             panic!("{}: PBR expected", o.name)

@@ -32,7 +32,7 @@ fn render_with_aovs(
 #[test]
 fn albedo_and_normal_outputs_guide_a_denoiser_that_cuts_the_error() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = 48;
     scene.settings.height = 48;
     scene.settings.samples_per_pixel = 4;
@@ -114,7 +114,7 @@ fn albedo_and_normal_outputs_guide_a_denoiser_that_cuts_the_error() {
 fn oidn_and_atrous_both_cut_the_error_at_16_spp_and_oidn_more() {
     use rt_core::denoiser::{Denoiser, DenoiserChoice};
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = 64;
     scene.settings.height = 64;
     scene.settings.samples_per_pixel = 16;

@@ -15,7 +15,7 @@ fn start(settings: LiveSettings) -> Option<LiveView> {
 }
 
 fn cornell(width: u32, height: u32) -> rt_core::Scene {
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = width;
     scene.settings.height = height;
     scene

@@ -2,7 +2,7 @@
 //! Host memory during long renders. Mesa 22.3's lavapipe keeps memory for every path the compiled
 //! megakernel runs (about 75 MB/s on a 128 x 128 Cornell box render on a 2-core VM) and frees it
 //! only when that pipeline is destroyed, so `Renderer` can rebuild its pipeline on CPU adapters
-//! every `RenderOptions::pipeline_lifetime`; the wavefront kernels (the default) do not grow. Its own test binary with one test: resident memory is per
+//! every `Tuning::pipeline_rebuilds`; the wavefront kernels (the default) do not grow. Its own test binary with one test: resident memory is per
 //! process, and other tests running alongside would move it. (That a rebuild changes no sample is
 //! `tests/extremes/renderer.rs::rebuilding_the_pipeline_changes_no_sample`.)
 
@@ -22,7 +22,7 @@ fn resident_mb() -> Option<f64> {
 }
 
 fn cornell(size: u32, spp: u32) -> (rt_core::Scene, GpuScene) {
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = size;
     scene.settings.height = size;
     scene.settings.samples_per_pixel = spp;
@@ -80,7 +80,7 @@ fn long_renders_keep_host_memory_flat() {
         RenderOptions {
             kernel: rt_gpu::Kernel::Megakernel,
             tuning: rt_gpu::Tuning {
-                pipeline_lifetime: Some(Duration::from_millis(300)),
+                pipeline_rebuilds: rt_gpu::PipelineRebuilds::Every(Duration::from_millis(300)),
                 ..Default::default()
             },
             ..Default::default()

@@ -17,7 +17,7 @@ const HEIGHT: u32 = 120;
 
 fn media_scene() -> rt_core::Scene {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba-media");
-    let mut scene = rt_core::io::gltf::load_gltf(&data.join("scene.gltf"), None).unwrap();
+    let mut scene = rt_io::gltf::load_gltf(&data.join("scene.gltf"), None).unwrap();
     scene.camera.from = [0.0, 1.5, 4.2];
     scene.camera.to = [0.0, 0.45, 0.0];
     scene.camera.up = [0.0, 1.0, 0.0];

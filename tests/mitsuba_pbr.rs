@@ -19,7 +19,7 @@ const HEIGHT: u32 = 192;
 fn pbr_materials_and_an_environment_match_mitsuba() {
     let Some(ctx) = gpu() else { return };
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba-pbr");
-    let mut scene = rt_core::io::obj::load_obj(&data.join("scene.obj"), 0).unwrap();
+    let mut scene = rt_io::obj::load_obj(&data.join("scene.obj"), 0).unwrap();
     scene.camera.from = [0.0, 1.6, 5.2];
     scene.camera.to = [0.0, 0.55, 0.0];
     scene.camera.up = [0.0, 1.0, 0.0];

@@ -1,4 +1,4 @@
-//! The raster preview (`rt_gpu::preview`, the editor's first view and `rt-cli preview`) against the
+//! The raster preview (`rt_preview`, the editor's first view and `rt-cli preview`) against the
 //! path tracer, object by object (docs/editor.md records each): on a small showroom every object's
 //! mean colour within 10% of the converged render of the same view, the emitter visibly bright, a
 //! metal brighter at its highlight than a diffuse surface of the same base colour, and the floor
@@ -112,8 +112,8 @@ struct Pair {
 fn preview_and_render(ctx: &rt_gpu::GpuContext, scene: &Scene, name: &str) -> Pair {
     let (width, height) = (scene.settings.width, scene.settings.height);
     let frame =
-        rt_gpu::preview::build_frame(scene, &scene.camera, scene.bounds(), None, [width, height]);
-    let preview = rt_gpu::preview::render_image(ctx, &frame).expect("the preview renders");
+        rt_preview::build_frame(scene, &scene.camera, scene.bounds(), None, [width, height]);
+    let preview = rt_preview::render_image(ctx, &frame).expect("the preview renders");
     let render: Vec<[f32; 3]> = common::render(ctx, scene)
         .pixels
         .iter()
@@ -228,7 +228,7 @@ fn the_preview_looks_like_the_render_object_by_object() {
     let gpu_scene = rt_core::GpuScene::build(&scene).unwrap();
     let towards_sun = -Vec3::from(scene.lights[0].direction);
     let shaded = |p: Vec3| {
-        rt_core::reference::trace(&gpu_scene, p + Vec3::Y * 1e-3, towards_sun, f32::MAX).triangle
+        rt_core::estimator::trace(&gpu_scene, p + Vec3::Y * 1e-3, towards_sun, f32::MAX).triangle
             != u32::MAX
     };
     let near = |p: Vec3| p.x.abs() < 3.0 && p.z.abs() < 2.0;
@@ -250,7 +250,7 @@ fn the_preview_looks_like_the_render_object_by_object() {
 #[test]
 fn the_preview_of_a_room_and_of_an_environment_lit_scene_per_object() {
     let Some(ctx) = common::gpu() else { return };
-    let mut cornell = rt_core::assets::cornell_box().expect("embedded scene");
+    let mut cornell = rt_io::assets::cornell_box().expect("embedded scene");
     cornell.settings = common::settings(128, 128, 256, 8);
     let pair = preview_and_render(ctx, &cornell, "cornell");
     for (name, ratio) in pair.object_ratios(&cornell) {

@@ -8,8 +8,8 @@ mod common;
 
 use common::*;
 use glam::Vec3;
+use rt_core::estimator::trace_brute_force;
 use rt_core::gpu_types::Ray;
-use rt_core::reference::trace_brute_force;
 use rt_core::{GpuScene, Scene};
 use rt_gpu::{GpuContext, Kernel, RenderOptions, Trace};
 
@@ -48,7 +48,7 @@ fn ray_queries_find_the_nearest_hits_of_brute_force() {
     let Some(ctx) = ray_query_gpu() else { return };
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny/bunny-lowres-npm.obj");
-    let scene = rt_core::io::obj::load_obj(&path, 0).unwrap();
+    let scene = rt_io::obj::load_obj(&path, 0).unwrap();
     let gpu_scene = GpuScene::build(&scene).unwrap();
     let (lo, hi) = scene.bounds().unwrap();
     let (center, radius) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
@@ -115,7 +115,7 @@ fn ray_queries_find_the_nearest_hits_of_brute_force() {
 #[test]
 fn ray_queries_render_the_image_of_rts_bvh() {
     let Some(ctx) = ray_query_gpu() else { return };
-    let mut metal = rt_core::assets::cornell_box().unwrap();
+    let mut metal = rt_io::assets::cornell_box().unwrap();
     metal.objects[0].material = rt_core::Material::Metal {
         albedo: [0.9; 3],
         fuzz: 0.2,
@@ -191,7 +191,7 @@ fn ray_queries_render_the_image_of_rts_bvh() {
 #[test]
 fn auto_tracing_picks_the_bvh_on_cpu_adapters() {
     let Some(ctx) = gpu() else { return };
-    let scene = rt_core::assets::cornell_box().unwrap();
+    let scene = rt_io::assets::cornell_box().unwrap();
     let gpu_scene = GpuScene::build(&scene).unwrap();
     let expected = if ctx.has_ray_queries() && ctx.info.device_type != wgpu::DeviceType::Cpu {
         Trace::Hardware

@@ -410,7 +410,7 @@ fn shared_constants_match_wgsl() {
         ),
         (
             "LIT_THROUGH_MIN_ALPHA",
-            rt_core::reference::surface::LIT_THROUGH_MIN_ALPHA,
+            rt_core::estimator::surface::LIT_THROUGH_MIN_ALPHA,
         ),
     ] {
         let (_, constant) = parsed

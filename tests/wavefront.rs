@@ -44,7 +44,7 @@ fn render(
 }
 
 fn cornell_with_metal_and_glass() -> Scene {
-    let mut s = rt_core::assets::cornell_box().unwrap();
+    let mut s = rt_io::assets::cornell_box().unwrap();
     s.objects[0].material = Material::Metal {
         albedo: [0.9; 3],
         fuzz: 0.3,
@@ -58,10 +58,10 @@ fn cornell_with_metal_and_glass() -> Scene {
 
 fn scenes() -> Vec<(&'static str, Scene)> {
     // The other scenes use the default Sobol sampler.
-    let mut independent = rt_core::assets::cornell_box().unwrap();
+    let mut independent = rt_io::assets::cornell_box().unwrap();
     independent.settings.sampler = SamplerKind::Independent;
     independent.settings.max_depth = 12;
-    let mut empty = rt_core::assets::cornell_box().unwrap();
+    let mut empty = rt_io::assets::cornell_box().unwrap();
     empty.objects.clear();
     empty.ambient = [0.5; 3];
     vec![

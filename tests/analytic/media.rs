@@ -77,7 +77,7 @@ fn scattering_media_keep_a_glowing_room_as_bright() {
         assert_mean(&image, 1.0, &what);
         // The CPU twin too (it shares the GPU's random numbers, not its arithmetic).
         let frame = rt_core::frame::frame_for(&scene, &gpu_scene).unwrap();
-        let cpu = rt_core::reference::render(&gpu_scene, &frame, 16);
+        let cpu = rt_core::estimator::render(&gpu_scene, &frame, 16);
         let n = cpu.mean.len() as f64;
         let mean = cpu.mean.iter().map(|p| f64::from(p[0])).sum::<f64>() / n;
         let var = cpu.variance.iter().map(|v| f64::from(v[0])).sum::<f64>() / (n * n * 16.0);
@@ -233,7 +233,7 @@ fn media_at_extremes_and_an_open_volume_stay_finite() {
         );
         let gpu_scene = GpuScene::build(&s).unwrap();
         let frame = rt_core::frame::frame_for(&s, &gpu_scene).unwrap();
-        let cpu = rt_core::reference::render(&gpu_scene, &frame, 8);
+        let cpu = rt_core::estimator::render(&gpu_scene, &frame, 8);
         assert!(
             cpu.mean
                 .iter()

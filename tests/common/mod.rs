@@ -506,7 +506,7 @@ pub fn pixel_hits(scene: &Scene, width: u32, height: u32) -> Vec<Option<(usize, 
             let direction = (sx * Vec3::from(frame.cam_u) + sy * Vec3::from(frame.cam_v)
                 - Vec3::from(frame.cam_w))
             .normalize();
-            let hit = rt_core::reference::trace(&gpu_scene, origin, direction, f32::MAX);
+            let hit = rt_core::estimator::trace(&gpu_scene, origin, direction, f32::MAX);
             (hit.triangle != u32::MAX).then(|| {
                 let object = gpu_scene.triangles[hit.triangle as usize].material as usize;
                 (object, origin + direction * hit.t)

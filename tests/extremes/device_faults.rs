@@ -7,7 +7,7 @@ use super::*;
 /// box.
 fn own_context_and_small_cornell() -> (rt_gpu::GpuContext, rt_core::Scene, GpuScene) {
     let ctx = rt_gpu::GpuContext::new(&rt_gpu::AdapterChoice::Software).unwrap();
-    let mut s = rt_core::assets::cornell_box().unwrap();
+    let mut s = rt_io::assets::cornell_box().unwrap();
     s.settings.width = 16;
     s.settings.height = 16;
     let gpu_scene = GpuScene::build(&s).unwrap();

@@ -55,7 +55,7 @@ fn a_chain_of_glass_slabs_transmits_the_layered_fresnel_value() {
 #[test]
 fn glass_of_index_one_is_invisible() {
     let Some(ctx) = gpu() else { return };
-    let mut without = rt_core::assets::cornell_box().unwrap();
+    let mut without = rt_io::assets::cornell_box().unwrap();
     without.ambient = [1.0; 3];
     without.settings = settings(32, 32, 64, 64);
     let mut with = without.clone();
@@ -84,7 +84,7 @@ fn glass_of_index_one_is_invisible() {
 fn emitter_intensity_scales_the_image_linearly() {
     let Some(ctx) = gpu() else { return };
     let render_with = |intensity: f32| {
-        let mut scene = rt_core::assets::cornell_box().unwrap();
+        let mut scene = rt_io::assets::cornell_box().unwrap();
         for o in &mut scene.objects {
             if let Material::Emissive { intensity: i, .. } = &mut o.material {
                 *i = intensity;
@@ -151,7 +151,7 @@ fn fully_fuzzy_metal_does_not_create_energy() {
 #[test]
 fn the_firefly_clamp_only_lowers_bounced_light_and_is_exact_when_it_does_not_bite() {
     let Some(ctx) = gpu() else { return };
-    let mut s = rt_core::assets::cornell_box().unwrap();
+    let mut s = rt_io::assets::cornell_box().unwrap();
     s.settings.width = 32;
     s.settings.height = 32;
     s.settings.samples_per_pixel = 8;

@@ -203,7 +203,7 @@ fn invalid_geometry_is_rejected_naming_object_and_vertex() {
 #[test]
 fn scene_scale_and_offset_do_not_change_the_image() {
     let Some(ctx) = gpu() else { return };
-    let base = rt_core::assets::cornell_box().unwrap();
+    let base = rt_io::assets::cornell_box().unwrap();
     let render_at = |scale: f32, offset: Vec3| {
         let mut scene = base.clone();
         for o in &mut scene.objects {
@@ -324,7 +324,7 @@ fn grazing_axis_aligned_and_vertex_rays_hit_where_they_should() {
     let hits = rt_gpu::trace_rays::trace_rays(ctx, &gpu_scene, &rays, rt_gpu::Trace::Bvh).unwrap();
     for ((r, expected), gpu_hit) in cases.iter().zip(&hits) {
         let cpu =
-            rt_core::reference::trace(&gpu_scene, r.origin.into(), r.direction.into(), r.t_max);
+            rt_core::estimator::trace(&gpu_scene, r.origin.into(), r.direction.into(), r.t_max);
         for (what, hit) in [("GPU", gpu_hit), ("CPU", &cpu)] {
             assert_ne!(hit.triangle, u32::MAX, "{what} missed: {r:?}");
             assert!(

@@ -9,7 +9,7 @@ use rt_gpu::Tuning;
 #[test]
 fn a_render_can_be_cancelled_and_restarted() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings = settings(32, 32, 1000, 8);
     let gpu_scene = GpuScene::build(&scene).unwrap();
     let mut renderer =
@@ -128,7 +128,7 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
 #[test]
 fn generic_kernels_and_workgroup_shapes_give_identical_images() {
     let Some(ctx) = gpu() else { return };
-    let mut s = rt_core::assets::cornell_box().unwrap();
+    let mut s = rt_io::assets::cornell_box().unwrap();
     s.settings.width = 29;
     s.settings.height = 17;
     s.settings.samples_per_pixel = 3;
@@ -165,7 +165,7 @@ fn generic_kernels_and_workgroup_shapes_give_identical_images() {
 #[test]
 fn an_impossible_work_group_is_a_clear_error() {
     let Some(ctx) = gpu() else { return };
-    let s = rt_core::assets::cornell_box().unwrap();
+    let s = rt_io::assets::cornell_box().unwrap();
     let gpu_scene = GpuScene::build(&s).unwrap();
     for (kernel, workgroup) in [
         (Kernel::Megakernel, [16, 16]),
@@ -191,13 +191,13 @@ fn an_impossible_work_group_is_a_clear_error() {
     }
 }
 
-/// A rebuilt pipeline (`RenderOptions::pipeline_lifetime`, against lavapipe's memory growth:
+/// A rebuilt pipeline (`Tuning::pipeline_rebuilds`, against lavapipe's memory growth:
 /// `tests/memory.rs`) changes no sample: rebuilding before every batch gives the same bytes as
 /// never rebuilding.
 #[test]
 fn rebuilding_the_pipeline_changes_no_sample() {
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = 24;
     scene.settings.height = 24;
     let gpu_scene = GpuScene::build(&scene).unwrap();
@@ -207,7 +207,7 @@ fn rebuilding_the_pipeline_changes_no_sample() {
                 max_samples_per_dispatch: Some(1),
                 kernel,
                 tuning: Tuning {
-                    pipeline_lifetime: Some(lifetime),
+                    pipeline_rebuilds: rt_gpu::PipelineRebuilds::Every(lifetime),
                     ..Default::default()
                 },
                 ..Default::default()

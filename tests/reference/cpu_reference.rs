@@ -12,7 +12,7 @@ fn assert_images_agree(scene: &Scene, gpu_spp: u32, cpu_spp: u32) {
     gpu_settings.settings.samples_per_pixel = gpu_spp;
     let image = render_gpu(ctx, &gpu_settings, &gpu_scene, RenderOptions::default());
     let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
-    let cpu = reference::render(&gpu_scene, &frame, cpu_spp);
+    let cpu = estimator::render(&gpu_scene, &frame, cpu_spp);
 
     let tests = image.pixels.len() * 3;
     let alpha = 1.0 - (1.0 - 0.01f64).powf(1.0 / tests as f64);
@@ -224,8 +224,8 @@ fn the_kernels_and_the_cpu_reference_agree_per_pixel_in_lockstep() {
             ..with
         };
         let (a, b) = (
-            reference::render(&gpu_scene, &with, 1),
-            reference::render(&gpu_scene, &without, 1),
+            estimator::render(&gpu_scene, &with, 1),
+            estimator::render(&gpu_scene, &without, 1),
         );
         let changed = a.mean.iter().zip(&b.mean).filter(|(x, y)| x != y).count();
         assert!(
@@ -266,19 +266,19 @@ fn the_kernels_and_the_cpu_reference_agree_per_pixel_in_lockstep() {
         for spp in [1, 4] {
             scene.settings.samples_per_pixel = spp;
             let frame = rt_core::frame::frame_for(&scene, &gpu_scene).unwrap();
-            let cpu = reference::render(&gpu_scene, &frame, spp);
+            let cpu = estimator::render(&gpu_scene, &frame, spp);
             let reseeded = rt_core::gpu_types::Frame {
                 seed: frame.seed + 1,
                 ..frame
             };
-            let other_seed = reference::render(&gpu_scene, &reseeded, spp);
+            let other_seed = estimator::render(&gpu_scene, &reseeded, spp);
             for kernel in [rt_gpu::Kernel::Wavefront, rt_gpu::Kernel::Megakernel] {
                 let options = RenderOptions {
                     kernel,
                     ..Default::default()
                 };
                 let image = render_gpu(ctx, &scene, &gpu_scene, options);
-                let apart = |cpu: &reference::ReferenceImage| -> Vec<(usize, [f32; 4], [f32; 3])> {
+                let apart = |cpu: &estimator::ReferenceImage| -> Vec<(usize, [f32; 4], [f32; 3])> {
                     image
                         .pixels
                         .iter()

@@ -37,7 +37,7 @@ fn largest_dispatch_gives_the_same_image_as_single_samples() {
     let Some(ctx) = gpu() else { return };
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny/bunny-lowres-npm.obj");
-    let mut scene = rt_core::io::obj::load_obj(&path, 0).unwrap();
+    let mut scene = rt_io::obj::load_obj(&path, 0).unwrap();
     let mut room = rt_core::shapes::cuboid(Vec3::splat(-5.0), Vec3::splat(5.0), true);
     room.positions
         .iter_mut()

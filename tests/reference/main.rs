@@ -15,13 +15,13 @@ mod traversal;
 
 use common::*;
 use glam::Vec3;
-use rt_core::reference;
+use rt_core::estimator;
 use rt_core::shapes::quad;
 use rt_core::{GpuScene, Material, Scene};
 use rt_gpu::RenderOptions;
 
 fn cornell_with_metal_and_glass(size: u32) -> Scene {
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     for o in &mut scene.objects {
         match o.name.as_str() {
             "tall_block" => {

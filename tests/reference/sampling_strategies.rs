@@ -7,9 +7,9 @@ use rt_core::shapes::uv_sphere;
 /// variance: α = 0.01 over the image with Šidák's correction. Returns the failures and the number of
 /// tests.
 fn z_test_failures(
-    a: &reference::ReferenceImage,
+    a: &estimator::ReferenceImage,
     n_a: u32,
-    b: &reference::ReferenceImage,
+    b: &estimator::ReferenceImage,
     n_b: u32,
 ) -> (usize, usize) {
     let tests = a.mean.len() * 3;
@@ -30,7 +30,7 @@ fn z_test_failures(
     (failed, tests)
 }
 
-fn total_variance(image: &reference::ReferenceImage) -> f64 {
+fn total_variance(image: &estimator::ReferenceImage) -> f64 {
     image
         .variance
         .iter()
@@ -40,10 +40,10 @@ fn total_variance(image: &reference::ReferenceImage) -> f64 {
 }
 
 /// `scene` rendered by the CPU reference at `spp`, and the frame it was rendered with.
-fn render(scene: &Scene, spp: u32) -> (reference::ReferenceImage, rt_core::gpu_types::Frame) {
+fn render(scene: &Scene, spp: u32) -> (estimator::ReferenceImage, rt_core::gpu_types::Frame) {
     let gpu_scene = GpuScene::build(scene).unwrap();
     let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
-    (reference::render(&gpu_scene, &frame, spp), frame)
+    (estimator::render(&gpu_scene, &frame, spp), frame)
 }
 
 /// A room lit by a small, a medium and a large emitter, and a ball.
@@ -323,7 +323,7 @@ fn light_through_a_transmitting_surface_is_not_weighed_against_light_sampling() 
     let (tree, _) = render(&scene, n);
     scene.settings.next_event_estimation = false;
     let (bsdf, _) = render(&scene, n);
-    let mean = |image: &reference::ReferenceImage| -> f64 {
+    let mean = |image: &estimator::ReferenceImage| -> f64 {
         image.mean.iter().map(|p| f64::from(p[0])).sum::<f64>() / image.mean.len() as f64
     };
     assert!(

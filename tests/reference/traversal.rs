@@ -2,8 +2,8 @@
 
 use super::*;
 use rt_core::bvh::{BvhLayout, BvhQuality};
+use rt_core::estimator::trace_brute_force;
 use rt_core::gpu_types::Ray;
-use rt_core::reference::trace_brute_force;
 use rt_gpu::GpuContext;
 
 fn random_unit(state: &mut u32) -> Vec3 {
@@ -25,7 +25,7 @@ fn gpu_bvh_traversal_matches_brute_force() {
     let Some(ctx) = gpu() else { return };
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/bunny/bunny-lowres-npm.obj");
-    let scene = rt_core::io::obj::load_obj(&path, 0).unwrap();
+    let scene = rt_io::obj::load_obj(&path, 0).unwrap();
     for layout in [BvhLayout::Bvh2, BvhLayout::Cwbvh] {
         let gpu_scene = GpuScene::build_with_layout(&scene, BvhQuality::default(), layout).unwrap();
         check_traversal_against_brute_force(ctx, &scene, &gpu_scene);
@@ -60,7 +60,7 @@ fn check_traversal_against_brute_force(ctx: &GpuContext, scene: &Scene, gpu_scen
             ray.direction.into(),
             ray.t_max,
         );
-        let cpu_bvh = reference::trace(
+        let cpu_bvh = estimator::trace(
             gpu_scene,
             ray.origin.into(),
             ray.direction.into(),

@@ -1,10 +1,10 @@
 //! Twin tests of light sampling and traversal over a whole scene's buffers: `sample_light`,
 //! `direct_light` (its shadow ray included) and the nearest hit (`intersect_scene` ⇄
-//! `reference::trace`), over both BVH layouts.
+//! `estimator::trace`), over both BVH layouts.
 
 use super::*;
 use rt_core::bvh::{BvhLayout, BvhQuality};
-use rt_core::reference::{
+use rt_core::estimator::{
     ShadowMedia, Surface, delta_lights_at, direct_light, sample_light, trace,
 };
 
@@ -12,7 +12,7 @@ use rt_core::reference::{
 /// (both falloffs) and a sun, picked through the light tree (the sun summed).
 fn cornell_with_many_lights() -> rt_core::Scene {
     use rt_core::{Light, LightKind};
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     let (lo, hi) = scene.bounds().unwrap();
     let mut rng = Rng::new(8, 0, 0x3e);
     for i in 0..30 {
@@ -65,7 +65,7 @@ fn light_scenes() -> Vec<(&'static str, TwinScene)> {
         let mut scene = if name.contains("tree") {
             cornell_with_many_lights()
         } else {
-            rt_core::assets::cornell_box().unwrap()
+            rt_io::assets::cornell_box().unwrap()
         };
         if environment {
             let mut rng = Rng::new(5, 0, 0x11);
@@ -165,7 +165,7 @@ fn light_sampling_and_traversal_match_their_twin() {
                 let mut rng = Rng::new(item as u32, 3, 9);
                 let light = sample_light(g, frame, p, n, item % 2 == 1, &mut rng);
                 let mut out = vec![u32::from(light.is_some())];
-                let l = light.unwrap_or(rt_core::reference::LightSample {
+                let l = light.unwrap_or(rt_core::estimator::LightSample {
                     origin: Vec3::ZERO,
                     direction: Vec3::ZERO,
                     distance: 0.0,
@@ -247,10 +247,10 @@ fn light_sampling_and_traversal_match_their_twin() {
 /// with an environment, three delta lights and an open aperture.
 #[test]
 fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
-    use rt_core::reference::camera_ray;
+    use rt_core::estimator::camera_ray;
     use rt_core::{Light, LightKind};
     let Some(ctx) = gpu() else { return };
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     let mut rng = Rng::new(6, 0, 0x12);
     let texels = (0..16 * 8)
         .map(|_| [rng.next_f32() * 4.0, rng.next_f32(), rng.next_f32() * 2.0])
@@ -319,7 +319,7 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
             let pixel = input[item * 11 + 10];
             let mut r = Rng::with_sampler(pixel, item as u32, frame.seed, SamplerKind::Sobol);
             let (o, dir) = camera_ray(frame, pixel % frame.width, pixel / frame.width, &mut r);
-            let sky = rt_core::reference::light::escaped(g, frame, d, f(9));
+            let sky = rt_core::estimator::light::escaped(g, frame, d, f(9));
             let surface = Surface::Lambert {
                 albedo: Vec3::new(0.8, 0.5, 0.3),
                 ns: ng,
@@ -371,8 +371,8 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
 /// random points, normals and emitters of the Cornell box with thirty more lights.
 #[test]
 fn emitter_pdfs_of_both_samplers_match_their_twin() {
-    use rt_core::reference::light::emitter_pdf;
-    use rt_core::reference::light_tree::{pack_normal, unpack_normal};
+    use rt_core::estimator::light::emitter_pdf;
+    use rt_core::estimator::light_tree::{pack_normal, unpack_normal};
     let Some(ctx) = gpu() else { return };
     let scene = cornell_with_many_lights();
     let (lo, hi) = scene.bounds().unwrap();

@@ -443,15 +443,15 @@ fn fixed_point_sums_wrap_modes_and_heuristic_match_their_twin() {
         out.extend(accumulation::negate(fa));
         let mut sums = accumulation::PixelSums::default();
         out.push(u32::from(accumulation::add_sample(&mut sums, [a, b, 1.0])));
-        out.push(rt_core::reference::wrap_index(
+        out.push(rt_core::estimator::wrap_index(
             w(4) as i32,
             w(5) as i32,
             w(6),
         ));
-        out.push(rt_core::reference::power_heuristic(f(2), f(3)).to_bits());
+        out.push(rt_core::estimator::power_heuristic(f(2), f(3)).to_bits());
         let dir = Vec3::new(1.0, f(8), f(9));
         let ray = PreparedRay::new(Vec3::new(a, b, 1.0), dir);
-        out.push(rt_core::reference::alpha_coin(&ray, w(7)).to_bits());
+        out.push(rt_core::estimator::alpha_coin(&ray, w(7)).to_bits());
         out.extend([fa[0], fa[2], fa[3]]);
         out
     });

@@ -136,7 +136,7 @@ fn texture_lookups_match_their_twin() {
     }
     .check(&gpu_out, 4, |item| {
         let w = |k: usize| input[item * 6 + k];
-        let slot = rt_core::reference::Slot {
+        let slot = rt_core::estimator::Slot {
             offset: w(0) & 0xff,
             width: (w(0) >> 8) & 0xff,
             height: w(0) >> 16,
@@ -220,7 +220,7 @@ fn delta_light_incidence_matches_its_twin() {
             f32::from_bits(w[13]),
             f32::from_bits(w[14]),
         );
-        let (dir, distance, e) = rt_core::reference::light::delta_light_incidence(&light, origin);
+        let (dir, distance, e) = rt_core::estimator::light::delta_light_incidence(&light, origin);
         bits(&[dir.x, dir.y, dir.z, distance, e.x, e.y, e.z])
     });
 }
@@ -235,8 +235,8 @@ fn delta_light_incidence_matches_its_twin() {
 #[test]
 fn the_surface_dispatch_matches_its_twin() {
     use rt_core::MaterialKind;
+    use rt_core::estimator::{PbrInputs, Surface};
     use rt_core::gpu_types::{DielectricLobe, Material, MetalLobe, PbrLobe, THIN_WALLED};
-    use rt_core::reference::{PbrInputs, Surface};
     let Some(ctx) = gpu() else { return };
     const KINDS: [MaterialKind; 4] = [
         MaterialKind::Lambertian,

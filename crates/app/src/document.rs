@@ -279,7 +279,7 @@ mod tests {
 
     fn doc() -> Document {
         Document::new(
-            rt_core::assets::cornell_box().expect("embedded scene"),
+            rt_io::assets::cornell_box().expect("embedded scene"),
             Origin::Embedded,
         )
     }

@@ -19,7 +19,7 @@ const THUMBNAIL_SPP: u32 = 32;
 /// The studio environment at a quarter of its resolution: the thumbnails are too small to tell,
 /// and its sampling table builds 16× faster.
 fn small_studio() -> Option<Environment> {
-    let studio = rt_core::assets::default_environment().ok()?;
+    let studio = rt_io::assets::default_environment().ok()?;
     let map = &studio.map;
     let (w, h) = (map.width / 4, map.height / 4);
     let mut texels = vec![[0.0f32; 3]; (w * h) as usize];

@@ -223,7 +223,7 @@ mod tests {
     use super::*;
 
     fn cornell() -> Scene {
-        rt_core::assets::cornell_box().expect("embedded scene")
+        rt_io::assets::cornell_box().expect("embedded scene")
     }
 
     #[test]

@@ -1,12 +1,12 @@
-//! The raster preview in the editor: `rt_gpu::preview`'s renderer kept in `egui_wgpu`'s callback
+//! The raster preview in the editor: `rt_preview`'s renderer kept in `egui_wgpu`'s callback
 //! resources, drawing each frame offscreen (linear radiance), then a blit that shows it in egui's
 //! pass through the path-traced view's display (the standard view at exposure 0, sRGB), so that
 //! both views show the same radiance the same way.
 
 use std::sync::Arc;
 
-use rt_gpu::preview::PreviewRenderer;
-pub use rt_gpu::preview::{PreviewFrame, build_interactive_frame, grid_step};
+use rt_preview::PreviewRenderer;
+pub use rt_preview::{PreviewFrame, build_interactive_frame, grid_step};
 
 pub struct PreviewResources {
     renderer: PreviewRenderer,

@@ -50,7 +50,7 @@ pub struct BenchArgs {
     /// denoised view against a reference.
     #[arg(long)]
     interactive: bool,
-    /// Measure the editor's raster preview instead (`rt_gpu::preview`): its first frame and the
+    /// Measure the editor's raster preview instead (`rt_preview`): its first frame and the
     /// frames of a camera orbit, at --view-size.
     #[arg(long, conflicts_with = "interactive")]
     preview: bool,
@@ -85,7 +85,7 @@ fn parse_workgroup(s: &str) -> Result<[u32; 2], String> {
 /// seen through a thin lens ("all").
 fn material_scene(all: bool) -> Result<Scene> {
     use rt_core::{Material, Object, Texture, Transform};
-    let mut scene = rt_core::assets::cornell_box()?;
+    let mut scene = rt_io::assets::cornell_box()?;
     let mut mesh = rt_core::shapes::uv_sphere(80.0, 24, 48);
     // Spherical coordinates as texture coordinates, for the textured ball.
     mesh.uvs = Some(
@@ -188,13 +188,13 @@ struct Record {
     workgroup: String,
 }
 
-/// A benchmark mesh, loaded as every caller loads an OBJ (`rt_core::io::load`), then overridden
+/// A benchmark mesh, loaded as every caller loads an OBJ (`rt_io::load`), then overridden
 /// with the fixed view, ambient light and path length the suite has always used: the view decides
 /// how many rays hit the mesh and so paths/s, and the recorded runs (docs/benchmarks.md,
 /// docs/data/*.jsonl) and the interactive bench's references were made with these; following the
 /// loader's framing would make new numbers incomparable with them.
 fn mesh_scene(path: &Path) -> Result<Scene> {
-    let mut scene = rt_core::io::load(path, &rt_core::io::LoadOptions::default())?;
+    let mut scene = rt_io::load(path, &rt_io::LoadOptions::default())?;
     let (lo, hi) = scene.bounds().unwrap_or_default();
     let center = (lo + hi) * 0.5;
     let radius = (hi - lo).length() * 0.5;
@@ -315,7 +315,7 @@ fn bench_suite(args: &BenchArgs) -> Result<Vec<(String, SceneLoader)>> {
     let mut suite: Vec<(String, SceneLoader)> = vec![
         (
             "cornell".into(),
-            Box::new(|| rt_core::assets::cornell_box().map_err(Into::into)),
+            Box::new(|| rt_io::assets::cornell_box().map_err(Into::into)),
         ),
         ("cornell+metal".into(), Box::new(|| material_scene(false))),
         ("cornell+all".into(), Box::new(|| material_scene(true))),

@@ -162,8 +162,9 @@ impl EngineArgs {
             aovs: denoise,
             // Bounds lavapipe's memory growth over long megakernel renders (docs/performance.md).
             tuning: rt_gpu::Tuning {
-                rebuild_on_cpu: true,
-                cpu_pipeline_lifetime: pipeline_lifetime_from_env(),
+                pipeline_rebuilds: rt_gpu::PipelineRebuilds::OnGrowingCpuDrivers {
+                    lifetime: pipeline_lifetime_from_env(),
+                },
                 ..Default::default()
             },
             ..Default::default()
@@ -172,7 +173,7 @@ impl EngineArgs {
 }
 
 /// `RT_PIPELINE_LIFETIME_S` (seconds, finite and not negative): the exact pipeline lifetime of
-/// the CPU memory workaround (`Tuning::cpu_pipeline_lifetime`). The binary reads the
+/// the CPU memory workaround (`PipelineRebuilds::OnGrowingCpuDrivers`). The binary reads the
 /// environment; the library takes the value.
 fn pipeline_lifetime_from_env() -> Option<std::time::Duration> {
     std::env::var("RT_PIPELINE_LIFETIME_S")
@@ -368,7 +369,13 @@ mod tests {
             .engine
             .render_options(true);
         assert_eq!(options.kernel, Kernel::Megakernel);
-        assert!(options.aovs && options.tuning.rebuild_on_cpu);
+        assert!(
+            options.aovs
+                && matches!(
+                    options.tuning.pipeline_rebuilds,
+                    rt_gpu::PipelineRebuilds::OnGrowingCpuDrivers { .. }
+                )
+        );
         let options = parse(&[]).engine.render_options(false);
         assert_eq!(options.kernel, Kernel::Wavefront);
         assert_eq!(options.trace, Trace::Auto);

@@ -55,8 +55,8 @@ pub fn run(args: PreviewArgs) -> Result<()> {
     );
     let started = std::time::Instant::now();
     let frame =
-        rt_gpu::preview::build_frame(&scene, &scene.camera, scene.bounds(), None, [width, height]);
-    let pixels = rt_gpu::preview::render_image(&ctx, &frame)?;
+        rt_preview::build_frame(&scene, &scene.camera, scene.bounds(), None, [width, height]);
+    let pixels = rt_preview::render_image(&ctx, &frame)?;
     let elapsed = started.elapsed();
     let view = args.view.with_exposure(args.exposure);
     rt_core::output::save_image(&args.output, width, height, &pixels, view)

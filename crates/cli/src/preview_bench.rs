@@ -1,4 +1,4 @@
-//! `rt-cli bench --preview`: the raster preview (`rt_gpu::preview`, the editor's first view)
+//! `rt-cli bench --preview`: the raster preview (`rt_preview`, the editor's first view)
 //! headless at the interactive view's size. Per scene: the first frame (pipelines, shadow maps,
 //! the environment's prefiltering) and then a camera orbit of `ORBIT_FRAMES` frames, each timed
 //! from building the frame to the GPU finishing it, against the path-traced view's slice budget
@@ -9,13 +9,13 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 use rt_core::Scene;
 use rt_gpu::GpuContext;
-use rt_gpu::preview::{PreviewRenderer, build_frame};
+use rt_preview::{PreviewRenderer, build_frame};
 
 use crate::interactive::{ms, orbit, percentile};
 
 const ORBIT_FRAMES: u32 = 60;
 
-fn frame_of(scene: &Scene, size: [u32; 2]) -> rt_gpu::preview::PreviewFrame {
+fn frame_of(scene: &Scene, size: [u32; 2]) -> rt_preview::PreviewFrame {
     build_frame(scene, &scene.camera, scene.bounds(), None, size)
 }
 

@@ -7,14 +7,17 @@ use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use rt_core::{GpuScene, Scene};
+use rt_gpu::progressive::Progressive;
 use rt_gpu::{GpuContext, GpuError, Renderer};
 
 use crate::options::{EngineArgs, EstimatorArgs, open_device};
 use crate::scene_args::SceneArgs;
 use crate::shard::ShardArgs;
-use crate::summary::{Finish, estimator_summary, print_render_summary, print_scene_summary};
+use crate::summary::{
+    estimator_summary, print_image_summary, print_render_summary, print_scene_summary,
+};
 
-mod cpu;
+mod progress;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -93,43 +96,99 @@ impl RenderArgs {
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let (scene, range) = prepare_scene(&args)?;
     let (on_cpu, why) = args.engine.on_cpu()?;
-    if on_cpu {
-        return cpu::run(&args, &scene, range, &why);
-    }
-    let ctx = open_device(&args.engine.adapter)?;
-    let gpu_scene = GpuScene::build(&scene)?;
-    let max_buffer = max_accumulation_bytes(&ctx);
-    let options = shard_options(&args, range);
-    let (width, height) = (scene.settings.width, scene.settings.height);
-    let bytes = rt_gpu::whole_image_binding_bytes(width, height, &options);
-    if bytes > max_buffer {
-        if args.open_ended() {
-            anyhow::bail!(
-                "a {width}x{height} image needs a {bytes}-byte buffer (accumulation or denoiser \
-                 guides), more than this adapter's {max_buffer} per buffer: it renders in tiles, \
-                 one after another, which needs a fixed --spp rather than --time-limit or \
-                 --noise-target"
-            );
-        }
-        return render_in_tiles(&args, &scene, &ctx, &gpu_scene, max_buffer, range);
-    }
-    let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
-    let finish = render_progressively(&args, &ctx, &mut renderer, &scene, range)?;
-    let image = renderer.read_image()?;
-    let aovs = match range {
-        Some(_) => renderer.read_aovs()?,
-        None => None,
+    let ctx = match on_cpu {
+        true => None,
+        false => Some(open_device(&args.engine.adapter)?),
     };
-    let (kernel, scenes) = (renderer.kernel(), (&scene, &gpu_scene));
-    save_output(&args, range, &ctx, kernel, scenes, &image, aovs.as_ref())?;
-    eprintln!("device:         GPU ({why})");
-    print_render_summary(&ctx, &renderer, scenes, &image, range, &finish, verbose);
+    let gpu_scene = GpuScene::build(&scene)?;
+    let guides = args.denoise.is_some() || range.is_some();
+    let mut run = match &ctx {
+        None => {
+            let first = range.map_or(0, |r| r[0]);
+            Progressive::cpu(&scene, &gpu_scene, first, guides)?
+        }
+        Some(ctx) => {
+            let max_buffer = max_accumulation_bytes(ctx);
+            let options = shard_options(&args, range);
+            let (width, height) = (scene.settings.width, scene.settings.height);
+            let bytes = rt_gpu::whole_image_binding_bytes(width, height, &options);
+            if bytes > max_buffer {
+                if args.open_ended() {
+                    anyhow::bail!(
+                        "a {width}x{height} image needs a {bytes}-byte buffer (accumulation or \
+                         denoiser guides), more than this adapter's {max_buffer} per buffer: it \
+                         renders in tiles, one after another, which needs a fixed --spp rather \
+                         than --time-limit or --noise-target"
+                    );
+                }
+                return render_in_tiles(&args, &scene, ctx, &gpu_scene, max_buffer, range);
+            }
+            Progressive::Gpu(Box::new(Renderer::for_scene(
+                ctx, &scene, &gpu_scene, options,
+            )?))
+        }
+    };
+    let faults = rt_gpu::faults::Faults::from_test_env();
+    let inject = |batches| {
+        if let Some(ctx) = &ctx {
+            faults.before_batch(ctx, batches);
+        }
+    };
+    let finish = progress::render_progressively(&args, &mut run, &scene, range, inject)
+        .map_err(|f| render_failed(&args, range, f.last_image, f.error))?;
+    let image = run.read_image()?;
+    let aovs = if guides { run.read_aovs()? } else { None };
+    let scenes = (&scene, &gpu_scene);
+    let rendered_by = match (&run, &ctx) {
+        (Progressive::Gpu(renderer), Some(ctx)) => gpu_rendered_by(ctx, renderer.kernel()),
+        _ => rt_gpu::progressive::cpu_label(),
+    };
+    save_output(&args, range, &rendered_by, scenes, &image, aovs.as_ref())?;
+    match (&run, &ctx) {
+        (Progressive::Gpu(renderer), Some(ctx)) => {
+            eprintln!("device:         GPU ({why})");
+            print_render_summary(ctx, renderer, scenes, &image, range, &finish, verbose);
+        }
+        _ => {
+            eprintln!(
+                "device:         {} ({why})",
+                rt_gpu::progressive::cpu_label()
+            );
+            eprintln!("triangles:      {}", gpu_scene.triangles.len());
+            let estimator = estimator_summary(&scene.settings, &gpu_scene);
+            eprintln!("estimator:      {estimator}");
+            print_image_summary(scenes, &image, range, &finish);
+        }
+    }
     if args.denoise.is_some() {
-        let aovs = renderer.read_aovs()?;
         save_denoised(&args, &image, aovs.as_ref())?;
     }
     eprintln!("saved:          {}", args.output.display());
     Ok(())
+}
+
+/// Saves `image` as the output, or for a shard (`range`) as a part for `rt-cli merge`, with its
+/// `aovs` and a note of where its samples were rendered (`rendered_by`).
+fn save_output(
+    args: &RenderArgs,
+    range: Option<[u32; 2]>,
+    rendered_by: &str,
+    scenes: (&Scene, &GpuScene),
+    image: &rt_gpu::Image,
+    aovs: Option<&rt_gpu::Aovs>,
+) -> Result<()> {
+    match range {
+        Some([first, end]) => {
+            let note = format!("samples {first}..{end}: {rendered_by}");
+            crate::shard::save(&args.output, [first, end], scenes, image, aovs, note)
+        }
+        None => save(args, image),
+    }
+}
+
+/// The adapter and kernel a GPU render ran on, as a part's notes keep it.
+fn gpu_rendered_by(ctx: &GpuContext, kernel: rt_gpu::Kernel) -> String {
+    format!("{}, {} kernel", ctx.adapter_label(), kernel.name())
 }
 
 /// Loads the scene and applies the arguments to its settings (samples per pixel, adaptive
@@ -164,130 +223,6 @@ fn prepare_scene(args: &RenderArgs) -> Result<(Scene, Option<[u32; 2]>)> {
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;
     Ok((scene, range))
-}
-
-/// Renders batch after batch, with a progress bar, until every pixel has its samples (a shard's
-/// own, or the frame's), the noise target or the time limit is met, or adaptive sampling has
-/// stopped every pixel. If the GPU fails, saves what was last read back (not for a shard) and
-/// returns the error.
-fn render_progressively(
-    args: &RenderArgs,
-    ctx: &GpuContext,
-    renderer: &mut Renderer,
-    scene: &Scene,
-    range: Option<[u32; 2]>,
-) -> Result<Finish> {
-    // A shard's own samples; the frame's otherwise.
-    let spp = range.map_or(scene.settings.samples_per_pixel, |[a, b]| b - a);
-    let bar = progress_bar(args.open_ended(), spp);
-    let started = Instant::now();
-    let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
-    let mut checkpoint = Checkpoint::default();
-    let mut stopped_by = "samples per pixel";
-    let faults = rt_gpu::faults::Faults::from_test_env();
-    let mut batches = 0u32;
-    while renderer.samples_done() < spp && renderer.active_pixels() > 0 {
-        let done = renderer.samples_done();
-        // With a noise target, grow batches geometrically so the stop overshoots by at most 1/8.
-        let batch = if args.noise_target.is_some() {
-            (done / 8).max(1)
-        } else {
-            spp - done
-        };
-        faults.before_batch(ctx, batches);
-        batches += 1;
-        let step = renderer
-            .render_batch(batch.min(spp - done))
-            .map(|_| ())
-            .and_then(|()| checkpoint.update(renderer, args.noise_target.is_some()));
-        if let Err(e) = step {
-            bar.finish_and_clear();
-            return Err(render_failed(args, range, checkpoint.image, e));
-        }
-        let done = renderer.samples_done();
-        let secs = started.elapsed().as_secs_f64().max(1e-9);
-        bar.set_position(u64::from(done));
-        bar.set_message(format!(
-            "{:.2} Mpaths/s  noise ≈ {:.4}",
-            pixels as f64 * f64::from(done) / secs / 1e6,
-            checkpoint.noise
-        ));
-        if let Some(rule) = stop_rule(args, checkpoint.noise, secs) {
-            stopped_by = rule;
-            break;
-        }
-    }
-    if renderer.active_pixels() == 0 {
-        stopped_by = "adaptive sampling: every pixel converged";
-    }
-    bar.finish_and_clear();
-    Ok(Finish {
-        render_time: started.elapsed(),
-        stopped_by,
-    })
-}
-
-/// A bar of `spp` samples, or a spinner when the render is open-ended.
-fn progress_bar(open_ended: bool, spp: u32) -> ProgressBar {
-    let bar = if open_ended {
-        ProgressBar::new_spinner()
-    } else {
-        ProgressBar::new(u64::from(spp))
-    };
-    let template = if open_ended {
-        "{spinner} [{elapsed_precise}] {pos} spp  {msg}"
-    } else {
-        "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} spp  {msg} (eta {eta})"
-    };
-    bar.set_style(
-        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
-}
-
-/// Which rule stops the render after a batch, if one does: the noise target, then the time limit
-/// (`secs` into the render).
-fn stop_rule(args: &RenderArgs, noise: f64, secs: f64) -> Option<&'static str> {
-    if args.noise_target.is_some_and(|target| noise <= target) {
-        Some("noise target")
-    } else if args.time_limit.is_some_and(|limit| secs >= limit) {
-        Some("time limit")
-    } else {
-        None
-    }
-}
-
-/// The image as last read back, and its estimated noise.
-struct Checkpoint {
-    noise: f64,
-    at: Option<Instant>,
-    /// If the GPU fails mid-render, this is what can still be saved.
-    image: Option<rt_gpu::Image>,
-}
-
-impl Default for Checkpoint {
-    fn default() -> Self {
-        Checkpoint {
-            noise: f64::INFINITY,
-            at: None,
-            image: None,
-        }
-    }
-}
-
-impl Checkpoint {
-    /// Reads back (for the noise estimate, and as a checkpoint) when the noise decides the stop,
-    /// else about once a second.
-    fn update(&mut self, renderer: &Renderer, noise_decides: bool) -> rt_gpu::Result<()> {
-        let due = noise_decides || self.at.is_none_or(|t| t.elapsed().as_secs_f64() >= 1.0);
-        if due {
-            let image = renderer.read_image()?;
-            self.noise = image.estimated_noise();
-            self.at = Some(Instant::now());
-            self.image = Some(image);
-        }
-        Ok(())
-    }
 }
 
 /// The error of a render that failed mid-way: a shard writes nothing; a frame saves the image
@@ -355,7 +290,8 @@ fn render_in_tiles(
     bar.finish_and_clear();
     let render_time = started.elapsed();
     let (kernel, scenes) = (args.engine.kernel(), (scene, gpu_scene));
-    save_output(args, range, ctx, kernel, scenes, &image, aovs.as_ref())?;
+    let rendered_by = gpu_rendered_by(ctx, kernel);
+    save_output(args, range, &rendered_by, scenes, &image, aovs.as_ref())?;
     let trace = ctx.resolve_trace(args.engine.trace.into(), gpu_scene);
     print_scene_summary(ctx, kernel, trace, gpu_scene);
     eprintln!(
@@ -382,37 +318,6 @@ fn shard_options(args: &RenderArgs, range: Option<[u32; 2]>) -> rt_gpu::RenderOp
             .engine
             .render_options(args.denoise.is_some() || range.is_some())
     }
-}
-
-/// Saves `image` as the output, or for a shard (`range`) as a part for `rt-cli merge`, with its
-/// `aovs` and a note of where its samples were rendered (by `kernel`).
-fn save_output(
-    args: &RenderArgs,
-    range: Option<[u32; 2]>,
-    ctx: &GpuContext,
-    kernel: rt_gpu::Kernel,
-    scenes: (&Scene, &GpuScene),
-    image: &rt_gpu::Image,
-    aovs: Option<&rt_gpu::Aovs>,
-) -> Result<()> {
-    match range {
-        Some(range) => {
-            let note = shard_note(range, ctx, kernel);
-            crate::shard::save(&args.output, range, scenes, image, aovs, note)
-        }
-        None => save(args, image),
-    }
-}
-
-/// Where a shard's samples were rendered (kept in the part's notes).
-fn shard_note(range: [u32; 2], ctx: &GpuContext, kernel: rt_gpu::Kernel) -> String {
-    format!(
-        "samples {}..{}: {}, {} kernel",
-        range[0],
-        range[1],
-        ctx.adapter_label(),
-        kernel.name()
-    )
 }
 
 /// After the GPU failed mid-render: saves the samples last read back (if any) and returns the

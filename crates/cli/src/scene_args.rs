@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use rt_core::Scene;
-use rt_core::io::camera_json::CameraFile;
-use rt_core::io::{LoadOptions, SceneFormat};
+use rt_io::camera_json::CameraFile;
+use rt_io::{LoadOptions, SceneFormat};
 
 /// Parses "x,y,z" into three finite floats.
 pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
@@ -82,8 +82,8 @@ impl SceneArgs {
             anyhow::bail!("--gltf-scene needs a .gltf or .glb scene");
         }
         let mut scene = match &self.scene {
-            Some(path) => rt_core::io::load(path, &self.load_options())?,
-            None => rt_core::assets::cornell_box().context("loading the embedded Cornell box")?,
+            Some(path) => rt_io::load(path, &self.load_options())?,
+            None => rt_io::assets::cornell_box().context("loading the embedded Cornell box")?,
         };
         if let Some(path) = &self.camera {
             CameraFile::load(path)?.apply(&mut scene);
@@ -98,7 +98,7 @@ impl SceneArgs {
         match self.environment.as_deref() {
             None => {}
             Some("none") => scene.environment = None,
-            Some("default") => scene.environment = Some(rt_core::assets::default_environment()?),
+            Some("default") => scene.environment = Some(rt_io::assets::default_environment()?),
             Some(spec) => match rt_core::sky::SunSky::parse(spec) {
                 Some(sky) => {
                     let sky = sky.map_err(|e| anyhow::anyhow!("--environment {e}"))?;
@@ -126,7 +126,7 @@ impl SceneArgs {
         Ok(scene)
     }
 
-    /// What the flags choose about reading the file; the rest is `rt_core::io::load`'s policy,
+    /// What the flags choose about reading the file; the rest is `rt_io::load`'s policy,
     /// the editor's too.
     fn load_options(&self) -> LoadOptions {
         LoadOptions {

@@ -14,10 +14,10 @@ use rayon::prelude::*;
 
 use crate::accumulation::{PixelSums, add_pixels, add_sample, pixel_mean};
 use crate::adaptive::Adaptive;
+use crate::estimator::trace_path;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
 use crate::part::Guides;
-use crate::reference::trace_path;
 
 /// The threads a batch is spread over (rayon's pool: one per core unless `RAYON_NUM_THREADS` says
 /// otherwise).
@@ -208,12 +208,56 @@ impl CpuAccumulation {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference::radiance;
+    use crate::estimator::radiance;
 
+    /// A closed grey room lit by a lamp in its ceiling, seen from inside (the loaders, and so
+    /// the built-in Cornell box, are rt-io's, above this crate).
     fn cornell(width: u32, height: u32) -> (GpuScene, Frame) {
-        let mut scene = crate::assets::cornell_box().unwrap();
-        scene.settings.width = width;
-        scene.settings.height = height;
+        use crate::scene::{Object, RenderSettings, Scene, Transform};
+        use crate::shapes::{cuboid, quad};
+        use glam::Vec3;
+        let object = |name: &str, mesh, material| Object {
+            name: name.into(),
+            mesh: std::sync::Arc::new(mesh),
+            material,
+            transform: Transform::default(),
+        };
+        let scene = Scene {
+            objects: vec![
+                object(
+                    "room",
+                    cuboid(Vec3::splat(-1.0), Vec3::ONE, true),
+                    crate::Material::Lambertian {
+                        albedo: [0.6, 0.5, 0.4],
+                        texture: None,
+                    },
+                ),
+                object(
+                    "lamp",
+                    quad(Vec3::new(0.0, 0.99, 0.0), Vec3::NEG_Y, 0.6),
+                    crate::Material::Emissive {
+                        color: [1.0; 3],
+                        intensity: 5.0,
+                    },
+                ),
+            ],
+            textures: Vec::new(),
+            camera: crate::Camera {
+                from: [0.0, 0.0, 0.9],
+                to: [0.0, 0.0, -1.0],
+                ..Default::default()
+            },
+            ambient: [0.0; 3],
+            settings: RenderSettings {
+                width,
+                height,
+                max_depth: 4,
+                ..Default::default()
+            },
+            lights: Vec::new(),
+            environment: None,
+            fog: Default::default(),
+        };
         let gpu = GpuScene::build(&scene).unwrap();
         let frame = crate::frame::frame_for(&scene, &gpu).unwrap();
         (gpu, frame)
@@ -239,7 +283,7 @@ mod tests {
             (&at_once.sums, at_once.samples),
             (&before.sums, before.samples)
         );
-        // Samples 3..6 of every pixel, as `reference::radiance` gives them.
+        // Samples 3..6 of every pixel, as `estimator::radiance` gives them.
         let expected = |x: u32, y: u32| {
             (3..6).fold(glam::Vec3::ZERO, |s, i| {
                 s + radiance(&scene, &frame, x, y, i)

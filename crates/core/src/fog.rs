@@ -1,7 +1,7 @@
 //! The scene's fog: a homogeneous medium filling all space outside closed objects, the camera
 //! included, as Mitsuba's `volpath` renders a scene whose sensor and surfaces all sit in one
 //! homogeneous medium (and Cycles a world volume). Its light is the path tracer's
-//! (`math::medium`, `reference::path`): it dims what lies behind it, scatters light into the view
+//! (`math::medium`, `estimator::path`): it dims what lies behind it, scatters light into the view
 //! (god rays past a window, halos round lamps) and counts a scattering as a path vertex.
 //!
 //! Lights at infinity — the sun and the environment — lie behind an infinite depth of it and send

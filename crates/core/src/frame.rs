@@ -111,7 +111,7 @@ pub fn camera_media(gpu_scene: &GpuScene, origin: glam::Vec3) -> u32 {
     let mut inside = None;
     for d in probes {
         let d = d.normalize();
-        let hit = crate::reference::trace(gpu_scene, origin, d, f32::MAX);
+        let hit = crate::estimator::trace(gpu_scene, origin, d, f32::MAX);
         if hit.triangle == u32::MAX {
             return 0;
         }
@@ -137,7 +137,7 @@ pub fn camera_media(gpu_scene: &GpuScene, origin: glam::Vec3) -> u32 {
         }
         inside = Some(tri.material);
     }
-    inside.map_or(0, |m| crate::reference::path::media_enter(0, m))
+    inside.map_or(0, |m| crate::estimator::path::media_enter(0, m))
 }
 
 /// The firefly clamp as the kernels read it (`Frame::clamp_max`): the value where it is a positive

@@ -48,140 +48,170 @@ pub(crate) fn object_material(
             material.color = [1.0; 3];
         }
     }
-    let mut tangents = None;
-    if let Material::Pbr(p) = &object.material {
-        let slot = |t: Option<usize>, name: &str| -> Result<Option<usize>> {
-            match t {
-                Some(t) if t >= scene.textures.len() => Err(Error::Scene(format!(
-                    "{}: {name} {t} does not exist",
-                    label()
-                ))),
-                Some(_) if mesh.uvs.is_none() => {
-                    log::warn!("{} has a {name} but no UVs: ignoring it", label());
-                    Ok(None)
-                }
-                other => Ok(other),
-            }
-        };
-        // Puts texture `t` into `slot`, with its sampler.
-        let mut bind = |t: usize, slot: u32, material: &mut gpu_types::Material| {
-            let texture = &scene.textures[t];
-            material.set_sampler_bits(slot, texture.sampler.bits());
-            material.textures[slot as usize] = TextureSlot {
-                offset: texture_offsets[t],
-                width: texture.width,
-                height: texture.height,
-            };
-            features.textures = true;
-        };
-        if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
-            bind(t, SLOT_METALLIC_ROUGHNESS, &mut material);
+    let tangents = match &object.material {
+        Material::Pbr(p) => {
+            let tangents = pbr_slots(scene, object, p, texture_offsets, &mut material, features)?;
+            pbr_coverage(p, &mut material, features);
+            tangents
         }
-        for (t, name, gpu_slot) in [
-            (p.emission_texture, "emission texture", SLOT_EMISSION),
-            (p.clearcoat_texture, "clear coat texture", SLOT_CLEARCOAT),
-            (
-                p.clearcoat_roughness_texture,
-                "clear coat roughness texture",
-                SLOT_CLEARCOAT_ROUGHNESS,
-            ),
-            (
-                p.sheen_color_texture,
-                "sheen colour texture",
-                SLOT_SHEEN_COLOR,
-            ),
-            (
-                p.sheen_roughness_texture,
-                "sheen roughness texture",
-                SLOT_SHEEN_ROUGHNESS,
-            ),
-            (p.specular_texture, "specular texture", SLOT_SPECULAR),
-            (
-                p.specular_color_texture,
-                "specular colour texture",
-                SLOT_SPECULAR_COLOR,
-            ),
-            (p.anisotropy_texture, "anisotropy texture", SLOT_ANISOTROPY),
-            (
-                p.diffuse_transmission_texture,
-                "diffuse transmission texture",
-                SLOT_DIFFUSE_TRANSMISSION,
-            ),
-            (
-                p.diffuse_transmission_color_texture,
-                "diffuse transmission colour texture",
-                SLOT_DIFFUSE_TRANSMISSION_COLOR,
-            ),
-            (
-                p.iridescence_texture,
-                "iridescence texture",
-                SLOT_IRIDESCENCE,
-            ),
-            (
-                p.iridescence_thickness_texture,
-                "iridescence thickness texture",
-                SLOT_IRIDESCENCE_THICKNESS,
-            ),
-        ] {
-            if let Some(t) = slot(t, name)? {
-                bind(t, gpu_slot, &mut material);
-            }
-        }
-        for (t, name, gpu_slot) in [
-            (p.normal_texture, "normal texture", SLOT_NORMAL),
-            (
-                p.clearcoat_normal_texture,
-                "clear coat normal texture",
-                SLOT_CLEARCOAT_NORMAL,
-            ),
-        ] {
-            let Some(t) = slot(t, name)? else { continue };
-            if tangents.is_none() {
-                tangents = crate::tangents::mikktspace_tangents(mesh);
-            }
-            if tangents.is_some() {
-                bind(t, gpu_slot, &mut material);
-                features.normal_maps = true;
-            } else {
-                log::warn!(
-                    "{}: no tangents (it needs normals and UVs): ignoring its {name}",
-                    label()
-                );
-            }
-        }
-        // The direction of anisotropy is given in the tangent frame.
-        if p.anisotropy > 0.0 && tangents.is_none() {
-            tangents = crate::tangents::mikktspace_tangents(mesh);
-            if tangents.is_none() {
-                log::warn!(
-                    "{}: no tangents (it needs normals and UVs): its anisotropy follows an \
-                     arbitrary direction",
-                    label()
-                );
-            }
-        }
-        if tangents.is_some() {
-            material.flags |= gpu_types::TANGENTS;
-            features.normal_maps = true;
-        }
-        // Coverage comes from the factor and the base colour texture: without UVs only the factor.
-        let base_textured = !material.texture(SLOT_BASE).is_empty();
-        let cuts = match p.alpha_mode {
-            AlphaMode::Opaque => false,
-            AlphaMode::Mask => base_textured || p.alpha < p.alpha_cutoff,
-            AlphaMode::Blend => base_textured || p.alpha < 1.0,
-        };
-        if cuts {
-            material.flags |= match p.alpha_mode {
-                AlphaMode::Mask => gpu_types::ALPHA_MASK,
-                _ => gpu_types::ALPHA_BLEND,
-            };
-            features.alpha = true;
-        }
-    }
+        _ => None,
+    };
     features.kinds.insert(object.material.kind());
     features.media |= !crate::math::medium::is_vacuum(&material.medium);
     Ok((material, tangents))
+}
+
+/// A PBR material's texture slots past the base colour (each resolved against
+/// `texture_offsets`, ignored without UVs) and, where a normal map or anisotropy needs them, the
+/// mesh's MikkTSpace tangents.
+fn pbr_slots(
+    scene: &Scene,
+    object: &crate::Object,
+    p: &crate::material::Pbr,
+    texture_offsets: &[u32],
+    material: &mut gpu_types::Material,
+    features: &mut SceneFeatures,
+) -> Result<Option<Vec<[f32; 4]>>> {
+    let mesh = &object.mesh;
+    let label = || format!("object '{}'", object.name);
+    let mut tangents = None;
+    let slot = |t: Option<usize>, name: &str| -> Result<Option<usize>> {
+        match t {
+            Some(t) if t >= scene.textures.len() => Err(Error::Scene(format!(
+                "{}: {name} {t} does not exist",
+                label()
+            ))),
+            Some(_) if mesh.uvs.is_none() => {
+                log::warn!("{} has a {name} but no UVs: ignoring it", label());
+                Ok(None)
+            }
+            other => Ok(other),
+        }
+    };
+    // Puts texture `t` into `slot`, with its sampler.
+    let mut bind = |t: usize, slot: u32, material: &mut gpu_types::Material| {
+        let texture = &scene.textures[t];
+        material.set_sampler_bits(slot, texture.sampler.bits());
+        material.textures[slot as usize] = TextureSlot {
+            offset: texture_offsets[t],
+            width: texture.width,
+            height: texture.height,
+        };
+        features.textures = true;
+    };
+    if let Some(t) = slot(p.metallic_roughness_texture, "metallic-roughness texture")? {
+        bind(t, SLOT_METALLIC_ROUGHNESS, material);
+    }
+    for (t, name, gpu_slot) in [
+        (p.emission_texture, "emission texture", SLOT_EMISSION),
+        (p.clearcoat_texture, "clear coat texture", SLOT_CLEARCOAT),
+        (
+            p.clearcoat_roughness_texture,
+            "clear coat roughness texture",
+            SLOT_CLEARCOAT_ROUGHNESS,
+        ),
+        (
+            p.sheen_color_texture,
+            "sheen colour texture",
+            SLOT_SHEEN_COLOR,
+        ),
+        (
+            p.sheen_roughness_texture,
+            "sheen roughness texture",
+            SLOT_SHEEN_ROUGHNESS,
+        ),
+        (p.specular_texture, "specular texture", SLOT_SPECULAR),
+        (
+            p.specular_color_texture,
+            "specular colour texture",
+            SLOT_SPECULAR_COLOR,
+        ),
+        (p.anisotropy_texture, "anisotropy texture", SLOT_ANISOTROPY),
+        (
+            p.diffuse_transmission_texture,
+            "diffuse transmission texture",
+            SLOT_DIFFUSE_TRANSMISSION,
+        ),
+        (
+            p.diffuse_transmission_color_texture,
+            "diffuse transmission colour texture",
+            SLOT_DIFFUSE_TRANSMISSION_COLOR,
+        ),
+        (
+            p.iridescence_texture,
+            "iridescence texture",
+            SLOT_IRIDESCENCE,
+        ),
+        (
+            p.iridescence_thickness_texture,
+            "iridescence thickness texture",
+            SLOT_IRIDESCENCE_THICKNESS,
+        ),
+    ] {
+        if let Some(t) = slot(t, name)? {
+            bind(t, gpu_slot, material);
+        }
+    }
+    for (t, name, gpu_slot) in [
+        (p.normal_texture, "normal texture", SLOT_NORMAL),
+        (
+            p.clearcoat_normal_texture,
+            "clear coat normal texture",
+            SLOT_CLEARCOAT_NORMAL,
+        ),
+    ] {
+        let Some(t) = slot(t, name)? else { continue };
+        if tangents.is_none() {
+            tangents = crate::tangents::mikktspace_tangents(mesh);
+        }
+        if tangents.is_some() {
+            bind(t, gpu_slot, material);
+            features.normal_maps = true;
+        } else {
+            log::warn!(
+                "{}: no tangents (it needs normals and UVs): ignoring its {name}",
+                label()
+            );
+        }
+    }
+    // The direction of anisotropy is given in the tangent frame.
+    if p.anisotropy > 0.0 && tangents.is_none() {
+        tangents = crate::tangents::mikktspace_tangents(mesh);
+        if tangents.is_none() {
+            log::warn!(
+                "{}: no tangents (it needs normals and UVs): its anisotropy follows an \
+                     arbitrary direction",
+                label()
+            );
+        }
+    }
+    if tangents.is_some() {
+        material.flags |= gpu_types::TANGENTS;
+        features.normal_maps = true;
+    }
+    Ok(tangents)
+}
+
+/// Whether a PBR material cuts holes (alpha mask or blend), in its flags.
+fn pbr_coverage(
+    p: &crate::material::Pbr,
+    material: &mut gpu_types::Material,
+    features: &mut SceneFeatures,
+) {
+    // Coverage comes from the factor and the base colour texture: without UVs only the factor.
+    let base_textured = !material.texture(SLOT_BASE).is_empty();
+    let cuts = match p.alpha_mode {
+        AlphaMode::Opaque => false,
+        AlphaMode::Mask => base_textured || p.alpha < p.alpha_cutoff,
+        AlphaMode::Blend => base_textured || p.alpha < 1.0,
+    };
+    if cuts {
+        material.flags |= match p.alpha_mode {
+            AlphaMode::Mask => gpu_types::ALPHA_MASK,
+            _ => gpu_types::ALPHA_BLEND,
+        };
+        features.alpha = true;
+    }
 }
 
 fn gpu_material(material: &Material) -> gpu_types::Material {

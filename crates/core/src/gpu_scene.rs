@@ -90,155 +90,24 @@ impl GpuScene {
         layout: BvhLayout,
     ) -> Result<Self> {
         let mut out = GpuScene::default();
-        let mut texture_offsets = Vec::with_capacity(scene.textures.len());
-        for texture in &scene.textures {
-            let expected = texture.width as usize * texture.height as usize * 4;
-            if texture.rgba8.len() != expected || expected == 0 {
-                return Err(Error::Scene(format!(
-                    "texture '{}' has no pixel data",
-                    texture.name
-                )));
-            }
-            texture_offsets.push(out.texels.len() as u32);
-            out.texels.extend(
-                texture
-                    .rgba8
-                    .chunks_exact(4)
-                    .map(|p| u32::from_le_bytes([p[0], p[1], p[2], p[3]])),
-            );
-        }
-
+        let texture_offsets = out.pack_texels(scene)?;
         let mut world = Vec::with_capacity(scene.triangle_count());
         let mut tri_data = Vec::with_capacity(scene.triangle_count());
         for (object_index, object) in scene.objects.iter().enumerate() {
-            let mesh = &object.mesh;
-            let label = || format!("object '{}'", object.name);
             let (material, tangents) =
                 object_material(scene, object, &texture_offsets, &mut out.features)?;
-            // Vertex colours tint diffuse and PBR materials (the others have no base colour).
-            let colored = mesh
-                .colors
-                .as_ref()
-                .is_some_and(|c| c.len() == mesh.positions.len())
-                && matches!(
-                    object.material,
-                    Material::Lambertian { .. } | Material::Pbr(_)
-                );
             out.materials.push(material);
-
-            let m = object.transform.matrix();
-            let nm = object.transform.normal_matrix();
-            if !m.is_finite() || m.determinant() == 0.0 {
-                return Err(Error::Scene(format!(
-                    "{}: transform is singular or not finite",
-                    label()
-                )));
-            }
-            let flip = m.determinant() < 0.0;
-            for (i, p) in mesh.positions.iter().enumerate() {
-                if !p.is_finite() {
-                    return Err(Error::Scene(format!(
-                        "{}: vertex {} is not finite ({p})",
-                        label(),
-                        i + 1
-                    )));
-                }
-            }
-            let count = mesh.positions.len();
-            for (face, idx) in mesh.indices.iter().enumerate() {
-                if let Some(bad) = idx.iter().find(|&&i| i as usize >= count) {
-                    return Err(Error::Scene(format!(
-                        "{}: triangle {} uses vertex {} of {count}",
-                        label(),
-                        face + 1,
-                        bad + 1
-                    )));
-                }
-                // A mirroring transform reverses winding; swap two corners to keep the front face.
-                let idx = if flip { [idx[0], idx[2], idx[1]] } else { *idx };
-                let p = idx.map(|i| m.transform_point3(mesh.positions[i as usize]));
-                let n = mesh
-                    .normals
-                    .as_ref()
-                    .map(|ns| idx.map(|i| (nm * ns[i as usize]).normalize_or_zero()));
-                let uv = mesh.uvs.as_ref().map(|uvs| idx.map(|i| uvs[i as usize]));
-                let colors = mesh
-                    .colors
-                    .as_ref()
-                    .filter(|_| colored)
-                    .map(|cs| idx.map(|i| gpu_types::pack_color(cs[i as usize].to_array())));
-                let corners = if flip { [0, 2, 1] } else { [0, 1, 2] };
-                let sign = if flip { -1.0 } else { 1.0 };
-                let t = tangents.as_ref().map(|t: &Vec<[f32; 4]>| {
-                    corners.map(|c| {
-                        let [x, y, z, w] = t[face * 3 + c];
-                        let d = m.transform_vector3(Vec3::new(x, y, z)).normalize_or_zero();
-                        [d.x, d.y, d.z, w * sign]
-                    })
-                });
-                world.push(p);
-                tri_data.push((object_index as u32, n, uv, t, colors));
-            }
+            let index = object_index as u32;
+            world_triangles(
+                object,
+                index,
+                tangents.as_deref(),
+                &mut world,
+                &mut tri_data,
+            )?;
         }
-
-        out.layout = layout;
-        let triangle_order = match layout {
-            BvhLayout::Bvh2 => {
-                let bvh = build_bvh(&world, quality).map_err(Error::Scene)?;
-                (out.bvh_depth, out.bvh_build_time) = (bvh.depth, bvh.build_time);
-                out.nodes = bvh.nodes;
-                bvh.triangle_order
-            }
-            BvhLayout::Cwbvh => match build_wide_bvh(&world, quality) {
-                Ok(bvh) => {
-                    (out.bvh_depth, out.bvh_build_time) = (bvh.depth, bvh.build_time);
-                    out.wide_nodes = bvh.nodes;
-                    bvh.triangle_order
-                }
-                Err(why) => {
-                    log::warn!("{why}; using the binary BVH instead");
-                    out.layout = BvhLayout::Bvh2;
-                    let bvh = build_bvh(&world, quality).map_err(Error::Scene)?;
-                    (out.bvh_depth, out.bvh_build_time) = (bvh.depth, bvh.build_time);
-                    out.nodes = bvh.nodes;
-                    bvh.triangle_order
-                }
-            },
-        };
-        out.triangles.reserve(world.len());
-        out.shading.reserve(world.len());
-        for &i in &triangle_order {
-            let p = world[i as usize];
-            let (material, normals, uvs, t, colors) = &tri_data[i as usize];
-            if out.features.normal_maps {
-                out.tangents.extend(t.unwrap_or([[0.0; 4]; 3]));
-            }
-            let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
-            out.triangles.push(Triangle {
-                v0: p[0].to_array(),
-                material: *material,
-                v1: p[1].to_array(),
-                has_normals: normals.is_some() as u32 * gpu_types::HAS_NORMALS
-                    + colors.is_some() as u32 * gpu_types::HAS_COLORS,
-                v2: p[2].to_array(),
-                has_uvs: uvs.is_some() as u32,
-            });
-            let n = normals.unwrap_or([Vec3::ZERO; 3]);
-            let uv = uvs.unwrap_or([Vec2::ZERO; 3]);
-            let c = colors.unwrap_or([u32::MAX; 3]);
-            out.shading.push(Shading {
-                c0: c[0],
-                c1: c[1],
-                c2: c[2],
-                n0: n[0].to_array(),
-                n1: n[1].to_array(),
-                n2: n[2].to_array(),
-                uv0: uv[0].to_array(),
-                uv1: uv[1].to_array(),
-                uv2: uv[2].to_array(),
-                ..Default::default()
-            });
-        }
+        let triangle_order = out.build_bvh(&world, quality, layout)?;
+        out.push_in_order(&world, &tri_data, &triangle_order);
         // The kernel reads shading attributes only for triangles that have them.
         if out
             .triangles
@@ -251,6 +120,101 @@ impl GpuScene {
         out.light(scene)?;
         out.albedo_tables = crate::math::layers::albedo_tables_for(&out.materials);
         Ok(out)
+    }
+
+    /// Every texture's texels, one after another; returns where each begins.
+    fn pack_texels(&mut self, scene: &Scene) -> Result<Vec<u32>> {
+        let mut texture_offsets = Vec::with_capacity(scene.textures.len());
+        for texture in &scene.textures {
+            let expected = texture.width as usize * texture.height as usize * 4;
+            if texture.rgba8.len() != expected || expected == 0 {
+                return Err(Error::Scene(format!(
+                    "texture '{}' has no pixel data",
+                    texture.name
+                )));
+            }
+            texture_offsets.push(self.texels.len() as u32);
+            self.texels.extend(
+                texture
+                    .rgba8
+                    .chunks_exact(4)
+                    .map(|p| u32::from_le_bytes([p[0], p[1], p[2], p[3]])),
+            );
+        }
+
+        Ok(texture_offsets)
+    }
+
+    /// The BVH over `world` in `layout` (the binary one where the wide one cannot hold the
+    /// coordinates); returns the triangles' order in its leaves.
+    fn build_bvh(
+        &mut self,
+        world: &[[Vec3; 3]],
+        quality: BvhQuality,
+        layout: BvhLayout,
+    ) -> Result<Vec<u32>> {
+        self.layout = layout;
+        Ok(match layout {
+            BvhLayout::Bvh2 => {
+                let bvh = build_bvh(world, quality).map_err(Error::Scene)?;
+                (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
+                self.nodes = bvh.nodes;
+                bvh.triangle_order
+            }
+            BvhLayout::Cwbvh => match build_wide_bvh(world, quality) {
+                Ok(bvh) => {
+                    (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
+                    self.wide_nodes = bvh.nodes;
+                    bvh.triangle_order
+                }
+                Err(why) => {
+                    log::warn!("{why}; using the binary BVH instead");
+                    self.layout = BvhLayout::Bvh2;
+                    let bvh = build_bvh(world, quality).map_err(Error::Scene)?;
+                    (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
+                    self.nodes = bvh.nodes;
+                    bvh.triangle_order
+                }
+            },
+        })
+    }
+
+    /// The triangles and their shading attributes (and tangents, with normal maps) in BVH order.
+    fn push_in_order(&mut self, world: &[[Vec3; 3]], tri_data: &[TriangleData], order: &[u32]) {
+        self.triangles.reserve(world.len());
+        self.shading.reserve(world.len());
+        for &i in order {
+            let p = world[i as usize];
+            let (material, normals, uvs, t, colors) = &tri_data[i as usize];
+            if self.features.normal_maps {
+                self.tangents.extend(t.unwrap_or([[0.0; 4]; 3]));
+            }
+            let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
+            self.triangles.push(Triangle {
+                v0: p[0].to_array(),
+                material: *material,
+                v1: p[1].to_array(),
+                has_normals: normals.is_some() as u32 * gpu_types::HAS_NORMALS
+                    + colors.is_some() as u32 * gpu_types::HAS_COLORS,
+                v2: p[2].to_array(),
+                has_uvs: uvs.is_some() as u32,
+            });
+            let n = normals.unwrap_or([Vec3::ZERO; 3]);
+            let uv = uvs.unwrap_or([Vec2::ZERO; 3]);
+            let c = colors.unwrap_or([u32::MAX; 3]);
+            self.shading.push(Shading {
+                c0: c[0],
+                c1: c[1],
+                c2: c[2],
+                n0: n[0].to_array(),
+                n1: n[1].to_array(),
+                n2: n[2].to_array(),
+                uv0: uv[0].to_array(),
+                uv1: uv[1].to_array(),
+                uv2: uv[2].to_array(),
+                ..Default::default()
+            });
+        }
     }
 
     /// This scene's geometry (triangles, BVH, shading attributes, tangents) with `scene`'s
@@ -391,4 +355,91 @@ impl GpuScene {
             ("tangents", bytes(self.tangents.len(), 16)),
         ]
     }
+}
+
+/// What a triangle carries besides its corners, before the BVH orders it: its material (the
+/// object's index), normals, UVs, tangents and vertex colours.
+type TriangleData = (
+    u32,
+    Option<[Vec3; 3]>,
+    Option<[Vec2; 3]>,
+    Option<[[f32; 4]; 3]>,
+    Option<[u32; 3]>,
+);
+
+/// Checks `object`'s mesh and transform and appends its triangles in world space to `world`,
+/// with what they carry to `tri_data` (`tangents`: three per triangle, from `object_material`).
+fn world_triangles(
+    object: &crate::Object,
+    object_index: u32,
+    tangents: Option<&[[f32; 4]]>,
+    world: &mut Vec<[Vec3; 3]>,
+    tri_data: &mut Vec<TriangleData>,
+) -> Result<()> {
+    let mesh = &object.mesh;
+    let label = || format!("object '{}'", object.name);
+    // Vertex colours tint diffuse and PBR materials (the others have no base colour).
+    let colored = mesh
+        .colors
+        .as_ref()
+        .is_some_and(|c| c.len() == mesh.positions.len())
+        && matches!(
+            object.material,
+            Material::Lambertian { .. } | Material::Pbr(_)
+        );
+
+    let m = object.transform.matrix();
+    let nm = object.transform.normal_matrix();
+    if !m.is_finite() || m.determinant() == 0.0 {
+        return Err(Error::Scene(format!(
+            "{}: transform is singular or not finite",
+            label()
+        )));
+    }
+    let flip = m.determinant() < 0.0;
+    for (i, p) in mesh.positions.iter().enumerate() {
+        if !p.is_finite() {
+            return Err(Error::Scene(format!(
+                "{}: vertex {} is not finite ({p})",
+                label(),
+                i + 1
+            )));
+        }
+    }
+    let count = mesh.positions.len();
+    for (face, idx) in mesh.indices.iter().enumerate() {
+        if let Some(bad) = idx.iter().find(|&&i| i as usize >= count) {
+            return Err(Error::Scene(format!(
+                "{}: triangle {} uses vertex {} of {count}",
+                label(),
+                face + 1,
+                bad + 1
+            )));
+        }
+        // A mirroring transform reverses winding; swap two corners to keep the front face.
+        let idx = if flip { [idx[0], idx[2], idx[1]] } else { *idx };
+        let p = idx.map(|i| m.transform_point3(mesh.positions[i as usize]));
+        let n = mesh
+            .normals
+            .as_ref()
+            .map(|ns| idx.map(|i| (nm * ns[i as usize]).normalize_or_zero()));
+        let uv = mesh.uvs.as_ref().map(|uvs| idx.map(|i| uvs[i as usize]));
+        let colors = mesh
+            .colors
+            .as_ref()
+            .filter(|_| colored)
+            .map(|cs| idx.map(|i| gpu_types::pack_color(cs[i as usize].to_array())));
+        let corners = if flip { [0, 2, 1] } else { [0, 1, 2] };
+        let sign = if flip { -1.0 } else { 1.0 };
+        let t = tangents.map(|t| {
+            corners.map(|c| {
+                let [x, y, z, w] = t[face * 3 + c];
+                let d = m.transform_vector3(Vec3::new(x, y, z)).normalize_or_zero();
+                [d.x, d.y, d.z, w * sign]
+            })
+        });
+        world.push(p);
+        tri_data.push((object_index, n, uv, t, colors));
+    }
+    Ok(())
 }

@@ -113,7 +113,7 @@ pub struct Material {
     pub textures: [TextureSlot; SLOTS], // 180
     pub _pad: [u32; 3], // 372
     /// The medium inside a closed surface that transmits (entered on transmission through its
-    /// front face, left through its back face; `reference::path`): glTF's volume attenuation and
+    /// front face, left through its back face; `estimator::path`): glTF's volume attenuation and
     /// scattering. Zero: vacuum.
     pub medium: Medium, // 384
 }
@@ -438,7 +438,7 @@ pub struct Frame {
     /// The medium filling all space outside closed objects (the scene's fog; zero: vacuum), where
     /// the camera is.
     pub fog: Medium, // 176
-    /// The medium stack a camera ray starts with (`reference::path::media_top`): empty (the fog)
+    /// The medium stack a camera ray starts with (`estimator::path::media_top`): empty (the fog)
     /// unless the camera sits inside a closed volume (`frame::camera_media`).
     pub camera_media: u32, // 208
     pub _pad0: u32,           // 212

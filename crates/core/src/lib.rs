@@ -1,9 +1,10 @@
-//! rt's core: the scene model, loaders, BVH construction, the GPU data layout, and a CPU reference
-//! of the kernel's estimator. Nothing here depends on wgpu.
+//! rt's core: the scene model, the estimator (the GPU data layout, BVH construction, the math and
+//! the path tracer's Rust twin beside each WGSL file, the native CPU backend) and film and outputs
+//! (exact sums, render parts, denoising, image files). Nothing here depends on wgpu, and nothing
+//! here reads scene files: that is rt-io, above it.
 
 pub mod accumulation;
 pub mod adaptive;
-pub mod assets;
 pub mod bvh;
 pub mod camera;
 pub mod cpu_render;
@@ -12,12 +13,12 @@ pub mod denoiser;
 pub mod emitters;
 pub mod environment;
 pub mod error;
+pub mod estimator;
 pub mod fog;
 pub mod frame;
 mod gpu_material;
 pub mod gpu_scene;
 pub mod gpu_types;
-pub mod io;
 mod kernel_indices;
 pub mod light;
 pub mod light_kind;
@@ -29,7 +30,6 @@ pub mod metrics;
 pub mod oidn;
 pub mod output;
 pub mod part;
-pub mod reference;
 pub mod scene;
 pub mod scene_features;
 pub mod shapes;

@@ -2,7 +2,7 @@
 //! pick an emitter by its importance at the shading point instead of by its power alone
 //! (Conty Estevez & Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting";
 //! as pbrt-v4's `BVHLightSampler` and Cycles' light tree). This file builds it; the descent and
-//! the pmf of a given emitter are the estimator's (`reference::light_tree` and its WGSL twin).
+//! the pmf of a given emitter are the estimator's (`estimator::light_tree` and its WGSL twin).
 //!
 //! Each node bounds the emitters below it: a box (kept as its bounding sphere, all the importance
 //! needs), a cone of normals (axis, θ_o), the angle past a normal they emit into (θ_e = π/2: rt's
@@ -10,7 +10,7 @@
 //! table's weight. Point and spot lights are leaves too (as in pbrt-v4), with Φ = luminance of
 //! their intensity, so that Φ/d² is the irradiance scale of either kind: a point emits over the
 //! sphere (θ_o = π), a spot along its axis with θ_o its inner cone and θ_e the rest of its outer
-//! one. Suns stay out: they are summed at every vertex (`reference::light::delta_lights_at`), as
+//! one. Suns stay out: they are summed at every vertex (`estimator::light::delta_lights_at`), as
 //! pbrt keeps its infinite lights beside the tree. Splits minimise pbrt's cost over
 //! 12 centroid buckets per axis,
 //!   cost = Φ · M_Ω · A_box · K_r,  M_Ω = 2π(1 − cosθ_o) + π/2 (2θ_w sinθ_o − cos(θ_o − 2θ_w)

@@ -5,15 +5,12 @@
 use rt_core::GpuScene;
 use rt_core::bvh::{BvhLayout, BvhQuality};
 use rt_core::gpu_types::NO_TEXTURE;
-use rt_core::io::obj::load_obj;
+use rt_io::obj::load_obj;
 use std::path::Path;
 
 fn shipped_scenes() -> Vec<(String, rt_core::Scene)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets");
-    let mut out = vec![(
-        "cornell".to_string(),
-        rt_core::assets::cornell_box().unwrap(),
-    )];
+    let mut out = vec![("cornell".to_string(), rt_io::assets::cornell_box().unwrap())];
     for obj in [
         "bunny/bunny-lowres-npm.obj",
         "spot/spot_triangulated_textured.obj",
@@ -129,7 +126,7 @@ fn each_kind_of_bad_index_is_caught() {
     let spot = &shipped_scenes()[2].1;
     let good = build(spot, BvhLayout::Bvh2);
     assert!(good.features.textures && !good.shading.is_empty());
-    let cornell = build(&rt_core::assets::cornell_box().unwrap(), BvhLayout::Bvh2);
+    let cornell = build(&rt_io::assets::cornell_box().unwrap(), BvhLayout::Bvh2);
     assert!(!cornell.emitters.is_empty());
     // An inner node below the root (child index 0 means "no child", so the root cannot show a cycle).
     let inner = good
@@ -208,7 +205,7 @@ fn each_kind_of_bad_index_is_caught() {
 fn an_empty_scene_is_traversed_at_once() {
     for layout in [BvhLayout::Bvh2, BvhLayout::Cwbvh] {
         let empty = build(&rt_core::Scene::default(), layout);
-        let hit = rt_core::reference::trace(
+        let hit = rt_core::estimator::trace(
             &empty,
             glam::Vec3::ZERO,
             glam::Vec3::new(0.3, 0.5, -0.8).normalize(),

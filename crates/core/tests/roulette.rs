@@ -8,9 +8,9 @@
 use std::sync::Arc;
 
 use rayon::prelude::*;
+use rt_core::estimator::radiance;
 use rt_core::material::Pbr;
 use rt_core::math::sampling::luminance;
-use rt_core::reference::radiance;
 use rt_core::scene::{Object, Transform};
 use rt_core::{GpuScene, Material, Scene};
 
@@ -18,7 +18,7 @@ const SIZE: u32 = 32;
 const SPP: u32 = 1024;
 
 fn glass_cornell() -> Scene {
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     // Brighter walls: long paths, where roulette plays (from the fifth vertex), carry more of the
     // image, so a wrong re-weighting shows sooner.
     for object in &mut scene.objects {

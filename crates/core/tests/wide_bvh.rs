@@ -7,10 +7,10 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use rt_core::bvh::{BvhLayout, BvhQuality, MAX_WIDE_BVH_DEPTH};
-use rt_core::io::obj::load_obj;
 use rt_core::math::rng::Rng;
 use rt_core::scene::{Mesh, Object};
 use rt_core::{GpuScene, Material, Scene};
+use rt_io::obj::load_obj;
 
 fn scene_of(positions: Vec<Vec3>) -> Scene {
     let indices = (0..positions.len() as u32 / 3)
@@ -48,7 +48,7 @@ fn scenes() -> Vec<(&'static str, Scene)> {
         })
         .collect();
     vec![
-        ("cornell", rt_core::assets::cornell_box().unwrap()),
+        ("cornell", rt_io::assets::cornell_box().unwrap()),
         (
             "bunny",
             load_obj(&root.join("bunny/bunny-lowres-npm.obj"), 0).unwrap(),
@@ -93,8 +93,8 @@ fn wide_and_binary_bvhs_find_the_same_nearest_hits() {
                 direction[axis] = if i % 100 == 0 { 1.0 } else { -1.0 };
             }
             let direction = direction.normalize_or(Vec3::Z);
-            let a = rt_core::reference::trace(&bvh2, origin, direction, f32::MAX);
-            let b = rt_core::reference::trace(&wide, origin, direction, f32::MAX);
+            let a = rt_core::estimator::trace(&bvh2, origin, direction, f32::MAX);
+            let b = rt_core::estimator::trace(&wide, origin, direction, f32::MAX);
             rays += 1;
             assert_eq!(
                 a.triangle == u32::MAX,
@@ -143,7 +143,7 @@ fn huge_coordinates_fall_back_to_the_binary_bvh() {
     let built = GpuScene::build_with_layout(&scene, BvhQuality::Medium, BvhLayout::Cwbvh).unwrap();
     assert_eq!(built.layout, BvhLayout::Bvh2);
     built.check_kernel_indices().unwrap();
-    let hit = rt_core::reference::trace(&built, Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, f32::MAX);
+    let hit = rt_core::estimator::trace(&built, Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, f32::MAX);
     assert!((hit.t - 1.0).abs() < 1e-6, "{hit:?}");
     let ordinary = scene_of(vec![Vec3::ZERO, Vec3::X * 1e14, Vec3::Y * 1e14]);
     let built =

@@ -32,7 +32,6 @@ mod outputs;
 mod pipeline_cache;
 mod pipeline_lifetime;
 pub mod pipelines;
-pub mod preview;
 pub mod progressive;
 pub mod renderer;
 pub mod shaders;
@@ -42,10 +41,13 @@ pub mod tiling;
 pub mod trace_rays;
 pub mod wavefront;
 
+pub use buffers::read_buffer;
 pub use context::{AdapterChoice, DeviceOptions, GpuContext, hardware_gpu};
 pub use error::{GpuError, Result};
 pub use image::{Aovs, Image};
-pub use options::{Adaptive, Kernel, MAX_WORKGROUP_INVOCATIONS, RenderOptions, Trace, Tuning};
+pub use options::{
+    Adaptive, Kernel, MAX_WORKGROUP_INVOCATIONS, PipelineRebuilds, RenderOptions, Trace, Tuning,
+};
 pub use renderer::{BatchStats, Renderer};
 pub use tiling::{
     TiledRender, pixel_binding_bytes, render_tiled, tile_rows, whole_image_binding_bytes,

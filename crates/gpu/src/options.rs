@@ -7,14 +7,14 @@ use std::time::Duration;
 use crate::error::{GpuError, Result};
 
 /// The most invocations a work group of the megakernel may have: each holds a 64-entry BVH
-/// traversal stack in work-group memory (`crates/core/src/reference/bvh.wgsl`), 16 KiB in all.
+/// traversal stack in work-group memory (`crates/core/src/estimator/bvh.wgsl`), 16 KiB in all.
 pub const MAX_WORKGROUP_INVOCATIONS: u32 = 64;
 
 /// The megakernel's work group unless an experiment asks for another (measured in
 /// docs/performance-log.md, "Work-group shape").
 pub const DEFAULT_WORKGROUP: [u32; 2] = [8, 8];
 
-/// `Tuning::pipeline_lifetime` on CPU adapters with `RenderOptions::rebuild_on_cpu` (the
+/// The least pipeline lifetime of `PipelineRebuilds::OnGrowingCpuDrivers` without one given (the
 /// compile-time amortisation usually decides: see docs/performance.md).
 pub const CPU_PIPELINE_LIFETIME: Duration = Duration::from_secs(5);
 
@@ -22,7 +22,7 @@ pub const CPU_PIPELINE_LIFETIME: Duration = Duration::from_secs(5);
 /// batch took, which holds the JIT compile: rebuilds cost under 1/this of the render time.
 pub const REBUILD_AMORTISATION: u32 = 10;
 
-/// What traces the paths. Both run the one estimator of `crates/core/src/reference/path.wgsl` and give the
+/// What traces the paths. Both run the one estimator of `crates/core/src/estimator/path.wgsl` and give the
 /// same samples (bit for bit on lavapipe without delta lights; `tests/wavefront.rs`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Kernel {
@@ -50,7 +50,7 @@ pub enum Trace {
     /// are software too, rt's own traversal measured faster (docs/performance.md).
     #[default]
     Auto,
-    /// rt's traversal of the obvhs BVH (`crates/core/src/reference/cwbvh.wgsl` or `bvh.wgsl`).
+    /// rt's traversal of the obvhs BVH (`crates/core/src/estimator/cwbvh.wgsl` or `bvh.wgsl`).
     Bvh,
     /// The driver's ray queries over an acceleration structure it builds
     /// (`shaders/ray_query.wgsl`): ray-tracing hardware where the GPU has it. An error
@@ -118,19 +118,8 @@ pub use rt_core::adaptive::Adaptive;
 pub struct Tuning {
     /// Count rays in the kernel (benchmarks); compiled out otherwise.
     pub count_rays: bool,
-    /// Bound lavapipe's host-memory growth over long megakernel renders by rebuilding the
-    /// pipeline now and then (Mesa 22.3 keeps memory for every path the compiled megakernel
-    /// traces until the pipeline is destroyed; the wavefront kernels do not grow: tests/memory.rs).
-    /// Mesa 25.0 does not grow (docs/performance-log.md), so this applies on CPU adapters other
-    /// than Mesa 25 or newer, with the megakernel only: after `CPU_PIPELINE_LIFETIME` or
-    /// `REBUILD_AMORTISATION` times the last build's first batch (its JIT compile), whichever is
-    /// longer (`cpu_pipeline_lifetime` sets the lifetime exactly). Off by default, for renderers
-    /// that share a device with others (the tests): a CI run of the suite with it on stalled
-    /// inside lavapipe. `rt-cli render` and `converge` turn it on.
-    pub rebuild_on_cpu: bool,
-    /// Where `rebuild_on_cpu` applies, rebuild after exactly this long instead (no amortisation).
-    /// `rt-cli` sets it from `RT_PIPELINE_LIFETIME_S` (seconds): rt-gpu reads no environment.
-    pub cpu_pipeline_lifetime: Option<Duration>,
+    /// When the tracing pipeline is rebuilt (never, by default).
+    pub pipeline_rebuilds: PipelineRebuilds,
     /// Compile every optional feature in, as if the scene used them all (benchmarks compare this
     /// generic kernel with the specialised one).
     pub generic_kernel: bool,
@@ -138,22 +127,38 @@ pub struct Tuning {
     /// invocations (the BVH traversal stacks live in work-group memory). The wavefront kernels
     /// always run 64 x 1.
     pub workgroup: [u32; 2],
-    /// Rebuild the tracing pipeline(s) once the kernels have run this long (not counting the first
-    /// batch after a build), whatever the adapter and kernel. A rebuild changes no sample.
-    pub pipeline_lifetime: Option<Duration>,
 }
 
 impl Default for Tuning {
     fn default() -> Self {
         Tuning {
             count_rays: false,
-            rebuild_on_cpu: false,
-            cpu_pipeline_lifetime: None,
+            pipeline_rebuilds: PipelineRebuilds::Never,
             generic_kernel: false,
             workgroup: DEFAULT_WORKGROUP,
-            pipeline_lifetime: None,
         }
     }
+}
+
+/// When a renderer rebuilds its tracing pipeline (`Tuning::pipeline_rebuilds`). A rebuild changes
+/// no sample. Some CPU drivers hold host memory for every path a compiled megakernel traces until
+/// its pipeline is destroyed (Mesa 22.3's lavapipe; the wavefront kernels do not grow:
+/// tests/memory.rs), and a fresh build lets them free it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PipelineRebuilds {
+    /// Never: the default, for renderers that share a device with others (the tests: a CI run
+    /// of the suite with rebuilds on stalled inside lavapipe).
+    #[default]
+    Never,
+    /// Where the driver grows: a CPU adapter other than Mesa 25 or newer (which stays flat,
+    /// docs/performance-log.md), with the megakernel. After `lifetime` of kernel time exactly, or
+    /// by default after `CPU_PIPELINE_LIFETIME` or `REBUILD_AMORTISATION` times the last build's
+    /// first batch (its JIT compile), whichever is longer. `rt-cli render` and `converge` ask for
+    /// it (`lifetime` from `RT_PIPELINE_LIFETIME_S`: rt-gpu reads no environment).
+    OnGrowingCpuDrivers { lifetime: Option<Duration> },
+    /// After exactly this much kernel time (not counting the first batch after a build),
+    /// whatever the adapter and kernel.
+    Every(Duration),
 }
 
 impl RenderOptions {

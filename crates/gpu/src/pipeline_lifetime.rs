@@ -1,16 +1,17 @@
-//! When a renderer rebuilds its pipeline (`RenderOptions::pipeline_lifetime`,
-//! `Tuning::rebuild_on_cpu`): some CPU drivers hold memory per compiled pipeline that grows
+//! When a renderer rebuilds its pipeline (`Tuning::pipeline_rebuilds`): some CPU drivers hold memory per compiled pipeline that grows
 //! while it runs, and a fresh build lets them free it.
 
 use std::time::{Duration, Instant};
 
 use crate::context::GpuContext;
-use crate::options::{CPU_PIPELINE_LIFETIME, Kernel, REBUILD_AMORTISATION, RenderOptions};
+use crate::options::{
+    CPU_PIPELINE_LIFETIME, Kernel, PipelineRebuilds, REBUILD_AMORTISATION, RenderOptions,
+};
 
 /// A renderer's pipeline's age, and when it is due for a rebuild.
 pub(crate) struct PipelineLifetime {
     /// Kernel time since the pipeline was built, not counting its first batch (see
-    /// `RenderOptions::pipeline_lifetime`), and that first batch's time (its compile).
+    /// `PipelineRebuilds::Every`), and that first batch's time (its compile).
     ran: Duration,
     first_batch: Option<Duration>,
     lifetime: Option<Duration>,
@@ -22,21 +23,21 @@ pub(crate) struct PipelineLifetime {
 impl PipelineLifetime {
     /// The lifetime `options` ask for on `ctx`'s adapter; `None` never rebuilds.
     pub fn new(ctx: &GpuContext, options: &RenderOptions) -> Self {
-        // Only the megakernel's pipelines grow (tests/memory.rs).
-        // Mesa 25.0's megakernel stays flat (performance-log.md); other CPU drivers may not.
-        let auto = options.tuning.rebuild_on_cpu
-            && options.kernel == Kernel::Megakernel
-            && ctx.info.device_type == wgpu::DeviceType::Cpu
-            && ctx.mesa_version().is_none_or(|v| v < (25, 0));
-        let explicit = options
-            .tuning
-            .pipeline_lifetime
-            .or(options.tuning.cpu_pipeline_lifetime.filter(|_| auto));
-        let lifetime = explicit.or(auto.then_some(CPU_PIPELINE_LIFETIME));
-        let amortisation = if explicit.is_some() {
-            0
-        } else {
-            REBUILD_AMORTISATION
+        let (lifetime, amortisation) = match options.tuning.pipeline_rebuilds {
+            PipelineRebuilds::Never => (None, 0),
+            PipelineRebuilds::Every(lifetime) => (Some(lifetime), 0),
+            PipelineRebuilds::OnGrowingCpuDrivers { lifetime } => {
+                // Only the megakernel's pipelines grow (tests/memory.rs); Mesa 25.0's megakernel
+                // stays flat (performance-log.md), other CPU drivers may not.
+                let grows = options.kernel == Kernel::Megakernel
+                    && ctx.info.device_type == wgpu::DeviceType::Cpu
+                    && ctx.mesa_version().is_none_or(|v| v < (25, 0));
+                match (grows, lifetime) {
+                    (false, _) => (None, 0),
+                    (true, Some(lifetime)) => (Some(lifetime), 0),
+                    (true, None) => (Some(CPU_PIPELINE_LIFETIME), REBUILD_AMORTISATION),
+                }
+            }
         };
         PipelineLifetime {
             ran: Duration::ZERO,

@@ -57,7 +57,7 @@ pub struct Renderer<'a> {
     ctx: &'a GpuContext,
     engine: Engine,
     pipeline_key: PipelineKey,
-    /// When the pipeline is due for a rebuild (see `RenderOptions::pipeline_lifetime`).
+    /// When the pipeline is due for a rebuild (see `Tuning::pipeline_rebuilds`).
     lifetime: PipelineLifetime,
     /// The scene's buffers and the outputs, to bind them to a rebuilt pipeline.
     bound: Vec<(Binding, wgpu::Buffer)>,
@@ -217,7 +217,7 @@ impl<'a> Renderer<'a> {
         }
     }
 
-    /// How often the pipeline was rebuilt (see `RenderOptions::pipeline_lifetime`); for tests.
+    /// How often the pipeline was rebuilt (see `Tuning::pipeline_rebuilds`); for tests.
     #[cfg(feature = "testing")]
     pub fn pipeline_rebuilds(&self) -> u32 {
         self.lifetime.rebuilds()

@@ -68,34 +68,34 @@ pub const FILES: &[(&str, &str)] = &[
         rt_core::math::intersect::WGSL,
     ),
     (
-        "crates/core/src/reference/bvh.wgsl",
-        rt_core::reference::bvh::WGSL,
+        "crates/core/src/estimator/bvh.wgsl",
+        rt_core::estimator::bvh::WGSL,
     ),
     (
-        "crates/core/src/reference/cwbvh.wgsl",
-        rt_core::reference::cwbvh::WGSL,
+        "crates/core/src/estimator/cwbvh.wgsl",
+        rt_core::estimator::cwbvh::WGSL,
     ),
     shader_file!("ray_query.wgsl"),
     ("crates/core/src/gpu_scene.wgsl", rt_core::gpu_scene::WGSL),
     (
-        "crates/core/src/reference/texture.wgsl",
-        rt_core::reference::texture::WGSL,
+        "crates/core/src/estimator/texture.wgsl",
+        rt_core::estimator::texture::WGSL,
     ),
     (
-        "crates/core/src/reference/surface.wgsl",
-        rt_core::reference::surface::WGSL,
+        "crates/core/src/estimator/surface.wgsl",
+        rt_core::estimator::surface::WGSL,
     ),
     (
-        "crates/core/src/reference/light_tree.wgsl",
-        rt_core::reference::light_tree::WGSL,
+        "crates/core/src/estimator/light_tree.wgsl",
+        rt_core::estimator::light_tree::WGSL,
     ),
     (
-        "crates/core/src/reference/light.wgsl",
-        rt_core::reference::light::WGSL,
+        "crates/core/src/estimator/light.wgsl",
+        rt_core::estimator::light::WGSL,
     ),
     (
-        "crates/core/src/reference/path.wgsl",
-        rt_core::reference::path::WGSL,
+        "crates/core/src/estimator/path.wgsl",
+        rt_core::estimator::path::WGSL,
     ),
     (
         "crates/core/src/accumulation.wgsl",
@@ -128,7 +128,7 @@ macro_rules! tracing_module {
                 "crates/core/src/math/sampling.wgsl",
                 "crates/core/src/math/intersect.wgsl",
                 "crates/core/src/gpu_scene.wgsl",
-                "crates/core/src/reference/texture.wgsl",
+                "crates/core/src/estimator/texture.wgsl",
                 "crates/core/src/math/microfacet.wgsl",
                 "crates/core/src/math/bsdf.wgsl",
                 "crates/core/src/math/coat.wgsl",
@@ -140,10 +140,10 @@ macro_rules! tracing_module {
                 "crates/core/src/math/layers.wgsl",
                 "crates/core/src/math/medium.wgsl",
                 "crates/core/src/environment.wgsl",
-                "crates/core/src/reference/surface.wgsl",
-                "crates/core/src/reference/light_tree.wgsl",
-                "crates/core/src/reference/light.wgsl",
-                "crates/core/src/reference/path.wgsl",
+                "crates/core/src/estimator/surface.wgsl",
+                "crates/core/src/estimator/light_tree.wgsl",
+                "crates/core/src/estimator/light.wgsl",
+                "crates/core/src/estimator/path.wgsl",
                 "crates/core/src/accumulation.wgsl",
                 $entry,
             ],
@@ -154,13 +154,13 @@ macro_rules! tracing_module {
 /// The megakernel over the BVH2.
 pub const TRACE: ShaderModule = tracing_module!(
     "trace",
-    "crates/core/src/reference/bvh.wgsl",
+    "crates/core/src/estimator/bvh.wgsl",
     "shaders/trace.wgsl"
 );
 /// `TRACE` over the compressed wide BVH.
 pub const TRACE_WIDE: ShaderModule = tracing_module!(
     "trace_wide",
-    "crates/core/src/reference/cwbvh.wgsl",
+    "crates/core/src/estimator/cwbvh.wgsl",
     "shaders/trace.wgsl"
 );
 /// `TRACE` over the driver's ray queries (`Trace::Hardware`).
@@ -169,13 +169,13 @@ pub const TRACE_HW: ShaderModule =
 /// The wavefront kernels (the default: `Kernel::Wavefront`), over the BVH2.
 pub const WAVEFRONT: ShaderModule = tracing_module!(
     "wavefront",
-    "crates/core/src/reference/bvh.wgsl",
+    "crates/core/src/estimator/bvh.wgsl",
     "shaders/wavefront.wgsl"
 );
 /// `WAVEFRONT` over the compressed wide BVH.
 pub const WAVEFRONT_WIDE: ShaderModule = tracing_module!(
     "wavefront_wide",
-    "crates/core/src/reference/cwbvh.wgsl",
+    "crates/core/src/estimator/cwbvh.wgsl",
     "shaders/wavefront.wgsl"
 );
 /// `WAVEFRONT` over the driver's ray queries (`Trace::Hardware`).
@@ -190,7 +190,7 @@ pub const TRACE_RAYS: ShaderModule = ShaderModule {
     files: &[
         "crates/core/src/gpu_types.wgsl",
         "crates/core/src/math/intersect.wgsl",
-        "crates/core/src/reference/bvh.wgsl",
+        "crates/core/src/estimator/bvh.wgsl",
         "shaders/trace_rays.wgsl",
     ],
 };
@@ -200,7 +200,7 @@ pub const TRACE_RAYS_WIDE: ShaderModule = ShaderModule {
     files: &[
         "crates/core/src/gpu_types.wgsl",
         "crates/core/src/math/intersect.wgsl",
-        "crates/core/src/reference/cwbvh.wgsl",
+        "crates/core/src/estimator/cwbvh.wgsl",
         "shaders/trace_rays.wgsl",
     ],
 };

@@ -26,7 +26,7 @@ pub const MAX_WAVE_PATHS: u32 = 1 << 18;
 /// Size of `WavePath` in `shaders/wavefront.wgsl` (checked against naga in tests/shaders.rs).
 pub const WAVE_PATH_BYTES: u64 = 112;
 
-/// Size of `ShadowRay` in `crates/core/src/reference/path.wgsl` (checked against naga in tests/shaders.rs).
+/// Size of `ShadowRay` in `crates/core/src/estimator/path.wgsl` (checked against naga in tests/shaders.rs).
 pub const SHADOW_RAY_BYTES: u64 = 48;
 
 /// Mirror of `WaveQueues` in `shaders/wavefront.wgsl`; its first three words are the indirect
@@ -206,63 +206,6 @@ impl Wavefront {
                 mapped_at_creation: false,
             })
         })?;
-        // One submission: `record` fills its encoder's passes; with `read_length`, returns the
-        // length of the queue the submission left current.
-        let submit = |record: &dyn Fn(&mut wgpu::CommandEncoder),
-                      read_length: bool|
-         -> Result<(Duration, Option<u32>)> {
-            let started = Instant::now();
-            let (tx, rx) = std::sync::mpsc::channel();
-            ctx.scoped(|| {
-                let mut encoder = ctx.device.create_command_encoder(&Default::default());
-                record(&mut encoder);
-                if read_length {
-                    encoder.copy_buffer_to_buffer(
-                        &self.own[QUEUE_LENGTHS],
-                        WAVE_QUEUES_RAYS_OFFSET,
-                        &length,
-                        0,
-                        4,
-                    );
-                }
-                ctx.queue.submit([encoder.finish()]);
-                if read_length {
-                    length.map_async(wgpu::MapMode::Read, .., move |r| {
-                        let _ = tx.send(r);
-                    });
-                }
-            })?;
-            ctx.device
-                .poll(wgpu::PollType::wait_indefinitely())
-                .map_err(|e| GpuError::Wgpu(e.to_string()))?;
-            let elapsed = started.elapsed();
-            if !read_length {
-                return Ok((elapsed, None));
-            }
-            rx.recv()
-                .map_err(|e| GpuError::Wgpu(e.to_string()))?
-                .map_err(|e| GpuError::Wgpu(format!("reading back a queue length: {e}")))?;
-            let rays = {
-                let bytes = length
-                    .get_mapped_range(..)
-                    .map_err(|e| GpuError::Wgpu(e.to_string()))?;
-                u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
-            };
-            length.unmap();
-            Ok((elapsed, Some(rays)))
-        };
-        let pass = |encoder: &mut wgpu::CommandEncoder,
-                    stages: &[(&wgpu::ComputePipeline, Option<u32>)]| {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_bind_group(0, &self.bind_group, &[]);
-            for (pipeline, groups) in stages {
-                pass.set_pipeline(pipeline);
-                match groups {
-                    Some(groups) => pass.dispatch_workgroups(*groups, 1, 1),
-                    None => pass.dispatch_workgroups_indirect(&self.dispatch_size, 0),
-                }
-            }
-        };
         let depth_stages = [
             (p.stage("extend"), None),
             (p.stage("shade"), None),
@@ -271,7 +214,9 @@ impl Wavefront {
         ];
         let mut run = WaveRun::default();
         for depth in 0..frame.max_depth.max(1) {
-            let (elapsed, rays) = submit(
+            let (elapsed, rays) = self.submit(
+                ctx,
+                &length,
                 &|encoder| {
                     if depth == 0 {
                         ctx.queue
@@ -286,13 +231,13 @@ impl Wavefront {
                             0,
                             bytemuck::bytes_of(&queues.groups),
                         );
-                        pass(
+                        self.pass(
                             encoder,
                             &[(p.stage("generate"), Some(paths.div_ceil(WAVE_GROUP)))],
                         );
                     }
                     if frame.max_depth > 0 {
-                        pass(encoder, &depth_stages);
+                        self.pass(encoder, &depth_stages);
                         encoder.copy_buffer_to_buffer(
                             &self.own[QUEUE_LENGTHS],
                             0,
@@ -310,9 +255,11 @@ impl Wavefront {
                 break;
             }
         }
-        let (elapsed, _) = submit(
+        let (elapsed, _) = self.submit(
+            ctx,
+            &length,
             &|encoder| {
-                pass(
+                self.pass(
                     encoder,
                     &[(p.stage("finish"), Some(band.div_ceil(WAVE_GROUP)))],
                 );
@@ -321,6 +268,74 @@ impl Wavefront {
         )?;
         run.longest = run.longest.max(elapsed);
         Ok(run)
+    }
+
+    /// One submission: `record` fills its encoder's passes; with `read_length`, returns the
+    /// length of the queue the submission left current (copied into `length`).
+    fn submit(
+        &self,
+        ctx: &GpuContext,
+        length: &wgpu::Buffer,
+        record: &dyn Fn(&mut wgpu::CommandEncoder),
+        read_length: bool,
+    ) -> Result<(Duration, Option<u32>)> {
+        let started = Instant::now();
+        let (tx, rx) = std::sync::mpsc::channel();
+        ctx.scoped(|| {
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            record(&mut encoder);
+            if read_length {
+                encoder.copy_buffer_to_buffer(
+                    &self.own[QUEUE_LENGTHS],
+                    WAVE_QUEUES_RAYS_OFFSET,
+                    length,
+                    0,
+                    4,
+                );
+            }
+            ctx.queue.submit([encoder.finish()]);
+            if read_length {
+                length.map_async(wgpu::MapMode::Read, .., move |r| {
+                    let _ = tx.send(r);
+                });
+            }
+        })?;
+        ctx.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Wgpu(e.to_string()))?;
+        let elapsed = started.elapsed();
+        if !read_length {
+            return Ok((elapsed, None));
+        }
+        rx.recv()
+            .map_err(|e| GpuError::Wgpu(e.to_string()))?
+            .map_err(|e| GpuError::Wgpu(format!("reading back a queue length: {e}")))?;
+        let rays = {
+            let bytes = length
+                .get_mapped_range(..)
+                .map_err(|e| GpuError::Wgpu(e.to_string()))?;
+            u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
+        };
+        length.unmap();
+        Ok((elapsed, Some(rays)))
+    }
+
+    /// A compute pass of `stages`, each with its work-group count or (`None`) the count the
+    /// queue lengths left in `dispatch_size`.
+    fn pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        stages: &[(&wgpu::ComputePipeline, Option<u32>)],
+    ) {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        for (pipeline, groups) in stages {
+            pass.set_pipeline(pipeline);
+            match groups {
+                Some(groups) => pass.dispatch_workgroups(*groups, 1, 1),
+                None => pass.dispatch_workgroups_indirect(&self.dispatch_size, 0),
+            }
+        }
     }
 }
 

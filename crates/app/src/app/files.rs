@@ -4,9 +4,9 @@
 
 use std::path::Path;
 
-use rt_core::io::project::{self, LIGHTING_EXTENSION, Lighting, PROJECT_EXTENSION};
-use rt_core::io::{LoadOptions, SceneFormat};
 use rt_core::{Material, Scene};
+use rt_io::project::{self, LIGHTING_EXTENSION, Lighting, PROJECT_EXTENSION};
+use rt_io::{LoadOptions, SceneFormat};
 
 use super::RtApp;
 use crate::document::{Document, Origin, recommended_max_depth};
@@ -53,17 +53,17 @@ impl RtApp {
         Ok(())
     }
 
-    /// Opens a scene file with `rt_core::io::load`, the policy `rt-cli` shares, then adds the
+    /// Opens a scene file with `rt_io::load`, the policy `rt-cli` shares, then adds the
     /// editor's own defaults for a model ([`apply_editor_defaults`]).
     fn open_scene(&mut self, path: &Path) -> anyhow::Result<()> {
         let Ok(format) = SceneFormat::of(path) else {
             anyhow::bail!(
                 "unknown file type: rt opens scenes ({}), .{LIGHTING_EXTENSION} lighting files and \
                  .exr renders (into the viewer)",
-                rt_core::io::scene_extensions_listed()
+                rt_io::scene_extensions_listed()
             );
         };
-        let mut scene = rt_core::io::load(path, &LoadOptions::default())?;
+        let mut scene = rt_io::load(path, &LoadOptions::default())?;
         apply_editor_defaults(&mut scene, format);
         let origin = match format {
             SceneFormat::Project => Origin::Project(path.into()),
@@ -150,7 +150,7 @@ impl RtApp {
 
     /// Replaces a Lambertian object's texture with an image file (an undoable edit).
     pub fn set_texture_from_file(&mut self, object: usize, path: &Path) -> bool {
-        let texture = match rt_core::io::texture::load_texture(path) {
+        let texture = match rt_io::texture::load_texture(path) {
             Ok(t) => t,
             Err(e) => {
                 self.show_error(format!("Could not load the texture:\n{e}"));
@@ -181,7 +181,7 @@ impl RtApp {
     }
 }
 
-/// The editor's own choices for a model it opens, on top of `rt_core::io::load`'s policy: an OBJ
+/// The editor's own choices for a model it opens, on top of `rt_io::load`'s policy: an OBJ
 /// that brings no light gets the studio environment (a glTF's loader decides its light itself), and
 /// a model's max depth follows its materials ([`recommended_max_depth`]). They are the editor's,
 /// not the shared policy, because they would change what `rt-cli render` makes of the same file
@@ -201,7 +201,7 @@ pub fn light_with_the_default_environment(scene: &mut Scene) {
     if scene.has_emitters() || !scene.lights.is_empty() || scene.environment.is_some() {
         return;
     }
-    match rt_core::assets::default_environment() {
+    match rt_io::assets::default_environment() {
         Ok(env) => scene.environment = Some(env),
         Err(e) => log::warn!("the built-in environment did not load: {e}"),
     }

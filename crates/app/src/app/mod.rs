@@ -139,7 +139,7 @@ impl RtApp {
     /// An editor on the embedded Cornell box (or on `options.open`), without a window: the state
     /// the UI draws. `egui_ctx` lets render threads wake the UI.
     pub fn new(options: &AppOptions, egui_ctx: Option<egui::Context>) -> Self {
-        let scene = rt_core::assets::cornell_box().unwrap_or_default();
+        let scene = rt_io::assets::cornell_box().unwrap_or_default();
         let mut app = RtApp {
             doc: Document::new(scene, Origin::Embedded),
             selection: None,

@@ -1,7 +1,7 @@
 //! The menu bar and the file dialogs it opens.
 
-use rt_core::io::SCENE_EXTENSIONS;
-use rt_core::io::project::{LIGHTING_EXTENSION, PROJECT_EXTENSION};
+use rt_io::SCENE_EXTENSIONS;
+use rt_io::project::{LIGHTING_EXTENSION, PROJECT_EXTENSION};
 
 use crate::app::RtApp;
 
@@ -121,7 +121,7 @@ fn file_menu(app: &mut RtApp, ui: &mut egui::Ui) {
         .button("Open the Cornell box")
         .on_hover_text("The built-in example scene")
         .clicked()
-        && let Ok(scene) = rt_core::assets::cornell_box()
+        && let Ok(scene) = rt_io::assets::cornell_box()
     {
         app.doc = crate::document::Document::new(scene, crate::document::Origin::Embedded);
         app.select_object(None);

@@ -259,7 +259,7 @@ fn a_bare_model_is_lit_by_the_default_environment() {
     let mut scene = rt_core::Scene::default();
     rt_app::app::light_with_the_default_environment(&mut scene);
     assert!(scene.environment.is_some());
-    let mut lit = rt_core::assets::cornell_box().unwrap();
+    let mut lit = rt_io::assets::cornell_box().unwrap();
     rt_app::app::light_with_the_default_environment(&mut lit);
     assert!(
         lit.environment.is_none(),
@@ -273,7 +273,7 @@ fn a_bare_model_is_lit_by_the_default_environment() {
 #[test]
 fn editor_defaults_apply_to_models_not_projects() {
     use rt_app::app::apply_editor_defaults;
-    use rt_core::io::SceneFormat;
+    use rt_io::SceneFormat;
     let bare = rt_core::Scene::default();
     assert_eq!(bare.settings.max_depth, 8);
     let mut obj = bare.clone();

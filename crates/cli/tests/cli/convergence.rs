@@ -132,12 +132,12 @@ fn converge_writes_csv_and_plot_and_render_reads_projects() {
     assert!(std::fs::read_to_string(&svg).unwrap().contains("<polyline"));
 
     // A project with its own size and samples renders as saved.
-    let mut scene = rt_core::assets::cornell_box().unwrap();
+    let mut scene = rt_io::assets::cornell_box().unwrap();
     scene.settings.width = 24;
     scene.settings.height = 16;
     scene.settings.samples_per_pixel = 3;
     let project = dir.join("p.rtproj");
-    rt_core::io::project::save_project(&scene, &project).unwrap();
+    rt_io::project::save_project(&scene, &project).unwrap();
     let out = dir.join("p.png");
     let (code, _, stderr) = rt_cli(&[
         "render",

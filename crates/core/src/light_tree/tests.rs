@@ -1,9 +1,9 @@
 //! Unit tests of `light_tree`.
 
 use super::*;
+use crate::estimator::light_tree::{leaf_of, sample_tree, slot_importances, tree_pmf};
 use crate::material_kind::MaterialKind;
 use crate::math::rng::Rng;
-use crate::reference::light_tree::{leaf_of, sample_tree, slot_importances, tree_pmf};
 
 /// `count` emitter triangles of random size, place, facing and emission (and a non-emitter
 /// among them), with their materials; `facing` makes every normal that direction.
@@ -285,7 +285,7 @@ fn leaves(nodes: &[LightNode]) -> Vec<(u32, u32)> {
 /// slot on its way to the root has a positive importance (a spot's cones bound its falloff).
 #[test]
 fn points_and_spots_join_the_tree_with_conservative_bounds() {
-    use crate::reference::light::delta_light_incidence;
+    use crate::estimator::light::delta_light_incidence;
     let (triangles, materials) = emitters(120, None);
     let (mut emitters, _) = crate::emitters::build_emitters(&triangles, &materials);
     let lights = delta_lights(90);

@@ -95,7 +95,7 @@ mod tests {
 
     #[test]
     fn camera_moves_reuse_material_edits_restyle_and_geometry_edits_rebuild() {
-        let scene = rt_core::assets::cornell_box().unwrap();
+        let scene = rt_io::assets::cornell_box().unwrap();
         let mut cache = SceneCache::default();
         let (first, how) = cache.get(&scene).unwrap();
         assert_eq!(how, Rebuild::Geometry);

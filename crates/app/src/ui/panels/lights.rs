@@ -75,7 +75,7 @@ fn environment_rows(app: &mut RtApp, ui: &mut Ui) {
         app.doc.seal();
     }
     if builtin {
-        match rt_core::assets::default_environment() {
+        match rt_io::assets::default_environment() {
             Ok(env) => {
                 app.doc.edit("set environment", "set environment", |s| {
                     s.environment = Some(env)

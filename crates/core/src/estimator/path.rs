@@ -1,0 +1,709 @@
+//! One path's radiance, vertex by vertex, as `path.wgsl` beside it computes it (its twin):
+//! camera rays, texture lookups, the light at each vertex (`light.rs`), BSDF sampling
+//! (`surface.rs`) and Russian roulette, drawing the same random numbers in the same order.
+
+/// The WGSL twin of this module, `path.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("path.wgsl");
+
+use glam::{Vec2, Vec3};
+
+use super::hit::MISS;
+use super::light::{
+    ShadowMedia, delta_lights_at, direct_light, emitter_pdf, escaped, power_heuristic,
+};
+use super::light_tree::tree_normal_at;
+use super::surface::{PbrInputs, Surface};
+use super::texture::{Slot, base_color_texture, surface_emission, textured_pbr_inputs};
+use super::trace;
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::{
+    Frame, Hit, Medium, PbrLobe, SLOT_BASE, SLOT_CLEARCOAT_NORMAL, SLOT_NORMAL, THIN_WALLED,
+};
+use crate::material_kind::MaterialKind;
+use crate::math::dispersion::{channel_ior, pick_channel};
+use crate::math::intersect::offset_ray_origin;
+use crate::math::medium::{FAR, free_flight, is_vacuum, scattering_albedo};
+use crate::math::rng::{self, Rng};
+use crate::math::sampling::*;
+
+/// The camera ray through a jittered point of pixel (x, y): box pixel filter, thin lens when
+/// `lens_radius > 0`.
+pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) {
+    let jx = rng.next_f32();
+    let jy = rng.next_f32();
+    let sx =
+        (2.0 * (x as f32 + jx) / frame.width as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
+    let sy = (1.0 - 2.0 * (y as f32 + jy) / frame.height as f32) * frame.tan_half_vfov;
+    let (u, v, w) = (
+        Vec3::from(frame.cam_u),
+        Vec3::from(frame.cam_v),
+        Vec3::from(frame.cam_w),
+    );
+    let origin = Vec3::from(frame.cam_origin);
+    let direction = (sx * u + sy * v - w).normalize();
+    if frame.lens_radius <= 0.0 {
+        return (origin, direction);
+    }
+    let focus = origin + direction * (frame.focus_distance / direction.dot(-w));
+    let (dx, dy) = sample_disk(rng);
+    let lens_origin = origin + frame.lens_radius * (dx * u + dy * v);
+    (lens_origin, (focus - lens_origin).normalize())
+}
+
+/// The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
+pub fn vertex_color(shading: &crate::gpu_types::Shading, b: [f32; 3]) -> Vec3 {
+    let decode = |c: u32| {
+        let p = c.to_le_bytes();
+        Vec3::new(
+            srgb_to_linear(p[0] as f32 / 255.0),
+            srgb_to_linear(p[1] as f32 / 255.0),
+            srgb_to_linear(p[2] as f32 / 255.0),
+        )
+    };
+    decode(shading.c0) * b[0] + decode(shading.c1) * b[1] + decode(shading.c2) * b[2]
+}
+
+/// The shading normal a tangent-space normal map gives: texel t ∈ [0, 1]³ read as
+/// n_t = (2t − 1) with x, y scaled, in the frame (T, B = w·N×T, N) of the interpolated normal N and
+/// the barycentric blend of the corner tangents (T made orthogonal to N).
+pub fn normal_mapped(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], t: Vec3, scale: f32) -> Vec3 {
+    let Some((tangent, bitangent)) = tangent_frame(n, corners, b) else {
+        return n;
+    };
+    let m = t * 2.0 - Vec3::ONE;
+    let mapped = tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
+    let len = mapped.length();
+    if len > 0.0 { mapped / len } else { n }
+}
+
+/// The direction of anisotropy `d` (in the tangent frame: x along the tangent, y the bitangent) in
+/// world space, about the shading normal `n`, with the frame of `normal_mapped`; zero where the
+/// corners' tangents vanish.
+pub fn anisotropy_tangent(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], d: Vec3) -> Vec3 {
+    tangent_frame(n, corners, b).map_or(Vec3::ZERO, |(t, bt)| t * d.x + bt * d.y)
+}
+
+/// The tangent frame about `n` at barycentrics `b`: the blend of the corners' tangents made
+/// orthogonal to `n`, and the bitangent w·n×T; `None` where the blend vanishes.
+fn tangent_frame(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3]) -> Option<(Vec3, Vec3)> {
+    let tangent = Vec3::from_slice(&corners[0]) * b[0]
+        + Vec3::from_slice(&corners[1]) * b[1]
+        + Vec3::from_slice(&corners[2]) * b[2];
+    let tangent = (tangent - n * n.dot(tangent)).normalize_or_zero();
+    (tangent != Vec3::ZERO).then(|| (tangent, n.cross(tangent) * corners[0][3]))
+}
+
+/// The firefly clamp (`frame.clamp_max`, 0 off): light reaching the camera after `bounces`
+/// scatterings, if any, is scaled down so that its largest channel is at most the clamp; light
+/// seen directly (no bounce) stays exact. Biased: it removes energy.
+fn clamp_bounced(c: Vec3, frame: &Frame, bounces: u32) -> Vec3 {
+    let peak = c.x.max(c.y.max(c.z));
+    if bounces > 0 && frame.clamp_max > 0.0 && peak > frame.clamp_max {
+        c * (frame.clamp_max / peak)
+    } else {
+        c
+    }
+}
+
+/// One path's radiance estimate for pixel (x, y), sample `sample`.
+pub fn radiance(scene: &GpuScene, frame: &Frame, x: u32, y: u32, sample: u32) -> Vec3 {
+    trace_path(scene, frame, x, y, sample, false).radiance
+}
+
+/// Pixel (x, y)'s path of sample `sample`, traced to its end: its radiance in `radiance` and,
+/// with `guides` (the WGSL's `WRITE_AOVS`), what it hit first in `first_hit`.
+pub fn trace_path(
+    scene: &GpuScene,
+    frame: &Frame,
+    x: u32,
+    y: u32,
+    sample: u32,
+    guides: bool,
+) -> PathState {
+    let mut path = start_path(frame, x, y, sample);
+    path.first_hit = guides.then(FirstHit::default);
+    while path.depth < frame.max_depth {
+        let hit = trace(scene, path.origin, path.direction, f32::MAX);
+        path.rays += 1;
+        if !shade_vertex(scene, frame, &mut path, hit) {
+            break;
+        }
+    }
+    path
+}
+
+/// A path between two vertices: what `shade_vertex` reads and updates (the WGSL `PathState`,
+/// with the path's random numbers).
+#[derive(Clone, Copy, Debug)]
+pub struct PathState {
+    pub origin: Vec3,
+    pub direction: Vec3,
+    /// The throughput: the product of f·cosθ/p over the vertices so far.
+    pub beta: Vec3,
+    /// The hero channel a dispersive surface chose (`math::dispersion`): 0 none yet, 1–3 red,
+    /// green, blue; the path then carries that channel alone.
+    pub channel: u32,
+    pub radiance: Vec3,
+    /// Density of the BSDF sample that led here, for the MIS weight of the light it finds: 0
+    /// after the camera, a specular bounce or a transmission (`Surface::sample`: next-event
+    /// estimation takes only lights above the surface).
+    pub prev_bsdf_pdf: f32,
+    /// The last vertex's normal as the light tree weighs lights with it
+    /// (`light_tree::tree_normal_at`).
+    pub tree_normal: u32,
+    /// The media the path is in (`media_top`, `media_enter`, `media_leave`).
+    pub media: u32,
+    /// The product of η² over the interfaces the path refracted through: refraction scales
+    /// radiance by 1/η², which moves radiance without losing energy, so Russian roulette judges
+    /// β · `eta_scale` (a path inside glass is not dimmer than it carries).
+    pub eta_scale: f32,
+    /// Segments traced so far (0: the camera ray).
+    pub depth: u32,
+    pub rng: Rng,
+    /// The denoiser's guides of this sample, set at the first vertex when recorded (`Some`; the
+    /// WGSL `aov_*` under `WRITE_AOVS`): the first hit's albedo and normal (facing the camera),
+    /// and the light seen directly there. Zero where the camera ray escapes (the sky it sees is
+    /// the emission).
+    pub first_hit: Option<FirstHit>,
+    /// Rays traced so far, extension and shadow rays (the kernels' `COUNT_RAYS` tally).
+    pub rays: u32,
+}
+
+/// What the camera ray finds first, for the denoiser's guides.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FirstHit {
+    pub albedo: Vec3,
+    pub normal: Vec3,
+    pub emission: Vec3,
+}
+
+/// The camera ray of pixel (x, y), sample `sample` (the WGSL `start_path`).
+pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
+    let kind = if frame.sampler == 1 {
+        rng::SamplerKind::Sobol
+    } else {
+        rng::SamplerKind::Independent
+    };
+    let mut rng = Rng::with_sampler(y * frame.width + x, sample, frame.seed, kind);
+    let (origin, direction) = camera_ray(frame, x, y, &mut rng);
+    PathState {
+        origin,
+        direction,
+        beta: Vec3::ONE,
+        channel: 0,
+        radiance: Vec3::ZERO,
+        prev_bsdf_pdf: 0.0,
+        tree_normal: 0,
+        media: frame.camera_media,
+        eta_scale: 1.0,
+        depth: 0,
+        rng,
+        first_hit: None,
+        rays: 0,
+    }
+}
+
+/// The medium a path is in, as an id: 0 the scene's fog (`Frame::fog`, vacuum without fog), m + 1
+/// the interior of material m (`Material::medium`). The path keeps a stack of two in `media`, 16
+/// bits each, the innermost low: transmission into a closed surface enters its material's
+/// medium, transmission out of it leaves it, so a liquid in a glass in fog comes out right; a
+/// third level drops the outermost.
+pub fn media_top(media: u32) -> u32 {
+    media & 0xffff
+}
+
+/// The stack after entering material `material`'s interior (materials past 65,534 have none).
+pub fn media_enter(media: u32, material: u32) -> u32 {
+    if material >= 0xffff {
+        return media;
+    }
+    (media << 16) | (material + 1)
+}
+
+/// The stack after leaving material `material`'s interior: the entry removed wherever it is (a
+/// path may leave an inner volume through an outer one's surface); unchanged if the path never
+/// entered it (it started inside).
+pub fn media_leave(media: u32, material: u32) -> u32 {
+    let id = material + 1;
+    if media & 0xffff == id {
+        media >> 16
+    } else if media >> 16 == id {
+        media & 0xffff
+    } else {
+        media
+    }
+}
+
+/// The medium of id `id` (`media_top`).
+pub fn medium_of(scene: &GpuScene, frame: &Frame, id: u32) -> Medium {
+    if id == 0 {
+        frame.fog
+    } else {
+        scene.materials[id as usize - 1].medium
+    }
+}
+
+/// One path vertex at `hit` (the WGSL `shade_vertex`): the light reaching the camera from there
+/// (emission, or the sky on a miss; next-event estimation and the delta lights at a scattering
+/// vertex) added to `path.radiance`, then the next direction sampled, the throughput updated and
+/// Russian roulette played. Returns whether the path goes on.
+pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit) -> bool {
+    let lights_sampled =
+        frame.emitter_count > 0 || frame.env_pick > 0.0 || frame.light_sampler == 1;
+    // Whether the scene has media at all (the kernels' `HAS_MEDIA`): without, none of their
+    // bookkeeping is done.
+    let media_on = scene.features.media || !is_vacuum(&frame.fog);
+    // The segment just traced crossed the medium the path is in: free flight decides whether it
+    // scattered on the way (a vertex in the medium) or reached the hit, dimmed.
+    let inside = media_top(path.media);
+    let medium = if media_on {
+        medium_of(scene, frame, inside)
+    } else {
+        Medium::default()
+    };
+    if media_on && !is_vacuum(&medium) {
+        let t_max = if hit.triangle == MISS { FAR } else { hit.t };
+        let flight = free_flight(&medium, t_max, &mut path.rng);
+        path.beta *= flight.weight;
+        if flight.scattered {
+            let p = path.origin + path.direction * flight.t;
+            return scatter_in_medium(scene, frame, path, p, &medium, lights_sampled);
+        }
+    }
+    if hit.triangle == MISS {
+        let sky = path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf);
+        path.radiance += clamp_bounced(sky, frame, path.depth);
+        if path.depth == 0
+            && let Some(f) = path.first_hit.as_mut()
+        {
+            f.emission = sky;
+        }
+        return false;
+    }
+    let tri = &scene.triangles[hit.triangle as usize];
+    let material = &scene.materials[tri.material as usize];
+    let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+    let ng_raw = (v1 - v0).cross(v2 - v0);
+    let front = path.direction.dot(ng_raw) < 0.0;
+    if front {
+        add_emission(scene, frame, path, hit, ng_raw);
+    }
+    if path.depth == 0
+        && let Some(f) = path.first_hit.as_mut()
+    {
+        f.albedo = first_hit_albedo(scene, material, tri, hit);
+        let n = ng_raw.normalize();
+        f.normal = if front { n } else { -n };
+    }
+    if material.kind == MaterialKind::Emissive.tag() || path.depth + 1 >= frame.max_depth {
+        return false;
+    }
+    let b0 = 1.0 - hit.b1 - hit.b2;
+    let p = v0 * b0 + v1 * hit.b1 + v2 * hit.b2;
+    let ng = if front {
+        ng_raw.normalize()
+    } else {
+        -ng_raw.normalize()
+    };
+    let mut ns = ng;
+    let mut n_interpolated = ng;
+    if tri.has_normals & crate::gpu_types::HAS_NORMALS != 0 {
+        let shading = &scene.shading[hit.triangle as usize];
+        let n = Vec3::from(shading.n0) * b0
+            + Vec3::from(shading.n1) * hit.b1
+            + Vec3::from(shading.n2) * hit.b2;
+        n_interpolated = n.normalize();
+        ns = if n_interpolated.dot(ng) < 0.0 {
+            -n_interpolated
+        } else {
+            n_interpolated
+        };
+    }
+    let uv = (tri.has_uvs != 0).then(|| {
+        let shading = &scene.shading[hit.triangle as usize];
+        Vec2::from(shading.uv0) * b0
+            + Vec2::from(shading.uv1) * hit.b1
+            + Vec2::from(shading.uv2) * hit.b2
+    });
+    let color = match uv {
+        Some(uv) if !material.texture(SLOT_BASE).is_empty() => {
+            base_color_texture(scene, material, uv)
+        }
+        _ => Vec3::from(material.color),
+    };
+    let color = if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
+        color * vertex_color(&scene.shading[hit.triangle as usize], [b0, hit.b1, hit.b2])
+    } else {
+        color
+    };
+    let mut inputs = PbrInputs::default();
+    if material.kind == MaterialKind::Pbr.tag() {
+        inputs = pbr_inputs_at(
+            scene,
+            material,
+            tri,
+            hit,
+            uv,
+            n_interpolated,
+            ng,
+            &mut ns,
+            path,
+        );
+    }
+    let surface = Surface::of_material(
+        scene,
+        material,
+        color,
+        &inputs,
+        path.direction,
+        ng,
+        ns,
+        front,
+    );
+    if frame.light_sampler == 1 {
+        path.tree_normal = tree_normal_at(ng, surface.lit_through());
+    }
+    // Beyond a closed surface lies its interior (entered from the front) or what the path was in
+    // before it (left from the back); a thin sheet has the same medium on both sides.
+    let thin = material.flags & THIN_WALLED != 0;
+    let mut media = ShadowMedia::default();
+    if media_on {
+        let beyond = if thin {
+            inside
+        } else if front {
+            tri.material + 1
+        } else {
+            media_top(media_leave(path.media, tri.material))
+        };
+        media = ShadowMedia {
+            above: Vec3::from(medium.sigma_t),
+            below: Vec3::from(medium_of(scene, frame, beyond).sigma_t),
+        };
+    }
+    if !surface.is_delta() {
+        add_light_at(scene, frame, path, p, ng, &surface, &media, lights_sampled);
+    }
+    let next = NextVertex {
+        p,
+        ng,
+        front,
+        thin,
+        material: tri.material,
+    };
+    continue_from_surface(frame, path, &surface, next, media_on)
+}
+
+/// The light a front face at `hit` emits toward the path (the WGSL `add_emission`), weighted by
+/// multiple importance sampling against next-event estimation where that could have found it,
+/// added to the path's radiance (and to the first hit's emission).
+fn add_emission(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit, ng_raw: Vec3) {
+    let tri = &scene.triangles[hit.triangle as usize];
+    let material = &scene.materials[tri.material as usize];
+    let cos_out = -path.direction.dot(ng_raw.normalize());
+    let le = surface_emission(
+        scene,
+        material,
+        tri,
+        hit.triangle,
+        (hit.b1, hit.b2),
+        cos_out,
+    );
+    let mut weight = 1.0;
+    if frame.emitter_count > 0 && path.prev_bsdf_pdf > 0.0 && le != Vec3::ZERO {
+        let cos_l = -path.direction.dot(ng_raw.normalize());
+        // Next-event estimation's pdf, from the same origin (a reflected ray leaves from
+        // where the shadow rays left), by the emission factor whatever the image.
+        let p_light = emitter_pdf(
+            scene,
+            frame,
+            hit.triangle,
+            path.origin,
+            path.tree_normal,
+            hit.t,
+            cos_l,
+        );
+        weight = if frame.nee_only == 1 {
+            0.0
+        } else {
+            power_heuristic(path.prev_bsdf_pdf, p_light)
+        };
+    }
+    let emitted = path.beta * le * weight;
+    path.radiance += clamp_bounced(emitted, frame, path.depth);
+    if path.depth == 0
+        && let Some(f) = path.first_hit.as_mut()
+    {
+        f.emission = emitted;
+    }
+}
+
+/// The PBR material's inputs at `hit` (the WGSL `pbr_inputs_at`): its textures, its normal maps
+/// (`ns`, the shading normal, follows the base's), the channel a dispersive volume keeps, and the
+/// tangent its anisotropy turns about.
+#[allow(clippy::too_many_arguments)]
+fn pbr_inputs_at(
+    scene: &GpuScene,
+    material: &crate::gpu_types::Material,
+    tri: &crate::gpu_types::Triangle,
+    hit: Hit,
+    uv: Option<Vec2>,
+    n_interpolated: Vec3,
+    ng: Vec3,
+    ns: &mut Vec3,
+    path: &mut PathState,
+) -> PbrInputs {
+    let b0 = 1.0 - hit.b1 - hit.b2;
+    let lobe = material.lobe_of::<PbrLobe>();
+    let mut inputs = match uv {
+        Some(uv) => textured_pbr_inputs(scene, material, uv),
+        None => PbrInputs::of_lobe(&lobe),
+    };
+    // The normal a tangent-space map in `slot` gives, facing the ray.
+    let mapped = |slot: u32, scale: f32| {
+        let uv = uv?;
+        if material.texture(slot).is_empty() || tri.has_normals & crate::gpu_types::HAS_NORMALS == 0
+        {
+            return None;
+        }
+        let t = Slot::of(material, slot).sample(scene, uv, false).truncate();
+        let i = 3 * hit.triangle as usize;
+        let corners = [
+            scene.tangents[i],
+            scene.tangents[i + 1],
+            scene.tangents[i + 2],
+        ];
+        let n = normal_mapped(n_interpolated, corners, [b0, hit.b1, hit.b2], t, scale);
+        Some(if n.dot(ng) < 0.0 { -n } else { n })
+    };
+    // The coat ignores the base's normal map (glTF): its own map, else the smooth normal.
+    inputs.coat_normal = mapped(SLOT_CLEARCOAT_NORMAL, lobe.clearcoat_normal_scale).unwrap_or(*ns);
+    if let Some(n) = mapped(SLOT_NORMAL, lobe.normal_scale) {
+        *ns = n;
+    }
+    // A dispersive volume: the path keeps one channel, refracting at its wavelength.
+    if lobe.dispersion > 0.0
+        && lobe.transmission > 0.0
+        && material.flags & crate::gpu_types::THIN_WALLED == 0
+    {
+        if path.channel == 0 {
+            let (channel, mask) = pick_channel(path.rng.next_f32());
+            path.channel = channel;
+            path.beta *= mask;
+        }
+        inputs.ior = channel_ior(lobe.ior, lobe.dispersion, path.channel);
+    }
+    if inputs.anisotropy > 0.0 {
+        inputs.anisotropy_direction = if material.flags & crate::gpu_types::TANGENTS != 0
+            && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
+        {
+            let i = 3 * hit.triangle as usize;
+            let corners = [
+                scene.tangents[i],
+                scene.tangents[i + 1],
+                scene.tangents[i + 2],
+            ];
+            anisotropy_tangent(
+                *ns,
+                corners,
+                [b0, hit.b1, hit.b2],
+                inputs.anisotropy_direction,
+            )
+        } else {
+            Vec3::ZERO
+        };
+    }
+    inputs
+}
+
+/// Where a surface vertex lies (for the step past it): the point, the normal facing the ray,
+/// which face was hit, whether the surface is a thin sheet, and its material's index (the medium
+/// it closes).
+struct NextVertex {
+    p: Vec3,
+    ng: Vec3,
+    front: bool,
+    thin: bool,
+    material: u32,
+}
+
+/// Past a surface vertex `at` (the WGSL `continue_from_surface`): samples the next direction from
+/// `surface`, updates the throughput (and the relative index roulette undoes), plays Russian
+/// roulette, follows the medium stack through a closed surface, and sets the next ray. Returns
+/// whether the path goes on.
+fn continue_from_surface(
+    frame: &Frame,
+    path: &mut PathState,
+    surface: &Surface,
+    at: NextVertex,
+    media_on: bool,
+) -> bool {
+    let Some(sample) = surface.sample(path.direction, at.ng, &mut path.rng) else {
+        return false;
+    };
+    path.beta *= sample.weight;
+    path.prev_bsdf_pdf = sample.pdf;
+    let next = sample.direction;
+    let side = next.dot(at.ng);
+    if side == 0.0 || !next.is_finite() {
+        return false;
+    }
+    // Transmission continues below the surface, reflection above it.
+    let transmitted = side < 0.0;
+    if transmitted && !surface.transmits() {
+        return false;
+    }
+    if transmitted && !at.thin {
+        let eta = surface.relative_eta();
+        path.eta_scale *= eta * eta;
+    }
+    if !survives_roulette(frame, path) {
+        return false;
+    }
+    if media_on && transmitted && !at.thin {
+        path.media = if at.front {
+            media_enter(path.media, at.material)
+        } else {
+            media_leave(path.media, at.material)
+        };
+    }
+    path.origin = offset_ray_origin(
+        at.p,
+        if transmitted { -at.ng } else { at.ng },
+        frame.offset_scale,
+    );
+    path.direction = next;
+    path.depth += 1;
+    true
+}
+
+/// The light a scattering vertex at `p` (normal `ng`, 0 in a medium) receives directly: next-event
+/// estimation and the delta lights, times the path's throughput, added to its radiance.
+#[allow(clippy::too_many_arguments)]
+fn add_light_at(
+    scene: &GpuScene,
+    frame: &Frame,
+    path: &mut PathState,
+    p: Vec3,
+    ng: Vec3,
+    surface: &Surface,
+    media: &ShadowMedia,
+    lights_sampled: bool,
+) {
+    if lights_sampled {
+        let direct = path.beta
+            * direct_light(
+                scene,
+                frame,
+                p,
+                ng,
+                surface,
+                media,
+                &mut path.rng,
+                &mut path.rays,
+            );
+        path.radiance += clamp_bounced(direct, frame, path.depth + 1);
+    }
+    let delta = path.beta * delta_lights_at(scene, frame, p, ng, surface, media, &mut path.rays);
+    path.radiance += clamp_bounced(delta, frame, path.depth + 1);
+}
+
+/// Russian roulette: the path continues with probability q = min(1, max(β · η²)), re-weighted by
+/// 1/q (unbiased for any q > 0; `eta_scale` undoes refraction's 1/η², as pbrt-v4 and Mitsuba 3
+/// do, so that paths inside glass are not killed for a dimming they will undo on the way out).
+fn survives_roulette(frame: &Frame, path: &mut PathState) -> bool {
+    if frame.roulette_from_depth > 0 && path.depth >= frame.roulette_from_depth {
+        let survive = (path.beta * path.eta_scale).max_element().min(1.0);
+        if path.rng.next_f32() >= survive {
+            return false;
+        }
+        path.beta /= survive;
+    }
+    true
+}
+
+/// A scattering in `medium` at `p`, where the path's free flight ended (`math::medium`): the light
+/// arriving there directly (the phase function for BSDF, shadow rays dimmed by the medium), then a
+/// direction drawn from the phase function. Counts as a vertex for `max_depth`, as in Mitsuba's
+/// `volpath`. Returns whether the path goes on.
+fn scatter_in_medium(
+    scene: &GpuScene,
+    frame: &Frame,
+    path: &mut PathState,
+    p: Vec3,
+    medium: &Medium,
+    lights_sampled: bool,
+) -> bool {
+    // The denoiser's guides where the camera ray scatters first: the medium's albedo, and a normal
+    // facing back along the ray.
+    if path.depth == 0
+        && let Some(f) = path.first_hit.as_mut()
+    {
+        f.albedo = scattering_albedo(medium);
+        f.normal = -path.direction;
+    }
+    if path.depth + 1 >= frame.max_depth {
+        return false;
+    }
+    let phase = Surface::Phase {
+        direction: path.direction,
+        g: medium.anisotropy,
+    };
+    // No normal: lights on every side, none favoured by the tree.
+    if frame.light_sampler == 1 {
+        path.tree_normal = tree_normal_at(Vec3::ZERO, true);
+    }
+    let sigma = Vec3::from(medium.sigma_t);
+    let media = ShadowMedia {
+        above: sigma,
+        below: sigma,
+    };
+    add_light_at(
+        scene,
+        frame,
+        path,
+        p,
+        Vec3::ZERO,
+        &phase,
+        &media,
+        lights_sampled,
+    );
+    let Some(sample) = phase.sample(path.direction, Vec3::ZERO, &mut path.rng) else {
+        return false;
+    };
+    path.beta *= sample.weight;
+    path.prev_bsdf_pdf = sample.pdf;
+    if !sample.direction.is_finite() || !survives_roulette(frame, path) {
+        return false;
+    }
+    path.origin = p;
+    path.direction = sample.direction;
+    path.depth += 1;
+    true
+}
+
+/// The denoiser's albedo guide at a first hit: an emitter's colour scaled to a peak of 1, else the
+/// surface's colour with its base colour image and vertex colours.
+fn first_hit_albedo(
+    scene: &GpuScene,
+    material: &crate::gpu_types::Material,
+    tri: &crate::gpu_types::Triangle,
+    hit: Hit,
+) -> Vec3 {
+    if material.kind == MaterialKind::Emissive.tag() {
+        let e = Vec3::from(material.emission);
+        return e / e.max_element().max(1e-6);
+    }
+    let shading = || &scene.shading[hit.triangle as usize];
+    let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+    let mut a = Vec3::from(material.color);
+    if !material.texture(SLOT_BASE).is_empty() && tri.has_uvs != 0 {
+        let s = shading();
+        let uv = Vec2::from(s.uv0) * b[0] + Vec2::from(s.uv1) * b[1] + Vec2::from(s.uv2) * b[2];
+        a = base_color_texture(scene, material, uv);
+    }
+    if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
+        a *= vertex_color(shading(), b);
+    }
+    a
+}

@@ -1,0 +1,157 @@
+//! The glTF file's bytes: buffers from the GLB chunk, data URIs or files beside it, and the checks
+//! that every accessor reads what it is used for and stays inside its view and buffer.
+
+use std::path::{Path, PathBuf};
+
+use rt_core::error::Result;
+
+/// Reads what a URI names: a base64 data URI or a file relative to `base` (percent-decoded).
+pub(super) fn read_uri(
+    uri: &str,
+    base: &Path,
+    read_file: &dyn Fn(&Path) -> Result<Vec<u8>>,
+) -> std::result::Result<Vec<u8>, String> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (header, data) = rest
+            .split_once(',')
+            .ok_or_else(|| "a data URI without a comma".to_string())?;
+        if !header.ends_with(";base64") {
+            return Err("a data URI that is not base64".into());
+        }
+        use base64::Engine as _;
+        return base64::engine::general_purpose::STANDARD
+            .decode(data)
+            .map_err(|e| format!("a data URI that is not valid base64: {e}"));
+    }
+    if uri.contains("://") {
+        return Err(format!("'{uri}' is not a local file"));
+    }
+    let relative = percent_decode(uri);
+    let file: PathBuf = base.join(relative);
+    read_file(&file).map_err(|e| e.to_string())
+}
+
+fn percent_decode(s: &str) -> String {
+    let bytes = s.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%'
+            && i + 2 < bytes.len()
+            && let Some(v) = std::str::from_utf8(&bytes[i + 1..i + 3])
+                .ok()
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+        {
+            out.push(v);
+            i += 3;
+            continue;
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+pub(super) fn load_buffers(
+    doc: &gltf::Document,
+    blob: Option<&[u8]>,
+    base: &Path,
+    read_file: &dyn Fn(&Path) -> Result<Vec<u8>>,
+) -> std::result::Result<Vec<Vec<u8>>, String> {
+    let mut out = Vec::with_capacity(doc.buffers().len());
+    for buffer in doc.buffers() {
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob
+                .ok_or_else(|| {
+                    format!(
+                        "buffer {} refers to a GLB chunk the file lacks",
+                        buffer.index()
+                    )
+                })?
+                .to_vec(),
+            gltf::buffer::Source::Uri(uri) => read_uri(uri, base, read_file)
+                .map_err(|e| format!("buffer {}: {e}", buffer.index()))?,
+        };
+        if data.len() < buffer.length() {
+            return Err(format!(
+                "buffer {} has {} bytes but declares {}",
+                buffer.index(),
+                data.len(),
+                buffer.length()
+            ));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// What an attribute's accessor may hold.
+#[derive(Clone, Copy)]
+pub(super) enum Expect {
+    Vec3F32,
+    Uv,
+    Indices,
+    Color,
+}
+
+/// Checks that `accessor` holds what `expect` says and that every byte it reads lies inside its
+/// view and buffer (the gltf crate's readers assume both).
+pub(super) fn check_accessor(
+    accessor: &gltf::Accessor,
+    buffers: &[Vec<u8>],
+    expect: Expect,
+) -> std::result::Result<(), String> {
+    use gltf::accessor::{DataType as T, Dimensions as D};
+    let what = || format!("accessor {}", accessor.index());
+    let (ty, dims) = (accessor.data_type(), accessor.dimensions());
+    let ok = match expect {
+        Expect::Vec3F32 => ty == T::F32 && dims == D::Vec3,
+        Expect::Uv => matches!(ty, T::F32 | T::U8 | T::U16) && dims == D::Vec2,
+        Expect::Indices => matches!(ty, T::U8 | T::U16 | T::U32) && dims == D::Scalar,
+        Expect::Color => matches!(ty, T::F32 | T::U8 | T::U16) && matches!(dims, D::Vec3 | D::Vec4),
+    };
+    if !ok {
+        return Err(format!(
+            "{}: {dims:?} of {ty:?} is not what it is used for",
+            what()
+        ));
+    }
+    if accessor.count() == 0 {
+        return Err(format!("{} is empty", what()));
+    }
+    if accessor.sparse().is_some() {
+        return Err(format!("{}: sparse accessors are not supported", what()));
+    }
+    let Some(view) = accessor.view() else {
+        return Err(format!("{} has no buffer view", what()));
+    };
+    let buffer = &buffers[view.buffer().index()];
+    let view_end = (view.offset() as u64) + (view.length() as u64);
+    if view_end > buffer.len() as u64 {
+        return Err(format!(
+            "buffer view {} ends at byte {view_end}, past its buffer's {} bytes",
+            view.index(),
+            buffer.len()
+        ));
+    }
+    let count = accessor.count() as u64;
+    let size = accessor.size() as u64;
+    let stride = view.stride().map_or(size, |s| s as u64);
+    if stride < size {
+        return Err(format!(
+            "buffer view {}: stride {stride} is shorter than {}'s {size}-byte elements",
+            view.index(),
+            what()
+        ));
+    }
+    let needed = accessor.offset() as u64 + stride * (count - 1) + size;
+    if needed > view.length() as u64 {
+        return Err(format!(
+            "{} needs {needed} bytes of buffer view {}, which has {}",
+            what(),
+            view.index(),
+            view.length()
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,132 @@
+//! Mesh primitives onto shared meshes: triangles, strips and fans, positions, normals, the first UV
+//! set (with the base colour texture's transform baked in) and vertex colours.
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+
+use super::Loader;
+use super::buffers::{Expect, check_accessor};
+use rt_core::scene::Mesh;
+
+impl Loader<'_> {
+    pub(super) fn mesh(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+    ) -> std::result::Result<Arc<Mesh>, String> {
+        let key = (mesh.index(), primitive.index());
+        if let Some(m) = self.meshes.get(&key) {
+            return Ok(m.clone());
+        }
+        let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
+        use gltf::mesh::Mode;
+        let mode = primitive.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            return Err(format!(
+                "{at}: primitive mode {mode:?} is not made of triangles (rt renders surfaces)"
+            ));
+        }
+        let positions_accessor = primitive
+            .get(&gltf::Semantic::Positions)
+            .ok_or_else(|| format!("{at} has no POSITION attribute"))?;
+        check_accessor(&positions_accessor, self.buffers, Expect::Vec3F32)
+            .map_err(|e| format!("{at}: {e}"))?;
+        for (semantic, expect) in [
+            (gltf::Semantic::Normals, Expect::Vec3F32),
+            (gltf::Semantic::TexCoords(0), Expect::Uv),
+            (gltf::Semantic::Colors(0), Expect::Color),
+        ] {
+            if let Some(a) = primitive.get(&semantic) {
+                check_accessor(&a, self.buffers, expect).map_err(|e| format!("{at}: {e}"))?;
+            }
+        }
+        if let Some(a) = primitive.indices() {
+            check_accessor(&a, self.buffers, Expect::Indices).map_err(|e| format!("{at}: {e}"))?;
+        }
+        let reader = primitive.reader(|b| self.buffers.get(b.index()).map(Vec::as_slice));
+        let positions: Vec<Vec3> = reader
+            .read_positions()
+            .ok_or_else(|| format!("{at}: unreadable POSITION"))?
+            .map(Vec3::from)
+            .collect();
+        if let Some(bad) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(format!("{at}: vertex {bad} is not finite"));
+        }
+        let n = positions.len();
+        let normals: Option<Vec<Vec3>> = reader
+            .read_normals()
+            .map(|it| it.map(Vec3::from).collect::<Vec<_>>())
+            .filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
+        let uv_transform = uv_transform_of(&primitive.material());
+        let uvs: Option<Vec<Vec2>> = reader
+            .read_tex_coords(0)
+            .map(|t| {
+                t.into_f32()
+                    .map(|uv| {
+                        let [u, v] = uv_transform(uv);
+                        Vec2::new(u, 1.0 - v)
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
+        let colors: Option<Vec<Vec3>> = reader
+            .read_colors(0)
+            .map(|c| c.into_rgb_f32().map(Vec3::from).collect::<Vec<_>>())
+            .filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
+        let flat: Vec<u32> = match reader.read_indices() {
+            Some(i) => i.into_u32().collect(),
+            None => (0..n as u32).collect(),
+        };
+        if let Some(bad) = flat.iter().find(|&&i| i as usize >= n) {
+            return Err(format!("{at}: index {bad} is past its {n} vertices"));
+        }
+        let indices: Vec<[u32; 3]> = match mode {
+            Mode::Triangles => flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+            Mode::TriangleStrip => (2..flat.len())
+                .map(|i| {
+                    if i % 2 == 0 {
+                        [flat[i - 2], flat[i - 1], flat[i]]
+                    } else {
+                        [flat[i - 1], flat[i - 2], flat[i]]
+                    }
+                })
+                .collect(),
+            _ => (2..flat.len())
+                .map(|i| [flat[0], flat[i - 1], flat[i]])
+                .collect(),
+        };
+        let mesh = Arc::new(Mesh {
+            positions,
+            normals,
+            uvs,
+            colors,
+            indices,
+        });
+        self.meshes.insert(key, mesh.clone());
+        Ok(mesh)
+    }
+}
+
+/// The base colour texture's `KHR_texture_transform` (glTF's uv' = T·R·S·uv, in glTF's v-down
+/// space), baked into the mesh's UVs: rt's textures share one UV set per mesh.
+fn uv_transform_of(m: &gltf::Material) -> impl Fn([f32; 2]) -> [f32; 2] + use<> {
+    let t = m
+        .pbr_metallic_roughness()
+        .base_color_texture()
+        .and_then(|i| i.texture_transform())
+        .map(|t| (t.offset(), t.rotation(), t.scale()));
+    move |[u, v]| match t {
+        Some((offset, rotation, scale))
+            if offset.iter().chain(&scale).all(|x| x.is_finite()) && rotation.is_finite() =>
+        {
+            let (su, sv) = (u * scale[0], v * scale[1]);
+            let (s, c) = rotation.sin_cos();
+            [c * su + s * sv + offset[0], -s * su + c * sv + offset[1]]
+        }
+        _ => [u, v],
+    }
+}

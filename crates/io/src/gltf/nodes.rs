@@ -1,0 +1,101 @@
+//! The node hierarchy: each node's world transform, its mesh primitives as objects, the first
+//! perspective camera and its punctual light.
+
+use glam::{Mat4, Vec3};
+
+use super::Loader;
+use super::lights::light_of;
+use rt_core::scene::{Object, Transform};
+
+/// Node trees deeper than this are refused (real files nest a few dozen levels).
+const MAX_NODE_DEPTH: usize = 1024;
+
+impl Loader<'_> {
+    pub(super) fn visit(
+        &mut self,
+        node: &gltf::Node,
+        parent: Mat4,
+        stack: &mut Vec<usize>,
+    ) -> std::result::Result<(), String> {
+        if stack.contains(&node.index()) {
+            return Err(format!("node {} is its own ancestor", node.index()));
+        }
+        if stack.len() >= MAX_NODE_DEPTH {
+            return Err(format!("nodes nest deeper than {MAX_NODE_DEPTH} levels"));
+        }
+        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        let world = parent * local;
+        if !world.is_finite() {
+            return Err(format!(
+                "node {}: its transform is not finite",
+                node.index()
+            ));
+        }
+        stack.push(node.index());
+        let name = node
+            .name()
+            .map(str::to_string)
+            .unwrap_or_else(|| format!("node {}", node.index()));
+        if let Some(mesh) = node.mesh() {
+            for primitive in mesh.primitives() {
+                let m = self.mesh(&mesh, &primitive)?;
+                let material = self.material(&primitive.material())?;
+                let object_name = if mesh.primitives().len() > 1 {
+                    format!("{name} ({})", primitive.index())
+                } else {
+                    name.clone()
+                };
+                self.objects.push(Object {
+                    name: object_name,
+                    mesh: m,
+                    material,
+                    transform: transform_of(world),
+                });
+            }
+        }
+        if let Some(camera) = node.camera()
+            && self.camera.is_none()
+        {
+            match camera.projection() {
+                gltf::camera::Projection::Perspective(p) => {
+                    let from = world.transform_point3(Vec3::ZERO);
+                    let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+                    let up = world.transform_vector3(Vec3::Y).normalize_or_zero();
+                    self.camera = Some((
+                        rt_core::camera::Camera {
+                            from: from.to_array(),
+                            to: (from + forward).to_array(),
+                            up: up.to_array(),
+                            vfov_deg: p.yfov().to_degrees(),
+                            ..Default::default()
+                        },
+                        p.aspect_ratio(),
+                    ));
+                }
+                gltf::camera::Projection::Orthographic(_) => log::warn!(
+                    "{}: {name} has an orthographic camera, which rt cannot use",
+                    self.path.display()
+                ),
+            }
+        }
+        if let Some(light) = node.light() {
+            self.lights.push(light_of(&light, world, &name));
+        }
+        for child in node.children() {
+            self.visit(&child, world, stack)?;
+        }
+        stack.pop();
+        Ok(())
+    }
+}
+
+/// rt's TRS of a node's world matrix (shear, which TRS cannot hold, is dropped).
+fn transform_of(world: Mat4) -> Transform {
+    let (scale, rotation, translation) = world.to_scale_rotation_translation();
+    let (x, y, z) = rotation.to_euler(glam::EulerRot::XYZ);
+    Transform {
+        translation: translation.to_array(),
+        rotation_deg: [x.to_degrees(), y.to_degrees(), z.to_degrees()],
+        scale: scale.to_array(),
+    }
+}

@@ -1,0 +1,185 @@
+//! The one way rt turns a scene file into a [`Scene`], for every caller: the editor (File ▸ Open,
+//! dropped files, recent files), `rt-cli` (render, info, converge, ...) and the benchmark.
+
+use std::path::Path;
+
+use super::{gltf, obj, project};
+use rt_core::error::{Error, Result};
+use rt_core::scene::Scene;
+
+/// The extensions of the scene files rt reads, lowercase, without the dot.
+pub const SCENE_EXTENSIONS: &[&str] = &["obj", "gltf", "glb", project::PROJECT_EXTENSION];
+
+/// What a caller may choose about loading; the default suits a user opening a file.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Seed for the colours of OBJ objects without a material.
+    pub seed: u32,
+    /// Which of a glTF file's scenes to load (its default scene when `None`); an error for any
+    /// other kind of file.
+    pub gltf_scene: Option<usize>,
+}
+
+/// The kinds of scene file, told apart by extension (in any case).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneFormat {
+    /// Wavefront OBJ with its MTL and textures.
+    Obj,
+    /// glTF 2.0, `.gltf` or `.glb`.
+    Gltf,
+    /// An rt project (`.rtproj`).
+    Project,
+}
+
+impl SceneFormat {
+    /// The format of `path` by its extension, or an error naming the extensions rt reads.
+    pub fn of(path: &Path) -> Result<SceneFormat> {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match extension.as_str() {
+            "obj" => Ok(SceneFormat::Obj),
+            "gltf" | "glb" => Ok(SceneFormat::Gltf),
+            e if e == project::PROJECT_EXTENSION => Ok(SceneFormat::Project),
+            _ => {
+                let what = match extension.as_str() {
+                    "" => "(no extension)".to_string(),
+                    e => format!("'.{e}'"),
+                };
+                Err(Error::File {
+                    path: path.into(),
+                    message: format!(
+                        "unknown scene type {what}: rt reads {}",
+                        scene_extensions_listed()
+                    ),
+                })
+            }
+        }
+    }
+
+    /// A model made elsewhere (OBJ, glTF), as opposed to a project rt saved.
+    pub fn is_model(self) -> bool {
+        self != SceneFormat::Project
+    }
+}
+
+/// ".obj, .gltf, .glb, .rtproj", for messages.
+pub fn scene_extensions_listed() -> String {
+    SCENE_EXTENSIONS
+        .iter()
+        .map(|e| format!(".{e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Loads the scene file at `path`, by its extension (in any case), with one policy for all
+/// callers:
+/// - `.obj`: the file, with `options.seed` for the colours of objects without a material, framed
+///   for viewing ([`Scene::frame_for_viewing`]: the camera shows the whole model, and a model
+///   without emitters gets a grey ambient), since an OBJ has no camera and no light of its own.
+/// - `.gltf`, `.glb`: the scene `options.gltf_scene` (the file's default one when `None`); the
+///   glTF loader frames a file without a camera and lights one without light
+///   ([`gltf::load_gltf`]).
+/// - `.rtproj`: the project exactly as saved; no policy applies to what a user has set up.
+/// - anything else: an error naming the extensions rt reads, never a guess at the format.
+///
+/// Two editor choices stay out of this policy, because they would change what `rt-cli render`
+/// makes of the same file: the studio environment for a model that brings no light (the CLI
+/// lights it only on `--environment default`, so `--ambient 0,0,0` stays black) and a max depth
+/// chosen by material (the CLI keeps the settings' default, 8, unless `--max-depth` says
+/// otherwise). The editor applies them after this, to models only.
+pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene> {
+    if path.is_dir() {
+        return Err(Error::File {
+            path: path.into(),
+            message: format!(
+                "is a directory, not a scene file ({})",
+                scene_extensions_listed()
+            ),
+        });
+    }
+    let format = SceneFormat::of(path)?;
+    if options.gltf_scene.is_some() && format != SceneFormat::Gltf {
+        return Err(Error::File {
+            path: path.into(),
+            message: "a glTF scene index needs a .gltf or .glb file".into(),
+        });
+    }
+    match format {
+        SceneFormat::Obj => {
+            let mut scene = obj::load_obj(path, options.seed)?;
+            scene.frame_for_viewing();
+            Ok(scene)
+        }
+        SceneFormat::Gltf => gltf::load_gltf(path, options.gltf_scene),
+        SceneFormat::Project => project::load_project(path),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_extension_in_any_case_picks_the_format() {
+        for (name, format) in [
+            ("a.obj", SceneFormat::Obj),
+            ("b/C.OBJ", SceneFormat::Obj),
+            ("d.gltf", SceneFormat::Gltf),
+            ("e.GLB", SceneFormat::Gltf),
+            ("f.RtProj", SceneFormat::Project),
+        ] {
+            assert_eq!(SceneFormat::of(Path::new(name)).unwrap(), format, "{name}");
+        }
+    }
+
+    #[test]
+    fn an_unknown_extension_is_an_error_naming_those_rt_reads() {
+        for name in ["scene.xyz", "scene.rtlight", "render.exr", "no-extension"] {
+            let message = load(Path::new(name), &LoadOptions::default())
+                .unwrap_err()
+                .to_string();
+            assert!(
+                message.starts_with(name)
+                    && message.contains("unknown scene type")
+                    && message.contains("rt reads .obj, .gltf, .glb, .rtproj"),
+                "{message}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_gltf_scene_index_needs_a_gltf_file() {
+        let options = LoadOptions {
+            gltf_scene: Some(0),
+            ..LoadOptions::default()
+        };
+        let message = load(Path::new("model.obj"), &options)
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("needs a .gltf or .glb"), "{message}");
+    }
+
+    #[test]
+    fn a_directory_is_an_error_saying_so() {
+        let message = load(&std::env::temp_dir(), &LoadOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("is a directory"), "{message}");
+    }
+
+    #[test]
+    fn an_obj_is_framed_for_viewing() {
+        let dir = std::env::temp_dir().join(format!("rt-load-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("triangle.obj");
+        std::fs::write(&path, "v 10 0 0\nv 11 0 0\nv 10 1 0\nf 1 2 3\n").unwrap();
+        let loaded = load(&path, &LoadOptions::default()).unwrap();
+        let mut framed = obj::load_obj(&path, 0).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        framed.frame_for_viewing();
+        assert_eq!(loaded, framed);
+        assert_ne!(loaded.camera, rt_core::camera::Camera::default());
+    }
+}

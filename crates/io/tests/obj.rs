@@ -1,0 +1,440 @@
+//! OBJ/MTL loading: polygons, indices, groups, material splits, every MTL mapping rule, textures,
+//! and malformed input reported with file and line.
+#![expect(
+    clippy::unwrap_used,
+    reason = "test helpers fail the test on unexpected errors"
+)]
+
+use std::path::{Path, PathBuf};
+
+use rt_core::{Error, Material, Scene};
+use rt_io::obj::load_obj;
+
+/// A fresh folder with the given files.
+fn dir_with(files: &[(&str, &[u8])]) -> PathBuf {
+    static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("rt-obj-test-{}-{n}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, contents) in files {
+        std::fs::write(dir.join(name), contents).unwrap();
+    }
+    dir
+}
+
+fn load(obj: &str, mtl: Option<&str>) -> Result<Scene, Error> {
+    let mut files: Vec<(&str, &[u8])> = vec![("scene.obj", obj.as_bytes())];
+    if let Some(mtl) = mtl {
+        files.push(("scene.mtl", mtl.as_bytes()));
+    }
+    load_obj(&dir_with(&files).join("scene.obj"), 7)
+}
+
+fn parse_error_line(result: Result<Scene, Error>) -> (usize, String) {
+    match result {
+        Err(Error::Parse {
+            line,
+            message,
+            path,
+        }) => {
+            assert!(
+                path.to_string_lossy().ends_with(".obj")
+                    || path.to_string_lossy().ends_with(".mtl")
+            );
+            (line, message)
+        }
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+const SQUARE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+#[test]
+fn quads_and_ngons_are_triangulated() {
+    let scene = load(
+        &format!("{SQUARE}v 0.5 1.5 0\nf 1 2 3 4\nf 1 2 3 5 4\n"),
+        None,
+    )
+    .unwrap();
+    assert_eq!(scene.objects.len(), 1);
+    assert_eq!(scene.objects[0].mesh.indices.len(), 2 + 3);
+}
+
+#[test]
+fn negative_indices_count_back_from_the_last_vertex() {
+    let relative = load(&format!("{SQUARE}f -4 -3 -2\n"), None).unwrap();
+    let absolute = load(&format!("{SQUARE}f 1 2 3\n"), None).unwrap();
+    let corners =
+        |s: &Scene| s.objects[0].mesh.indices[0].map(|i| s.objects[0].mesh.positions[i as usize]);
+    assert_eq!(corners(&relative), corners(&absolute));
+}
+
+#[test]
+fn groups_become_objects_and_usemtl_splits_them() {
+    let mtl = "newmtl a\nKd 1 0 0\nnewmtl b\nKd 0 1 0\n";
+    let obj = format!(
+        "mtllib scene.mtl\n{SQUARE}o first\nusemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\ng second\nusemtl a\nf 1 2 4\n"
+    );
+    let scene = load(&obj, Some(mtl)).unwrap();
+    let names: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, ["first (a)", "first (b)", "second"]);
+    assert_eq!(
+        scene.objects[0].material,
+        Material::lambertian([1.0, 0.0, 0.0])
+    );
+    assert_eq!(
+        scene.objects[1].material,
+        Material::lambertian([0.0, 1.0, 0.0])
+    );
+}
+
+#[test]
+fn missing_normals_stay_flat_and_given_normals_are_kept() {
+    let flat = load(&format!("{SQUARE}f 1 2 3\n"), None).unwrap();
+    assert!(
+        flat.objects[0].mesh.normals.is_none(),
+        "flat shading uses the geometric normal"
+    );
+    let smooth = load(&format!("{SQUARE}vn 0 0 1\nf 1//1 2//1 3//1\n"), None).unwrap();
+    assert_eq!(
+        smooth.objects[0].mesh.normals.as_ref().unwrap()[0],
+        glam::Vec3::Z
+    );
+}
+
+fn material_of(mtl_body: &str) -> Material {
+    let mtl = format!("newmtl m\n{mtl_body}\n");
+    let scene = load(
+        &format!("mtllib scene.mtl\n{SQUARE}usemtl m\nf 1 2 3\n"),
+        Some(&mtl),
+    )
+    .unwrap();
+    scene.objects[0].material.clone()
+}
+
+#[test]
+fn mtl_mapping_rules() {
+    assert_eq!(
+        material_of("Kd 0.5 0.25 0.125"),
+        Material::lambertian([0.5, 0.25, 0.125])
+    );
+    assert_eq!(
+        material_of("Kd 0 0 0\nKe 10 5 1"),
+        Material::Emissive {
+            color: [10.0, 5.0, 1.0],
+            intensity: 1.0
+        }
+    );
+    assert_eq!(
+        material_of("Kd 0.25"),
+        Material::lambertian([0.25; 3]),
+        "one value is grey"
+    );
+    assert_eq!(
+        material_of("Kd 0.5 0.5 0.5\nKe 0 0 0"),
+        Material::lambertian([0.5; 3]),
+        "Ke 0 is not an emitter"
+    );
+    let pbr = |p: rt_core::material::Pbr| Material::Pbr(Box::new(p));
+    assert_eq!(
+        material_of("Kd 0.2 0.2 0.2\nKs 0.9 0.8 0.7\nillum 3\nPr 0.25"),
+        pbr(rt_core::material::Pbr {
+            base_color: [0.9, 0.8, 0.7],
+            metallic: 1.0,
+            roughness: 0.25,
+            ..Default::default()
+        }),
+        "PBR keys with illum 3: a rough metal"
+    );
+    assert_eq!(
+        material_of("Kd 0.6 0.5 0.4\nPm 1\nPr 0.5"),
+        pbr(rt_core::material::Pbr {
+            base_color: [0.6, 0.5, 0.4],
+            metallic: 1.0,
+            roughness: 0.5,
+            ..Default::default()
+        }),
+        "Ks absent: base colour from Kd"
+    );
+    assert_eq!(
+        material_of("Kd 0.1 0.2 0.3\nPr 0.7\nNi 1.4"),
+        pbr(rt_core::material::Pbr {
+            base_color: [0.1, 0.2, 0.3],
+            roughness: 0.7,
+            ior: 1.4,
+            ..Default::default()
+        }),
+        "Pr alone: a rough dielectric (plastic)"
+    );
+    assert_eq!(
+        material_of("illum 7\nNi 1.45\nPr 0.3"),
+        pbr(rt_core::material::Pbr {
+            base_color: [1.0; 3],
+            roughness: 0.3,
+            ior: 1.45,
+            transmission: 1.0,
+            ..Default::default()
+        }),
+        "glass with Pr: rough glass"
+    );
+    assert_eq!(
+        material_of("Kd 0.5 0.1 0.1\nPc 0.8\nPcr 0.05\nPs 0.3 0.2 2"),
+        pbr(rt_core::material::Pbr {
+            base_color: [0.5, 0.1, 0.1],
+            clearcoat: 0.8,
+            clearcoat_roughness: 0.05,
+            sheen_color: [0.3, 0.2, 1.0],
+            ..Default::default()
+        }),
+        "clear coat and sheen (clamped to [0, 1]) make a PBR material"
+    );
+    let Material::Metal { fuzz, .. } = material_of("Ks 1 1 1\nillum 3\nNs 198") else {
+        panic!("metal expected")
+    };
+    assert!(
+        (fuzz - 0.1).abs() < 1e-6,
+        "fuzz from Ns: sqrt(2/(Ns+2)), got {fuzz}"
+    );
+    assert_eq!(
+        material_of("illum 7\nNi 1.33"),
+        Material::Dielectric {
+            ior: 1.33,
+            tint: [1.0; 3]
+        }
+    );
+    assert_eq!(
+        material_of("illum 4\nNi 2.4"),
+        Material::Dielectric {
+            ior: 2.4,
+            tint: [1.0; 3]
+        }
+    );
+    assert_eq!(
+        material_of("illum 6"),
+        Material::Dielectric {
+            ior: 1.5,
+            tint: [1.0; 3]
+        },
+        "default IOR"
+    );
+    assert_eq!(
+        material_of("Kd 1 1 1\nd 0.5\nNi 1.6"),
+        Material::Dielectric {
+            ior: 1.6,
+            tint: [1.0; 3]
+        }
+    );
+    assert_eq!(
+        material_of("Tf 0.9 1 0.8\nNi 1.5"),
+        Material::Dielectric {
+            ior: 1.5,
+            tint: [0.9, 1.0, 0.8]
+        }
+    );
+}
+
+#[test]
+fn objects_without_material_get_distinct_deterministic_colours() {
+    let obj = format!("{SQUARE}o a\nf 1 2 3\no b\nf 1 3 4\n");
+    let one = load(&obj, None).unwrap();
+    let two = load(&obj, None).unwrap();
+    assert_eq!(
+        one.objects[0].material, two.objects[0].material,
+        "same seed, same colours"
+    );
+    assert_ne!(
+        one.objects[0].material, one.objects[1].material,
+        "objects get different colours"
+    );
+}
+
+#[test]
+fn textures_load_relative_to_the_mtl_and_missing_ones_are_named() {
+    let png = {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        image::RgbaImage::from_pixel(2, 2, image::Rgba([255, 0, 0, 255]))
+            .write_to(&mut bytes, image::ImageFormat::Png)
+            .unwrap();
+        bytes.into_inner()
+    };
+    let obj =
+        format!("mtllib scene.mtl\n{SQUARE}vt 0 0\nvt 1 0\nvt 1 1\nusemtl t\nf 1/1 2/2 3/3\n");
+    let dir = dir_with(&[
+        ("scene.obj", obj.as_bytes()),
+        ("scene.mtl", b"newmtl t\nmap_Kd tex.png\n"),
+        ("tex.png", &png),
+    ]);
+    let scene = load_obj(&dir.join("scene.obj"), 0).unwrap();
+    assert_eq!(scene.textures.len(), 1);
+    assert_eq!(
+        scene.objects[0].material,
+        Material::Lambertian {
+            albedo: [0.8; 3],
+            texture: Some(0)
+        }
+    );
+    assert!(scene.objects[0].mesh.uvs.is_some());
+
+    let dir = dir_with(&[
+        ("scene.obj", obj.as_bytes()),
+        ("scene.mtl", b"newmtl t\nmap_Kd nowhere.png\n"),
+    ]);
+    let err = load_obj(&dir.join("scene.obj"), 0).unwrap_err().to_string();
+    assert!(
+        err.contains("nowhere.png"),
+        "error should name the texture: {err}"
+    );
+
+    let dir = dir_with(&[
+        ("scene.obj", obj.as_bytes()),
+        ("scene.mtl", b"newmtl t\nmap_Kd bad.png\n"),
+        ("bad.png", b"not a png"),
+    ]);
+    let err = load_obj(&dir.join("scene.obj"), 0).unwrap_err().to_string();
+    assert!(
+        err.contains("bad.png"),
+        "error should name the corrupt texture: {err}"
+    );
+}
+
+#[test]
+fn a_texture_without_uvs_renders_white_with_a_warning() {
+    let mut scene = Scene::default();
+    scene.textures.push(rt_core::Texture {
+        sampler: Default::default(),
+        name: "t".into(),
+        width: 1,
+        height: 1,
+        rgba8: vec![255, 0, 0, 255].into(),
+    });
+    scene.objects.push(rt_core::Object {
+        name: "no uvs".into(),
+        mesh: rt_core::shapes::quad(glam::Vec3::ZERO, glam::Vec3::Z, 1.0).into(),
+        material: Material::Lambertian {
+            albedo: [0.3; 3],
+            texture: Some(0),
+        },
+        transform: Default::default(),
+    });
+    let gpu = rt_core::GpuScene::build(&scene).unwrap();
+    assert_eq!(gpu.materials[0].color, [1.0; 3]);
+    assert_eq!(
+        gpu.materials[0].textures[0].offset,
+        rt_core::gpu_types::NO_TEXTURE
+    );
+    assert!(!gpu.features.textures);
+}
+
+#[test]
+fn malformed_input_names_the_file_and_line() {
+    let cases: &[(&str, usize, &str)] = &[
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", 4, "out of range"),
+        ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3, "at least 3"),
+        ("v 0 0 0\nv 1 x 0\n", 2, "not a number"),
+        ("v 0 0\n", 1, "needs 3"),
+        ("v 0 0 nan\n", 1, "not finite"),
+        ("v 0 0 1e99\n", 1, "not finite"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 0\n", 5, "out of range"),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/5 2 3\n",
+            4,
+            "texture coordinate index 5",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2 3\n",
+            4,
+            "normal index 2",
+        ),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n", 4, "out of range"),
+    ];
+    for (obj, line, needle) in cases {
+        let (got_line, message) = parse_error_line(load(obj, None));
+        assert_eq!(got_line, *line, "wrong line for {obj:?}: {message}");
+        assert!(
+            message.contains(needle),
+            "message for {obj:?} should mention '{needle}': {message}"
+        );
+    }
+}
+
+#[test]
+fn errors_from_tobj_carry_the_line_too() {
+    // An empty usemtl is rejected by tobj itself.
+    let (line, _) = parse_error_line(load("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl\nf 1 2 3\n", None));
+    assert_eq!(line, 4);
+}
+
+#[test]
+fn bad_files_are_errors_not_panics() {
+    let garbage: Vec<u8> = (0..4096u32)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 24) as u8)
+        .collect();
+    let dir = dir_with(&[("garbage.obj", &garbage)]);
+    assert!(load_obj(&dir.join("garbage.obj"), 0).is_err());
+    assert!(matches!(
+        load_obj(&dir.join("missing.obj"), 0),
+        Err(Error::Io { .. })
+    ));
+    assert!(
+        matches!(load_obj(&dir, 0), Err(Error::File { .. })),
+        "a directory is not an OBJ"
+    );
+    let err = load(&format!("mtllib nowhere.mtl\n{SQUARE}f 1 2 3\n"), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("nowhere.mtl"),
+        "a missing mtllib is named: {err}"
+    );
+    let (line, _) = parse_error_line(load(
+        &format!("mtllib scene.mtl\n{SQUARE}f 1 2 3\n"),
+        Some("newmtl a\nKd 1 x 1\n"),
+    ));
+    assert_eq!(line, 2, "MTL errors carry the MTL's line");
+    let (line, message) = parse_error_line(load(
+        &format!("mtllib scene.mtl\n{SQUARE}f 1 2 3\n"),
+        Some("newmtl a\n\nKs 0 1\n"),
+    ));
+    assert_eq!(
+        (line, message.contains("1 or 3 numbers")),
+        (3, true),
+        "{message}"
+    );
+}
+
+#[test]
+fn the_shipped_scenes_load() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let cornell = rt_io::assets::cornell_box().unwrap();
+    assert_eq!(cornell.triangle_count(), 32);
+    assert_eq!(cornell.objects.len(), 8);
+    assert!(matches!(
+        cornell
+            .objects
+            .iter()
+            .find(|o| o.name == "light")
+            .unwrap()
+            .material,
+        Material::Emissive { .. }
+    ));
+    let spot = load_obj(&root.join("assets/spot/spot_triangulated_textured.obj"), 0).unwrap();
+    assert_eq!(spot.textures.len(), 1);
+    assert_eq!(spot.triangle_count(), 5856);
+    let bunny = load_obj(&root.join("assets/bunny/bunny-lowres-npm.obj"), 0).unwrap();
+    assert_eq!(bunny.triangle_count(), 3674);
+}
+
+/// `v x y z r g b` gives the mesh vertex colours.
+#[test]
+fn vertex_colours_are_read() {
+    let scene = load(
+        "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nf 1 2 3\n",
+        None,
+    )
+    .unwrap();
+    let colors = scene.objects[0].mesh.colors.as_ref().expect("colours");
+    assert_eq!(colors[1], glam::Vec3::Y);
+    let plain = load("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n", None).unwrap();
+    assert!(plain.objects[0].mesh.colors.is_none());
+}
