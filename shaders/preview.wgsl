@@ -16,7 +16,7 @@
 // An approximation for placing things: the path tracer is the truth.
 
 const MAX_PREVIEW_LIGHTS: u32 = 8u;
-// Shadow-map layers at most (crates/gpu/src/preview/shadows.rs `MAX_SHADOW_LAYERS`).
+// Shadow-map layers at most (crates/preview/src/shadows.rs `MAX_SHADOW_LAYERS`).
 const MAX_SHADOW_LAYERS: u32 = 14u;
 const PI: f32 = 3.14159265358979;
 // PreviewLight.shadow.x: crates/core/src/light_kind.rs `LightTag` (checked by the preview's tests).
