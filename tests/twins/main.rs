@@ -74,13 +74,7 @@ impl TwinKernel {
         let estimator: String = module
             .files
             .iter()
-            .map(|f| {
-                rt_gpu::shaders::FILES
-                    .iter()
-                    .find(|(name, _)| name == f)
-                    .map(|(_, src)| *src)
-                    .unwrap_or_else(|| panic!("{f} is not in FILES"))
-            })
+            .map(|(_, src)| *src)
             .collect::<Vec<_>>()
             .join("\n");
         format!(

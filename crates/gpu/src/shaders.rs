@@ -13,138 +13,171 @@ macro_rules! shader_file {
     };
 }
 
-/// Every WGSL file of the kernels and the preview, by path from the workspace root. The
-/// estimator's files live beside their Rust twins in `rt-core` (same folder, same stem), which
-/// exports each as `WGSL`; `shaders/` keeps the entry points and what has no CPU twin (the
-/// driver's ray queries, the raster preview). `tests/shaders.rs` checks this list against the
-/// files on disk.
-pub const FILES: &[(&str, &str)] = &[
-    ("crates/core/src/gpu_types.wgsl", rt_core::gpu_types::WGSL),
-    ("crates/core/src/math/rng.wgsl", rt_core::math::rng::WGSL),
-    (
-        "crates/core/src/math/sampling.wgsl",
-        rt_core::math::sampling::WGSL,
-    ),
-    (
-        "crates/core/src/math/microfacet.wgsl",
-        rt_core::math::microfacet::WGSL,
-    ),
-    ("crates/core/src/math/bsdf.wgsl", rt_core::math::bsdf::WGSL),
-    ("crates/core/src/math/coat.wgsl", rt_core::math::coat::WGSL),
-    (
-        "crates/core/src/math/iridescence.wgsl",
-        rt_core::math::iridescence::WGSL,
-    ),
-    (
-        "crates/core/src/math/dispersion.wgsl",
-        rt_core::math::dispersion::WGSL,
-    ),
-    (
-        "crates/core/src/math/glass_energy.wgsl",
-        rt_core::math::glass_energy::WGSL,
-    ),
-    (
-        "crates/core/src/math/anisotropic_energy.wgsl",
-        rt_core::math::anisotropic_energy::WGSL,
-    ),
-    (
-        "crates/core/src/math/sheen.wgsl",
-        rt_core::math::sheen::WGSL,
-    ),
-    (
-        "crates/core/src/math/layers.wgsl",
-        rt_core::math::layers::WGSL,
-    ),
-    (
-        "crates/core/src/math/medium.wgsl",
-        rt_core::math::medium::WGSL,
-    ),
-    (
-        "crates/core/src/environment.wgsl",
-        rt_core::environment::WGSL,
-    ),
-    (
-        "crates/core/src/math/intersect.wgsl",
-        rt_core::math::intersect::WGSL,
-    ),
-    (
-        "crates/core/src/estimator/bvh.wgsl",
-        rt_core::estimator::bvh::WGSL,
-    ),
-    (
-        "crates/core/src/estimator/cwbvh.wgsl",
-        rt_core::estimator::cwbvh::WGSL,
-    ),
-    shader_file!("ray_query.wgsl"),
-    ("crates/core/src/gpu_scene.wgsl", rt_core::gpu_scene::WGSL),
-    (
-        "crates/core/src/estimator/texture.wgsl",
-        rt_core::estimator::texture::WGSL,
-    ),
-    (
-        "crates/core/src/estimator/surface.wgsl",
-        rt_core::estimator::surface::WGSL,
-    ),
-    (
-        "crates/core/src/estimator/light_tree.wgsl",
-        rt_core::estimator::light_tree::WGSL,
-    ),
-    (
-        "crates/core/src/estimator/light.wgsl",
-        rt_core::estimator::light::WGSL,
-    ),
-    (
-        "crates/core/src/estimator/path.wgsl",
-        rt_core::estimator::path::WGSL,
-    ),
-    (
-        "crates/core/src/accumulation.wgsl",
-        rt_core::accumulation::WGSL,
-    ),
-    shader_file!("trace.wgsl"),
-    shader_file!("wavefront.wgsl"),
-    shader_file!("trace_rays.wgsl"),
-    shader_file!("preview.wgsl"),
-    shader_file!("preview_blit.wgsl"),
+/// One WGSL file: its path from the workspace root and its text.
+pub type WgslFile = (&'static str, &'static str);
+
+pub const GPU_TYPES: WgslFile = ("crates/core/src/gpu_types.wgsl", rt_core::gpu_types::WGSL);
+pub const RNG: WgslFile = ("crates/core/src/math/rng.wgsl", rt_core::math::rng::WGSL);
+pub const SAMPLING: WgslFile = (
+    "crates/core/src/math/sampling.wgsl",
+    rt_core::math::sampling::WGSL,
+);
+pub const MICROFACET: WgslFile = (
+    "crates/core/src/math/microfacet.wgsl",
+    rt_core::math::microfacet::WGSL,
+);
+pub const BSDF: WgslFile = ("crates/core/src/math/bsdf.wgsl", rt_core::math::bsdf::WGSL);
+pub const COAT: WgslFile = ("crates/core/src/math/coat.wgsl", rt_core::math::coat::WGSL);
+pub const IRIDESCENCE: WgslFile = (
+    "crates/core/src/math/iridescence.wgsl",
+    rt_core::math::iridescence::WGSL,
+);
+pub const DISPERSION: WgslFile = (
+    "crates/core/src/math/dispersion.wgsl",
+    rt_core::math::dispersion::WGSL,
+);
+pub const GLASS_ENERGY: WgslFile = (
+    "crates/core/src/math/glass_energy.wgsl",
+    rt_core::math::glass_energy::WGSL,
+);
+pub const ANISOTROPIC_ENERGY: WgslFile = (
+    "crates/core/src/math/anisotropic_energy.wgsl",
+    rt_core::math::anisotropic_energy::WGSL,
+);
+pub const SHEEN: WgslFile = (
+    "crates/core/src/math/sheen.wgsl",
+    rt_core::math::sheen::WGSL,
+);
+pub const LAYERS: WgslFile = (
+    "crates/core/src/math/layers.wgsl",
+    rt_core::math::layers::WGSL,
+);
+pub const MEDIUM: WgslFile = (
+    "crates/core/src/math/medium.wgsl",
+    rt_core::math::medium::WGSL,
+);
+pub const ENVIRONMENT: WgslFile = (
+    "crates/core/src/environment.wgsl",
+    rt_core::environment::WGSL,
+);
+pub const INTERSECT: WgslFile = (
+    "crates/core/src/math/intersect.wgsl",
+    rt_core::math::intersect::WGSL,
+);
+pub const BVH: WgslFile = (
+    "crates/core/src/estimator/bvh.wgsl",
+    rt_core::estimator::bvh::WGSL,
+);
+pub const CWBVH: WgslFile = (
+    "crates/core/src/estimator/cwbvh.wgsl",
+    rt_core::estimator::cwbvh::WGSL,
+);
+pub const SHADER_RAY_QUERY: WgslFile = shader_file!("ray_query.wgsl");
+pub const GPU_SCENE: WgslFile = ("crates/core/src/gpu_scene.wgsl", rt_core::gpu_scene::WGSL);
+pub const TEXTURE: WgslFile = (
+    "crates/core/src/estimator/texture.wgsl",
+    rt_core::estimator::texture::WGSL,
+);
+pub const SURFACE: WgslFile = (
+    "crates/core/src/estimator/surface.wgsl",
+    rt_core::estimator::surface::WGSL,
+);
+pub const LIGHT_TREE: WgslFile = (
+    "crates/core/src/estimator/light_tree.wgsl",
+    rt_core::estimator::light_tree::WGSL,
+);
+pub const LIGHT: WgslFile = (
+    "crates/core/src/estimator/light.wgsl",
+    rt_core::estimator::light::WGSL,
+);
+pub const PATH: WgslFile = (
+    "crates/core/src/estimator/path.wgsl",
+    rt_core::estimator::path::WGSL,
+);
+pub const ACCUMULATION: WgslFile = (
+    "crates/core/src/accumulation.wgsl",
+    rt_core::accumulation::WGSL,
+);
+pub const SHADER_TRACE: WgslFile = shader_file!("trace.wgsl");
+pub const SHADER_WAVEFRONT: WgslFile = shader_file!("wavefront.wgsl");
+pub const SHADER_TRACE_RAYS: WgslFile = shader_file!("trace_rays.wgsl");
+pub const SHADER_PREVIEW: WgslFile = shader_file!("preview.wgsl");
+pub const SHADER_PREVIEW_BLIT: WgslFile = shader_file!("preview_blit.wgsl");
+
+/// Every WGSL file of the kernels and the preview, each named once above. The estimator's files
+/// live beside their Rust twins in `rt-core` (same folder, same stem), which exports each as
+/// `WGSL`; `shaders/` keeps the entry points and what has no CPU twin (the driver's ray queries,
+/// the raster preview). `tests/shaders.rs` checks this list against the files on disk.
+pub const FILES: &[WgslFile] = &[
+    GPU_TYPES,
+    RNG,
+    SAMPLING,
+    MICROFACET,
+    BSDF,
+    COAT,
+    IRIDESCENCE,
+    DISPERSION,
+    GLASS_ENERGY,
+    ANISOTROPIC_ENERGY,
+    SHEEN,
+    LAYERS,
+    MEDIUM,
+    ENVIRONMENT,
+    INTERSECT,
+    BVH,
+    CWBVH,
+    SHADER_RAY_QUERY,
+    GPU_SCENE,
+    TEXTURE,
+    SURFACE,
+    LIGHT_TREE,
+    LIGHT,
+    PATH,
+    ACCUMULATION,
+    SHADER_TRACE,
+    SHADER_WAVEFRONT,
+    SHADER_TRACE_RAYS,
+    SHADER_PREVIEW,
+    SHADER_PREVIEW_BLIT,
 ];
 
 /// An entry-point module: its name and the files it is made of, in order.
 pub struct ShaderModule {
     pub name: &'static str,
-    pub files: &'static [&'static str],
+    pub files: &'static [WgslFile],
 }
 
 /// A tracing module: its nearest-hit traversal (first: the ray-query file's `enable` must precede
 /// every declaration; WGSL's module-scope order does not matter otherwise), the shared estimator,
 /// and its entry file.
 macro_rules! tracing_module {
-    ($name:literal, $traversal:literal, $entry:literal) => {
+    ($name:literal, $traversal:expr, $entry:expr) => {
         ShaderModule {
             name: $name,
             files: &[
                 $traversal,
-                "crates/core/src/gpu_types.wgsl",
-                "crates/core/src/math/rng.wgsl",
-                "crates/core/src/math/sampling.wgsl",
-                "crates/core/src/math/intersect.wgsl",
-                "crates/core/src/gpu_scene.wgsl",
-                "crates/core/src/estimator/texture.wgsl",
-                "crates/core/src/math/microfacet.wgsl",
-                "crates/core/src/math/bsdf.wgsl",
-                "crates/core/src/math/coat.wgsl",
-                "crates/core/src/math/iridescence.wgsl",
-                "crates/core/src/math/dispersion.wgsl",
-                "crates/core/src/math/glass_energy.wgsl",
-                "crates/core/src/math/anisotropic_energy.wgsl",
-                "crates/core/src/math/sheen.wgsl",
-                "crates/core/src/math/layers.wgsl",
-                "crates/core/src/math/medium.wgsl",
-                "crates/core/src/environment.wgsl",
-                "crates/core/src/estimator/surface.wgsl",
-                "crates/core/src/estimator/light_tree.wgsl",
-                "crates/core/src/estimator/light.wgsl",
-                "crates/core/src/estimator/path.wgsl",
-                "crates/core/src/accumulation.wgsl",
+                GPU_TYPES,
+                RNG,
+                SAMPLING,
+                INTERSECT,
+                GPU_SCENE,
+                TEXTURE,
+                MICROFACET,
+                BSDF,
+                COAT,
+                IRIDESCENCE,
+                DISPERSION,
+                GLASS_ENERGY,
+                ANISOTROPIC_ENERGY,
+                SHEEN,
+                LAYERS,
+                MEDIUM,
+                ENVIRONMENT,
+                SURFACE,
+                LIGHT_TREE,
+                LIGHT,
+                PATH,
+                ACCUMULATION,
                 $entry,
             ],
         }
@@ -152,57 +185,27 @@ macro_rules! tracing_module {
 }
 
 /// The megakernel over the BVH2.
-pub const TRACE: ShaderModule = tracing_module!(
-    "trace",
-    "crates/core/src/estimator/bvh.wgsl",
-    "shaders/trace.wgsl"
-);
+pub const TRACE: ShaderModule = tracing_module!("trace", BVH, SHADER_TRACE);
 /// `TRACE` over the compressed wide BVH.
-pub const TRACE_WIDE: ShaderModule = tracing_module!(
-    "trace_wide",
-    "crates/core/src/estimator/cwbvh.wgsl",
-    "shaders/trace.wgsl"
-);
+pub const TRACE_WIDE: ShaderModule = tracing_module!("trace_wide", CWBVH, SHADER_TRACE);
 /// `TRACE` over the driver's ray queries (`Trace::Hardware`).
-pub const TRACE_HW: ShaderModule =
-    tracing_module!("trace_hw", "shaders/ray_query.wgsl", "shaders/trace.wgsl");
+pub const TRACE_HW: ShaderModule = tracing_module!("trace_hw", SHADER_RAY_QUERY, SHADER_TRACE);
 /// The wavefront kernels (the default: `Kernel::Wavefront`), over the BVH2.
-pub const WAVEFRONT: ShaderModule = tracing_module!(
-    "wavefront",
-    "crates/core/src/estimator/bvh.wgsl",
-    "shaders/wavefront.wgsl"
-);
+pub const WAVEFRONT: ShaderModule = tracing_module!("wavefront", BVH, SHADER_WAVEFRONT);
 /// `WAVEFRONT` over the compressed wide BVH.
-pub const WAVEFRONT_WIDE: ShaderModule = tracing_module!(
-    "wavefront_wide",
-    "crates/core/src/estimator/cwbvh.wgsl",
-    "shaders/wavefront.wgsl"
-);
+pub const WAVEFRONT_WIDE: ShaderModule = tracing_module!("wavefront_wide", CWBVH, SHADER_WAVEFRONT);
 /// `WAVEFRONT` over the driver's ray queries (`Trace::Hardware`).
-pub const WAVEFRONT_HW: ShaderModule = tracing_module!(
-    "wavefront_hw",
-    "shaders/ray_query.wgsl",
-    "shaders/wavefront.wgsl"
-);
+pub const WAVEFRONT_HW: ShaderModule =
+    tracing_module!("wavefront_hw", SHADER_RAY_QUERY, SHADER_WAVEFRONT);
 
 pub const TRACE_RAYS: ShaderModule = ShaderModule {
     name: "trace_rays",
-    files: &[
-        "crates/core/src/gpu_types.wgsl",
-        "crates/core/src/math/intersect.wgsl",
-        "crates/core/src/estimator/bvh.wgsl",
-        "shaders/trace_rays.wgsl",
-    ],
+    files: &[GPU_TYPES, INTERSECT, BVH, SHADER_TRACE_RAYS],
 };
 
 pub const TRACE_RAYS_WIDE: ShaderModule = ShaderModule {
     name: "trace_rays_wide",
-    files: &[
-        "crates/core/src/gpu_types.wgsl",
-        "crates/core/src/math/intersect.wgsl",
-        "crates/core/src/estimator/cwbvh.wgsl",
-        "shaders/trace_rays.wgsl",
-    ],
+    files: &[GPU_TYPES, INTERSECT, CWBVH, SHADER_TRACE_RAYS],
 };
 
 /// The megakernel for a BVH layout, or over ray queries (`hardware`).
@@ -235,23 +238,18 @@ pub fn trace_rays_module(layout: BvhLayout, hardware: bool) -> &'static ShaderMo
 /// `TRACE_RAYS` over the driver's ray queries.
 pub const TRACE_RAYS_HW: ShaderModule = ShaderModule {
     name: "trace_rays_hw",
-    files: &[
-        "shaders/ray_query.wgsl",
-        "crates/core/src/gpu_types.wgsl",
-        "crates/core/src/math/intersect.wgsl",
-        "shaders/trace_rays.wgsl",
-    ],
+    files: &[SHADER_RAY_QUERY, GPU_TYPES, INTERSECT, SHADER_TRACE_RAYS],
 };
 
 /// The raster preview (`crate::preview`: the editor's first view and `rt-cli preview`).
 pub const PREVIEW: ShaderModule = ShaderModule {
     name: "preview",
-    files: &["shaders/preview.wgsl"],
+    files: &[SHADER_PREVIEW],
 };
 
 pub const PREVIEW_BLIT: ShaderModule = ShaderModule {
     name: "preview_blit",
-    files: &["shaders/preview_blit.wgsl"],
+    files: &[SHADER_PREVIEW_BLIT],
 };
 
 pub const MODULES: &[ShaderModule] = &[
@@ -273,12 +271,7 @@ impl ShaderModule {
     pub fn source(&self) -> String {
         self.files
             .iter()
-            .map(|f| {
-                FILES
-                    .iter()
-                    .find(|(name, _)| name == f)
-                    .map_or("", |(_, src)| *src)
-            })
+            .map(|(_, text)| *text)
             .collect::<Vec<_>>()
             .join("\n")
     }
