@@ -137,7 +137,7 @@ pub fn camera_media(gpu_scene: &GpuScene, origin: glam::Vec3) -> u32 {
         }
         inside = Some(tri.material);
     }
-    inside.map_or(0, |m| crate::estimator::path::media_enter(0, m))
+    inside.map_or(0, |m| crate::estimator::media::media_enter(0, m))
 }
 
 /// The firefly clamp as the kernels read it (`Frame::clamp_max`): the value where it is a positive

@@ -438,7 +438,7 @@ pub struct Frame {
     /// The medium filling all space outside closed objects (the scene's fog; zero: vacuum), where
     /// the camera is.
     pub fog: Medium, // 176
-    /// The medium stack a camera ray starts with (`estimator::path::media_top`): empty (the fog)
+    /// The medium stack a camera ray starts with (`estimator::media::media_top`): empty (the fog)
     /// unless the camera sits inside a closed volume (`frame::camera_media`).
     pub camera_media: u32, // 208
     pub _pad0: u32,           // 212

@@ -15,6 +15,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 pub use crate::light_kind::LightKind;
+use crate::light_kind::LightTag;
 use crate::material::Rgb;
 
 /// How a spot light fades between its inner and outer cones.
@@ -121,6 +122,18 @@ impl Light {
     }
 }
 
+impl Light {
+    /// The tag of its path-tracer record.
+    pub fn tag(&self) -> LightTag {
+        match self.kind {
+            LightKind::Point => LightTag::Point,
+            LightKind::Spot if self.falloff == SpotFalloff::Gltf => LightTag::SpotGltf,
+            LightKind::Spot => LightTag::Spot,
+            LightKind::Directional => LightTag::Directional,
+        }
+    }
+}
+
 /// The spot falloff: 1 inside the inner cone, 0 outside the outer one, smoothstep in cosine
 /// between. `cos_angle` is the cosine between the spot's direction and the direction to the point.
 pub fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
@@ -132,4 +145,23 @@ pub fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
 pub fn spot_falloff_gltf(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     let t = ((cos_angle - cos_outer) / (cos_inner - cos_outer).max(1e-3)).clamp(0.0, 1.0);
     t * t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_has_a_tag_the_path_tracer_and_the_preview_know() {
+        for kind in LightKind::ALL {
+            for falloff in [SpotFalloff::Smoothstep, SpotFalloff::Gltf] {
+                let mut light = Light::new(kind, "l");
+                light.falloff = falloff;
+                let tag = light.tag();
+                assert!(tag.in_path_tracer() && tag != LightTag::None, "{kind:?}");
+                assert_eq!(tag.in_light_tree(), kind.has_position(), "{kind:?}");
+                assert_eq!(light.gpu().kind, tag.tag());
+            }
+        }
+    }
 }

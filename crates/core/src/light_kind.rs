@@ -8,8 +8,8 @@
 //!   (`gpu_types.wgsl`, `shaders/preview.wgsl`; checked by `tests/shaders.rs` and the preview's
 //!   tests), and which records the light tree holds.
 //!
-//! A new light type is a variant of each here, then the files docs/architecture.md ("Adding a
-//! light type") lists.
+//! A light's tag is `Light::tag` (`light.rs`). A new light type is a variant of each here, then
+//! the files docs/architecture.md ("Adding a light type") lists.
 
 use serde::{Deserialize, Serialize};
 
@@ -130,20 +130,6 @@ impl LightTag {
     }
 }
 
-impl crate::light::Light {
-    /// The tag of its path-tracer record.
-    pub fn tag(&self) -> LightTag {
-        match self.kind {
-            LightKind::Point => LightTag::Point,
-            LightKind::Spot if self.falloff == crate::light::SpotFalloff::Gltf => {
-                LightTag::SpotGltf
-            }
-            LightKind::Spot => LightTag::Spot,
-            LightKind::Directional => LightTag::Directional,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -155,22 +141,5 @@ mod tests {
             assert_eq!(LightTag::from_tag(i as u32), Some(*tag));
         }
         assert_eq!(LightTag::from_tag(LightTag::ALL.len() as u32), None);
-    }
-
-    #[test]
-    fn every_kind_has_a_tag_the_path_tracer_and_the_preview_know() {
-        for kind in LightKind::ALL {
-            for falloff in [
-                crate::light::SpotFalloff::Smoothstep,
-                crate::light::SpotFalloff::Gltf,
-            ] {
-                let mut light = crate::light::Light::new(kind, "l");
-                light.falloff = falloff;
-                let tag = light.tag();
-                assert!(tag.in_path_tracer() && tag != LightTag::None, "{kind:?}");
-                assert_eq!(tag.in_light_tree(), kind.has_position(), "{kind:?}");
-                assert_eq!(light.gpu().kind, tag.tag());
-            }
-        }
     }
 }

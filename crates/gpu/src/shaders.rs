@@ -90,6 +90,14 @@ pub const LIGHT: WgslFile = (
     "crates/core/src/estimator/light.wgsl",
     rt_core::estimator::light::WGSL,
 );
+pub const MEDIA: WgslFile = (
+    "crates/core/src/estimator/media.wgsl",
+    rt_core::estimator::media::WGSL,
+);
+pub const SHADING: WgslFile = (
+    "crates/core/src/estimator/shading.wgsl",
+    rt_core::estimator::shading::WGSL,
+);
 pub const PATH: WgslFile = (
     "crates/core/src/estimator/path.wgsl",
     rt_core::estimator::path::WGSL,
@@ -132,6 +140,8 @@ pub const FILES: &[WgslFile] = &[
     SURFACE,
     LIGHT_TREE,
     LIGHT,
+    MEDIA,
+    SHADING,
     PATH,
     ACCUMULATION,
     SHADER_TRACE,
@@ -176,6 +186,8 @@ macro_rules! tracing_module {
                 SURFACE,
                 LIGHT_TREE,
                 LIGHT,
+                MEDIA,
+                SHADING,
                 PATH,
                 ACCUMULATION,
                 $entry,

@@ -25,7 +25,7 @@
 //!
 //! Each file is the twin of the WGSL file of its stem beside it (`bvh.rs` of `bvh.wgsl`,
 //! `cwbvh.rs` of `cwbvh.wgsl`, `path.rs` of `path.wgsl`, `light.rs` of `light.wgsl`, `light_tree.rs` of
-//! `light_tree.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
+//! `light_tree.wgsl`, `shading.rs` of `shading.wgsl`, `media.rs` of `media.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
 //! of `texture.wgsl`), exported
 //! as its `WGSL` for `rt_gpu::shaders` to compose; the math they share with the rest of rt-core
 //! (random numbers, sampling, intersection, microfacets, the PBR BSDF) lives in `crate::math`, each
@@ -38,7 +38,9 @@ pub mod cwbvh;
 mod hit;
 pub mod light;
 pub mod light_tree;
+pub mod media;
 pub mod path;
+pub mod shading;
 pub mod surface;
 pub mod texture;
 

@@ -13,6 +13,8 @@ use super::light::{
     ShadowMedia, delta_lights_at, direct_light, emitter_pdf, escaped, power_heuristic,
 };
 use super::light_tree::tree_normal_at;
+use super::media::{media_enter, media_leave, media_top, medium_of};
+use super::shading::{anisotropy_tangent, normal_mapped, vertex_color};
 use super::surface::{PbrInputs, Surface};
 use super::texture::{Slot, base_color_texture, surface_emission, textured_pbr_inputs};
 use super::trace;
@@ -49,49 +51,6 @@ pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) 
     let (dx, dy) = sample_disk(rng);
     let lens_origin = origin + frame.lens_radius * (dx * u + dy * v);
     (lens_origin, (focus - lens_origin).normalize())
-}
-
-/// The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
-pub fn vertex_color(shading: &crate::gpu_types::Shading, b: [f32; 3]) -> Vec3 {
-    let decode = |c: u32| {
-        let p = c.to_le_bytes();
-        Vec3::new(
-            srgb_to_linear(p[0] as f32 / 255.0),
-            srgb_to_linear(p[1] as f32 / 255.0),
-            srgb_to_linear(p[2] as f32 / 255.0),
-        )
-    };
-    decode(shading.c0) * b[0] + decode(shading.c1) * b[1] + decode(shading.c2) * b[2]
-}
-
-/// The shading normal a tangent-space normal map gives: texel t ∈ [0, 1]³ read as
-/// n_t = (2t − 1) with x, y scaled, in the frame (T, B = w·N×T, N) of the interpolated normal N and
-/// the barycentric blend of the corner tangents (T made orthogonal to N).
-pub fn normal_mapped(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], t: Vec3, scale: f32) -> Vec3 {
-    let Some((tangent, bitangent)) = tangent_frame(n, corners, b) else {
-        return n;
-    };
-    let m = t * 2.0 - Vec3::ONE;
-    let mapped = tangent * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
-    let len = mapped.length();
-    if len > 0.0 { mapped / len } else { n }
-}
-
-/// The direction of anisotropy `d` (in the tangent frame: x along the tangent, y the bitangent) in
-/// world space, about the shading normal `n`, with the frame of `normal_mapped`; zero where the
-/// corners' tangents vanish.
-pub fn anisotropy_tangent(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3], d: Vec3) -> Vec3 {
-    tangent_frame(n, corners, b).map_or(Vec3::ZERO, |(t, bt)| t * d.x + bt * d.y)
-}
-
-/// The tangent frame about `n` at barycentrics `b`: the blend of the corners' tangents made
-/// orthogonal to `n`, and the bitangent w·n×T; `None` where the blend vanishes.
-fn tangent_frame(n: Vec3, corners: [[f32; 4]; 3], b: [f32; 3]) -> Option<(Vec3, Vec3)> {
-    let tangent = Vec3::from_slice(&corners[0]) * b[0]
-        + Vec3::from_slice(&corners[1]) * b[1]
-        + Vec3::from_slice(&corners[2]) * b[2];
-    let tangent = (tangent - n * n.dot(tangent)).normalize_or_zero();
-    (tangent != Vec3::ZERO).then(|| (tangent, n.cross(tangent) * corners[0][3]))
 }
 
 /// The firefly clamp (`frame.clamp_max`, 0 off): light reaching the camera after `bounces`
@@ -201,46 +160,6 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         rng,
         first_hit: None,
         rays: 0,
-    }
-}
-
-/// The medium a path is in, as an id: 0 the scene's fog (`Frame::fog`, vacuum without fog), m + 1
-/// the interior of material m (`Material::medium`). The path keeps a stack of two in `media`, 16
-/// bits each, the innermost low: transmission into a closed surface enters its material's
-/// medium, transmission out of it leaves it, so a liquid in a glass in fog comes out right; a
-/// third level drops the outermost.
-pub fn media_top(media: u32) -> u32 {
-    media & 0xffff
-}
-
-/// The stack after entering material `material`'s interior (materials past 65,534 have none).
-pub fn media_enter(media: u32, material: u32) -> u32 {
-    if material >= 0xffff {
-        return media;
-    }
-    (media << 16) | (material + 1)
-}
-
-/// The stack after leaving material `material`'s interior: the entry removed wherever it is (a
-/// path may leave an inner volume through an outer one's surface); unchanged if the path never
-/// entered it (it started inside).
-pub fn media_leave(media: u32, material: u32) -> u32 {
-    let id = material + 1;
-    if media & 0xffff == id {
-        media >> 16
-    } else if media >> 16 == id {
-        media & 0xffff
-    } else {
-        media
-    }
-}
-
-/// The medium of id `id` (`media_top`).
-pub fn medium_of(scene: &GpuScene, frame: &Frame, id: u32) -> Medium {
-    if id == 0 {
-        frame.fog
-    } else {
-        scene.materials[id as usize - 1].medium
     }
 }
 

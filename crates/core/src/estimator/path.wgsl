@@ -128,37 +128,6 @@ fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, frame.camera_media, 1.0);
 }
 
-// The medium stack (path.rs `media_top`, `media_enter`, `media_leave`, `medium_of`): id 0 the
-// scene's fog, m + 1 material m's interior.
-fn media_top(media: u32) -> u32 {
-    return media & 0xffffu;
-}
-
-fn media_enter(media: u32, material: u32) -> u32 {
-    if (material >= 0xffffu) {
-        return media;
-    }
-    return (media << 16u) | (material + 1u);
-}
-
-fn media_leave(media: u32, material: u32) -> u32 {
-    let id = material + 1u;
-    if ((media & 0xffffu) == id) {
-        return media >> 16u;
-    }
-    if ((media >> 16u) == id) {
-        return media & 0xffffu;
-    }
-    return media;
-}
-
-fn medium_of(id: u32) -> Medium {
-    if (id == 0u) {
-        return frame.fog;
-    }
-    return materials[id - 1u].medium;
-}
-
 // The light a scattering vertex at p (normal ng, 0 in a medium) receives directly (path.rs
 // `add_light_at`): next-event estimation (its ray left in `shadow` when deferred) and the delta
 // lights, times the throughput.
@@ -217,44 +186,6 @@ fn scatter_in_medium(path: ptr<function, PathState>, p: vec3<f32>, medium: Mediu
     (*path).direction = sample.direction;
     (*path).depth += 1u;
     return true;
-}
-
-// The barycentric blend of a triangle's (sRGB-encoded) corner colours, in linear RGB.
-fn vertex_color(sh: Shading, b: vec3<f32>) -> vec3<f32> {
-    return srgb_to_linear(unpack4x8unorm(sh.c0).rgb) * b.x + srgb_to_linear(unpack4x8unorm(sh.c1).rgb) * b.y
-        + srgb_to_linear(unpack4x8unorm(sh.c2).rgb) * b.z;
-}
-
-// The shading normal a tangent-space normal map gives (reference/path.rs `normal_mapped`).
-fn normal_mapped(n: vec3<f32>, t0: vec4<f32>, t1: vec4<f32>, t2: vec4<f32>, b: vec3<f32>, t: vec3<f32>, scale: f32) -> vec3<f32> {
-    let frame = tangent_frame(n, t0, t1, t2, b);
-    if (all(frame.t == vec3(0.0))) {
-        return n;
-    }
-    let m = t * 2.0 - vec3(1.0);
-    let mapped = frame.t * (m.x * scale) + frame.b * (m.y * scale) + n * m.z;
-    let l = length(mapped);
-    return select(n, mapped / l, l > 0.0);
-}
-
-// The direction of anisotropy d (tangent frame) in world space about n (path.rs
-// `anisotropy_tangent`); zero where the corners' tangents vanish.
-fn anisotropy_tangent(n: vec3<f32>, t0: vec4<f32>, t1: vec4<f32>, t2: vec4<f32>, b: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
-    let frame = tangent_frame(n, t0, t1, t2, b);
-    return frame.t * d.x + frame.b * d.y;
-}
-
-// The tangent frame about n at barycentrics b (path.rs `tangent_frame`); both axes zero where the
-// corners' blended tangent vanishes.
-fn tangent_frame(n: vec3<f32>, t0: vec4<f32>, t1: vec4<f32>, t2: vec4<f32>, b: vec3<f32>) -> Basis {
-    let blended = t0.xyz * b.x + t1.xyz * b.y + t2.xyz * b.z;
-    let ortho = blended - n * dot(n, blended);
-    let len2 = dot(ortho, ortho);
-    if (!(len2 > 0.0)) {
-        return Basis(vec3(0.0), vec3(0.0));
-    }
-    let tangent = ortho * inverseSqrt(len2);
-    return Basis(tangent, cross(n, tangent) * t0.w);
 }
 
 // The light a front face at `hit` emits toward the path (path.rs `add_emission`), weighted by
