@@ -35,8 +35,9 @@ pub struct EstimatorArgs {
     /// samples) or independent (PCG streams).
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerArg>,
-    /// Adaptive sampling: after 16 samples a pixel stops once its estimated noise (the square root
-    /// of its relMSE term, as --noise-target measures the image) and its neighbours' is at most X.
+    /// Adaptive sampling: after 64 samples a pixel stops once its estimated noise (the square root
+    /// of its relMSE term, as --noise-target measures the image) and its neighbours' is at most X,
+    /// judged on each of two halves of its samples for the other half (so it stays unbiased).
     #[arg(long, value_name = "X")]
     pub adaptive: Option<f32>,
     /// How next-event estimation picks a light: tree (an emitter, point or spot light by its

@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use crate::accumulation::{PixelSums, add_pixels, add_sample, pixel_mean};
-use crate::adaptive::Adaptive;
+use crate::adaptive::{Adaptive, AdaptiveStreams, sums_f64};
 use crate::estimator::trace_path;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
@@ -28,7 +28,8 @@ pub fn threads() -> usize {
 /// What a batch adds to one pixel.
 #[derive(Clone, Copy, Default)]
 struct PixelBatch {
-    sums: PixelSums,
+    /// Its even and odd samples' sums (adaptive sampling's two streams).
+    sums: [PixelSums; 2],
     /// Sums of the guides over the batch's samples.
     guides: [glam::Vec3; 3],
 }
@@ -47,9 +48,8 @@ pub struct CpuAccumulation {
     pub sums: Vec<PixelSums>,
     /// Rays traced by the batches so far (extension and shadow rays, as the kernels count them).
     pub rays: u64,
-    adaptive: Option<Adaptive>,
-    /// With adaptive sampling, per pixel: 0 while it samples, else the count it stopped at.
-    stopped: Vec<u32>,
+    /// With adaptive sampling, its streams: even samples in one, odd in the other.
+    adaptive: Option<AdaptiveStreams>,
     guides: Option<Guides>,
 }
 
@@ -66,12 +66,7 @@ impl CpuAccumulation {
             samples: 0,
             sums: vec![PixelSums::default(); n],
             rays: 0,
-            adaptive,
-            stopped: if adaptive.is_some() {
-                vec![0; n]
-            } else {
-                Vec::new()
-            },
+            adaptive: adaptive.map(|rule| AdaptiveStreams::new(rule, frame.width as usize, n)),
             guides: guides.then(|| Guides {
                 albedo: vec![[0.0; 3]; n],
                 normal: vec![[0.0; 3]; n],
@@ -103,7 +98,7 @@ impl CpuAccumulation {
     ) -> bool {
         let width = self.width as usize;
         let first = self.first_sample + self.samples;
-        let stopped = &self.stopped;
+        let stopped = self.adaptive.as_ref().map(|a| a.stopped());
         let keep_guides = self.guides.is_some();
         let rows: Vec<Option<(Vec<PixelBatch>, u64)>> = (0..self.height)
             .into_par_iter()
@@ -114,7 +109,7 @@ impl CpuAccumulation {
                 let mut row = vec![PixelBatch::default(); width];
                 let mut rays = 0;
                 for (x, pixel) in row.iter_mut().enumerate() {
-                    if stopped.get(y as usize * width + x).is_some_and(|&s| s != 0) {
+                    if stopped.is_some_and(|stopped| stopped[y as usize * width + x] != 0) {
                         continue;
                     }
                     for s in first..first + count {
@@ -122,7 +117,7 @@ impl CpuAccumulation {
                         rays += u64::from(path.rays);
                         // A sample that is not finite (or absurdly large) is dropped, as the
                         // kernels drop it: it adds zero and still counts.
-                        add_sample(&mut pixel.sums, path.radiance.to_array());
+                        add_sample(&mut pixel.sums[(s & 1) as usize], path.radiance.to_array());
                         let Some(f) = path.first_hit else {
                             continue;
                         };
@@ -142,10 +137,12 @@ impl CpuAccumulation {
             return false;
         };
         self.rays += rows.iter().map(|(_, rays)| rays).sum::<u64>();
-        let before = self.counts();
-        for (i, add) in rows.into_iter().flat_map(|(row, _)| row).enumerate() {
-            self.sums[i] = add_pixels(&self.sums[i], &add.sums);
-            let sampled = self.stopped.get(i).is_none_or(|&s| s == 0);
+        let before = self.samples_taken();
+        let added: Vec<PixelBatch> = rows.into_iter().flat_map(|(row, _)| row).collect();
+        for (i, add) in added.iter().enumerate() {
+            let batch = add_pixels(&add.sums[0], &add.sums[1]);
+            self.sums[i] = add_pixels(&self.sums[i], &batch);
+            let sampled = before[i] == self.samples || self.adaptive.is_none();
             if let Some(g) = self.guides.as_mut().filter(|_| sampled) {
                 // Running means over the pixel's own samples.
                 let n = before[i] as f32;
@@ -159,29 +156,45 @@ impl CpuAccumulation {
             }
         }
         self.samples += count;
-        if let Some(rule) = self.adaptive {
-            self.stopped = rule.settle(&self.pixels(), &self.stopped, width, self.samples);
+        if let Some(streams) = &mut self.adaptive {
+            let odd = (first..first + count).filter(|s| s & 1 == 1).count() as u32;
+            streams.add([count - odd, odd], |i| added[i].sums.map(|s| sums_f64(&s)));
+            streams.settle();
         }
         true
     }
 
-    /// Each pixel's sample count.
+    /// Each pixel's sample count: with adaptive sampling, the count its value's variance
+    /// corresponds to (`AdaptiveStreams::value`).
     pub fn counts(&self) -> Vec<u32> {
-        if self.stopped.is_empty() {
-            return vec![self.samples; self.sums.len()];
+        match &self.adaptive {
+            None => vec![self.samples; self.sums.len()],
+            Some(streams) => streams.sums_and_counts().1,
         }
-        self.stopped
-            .iter()
-            .map(|&s| if s == 0 { self.samples } else { s })
-            .collect()
+    }
+
+    /// The image's sums and counts: the samples' sums, or with adaptive sampling the sums its
+    /// values stand for (`AdaptiveStreams::sums_and_counts`).
+    pub fn image_sums(&self) -> (Vec<PixelSums>, Vec<u32>) {
+        match &self.adaptive {
+            None => (self.sums.clone(), self.counts()),
+            Some(streams) => streams.sums_and_counts(),
+        }
+    }
+
+    /// The samples each pixel took.
+    pub fn samples_taken(&self) -> Vec<u32> {
+        match &self.adaptive {
+            None => vec![self.samples; self.sums.len()],
+            Some(streams) => streams.samples_taken(),
+        }
     }
 
     /// The pixels still taking samples.
     pub fn active_pixels(&self) -> usize {
-        if self.stopped.is_empty() {
-            self.sums.len()
-        } else {
-            self.stopped.iter().filter(|&&s| s == 0).count()
+        match &self.adaptive {
+            None => self.sums.len(),
+            Some(streams) => streams.active(),
         }
     }
 
@@ -190,11 +203,12 @@ impl CpuAccumulation {
         self.adaptive.is_some()
     }
 
-    /// Each pixel's mean radiance (rgb) and mean squared luminance (a) over its own samples.
+    /// Each pixel's mean radiance (rgb) and mean squared luminance (a) over its own samples
+    /// (with adaptive sampling, as its two streams keep them).
     pub fn pixels(&self) -> Vec<[f32; 4]> {
-        self.sums
-            .iter()
-            .zip(self.counts())
+        let (sums, counts) = self.image_sums();
+        sums.iter()
+            .zip(counts)
             .map(|(s, n)| pixel_mean(s, n))
             .collect()
     }

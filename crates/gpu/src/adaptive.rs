@@ -1,6 +1,7 @@
-//! Adaptive sampling's state on the CPU and the GPU: which pixels have stopped (and at which
-//! count), and the list of those still sampling, which the wavefront's waves walk. The rule is
-//! `rt_core::adaptive::Adaptive::settle`; `Renderer::render_batch` calls `update` after every batch.
+//! Adaptive sampling's state on the CPU and the GPU: its two streams (`rt_core::adaptive`: each
+//! whole batch goes to one of them), which pixels have stopped, and the list of those still
+//! sampling, which the wavefront's waves walk. `Renderer::render_batch` calls `update` after every
+//! batch with the accumulation it read back; what a batch added is the difference of the sums.
 
 use wgpu::util::DeviceExt;
 
@@ -9,14 +10,18 @@ use crate::buffers::output_buffer;
 use crate::context::GpuContext;
 use crate::error::Result;
 use crate::options::Adaptive;
+use rt_core::accumulation::PixelSums;
+use rt_core::adaptive::{AdaptiveStreams, sums_f64};
 
 /// A tile's stop marks and pixels still sampling.
 pub(crate) struct AdaptiveState {
-    rule: Option<Adaptive>,
-    width: usize,
-    /// Per pixel of the tile: 0 while it takes samples, else the count it stopped at (mirrored in
-    /// `pixel_done`, which the megakernel reads); empty without adaptive sampling.
-    stopped: Vec<u32>,
+    /// The streams (their `stopped` marks are mirrored in `pixel_done`, which the megakernel
+    /// reads); `None` without adaptive sampling.
+    streams: Option<AdaptiveStreams>,
+    /// The accumulation's sums after the last batch, per pixel of the tile (as `f64`).
+    previous: Vec<[f64; 4]>,
+    /// Samples of every pixel still sampling after the last batch.
+    previous_samples: u32,
     /// The tile slots of the pixels still sampling, ascending (mirrored in `active_slots`, which
     /// the wavefront kernels read); all of them without adaptive sampling.
     active: Vec<u32>,
@@ -30,13 +35,9 @@ impl AdaptiveState {
     pub fn new(ctx: &GpuContext, rule: Option<Adaptive>, width: u32, rows: u32) -> Self {
         let pixels = width as usize * rows as usize;
         let active: Vec<u32> = (0..pixels as u32).collect();
-        let (stopped, marks, list): (Vec<u32>, u64, &[u8]) = match rule {
-            Some(_) => (
-                vec![0; pixels],
-                pixels as u64 * 4,
-                bytemuck::cast_slice(&active),
-            ),
-            None => (Vec::new(), 16, &[0; 16]),
+        let (marks, list): (u64, &[u8]) = match rule {
+            Some(_) => (pixels as u64 * 4, bytemuck::cast_slice(&active)),
+            None => (16, &[0; 16]),
         };
         let pixel_done = output_buffer(ctx, "adaptive sampling stops", marks.max(16));
         let active_slots = ctx
@@ -47,9 +48,13 @@ impl AdaptiveState {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             });
         AdaptiveState {
-            rule,
-            width: width as usize,
-            stopped,
+            streams: rule.map(|rule| AdaptiveStreams::new(rule, width as usize, pixels)),
+            previous: if rule.is_some() {
+                vec![[0.0; 4]; pixels]
+            } else {
+                Vec::new()
+            },
+            previous_samples: 0,
             active,
             pixel_done,
             active_slots,
@@ -71,7 +76,7 @@ impl AdaptiveState {
 
     /// Whether adaptive sampling is on.
     pub fn enabled(&self) -> bool {
-        self.rule.is_some()
+        self.streams.is_some()
     }
 
     /// The pixels still sampling (tile slots, ascending).
@@ -79,53 +84,61 @@ impl AdaptiveState {
         &self.active
     }
 
-    /// Each pixel's sample count after `samples_done` batches' samples, with adaptive sampling.
-    pub fn counts(&self, samples_done: u32) -> Option<Vec<u32>> {
-        self.rule?;
-        Some(
-            self.stopped
-                .iter()
-                .map(|&s| if s == 0 { samples_done } else { s })
-                .collect(),
-        )
+    /// The image as its sums and counts (`AdaptiveStreams::sums_and_counts`), with adaptive
+    /// sampling.
+    pub fn sums_and_counts(&self) -> Option<(Vec<PixelSums>, Vec<u32>)> {
+        Some(self.streams.as_ref()?.sums_and_counts())
     }
 
-    /// After a batch (`samples_done` samples in all, the tile's accumulation `pixels`): stops each
-    /// pixel whose noise estimate is at most the threshold once it and its eight neighbours (those
-    /// inside the tile) are there. The new marks are uploaded before they are kept, so after a
-    /// failed upload the kernels and this state still agree.
+    /// After a batch (`samples_done` samples in all, the tile's accumulation `sums`): deals what
+    /// the batch added to the pixels still sampling to one stream, then stops the pixels whose
+    /// streams have both met the rule. The new marks are uploaded before they are kept, so after
+    /// a failed upload the kernels and this state still agree.
     pub fn update(
         &mut self,
         ctx: &GpuContext,
         samples_done: u32,
-        pixels: impl FnOnce() -> Result<Vec<[f32; 4]>>,
+        sums: impl FnOnce() -> Result<Vec<PixelSums>>,
     ) -> Result<()> {
-        let Some(rule) = self.rule else {
+        let Some(streams) = &self.streams else {
             return Ok(());
         };
-        if samples_done < rule.min_samples || self.active.is_empty() {
+        if self.active.is_empty() || samples_done == self.previous_samples {
             return Ok(());
         }
-        let stopped = rule.settle(&pixels()?, &self.stopped, self.width, samples_done);
-        if stopped == self.stopped {
-            return Ok(());
-        }
+        let now: Vec<[f64; 4]> = sums()?.iter().map(sums_f64).collect();
+        let mut streams = streams.clone();
+        let added = samples_done - self.previous_samples;
+        let mut dealt = [0; 2];
+        let stream = streams.next_stream();
+        dealt[stream] = added;
+        streams.add(dealt, |i| {
+            let mut both = [[0.0; 4]; 2];
+            both[stream] = [0, 1, 2, 3].map(|c| now[i][c] - self.previous[i][c]);
+            both
+        });
+        streams.settle();
+        let stopped = streams.stopped().to_vec();
         let active: Vec<u32> = self
             .active
             .iter()
             .copied()
             .filter(|&slot| stopped[slot as usize] == 0)
             .collect();
-        ctx.scoped(|| {
-            ctx.queue
-                .write_buffer(&self.pixel_done, 0, bytemuck::cast_slice(&stopped));
-            if !active.is_empty() {
+        if active.len() != self.active.len() {
+            ctx.scoped(|| {
                 ctx.queue
-                    .write_buffer(&self.active_slots, 0, bytemuck::cast_slice(&active));
-            }
-        })?;
+                    .write_buffer(&self.pixel_done, 0, bytemuck::cast_slice(&stopped));
+                if !active.is_empty() {
+                    ctx.queue
+                        .write_buffer(&self.active_slots, 0, bytemuck::cast_slice(&active));
+                }
+            })?;
+        }
         self.active = active;
-        self.stopped = stopped;
+        self.streams = Some(streams);
+        self.previous = now;
+        self.previous_samples = samples_done;
         Ok(())
     }
 }

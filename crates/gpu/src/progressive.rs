@@ -169,12 +169,12 @@ pub fn cpu_label() -> String {
 
 /// The CPU accumulation as the image the rest of rt saves and measures.
 pub(crate) fn image_of(accumulation: &CpuAccumulation) -> Image {
-    Image {
-        width: accumulation.width,
-        height: accumulation.height,
-        samples_per_pixel: accumulation.samples,
-        sample_counts: accumulation.adaptive().then(|| accumulation.counts()),
-        pixels: accumulation.pixels(),
-        sums: accumulation.sums.clone(),
-    }
+    let (sums, counts) = accumulation.image_sums();
+    crate::outputs::mean_image(
+        accumulation.width,
+        accumulation.height,
+        accumulation.samples,
+        sums,
+        accumulation.adaptive().then_some(counts),
+    )
 }

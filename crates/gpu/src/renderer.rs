@@ -7,7 +7,7 @@
 
 use std::time::{Duration, Instant};
 
-use rt_core::accumulation::{self, PixelSums};
+use rt_core::accumulation::PixelSums;
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
 
@@ -331,12 +331,7 @@ impl<'a> Renderer<'a> {
         let (width, rows) = (self.frame.width, tile_rows(&self.frame));
         let samples_done = self.samples_done;
         self.adaptive.update(ctx, samples_done, || {
-            // Only pixels still sampling are judged, and they all hold `samples_done` samples.
-            let sums = outputs.read_accumulation(ctx, width, rows)?;
-            Ok(sums
-                .iter()
-                .map(|s| accumulation::pixel_mean(s, samples_done))
-                .collect())
+            outputs.read_accumulation(ctx, width, rows)
         })?;
         if first_after_build && self.samples_done > samples {
             // A rebuild's first batch: not a measure of the kernel's speed or dispatch length.
@@ -504,6 +499,16 @@ impl<'a> Renderer<'a> {
     /// until the next batch completes it (keep the last image read before the failure to save).
     pub fn read_image(&self) -> Result<Image> {
         let (width, rows) = (self.frame.width, tile_rows(&self.frame));
+        if let Some((sums, counts)) = self.adaptive.sums_and_counts() {
+            // What the two streams keep (`rt_core::adaptive`), of whole batches only.
+            return Ok(outputs::mean_image(
+                width,
+                rows,
+                self.samples_done,
+                sums,
+                Some(counts),
+            ));
+        }
         let sums = if self.samples_done == 0 && self.unfinished.is_none() {
             vec![PixelSums::default(); tile_pixels(&self.frame)]
         } else {
@@ -519,25 +524,15 @@ impl<'a> Renderer<'a> {
         ))
     }
 
-    /// Each pixel's count where they differ: with adaptive sampling, or after a batch failed
-    /// part-way (the pixels it reached hold its samples too).
+    /// Each pixel's count where they differ (without adaptive sampling): after a batch failed
+    /// part-way, the pixels it reached hold its samples too.
     fn sample_counts(&self) -> Option<Vec<u32>> {
-        let counts = self.adaptive.counts(self.samples_done);
-        let Some((at, extra)) = self.unfinished else {
-            return counts;
-        };
-        let mut counts =
-            counts.unwrap_or_else(|| vec![self.samples_done; tile_pixels(&self.frame)]);
-        if self.compacts() {
-            for &slot in &self.adaptive.active()[..at as usize] {
-                counts[slot as usize] += extra;
-            }
-        } else {
-            let width = self.frame.width as usize;
-            let reached = (at - self.frame.tile_row_begin) as usize * width;
-            for c in &mut counts[..reached] {
-                *c += extra;
-            }
+        let (at, extra) = self.unfinished?;
+        let mut counts = vec![self.samples_done; tile_pixels(&self.frame)];
+        let width = self.frame.width as usize;
+        let reached = (at - self.frame.tile_row_begin) as usize * width;
+        for c in &mut counts[..reached] {
+            *c += extra;
         }
         Some(counts)
     }

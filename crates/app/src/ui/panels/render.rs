@@ -95,7 +95,7 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
         &mut settings.adaptive_threshold,
         OptionalSetting {
             label: "Adaptive sampling",
-            tip: "Stop sampling pixels whose noise is already low (after 16 samples), so the \
+            tip: "Stop sampling pixels whose noise is already low (after 64 samples), so the \
                   samples go where the noise is",
             value_tip: "The noise at which a pixel stops: the square root of its relative \
                         mean squared error, e.g. 0.02",
