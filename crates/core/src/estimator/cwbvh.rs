@@ -15,10 +15,11 @@ pub const WGSL: &str = include_str!("cwbvh.wgsl");
 
 use glam::{BVec3, Vec3};
 
-use super::hit::{miss, test_triangle};
+use super::hit::{miss, test_triangles};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Hit, WideBvhNode};
 use crate::math::intersect::PreparedRay;
+use crate::math::intersect_lanes::permuted_origin;
 
 /// Bits of `WideBvhNode::exponents_imask` and of a group's mask that hold the inner-slot mask.
 const IMASK: u32 = 0xff;
@@ -78,6 +79,7 @@ pub(super) fn trace_wide(
     any_hit: bool,
 ) -> Hit {
     let ray = PreparedRay::new(origin, direction);
+    let permuted = permuted_origin(&ray);
     let mut hit = miss(t_max);
     let oct_inv = (u32::from(direction.x >= 0.0) << 2)
         | (u32::from(direction.y >= 0.0) << 1)
@@ -92,12 +94,8 @@ pub(super) fn trace_wide(
     let mut group = (0u32, 0x8000_0000u32);
     let mut triangles = (0u32, 0u32);
     loop {
-        while triangles.1 != 0 {
-            let bit = triangles.1.trailing_zeros();
-            triangles.1 &= !(1 << bit);
-            if test_triangle(scene, &ray, triangles.0 + bit, &mut hit) && any_hit {
-                return hit;
-            }
+        if triangles.1 != 0 && test_triangles(scene, &ray, permuted, triangles, &mut hit, any_hit) {
+            return hit;
         }
         if group.1 & INNER_BITS == 0 {
             if sp == 0 {

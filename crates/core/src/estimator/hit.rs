@@ -7,6 +7,7 @@ use glam::Vec3;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Hit;
 use crate::math::intersect::{PreparedRay, intersect_triangle};
+use crate::math::intersect_lanes::{LANES, intersect_triangles};
 
 /// The `triangle` of a hit that found none.
 pub(super) const MISS: u32 = u32::MAX;
@@ -36,6 +37,54 @@ pub(super) fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &m
             b2,
         };
         return true;
+    }
+    false
+}
+
+/// `test_triangle` on triangles `base + bit` for each set bit of `mask`, ascending, four at a time
+/// (`intersect_lanes`: the same hits bit for bit, fewer mispredicted branches); with `any_hit`,
+/// stops at the first kept and returns true. `origin` is the ray's, permuted
+/// (`intersect_lanes::permuted_origin`).
+pub(super) fn test_triangles(
+    scene: &GpuScene,
+    ray: &PreparedRay,
+    origin: [f32; 3],
+    (base, mut mask): (u32, u32),
+    hit: &mut Hit,
+    any_hit: bool,
+) -> bool {
+    while mask != 0 {
+        let mut index = [0u32; LANES];
+        let mut count = 0;
+        while mask != 0 && count < LANES {
+            index[count] = base + mask.trailing_zeros();
+            mask &= mask - 1;
+            count += 1;
+        }
+        // Lanes past `count` repeat the last triangle (finite, and ignored).
+        let vertices = std::array::from_fn(|lane| {
+            let tri = &scene.triangles[index[lane.min(count - 1)] as usize];
+            [tri.v0.into(), tri.v1.into(), tri.v2.into()]
+        });
+        let lanes = intersect_triangles(ray, origin, &vertices);
+        for (lane, &i) in index.iter().enumerate().take(count) {
+            let (t, b1, b2) = (lanes.t[lane], lanes.b1[lane], lanes.b2[lane]);
+            if !(lanes.crosses[lane] && t < hit.t) {
+                continue;
+            }
+            let tri = &scene.triangles[i as usize];
+            if !scene.features.alpha || super::texture::stops_ray(scene, ray, tri, i, b1, b2) {
+                *hit = Hit {
+                    t,
+                    triangle: i,
+                    b1,
+                    b2,
+                };
+                if any_hit {
+                    return true;
+                }
+            }
+        }
     }
     false
 }

@@ -17,6 +17,7 @@ pub mod coat;
 pub mod dispersion;
 pub mod glass_energy;
 pub mod intersect;
+pub mod intersect_lanes;
 pub mod iridescence;
 pub mod layers;
 pub mod medium;
