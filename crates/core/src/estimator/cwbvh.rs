@@ -62,9 +62,9 @@ fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, 
             let near = t_near.max_element().max(0.0);
             // Widened as `intersect_box` does, for the rounding of the t values.
             let far = t_far.min_element() * 1.000_000_4;
-            if near <= far && near < t_max {
-                hits |= ((bits >> (lane * 8)) & 0xff) << ((shift >> (lane * 8)) & 0xff);
-            }
+            // A mask, not a branch: whether the ray enters a child is as good as random.
+            let enters = u32::from((near <= far) & (near < t_max));
+            hits |= (((bits >> (lane * 8)) & 0xff) << ((shift >> (lane * 8)) & 0xff)) * enters;
         }
     }
     hits
