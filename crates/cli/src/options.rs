@@ -102,9 +102,10 @@ pub struct EngineArgs {
     #[arg(long, default_value = "auto")]
     pub adapter: AdapterChoice,
     /// What renders: auto (the default: a hardware GPU if there is one, else cpu), gpu (a GPU
-    /// through wgpu; lavapipe where there is none) or cpu (rt's native CPU backend, the
+    /// through wgpu; lavapipe where there is none), cpu (rt's native CPU backend, the
     /// estimator's Rust twin on every core: the same samples, so the same image and mergeable
-    /// parts).
+    /// parts) or all (`render` only: the GPU and the CPU backend on one frame, each taking ranges
+    /// of its samples as fast as it renders them).
     #[arg(long, value_enum, default_value = "auto")]
     pub device: DeviceArg,
 }
@@ -116,6 +117,7 @@ pub enum DeviceArg {
     Auto,
     Gpu,
     Cpu,
+    All,
 }
 
 impl EngineArgs {
@@ -146,6 +148,10 @@ impl EngineArgs {
             DeviceArg::Auto => rt_gpu::progressive::Device::Auto,
             DeviceArg::Gpu => rt_gpu::progressive::Device::Gpu,
             DeviceArg::Cpu => rt_gpu::progressive::Device::Cpu,
+            DeviceArg::All => anyhow::bail!(
+                "--device all is for `render` (one frame on both devices); choose auto, gpu or \
+                 cpu here"
+            ),
         };
         Ok(device.on_cpu(!gpu_flags.is_empty()))
     }

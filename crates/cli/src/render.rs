@@ -7,6 +7,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use rt_core::{GpuScene, Scene};
+use rt_gpu::both_devices::BothDevices;
 use rt_gpu::progressive::Progressive;
 use rt_gpu::{GpuContext, GpuError, Renderer};
 
@@ -95,7 +96,11 @@ impl RenderArgs {
 
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let (scene, range) = prepare_scene(&args)?;
-    let (on_cpu, why) = args.engine.on_cpu()?;
+    let both = args.engine.device == crate::options::DeviceArg::All;
+    let (on_cpu, why) = match both {
+        true => (false, "--device all".to_string()),
+        false => args.engine.on_cpu()?,
+    };
     let ctx = match on_cpu {
         true => None,
         false => Some(open_device(&args.engine.adapter)?),
@@ -113,6 +118,13 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
             let (width, height) = (scene.settings.width, scene.settings.height);
             let bytes = rt_gpu::whole_image_binding_bytes(width, height, &options);
             if bytes > max_buffer {
+                if both {
+                    anyhow::bail!(
+                        "a {width}x{height} image needs a {bytes}-byte buffer, more than this \
+                         adapter's {max_buffer} per buffer: it renders in tiles, which --device \
+                         all does not; render it with --device gpu or cpu"
+                    );
+                }
                 if args.open_ended() {
                     anyhow::bail!(
                         "a {width}x{height} image needs a {bytes}-byte buffer (accumulation or \
@@ -123,9 +135,14 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
                 }
                 return render_in_tiles(&args, &scene, ctx, &gpu_scene, max_buffer, range);
             }
-            Progressive::Gpu(Box::new(Renderer::for_scene(
-                ctx, &scene, &gpu_scene, options,
-            )?))
+            let renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, options)?;
+            if both {
+                let first = range.map_or(0, |r| r[0]);
+                let shared = BothDevices::new(renderer, &scene, &gpu_scene, first, guides)?;
+                Progressive::Both(Box::new(shared))
+            } else {
+                Progressive::Gpu(Box::new(renderer))
+            }
         }
     };
     let faults = rt_gpu::faults::Faults::from_test_env();
@@ -141,6 +158,11 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
     let scenes = (&scene, &gpu_scene);
     let rendered_by = match (&run, &ctx) {
         (Progressive::Gpu(renderer), Some(ctx)) => gpu_rendered_by(ctx, renderer.kernel()),
+        (Progressive::Both(both), Some(ctx)) => format!(
+            "{} and {}",
+            gpu_rendered_by(ctx, both.gpu().kernel()),
+            rt_gpu::progressive::cpu_label()
+        ),
         _ => rt_gpu::progressive::cpu_label(),
     };
     save_output(&args, range, &rendered_by, scenes, &image, aovs.as_ref())?;
@@ -150,10 +172,18 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
             print_render_summary(ctx, renderer, scenes, &image, range, &finish, verbose);
         }
         _ => {
-            eprintln!(
-                "device:         {} ({why})",
-                rt_gpu::progressive::cpu_label()
-            );
+            let device = match (&run, &ctx) {
+                (Progressive::Both(both), Some(ctx)) => {
+                    let (cpu, gpu) = both.shares();
+                    format!(
+                        "GPU {} and {} ({why}; samples per pixel: GPU {gpu}, CPU {cpu})",
+                        ctx.adapter_label(),
+                        rt_gpu::progressive::cpu_label()
+                    )
+                }
+                _ => format!("{} ({why})", rt_gpu::progressive::cpu_label()),
+            };
+            eprintln!("device:         {device}");
             eprintln!("triangles:      {}", gpu_scene.triangles.len());
             let estimator = estimator_summary(&scene.settings, &gpu_scene);
             eprintln!("estimator:      {estimator}");

@@ -96,8 +96,23 @@ impl CpuAccumulation {
         count: u32,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> bool {
-        let width = self.width as usize;
         let first = self.first_sample + self.samples;
+        self.add_samples(scene, frame, first, count, stop)
+    }
+
+    /// Takes samples `first..first + count` of every pixel still sampling, wherever they lie:
+    /// `--device all` deals a frame's samples out to the CPU and the GPU by ranges, so the CPU's
+    /// share is not one run from `first_sample` (`samples` then counts them, not where they
+    /// end). Returns false, having added nothing, when `stop` says so before a row.
+    pub fn add_samples(
+        &mut self,
+        scene: &GpuScene,
+        frame: &Frame,
+        first: u32,
+        count: u32,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
+        let width = self.width as usize;
         let stopped = self.adaptive.as_ref().map(|a| a.stopped());
         let keep_guides = self.guides.is_some();
         let rows: Vec<Option<(Vec<PixelBatch>, u64)>> = (0..self.height)

@@ -20,6 +20,7 @@
 mod accel;
 mod adaptive;
 pub mod bindings;
+pub mod both_devices;
 mod buffers;
 pub mod context;
 mod engine;

@@ -10,6 +10,7 @@ use rt_core::cpu_render::CpuAccumulation;
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
 
+use crate::both_devices::BothDevices;
 use crate::error::Result;
 use crate::image::{Aovs, Image};
 use crate::renderer::Renderer;
@@ -62,6 +63,8 @@ pub const CPU_BATCH: Duration = Duration::from_millis(250);
 pub enum Progressive<'a> {
     Gpu(Box<Renderer<'a>>),
     Cpu(Box<CpuRun<'a>>),
+    /// `--device all`: both on one frame.
+    Both(Box<BothDevices<'a>>),
 }
 
 /// The CPU backend's state: the scene, its frame, the samples so far, and the next batch's size.
@@ -97,6 +100,7 @@ impl<'a> Progressive<'a> {
         match self {
             Progressive::Gpu(r) => r.samples_done(),
             Progressive::Cpu(c) => c.accumulation.samples,
+            Progressive::Both(b) => b.samples_done(),
         }
     }
 
@@ -104,6 +108,7 @@ impl<'a> Progressive<'a> {
         match self {
             Progressive::Gpu(r) => r.active_pixels(),
             Progressive::Cpu(c) => c.accumulation.active_pixels(),
+            Progressive::Both(b) => b.gpu().active_pixels(),
         }
     }
 
@@ -123,6 +128,7 @@ impl<'a> Progressive<'a> {
                     c.batch = c.batch.saturating_mul(2);
                 }
             }
+            Progressive::Both(b) => b.render_batch(samples, cancel)?,
         }
         Ok(())
     }
@@ -132,6 +138,7 @@ impl<'a> Progressive<'a> {
     pub fn estimated_noise(&self) -> Result<f64> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_image()?.estimated_noise(),
+            Progressive::Both(b) => b.read_image()?.estimated_noise(),
             Progressive::Cpu(c) => {
                 let counts = c.accumulation.counts();
                 rt_core::metrics::estimated_rel_mse(
@@ -147,6 +154,7 @@ impl<'a> Progressive<'a> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_image()?,
             Progressive::Cpu(c) => image_of(&c.accumulation),
+            Progressive::Both(b) => b.read_image()?,
         })
     }
 
@@ -155,6 +163,7 @@ impl<'a> Progressive<'a> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_aovs()?,
             Progressive::Cpu(c) => c.accumulation.guides().map(Aovs::from),
+            Progressive::Both(b) => b.read_aovs()?,
         })
     }
 }

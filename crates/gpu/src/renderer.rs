@@ -70,6 +70,9 @@ pub struct Renderer<'a> {
     frame: Frame,
     options: RenderOptions,
     samples_done: u32,
+    /// The index (from `options.first_sample`) of the next batch's first sample: `samples_done`
+    /// unless `seek` moved it.
+    next_sample: u32,
     samples_per_dispatch: u32,
     rows_per_dispatch: u32,
     /// A batch that failed part-way: the first row it had not rendered, and its samples per pixel.
@@ -163,6 +166,7 @@ impl<'a> Renderer<'a> {
             frame,
             options,
             samples_done: 0,
+            next_sample: 0,
             samples_per_dispatch: 1,
             rows_per_dispatch: first_band_rows(&frame),
             unfinished: None,
@@ -194,6 +198,21 @@ impl<'a> Renderer<'a> {
 
     pub fn samples_done(&self) -> u32 {
         self.samples_done
+    }
+
+    /// Makes the next batch take samples from index `sample` on (counted from the options'
+    /// `first_sample`) instead of after the last batch's: how `--device all` hands the GPU the
+    /// ranges of a frame's samples it draws. Ranges must not overlap (the sums would count a
+    /// sample twice). Not while a batch is unfinished (it keeps its samples).
+    pub fn seek(&mut self, sample: u32) {
+        if self.unfinished.is_none() {
+            self.next_sample = sample;
+        }
+    }
+
+    /// Samples a batch takes at most now (the dispatch sizing's current choice).
+    pub fn batch_samples(&self) -> u32 {
+        self.samples_per_dispatch
     }
 
     /// Rays traced so far (only counted with `Tuning::count_rays`).
@@ -326,6 +345,7 @@ impl<'a> Renderer<'a> {
         }
         stats.complete = true;
         self.samples_done += samples;
+        self.next_sample += samples;
         self.read_counters()?;
         let (ctx, outputs) = (self.ctx, &self.outputs);
         let (width, rows) = (self.frame.width, tile_rows(&self.frame));
@@ -382,6 +402,7 @@ impl<'a> Renderer<'a> {
         self.frame = frame;
         self.loop_cap = loop_cap(scene, &frame, &self.options);
         self.samples_done = 0;
+        self.next_sample = 0;
         self.unfinished = None;
         self.unfinished_rate = 0.0;
         self.samples_per_dispatch = 1;
@@ -430,7 +451,7 @@ impl<'a> Renderer<'a> {
     fn dispatch(&mut self, range: DispatchRange, samples: u32) -> Result<(Duration, u32)> {
         self.ctx.alive()?;
         let frame = Frame {
-            sample_base: self.samples_done,
+            sample_base: self.next_sample,
             sample_offset: self.options.first_sample,
             samples_this_dispatch: samples,
             ..self.frame
