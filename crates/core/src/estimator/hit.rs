@@ -45,6 +45,7 @@ pub(super) fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &m
 /// (`intersect_lanes`: the same hits bit for bit, fewer mispredicted branches); with `any_hit`,
 /// stops at the first kept and returns true. `origin` is the ray's, permuted
 /// (`intersect_lanes::permuted_origin`).
+#[inline(always)]
 pub(super) fn test_triangles(
     scene: &GpuScene,
     ray: &PreparedRay,

@@ -35,6 +35,7 @@ pub fn permuted_origin(ray: &PreparedRay) -> [f32; 3] {
 
 /// Tests the triangles `vertices[lane] = [v0, v1, v2]`; lanes past the caller's count may hold
 /// any finite copies (their results are ignored).
+#[inline(always)]
 pub fn intersect_triangles(
     ray: &PreparedRay,
     origin: [f32; 3],
