@@ -26,7 +26,7 @@ pub fn threads() -> usize {
 }
 
 /// What a batch adds to one pixel.
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy, Debug, Default)]
 struct PixelBatch {
     /// Its even and odd samples' sums (adaptive sampling's two streams).
     sums: [PixelSums; 2],
@@ -51,6 +51,8 @@ pub struct CpuAccumulation {
     /// With adaptive sampling, its streams: even samples in one, odd in the other.
     adaptive: Option<AdaptiveStreams>,
     guides: Option<Guides>,
+    /// What the batch in progress adds, per pixel (empty between renders' first batches).
+    scratch: Vec<PixelBatch>,
 }
 
 impl CpuAccumulation {
@@ -72,6 +74,7 @@ impl CpuAccumulation {
                 normal: vec![[0.0; 3]; n],
                 emission: vec![[0.0; 3]; n],
             }),
+            scratch: Vec::new(),
         }
     }
 
@@ -115,20 +118,23 @@ impl CpuAccumulation {
         let width = self.width as usize;
         let stopped = self.adaptive.as_ref().map(|a| a.stopped());
         let keep_guides = self.guides.is_some();
-        let rows: Vec<Option<(Vec<PixelBatch>, u64)>> = (0..self.height)
-            .into_par_iter()
-            .map(|y| {
+        // Kept between batches, and zero between them: no fresh pages to fault in per batch.
+        let mut scratch = std::mem::take(&mut self.scratch);
+        scratch.resize(self.sums.len(), PixelBatch::default());
+        let rays: Option<Vec<u64>> = scratch
+            .par_chunks_mut(width.max(1))
+            .enumerate()
+            .map(|(y, row)| {
                 if stop() {
                     return None;
                 }
-                let mut row = vec![PixelBatch::default(); width];
                 let mut rays = 0;
                 for (x, pixel) in row.iter_mut().enumerate() {
-                    if stopped.is_some_and(|stopped| stopped[y as usize * width + x] != 0) {
+                    if stopped.is_some_and(|stopped| stopped[y * width + x] != 0) {
                         continue;
                     }
                     for s in first..first + count {
-                        let path = trace_path(scene, frame, x as u32, y, s, keep_guides);
+                        let path = trace_path(scene, frame, x as u32, y as u32, s, keep_guides);
                         rays += u64::from(path.rays);
                         // A sample that is not finite (or absurdly large) is dropped, as the
                         // kernels drop it: it adds zero and still counts.
@@ -145,18 +151,27 @@ impl CpuAccumulation {
                         }
                     }
                 }
-                Some((row, rays))
+                Some(rays)
             })
             .collect();
-        let Some(rows) = rows.into_iter().collect::<Option<Vec<_>>>() else {
+        let Some(rays) = rays else {
+            scratch.fill(PixelBatch::default());
+            self.scratch = scratch;
             return false;
         };
-        self.rays += rows.iter().map(|(_, rays)| rays).sum::<u64>();
+        self.rays += rays.iter().sum::<u64>();
         let before = self.samples_taken();
-        let added: Vec<PixelBatch> = rows.into_iter().flat_map(|(row, _)| row).collect();
-        for (i, add) in added.iter().enumerate() {
+        let mut streams_added = self
+            .adaptive
+            .as_ref()
+            .map(|_| Vec::with_capacity(scratch.len()));
+        for (i, slot) in scratch.iter_mut().enumerate() {
+            let add = std::mem::take(slot);
             let batch = add_pixels(&add.sums[0], &add.sums[1]);
             self.sums[i] = add_pixels(&self.sums[i], &batch);
+            if let Some(streams_added) = &mut streams_added {
+                streams_added.push(add.sums.map(|s| sums_f64(&s)));
+            }
             let sampled = before[i] == self.samples || self.adaptive.is_none();
             if let Some(g) = self.guides.as_mut().filter(|_| sampled) {
                 // Running means over the pixel's own samples.
@@ -170,10 +185,11 @@ impl CpuAccumulation {
                 }
             }
         }
+        self.scratch = scratch;
         self.samples += count;
-        if let Some(streams) = &mut self.adaptive {
+        if let (Some(streams), Some(added)) = (&mut self.adaptive, streams_added) {
             let odd = (first..first + count).filter(|s| s & 1 == 1).count() as u32;
-            streams.add([count - odd, odd], |i| added[i].sums.map(|s| sums_f64(&s)));
+            streams.add([count - odd, odd], |i| added[i]);
             streams.settle();
         }
         true
