@@ -9,7 +9,7 @@
 mod common;
 use std::path::Path;
 
-use common::{has_gpu, render_cornell, rt_cli, temp_dir};
+use common::{agreeing_pixels, has_gpu, merge_parts, render_cornell, rt_cli, temp_dir};
 use rt_core::part::{Part, read_part};
 
 const W: u32 = 32;
@@ -21,21 +21,6 @@ fn part(dir: &Path, name: &str, extra: &[&str]) -> (Part, String) {
     let (code, stderr) = render_cornell(W, H, SPP, &out, extra);
     assert_eq!(code, 0, "{extra:?}: {stderr}");
     (read_part(&out).unwrap(), stderr)
-}
-
-/// Pixels of `a` and `b` that agree to rounding (a last-bit difference between the twins may
-/// send a path another way: such pixels hold another valid sample, and are counted, not compared).
-fn agreeing_pixels(a: &Part, b: &Part) -> usize {
-    assert_eq!(a.counts, b.counts, "sample counts");
-    a.pixels()
-        .iter()
-        .zip(b.pixels())
-        .filter(|(p, q)| {
-            p.iter()
-                .zip(q)
-                .all(|(x, y)| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7)
-        })
-        .count()
 }
 
 /// z of the difference of two images' mean luminance, each mean's variance from its pixels'
@@ -107,17 +92,7 @@ fn both_devices_render_the_one_device_frame_and_merge() {
     assert_eq!(code, 0, "{stderr}");
     let (code, stderr) = render_cornell(W, H, SPP, &second, &["--shard", "1/2", "--device", "cpu"]);
     assert_eq!(code, 0, "{stderr}");
-    let merged = dir.join("merged.exr");
-    let (code, _, stderr) = rt_cli(&[
-        "merge",
-        first.to_str().unwrap(),
-        second.to_str().unwrap(),
-        "-o",
-        merged.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let merged = read_part(&merged).unwrap();
-    assert!(merged.is_complete());
+    let merged = merge_parts(&first, &second, &dir.join("merged.exr"));
     let agree = agreeing_pixels(&merged, &cpu);
     assert!(
         agree * 100 >= pixels * 98,

@@ -8,7 +8,7 @@
 mod common;
 use std::path::{Path, PathBuf};
 
-use common::{has_gpu, render_cornell, rt_cli, temp_dir};
+use common::{agreeing_pixels, has_gpu, merge_parts, render_cornell, rt_cli, temp_dir};
 use rt_core::part::{Part, read_part};
 
 const W: u32 = 32;
@@ -20,23 +20,6 @@ fn part(dir: &Path, name: &str, extra: &[&str]) -> Part {
     let (code, stderr) = render_cornell(W, H, SPP, &out, extra);
     assert_eq!(code, 0, "{extra:?}: {stderr}");
     read_part(&out).unwrap()
-}
-
-/// How many pixels of `a` and `b` (same samples, traced by the two twins) agree to rounding. The
-/// twins compute each sample with the same random numbers, but a last-bit difference may send a
-/// path another way (another lobe, the other side of an edge): such pixels hold a different,
-/// equally valid sample and are counted, not compared.
-fn agreeing_pixels(a: &Part, b: &Part) -> usize {
-    assert_eq!(a.counts, b.counts, "sample counts");
-    a.pixels()
-        .iter()
-        .zip(b.pixels())
-        .filter(|(p, q)| {
-            p.iter()
-                .zip(q)
-                .all(|(x, y)| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7)
-        })
-        .count()
 }
 
 #[test]
@@ -81,17 +64,7 @@ fn the_cpu_backend_renders_the_gpu_image_and_merges_with_gpu_parts() {
     let second = dir.join("second.exr");
     let (code, stderr) = render_cornell(W, H, SPP, &second, &["--shard", "1/2"]);
     assert_eq!(code, 0, "{stderr}");
-    let merged = dir.join("merged.exr");
-    let (code, _, stderr) = rt_cli(&[
-        "merge",
-        first.to_str().unwrap(),
-        second.to_str().unwrap(),
-        "-o",
-        merged.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let merged = read_part(&merged).unwrap();
-    assert!(merged.is_complete());
+    let merged = merge_parts(&first, &second, &dir.join("merged.exr"));
     let agree = agreeing_pixels(&merged, &gpu);
     assert!(
         agree * 100 >= pixels * 98,

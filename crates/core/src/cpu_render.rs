@@ -19,6 +19,10 @@ use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
 use crate::part::Guides;
 
+/// About how long one of the CPU backend's batches should take (its drivers size them to it): long
+/// enough that a batch's set-up is nothing, short enough for progress, previews and cancelling.
+pub const BATCH_DURATION: std::time::Duration = std::time::Duration::from_millis(250);
+
 /// The threads a batch is spread over (rayon's pool: one per core unless `RAYON_NUM_THREADS` says
 /// otherwise).
 pub fn threads() -> usize {

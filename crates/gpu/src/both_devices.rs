@@ -10,13 +10,12 @@ use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::time::Instant;
 
 use rt_core::accumulation::add_pixels;
-use rt_core::cpu_render::CpuAccumulation;
+use rt_core::cpu_render::{BATCH_DURATION, CpuAccumulation};
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
 
 use crate::error::{GpuError, Result};
 use crate::image::{Aovs, Image};
-use crate::progressive::CPU_BATCH;
 use crate::renderer::Renderer;
 
 /// A frame rendered by both devices.
@@ -25,7 +24,7 @@ pub struct BothDevices<'a> {
     scene: &'a GpuScene,
     frame: Frame,
     cpu: CpuAccumulation,
-    /// The CPU's next range size, grown while its ranges take under half of `CPU_BATCH`.
+    /// The CPU's next range size, grown while its ranges take under half of `BATCH_DURATION`.
     cpu_batch: u32,
     /// Samples of every pixel, on both devices together.
     samples: u32,
@@ -101,7 +100,7 @@ impl<'a> BothDevices<'a> {
                     if !cpu.add_samples(scene, &frame, first_sample + first, count, &stop) {
                         return false;
                     }
-                    if started.elapsed() < CPU_BATCH / 2 {
+                    if started.elapsed() < BATCH_DURATION / 2 {
                         *cpu_batch = cpu_batch.saturating_mul(2);
                     }
                 }

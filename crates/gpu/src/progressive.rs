@@ -1,12 +1,12 @@
 //! A progressive render on either backend, behind the few calls that drive one batch by batch
 //! (`rt-cli converge`, the editor's render windows): the GPU's `Renderer`, or the native CPU
 //! backend's accumulation (`rt_core::cpu_render`), whose batches are sized to take about
-//! `CPU_BATCH` each so that progress, previews and cancelling stay responsive.
+//! `BATCH_DURATION` each so that progress, previews and cancelling stay responsive.
 
 use std::sync::atomic::AtomicBool;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use rt_core::cpu_render::CpuAccumulation;
+use rt_core::cpu_render::{BATCH_DURATION, CpuAccumulation};
 use rt_core::gpu_types::Frame;
 use rt_core::{GpuScene, Scene};
 
@@ -56,9 +56,6 @@ fn hardware_gpu_cached() -> Option<&'static str> {
     static FOUND: std::sync::OnceLock<Option<String>> = std::sync::OnceLock::new();
     FOUND.get_or_init(crate::hardware_gpu).as_deref()
 }
-
-/// About how long one of the CPU backend's batches should take.
-pub const CPU_BATCH: Duration = Duration::from_millis(250);
 
 pub enum Progressive<'a> {
     Gpu(Box<Renderer<'a>>),
@@ -113,7 +110,7 @@ impl<'a> Progressive<'a> {
     }
 
     /// Up to `samples` more samples of every pixel still sampling (on the CPU, as many as fit in
-    /// about `CPU_BATCH`; a batch that `cancel` stops adds nothing).
+    /// about `BATCH_DURATION`; a batch that `cancel` stops adds nothing).
     pub fn render_batch(&mut self, samples: u32, cancel: &AtomicBool) -> Result<()> {
         match self {
             Progressive::Gpu(r) => {
@@ -123,7 +120,7 @@ impl<'a> Progressive<'a> {
                 let count = samples.min(c.batch).max(1);
                 let started = Instant::now();
                 if c.accumulation.add_batch(c.scene, &c.frame, count, cancel)
-                    && started.elapsed() < CPU_BATCH / 2
+                    && started.elapsed() < BATCH_DURATION / 2
                 {
                     c.batch = c.batch.saturating_mul(2);
                 }

@@ -69,3 +69,39 @@ pub fn has_gpu() -> bool {
     static FOUND: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *FOUND.get_or_init(|| rt_gpu::GpuContext::for_tests().is_some())
 }
+
+/// How many pixels of two parts of the same samples agree to rounding. The twins compute each
+/// sample with the same random numbers, but a last-bit difference may send a path another way
+/// (another lobe, the other side of an edge): such pixels hold a different, equally valid sample
+/// and are counted, not compared.
+pub fn agreeing_pixels(a: &rt_core::part::Part, b: &rt_core::part::Part) -> usize {
+    assert_eq!(a.counts, b.counts, "sample counts");
+    a.pixels()
+        .iter()
+        .zip(b.pixels())
+        .filter(|(p, q)| {
+            p.iter()
+                .zip(q)
+                .all(|(x, y)| (x - y).abs() <= 1e-4 * x.abs().max(y.abs()) + 1e-7)
+        })
+        .count()
+}
+
+/// `rt-cli merge` of the parts `first` and `second` into `merged`, read back (it must be whole).
+pub fn merge_parts(
+    first: &std::path::Path,
+    second: &std::path::Path,
+    merged: &std::path::Path,
+) -> rt_core::part::Part {
+    let (code, _, stderr) = rt_cli(&[
+        "merge",
+        first.to_str().unwrap(),
+        second.to_str().unwrap(),
+        "-o",
+        merged.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let part = rt_core::part::read_part(merged).unwrap();
+    assert!(part.is_complete());
+    part
+}
