@@ -10,10 +10,12 @@ here, and LLVM 14 is too old; DRJIT_LIBLLVM_PATH overrides the library), and a r
 (`cargo build --release -p rt-cli`).
 
 Usage: bench/mitsuba-vs-rt.py REFERENCE.exr [--spp 256] [--size 512] [--sampler independent|sobol]
-       [--device gpu|cpu] [--cli PATH]
+       [--device gpu|cpu] [--cli PATH] [--cycles PYTHON3.13]
 (rt's own default sampler, Sobol, unless --sampler is given; Mitsuba keeps its independent one;
 --device cpu renders rt with its native CPU backend rather than through wgpu; --cli runs another
-rt-cli binary, to compare two builds side by side)
+rt-cli binary, to compare two builds side by side; --cycles renders the same box with Blender Cycles
+on the CPU through that Python (3.13 with `pip install bpy==5.2.3`; `cycles_cornell.py`) and adds
+its row and ratio)
 """
 
 import argparse
@@ -26,40 +28,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from cornell_scene import parse_cornell
+
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
-
-
-def parse_cornell(folder):
-    """Per-object vertex lists and materials of the Cornell OBJ/MTL."""
-    mtl = {}
-    current = None
-    for line in (folder / "cornell.mtl").read_text().splitlines():
-        parts = line.split()
-        if not parts:
-            continue
-        if parts[0] == "newmtl":
-            current = parts[1]
-            mtl[current] = {}
-        elif parts[0] in ("Kd", "Ke") and current:
-            values = [float(v) for v in parts[1:4]]
-            mtl[current][parts[0]] = values + values[-1:] * (3 - len(values))
-    vertices, objects = [], []
-    for line in (folder / "cornell.obj").read_text().splitlines():
-        parts = line.split()
-        if not parts:
-            continue
-        if parts[0] == "v":
-            vertices.append([float(v) for v in parts[1:4]])
-        elif parts[0] == "o":
-            objects.append({"name": parts[1], "faces": [], "material": None})
-        elif parts[0] == "usemtl":
-            objects[-1]["material"] = parts[1]
-        elif parts[0] == "f":
-            idx = [int(p.split("/")[0]) for p in parts[1:]]
-            idx = [i - 1 if i > 0 else len(vertices) + i for i in idx]
-            objects[-1]["faces"].append(idx)
-    return vertices, objects, mtl
 
 
 def mitsuba_scene(mi, folder, size, spp, tmp):
@@ -121,6 +93,7 @@ def main():
     parser.add_argument("--sampler", default=None)
     parser.add_argument("--device", default="gpu", choices=["gpu", "cpu"])
     parser.add_argument("--cli", type=Path, default=CLI)
+    parser.add_argument("--cycles", metavar="PYTHON3.13", default=None)
     args = parser.parse_args()
     os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
     import drjit as dr
@@ -155,6 +128,16 @@ def main():
             t_rt /= 1000.0
         e_mitsuba = rel_mse(mitsuba_out, args.reference)
         e_rt = rel_mse(rt_out, args.reference)
+        cycles = None
+        if args.cycles:
+            cycles_out = Path(tmp) / "cycles.exr"
+            log_cycles = subprocess.run(
+                [args.cycles, str(ROOT / "bench" / "cycles_cornell.py"), str(cycles_out),
+                 "--size", str(args.size), "--spp", str(args.spp)],
+                capture_output=True, text=True, check=True,
+            ).stdout
+            t_cycles = float(re.search(r"cycles render time:\s+([\d.]+)", log_cycles).group(1))
+            cycles = (t_cycles, rel_mse(cycles_out, args.reference))
     ratio = (t_rt * e_rt) / (t_mitsuba * e_mitsuba)
     adapter = re.search(r"(?:adapter|device):\s+(.*)", log).group(1)
     print(f"machine: {os.cpu_count()} CPUs; rt adapter: {adapter}")
@@ -162,7 +145,13 @@ def main():
     print(f"{'Mitsuba 3':10} {t_mitsuba:>10.2f} {e_mitsuba:>12.4e}   (llvm_ad_rgb, path, independent)")
     sampler = args.sampler or "default sampler"
     print(f"{'rt':10} {t_rt:>10.2f} {e_rt:>12.4e}   ({sampler}; render time; {t_rt_wall:.2f} s with start-up, BVH, save)")
+    if cycles:
+        t_cycles, e_cycles = cycles
+        print(f"{'Cycles':10} {t_cycles:>10.2f} {e_cycles:>12.4e}   (Blender 5.2 CPU, path, no adaptive sampling)")
     print(f"equal-error time ratio (t_rt relMSE_rt) / (t_mitsuba relMSE_mitsuba): {ratio:.3f}")
+    if cycles:
+        print(f"equal-error time ratio (t_rt relMSE_rt) / (t_cycles relMSE_cycles): "
+              f"{(t_rt * e_rt) / (t_cycles * e_cycles):.3f}")
     return 0
 
 
