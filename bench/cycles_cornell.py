@@ -18,10 +18,9 @@ import time
 from pathlib import Path
 
 import bpy
-import mathutils
 
 from cornell_scene import parse_cornell
-from cycles_settings import match_rt
+from cycles_settings import look_at, match_rt
 
 ROOT = Path(__file__).resolve().parent.parent
 DEPTH = 8
@@ -79,10 +78,7 @@ def build(size, spp):
     cam.clip_start, cam.clip_end = 0.1, 1e5
     cam_ob = bpy.data.objects.new("camera", cam)
     scene.collection.objects.link(cam_ob)
-    origin = mathutils.Vector(camera_json["from"])
-    forward = mathutils.Vector(camera_json["to"]) - origin
-    cam_ob.location = origin
-    cam_ob.rotation_euler = forward.to_track_quat("-Z", "Y").to_euler()
+    cam_ob.matrix_world = look_at(camera_json)
     scene.camera = cam_ob
     # Black: a new world's nodes give a grey background of strength 1.
     world = bpy.data.worlds.new("black")

@@ -6,6 +6,8 @@ clamping, a 1-pixel box filter, every bounce limit at rt's max depth − 1, caus
 import argparse
 from pathlib import Path
 
+import mathutils
+
 
 def arguments(doc, rt_spp, out, sets=None):
     """The comparisons' command line: Cycles' and rt's sample counts and the output folder, which
@@ -47,3 +49,14 @@ def match_rt(scene, spp, depth):
     c.caustics_reflective = c.caustics_refractive = True
     c.seed = 3
     scene.view_settings.view_transform = "Standard"
+
+
+def look_at(camera):
+    """The camera's placement from rt's from/to/up (y up): Blender's `to_track_quat` keeps world z
+    up, which is degenerate for a camera looking along z."""
+    origin = mathutils.Vector(camera["from"])
+    forward = (mathutils.Vector(camera["to"]) - origin).normalized()
+    right = forward.cross(mathutils.Vector(camera.get("up", [0, 1, 0]))).normalized()
+    up = right.cross(forward)
+    rotation = mathutils.Matrix((right, up, -forward)).transposed().to_4x4()
+    return mathutils.Matrix.Translation(origin) @ rotation

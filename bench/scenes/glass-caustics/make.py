@@ -25,7 +25,8 @@ def sphere(out, vbase, nbase, cx, cy, cz, r, n_lat=24, n_lon=48):
     for (x, y, z) in verts:
         out.append(f"vn {x:.6f} {y:.6f} {z:.6f}")
     for f in faces:
-        # Counter-clockwise seen from outside.
+        # These wind clockwise seen from outside, against the outward normals (a slip kept on
+        # purpose: a mesh like it must render by its normals, crates/core/tests/winding.rs).
         a, b, c = (k + 1 for k in (f[0], f[2], f[1]))
         out.append(f"f {vbase + a}//{nbase + a} {vbase + b}//{nbase + b} {vbase + c}//{nbase + c}")
     return vbase + len(verts), nbase + len(verts)

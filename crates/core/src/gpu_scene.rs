@@ -184,15 +184,32 @@ impl GpuScene {
         self.triangles.reserve(world.len());
         self.shading.reserve(world.len());
         for &i in order {
-            let p = world[i as usize];
-            let (material, normals, uvs, t, colors) = &tri_data[i as usize];
+            let mut p = world[i as usize];
+            let (material, normals, uvs, t, colors) = tri_data[i as usize];
+            let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
+            let (mut uvs, mut t, mut colors) = (uvs, t, colors);
+            let mut normals = normals;
+            // A triangle's front is where its vertex normals point, whatever its winding (as
+            // pbrt-v4 orients the geometric normal to the shading normal; Mitsuba's dielectric
+            // reads the shading frame): a ball whose faces wind inward but whose normals point
+            // out is solid glass seen from outside, not from inside. Swapping corners 1 and 2
+            // (with their attributes) turns the winding over once here, for every estimator,
+            // emitter table and light tree alike.
+            if let Some(n) = normals
+                && (p[1] - p[0]).cross(p[2] - p[0]).dot(n[0] + n[1] + n[2]) < 0.0
+            {
+                p.swap(1, 2);
+                normals = Some([n[0], n[2], n[1]]);
+                uvs = uvs.map(|u| [u[0], u[2], u[1]]);
+                t = t.map(|t| [t[0], t[2], t[1]]);
+                colors = colors.map(|c| [c[0], c[2], c[1]]);
+            }
             if self.features.normal_maps {
                 self.tangents.extend(t.unwrap_or([[0.0; 4]; 3]));
             }
-            let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
             self.triangles.push(Triangle {
                 v0: p[0].to_array(),
-                material: *material,
+                material,
                 v1: p[1].to_array(),
                 has_normals: normals.is_some() as u32 * gpu_types::HAS_NORMALS
                     + colors.is_some() as u32 * gpu_types::HAS_COLORS,
