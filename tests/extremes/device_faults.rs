@@ -149,7 +149,13 @@ fn a_batch_failing_part_way_is_finished_by_the_next() {
                     after.pixels[row.clone()] != before.pixels[row]
                 })
                 .count();
-            failed_part_way |= rows_changed > 0 && rows_changed < 20;
+            // With adaptive sampling the image shows whole batches only (its two streams take
+            // a batch at a time): the renderer says whether one waits to be finished.
+            failed_part_way |= if adaptive.is_some() {
+                renderer.batch_unfinished() && rows_changed == 0
+            } else {
+                rows_changed > 0 && rows_changed < 20
+            };
             renderer.render(3, |_| true).unwrap();
             let resumed = renderer.read_image().unwrap();
             assert_eq!(resumed.samples_per_pixel, 3);

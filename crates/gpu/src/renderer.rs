@@ -200,6 +200,13 @@ impl<'a> Renderer<'a> {
         self.samples_done
     }
 
+    /// Whether a batch that stopped part-way (a failure, or `render_slice`'s budget) waits for the
+    /// next call to finish it. With adaptive sampling, `read_image` shows whole batches only, so
+    /// this is how a caller tells.
+    pub fn batch_unfinished(&self) -> bool {
+        self.unfinished.is_some()
+    }
+
     /// Makes the next batch take samples from index `sample` on (counted from the options'
     /// `first_sample`) instead of after the last batch's: how `--device all` hands the GPU the
     /// ranges of a frame's samples it draws. Ranges must not overlap (the sums would count a
