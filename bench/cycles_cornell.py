@@ -14,13 +14,12 @@ Prints: `cycles render time: SECONDS`
 import argparse
 import json
 import math
-import time
 from pathlib import Path
 
 import bpy
 
 from cornell_scene import parse_cornell
-from cycles_settings import look_at, match_rt
+from cycles_settings import look_at, match_rt, square_exr_film, timed_render
 
 ROOT = Path(__file__).resolve().parent.parent
 DEPTH = 8
@@ -85,11 +84,7 @@ def build(size, spp):
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
     scene.world = world
-    scene.render.resolution_x = scene.render.resolution_y = size
-    scene.render.resolution_percentage = 100
-    scene.render.threads_mode = "AUTO"
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
+    square_exr_film(scene, size)
     match_rt(scene, spp, DEPTH)
     return scene
 
@@ -101,14 +96,7 @@ def main():
     parser.add_argument("--spp", type=int, default=256)
     args = parser.parse_args()
     scene = build(args.size, args.spp)
-    scene.render.filepath = str(Path(args.out).resolve())
-    # A one-sample render first: it loads Cycles' kernels, which the timed render then has.
-    scene.cycles.samples = 1
-    bpy.ops.render.render(write_still=False)
-    scene.cycles.samples = args.spp
-    started = time.perf_counter()
-    bpy.ops.render.render(write_still=True)
-    print(f"cycles render time: {time.perf_counter() - started:.3f}")
+    timed_render(bpy, scene, args.spp, args.out)
 
 
 if __name__ == "__main__":

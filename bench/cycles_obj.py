@@ -20,14 +20,13 @@ Prints: `cycles render time: SECONDS` (after a one-sample render that loads the 
 import argparse
 import json
 import math
-import time
 from pathlib import Path
 
 import bpy
 import mathutils
 
 from cycles_cornell import material as lambert_or_emitter
-from cycles_settings import look_at, match_rt
+from cycles_settings import look_at, match_rt, square_exr_film, timed_render
 
 DEPTH = 8
 
@@ -138,11 +137,7 @@ def build(obj_path, camera_path, size, spp):
     background.inputs["Color"].default_value = (*camera_json.get("background", [0, 0, 0]), 1.0)
     background.inputs["Strength"].default_value = 1.0
     scene.world = world
-    scene.render.resolution_x = scene.render.resolution_y = size
-    scene.render.resolution_percentage = 100
-    scene.render.threads_mode = "AUTO"
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
+    square_exr_film(scene, size)
     match_rt(scene, spp, DEPTH)
     return scene
 
@@ -156,13 +151,7 @@ def main():
     parser.add_argument("--spp", type=int, default=128)
     args = parser.parse_args()
     scene = build(args.scene, args.camera, args.size, args.spp)
-    scene.render.filepath = str(Path(args.out).resolve())
-    scene.cycles.samples = 1
-    bpy.ops.render.render(write_still=False)
-    scene.cycles.samples = args.spp
-    started = time.perf_counter()
-    bpy.ops.render.render(write_still=True)
-    print(f"cycles render time: {time.perf_counter() - started:.3f}")
+    timed_render(bpy, scene, args.spp, args.out)
 
 
 if __name__ == "__main__":

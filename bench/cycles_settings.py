@@ -60,3 +60,26 @@ def look_at(camera):
     up = right.cross(forward)
     rotation = mathutils.Matrix((right, up, -forward)).transposed().to_4x4()
     return mathutils.Matrix.Translation(origin) @ rotation
+
+
+def square_exr_film(scene, size):
+    """A `size` x `size` image written as 32-bit linear EXR, on every core."""
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.threads_mode = "AUTO"
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+
+
+def timed_render(bpy, scene, spp, out):
+    """Renders `spp` samples into `out` and prints `cycles render time: SECONDS`, after a
+    one-sample render that loads Cycles' kernels (which the timed render then has)."""
+    import time
+
+    scene.render.filepath = str(Path(out).resolve())
+    scene.cycles.samples = 1
+    bpy.ops.render.render(write_still=False)
+    scene.cycles.samples = spp
+    started = time.perf_counter()
+    bpy.ops.render.render(write_still=True)
+    print(f"cycles render time: {time.perf_counter() - started:.3f}")
