@@ -173,7 +173,8 @@ impl RtApp {
             app.preview_available = true;
             let info = render_state.adapter.get_info();
             app.display_adapter = Some(rt_gpu::context::adapter_label(&info));
-            app.live.enabled = opens_path_traced(info.device_type);
+            let live_on_cpu = app.ui.render_device.on_cpu(false).0;
+            app.live.enabled = opens_path_traced(info.device_type, live_on_cpu);
         }
         app
     }
@@ -202,10 +203,13 @@ impl RtApp {
 }
 
 /// Whether the viewport opens path-traced: on a discrete GPU, whose first image takes a few
-/// milliseconds; integrated GPUs and CPU adapters (lavapipe) open on the raster preview, which
-/// answers at once there (P switches either way).
-pub fn opens_path_traced(device_type: wgpu::DeviceType) -> bool {
-    device_type == wgpu::DeviceType::DiscreteGpu
+/// milliseconds, and wherever the path-traced view runs on the CPU backend (`live_on_cpu`: no
+/// hardware GPU, or the CPU chosen), which answers a change in ~20 ms at its coarsest step and
+/// shows the render's light where the raster preview guesses it; an integrated GPU or lavapipe
+/// tracing the view opens on the raster preview, which answers at once there (P switches either
+/// way).
+pub fn opens_path_traced(device_type: wgpu::DeviceType, live_on_cpu: bool) -> bool {
+    device_type == wgpu::DeviceType::DiscreteGpu || live_on_cpu
 }
 
 impl RenderView {
@@ -223,15 +227,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn only_discrete_gpus_open_the_viewport_path_traced() {
-        assert!(opens_path_traced(wgpu::DeviceType::DiscreteGpu));
-        for other in [
+    fn discrete_gpus_and_the_cpu_backend_open_the_viewport_path_traced() {
+        let others = [
             wgpu::DeviceType::IntegratedGpu,
             wgpu::DeviceType::Cpu,
             wgpu::DeviceType::VirtualGpu,
             wgpu::DeviceType::Other,
-        ] {
-            assert!(!opens_path_traced(other), "{other:?}");
+        ];
+        assert!(opens_path_traced(wgpu::DeviceType::DiscreteGpu, false));
+        for other in others {
+            assert!(
+                !opens_path_traced(other, false),
+                "{other:?} tracing the view"
+            );
+            assert!(
+                opens_path_traced(other, true),
+                "{other:?} with the CPU backend"
+            );
         }
     }
 }
