@@ -21,7 +21,16 @@ fn have_gpu() -> bool {
     rt_gpu::GpuContext::for_tests().is_some()
 }
 
+/// The editor as it opens, but on the raster preview (where the viewport opens path-traced, as it
+/// does without a hardware GPU, the tests that look at the preview or press P start from the same
+/// view; `opening_harness` is the editor as a user opens it).
 fn harness() -> Harness<'static, RtApp> {
+    let mut harness = opening_harness();
+    harness.state_mut().live.enabled = false;
+    harness
+}
+
+fn opening_harness() -> Harness<'static, RtApp> {
     Harness::builder()
         .with_size([1280.0, 800.0])
         .with_max_steps(50)

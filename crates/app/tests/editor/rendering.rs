@@ -207,3 +207,23 @@ fn renders_on_the_cpu_backend_from_the_render_panel() {
     assert!(image.pixels.iter().any(|p| p[0] > 0.0), "a black image");
     assert!(job.aovs.is_some(), "no denoiser guides");
 }
+
+/// Where the path-traced view runs on the CPU backend (here, without a hardware GPU: `auto`'s
+/// choice), the viewport opens path-traced and shows the path tracer's first image.
+#[test]
+fn without_a_hardware_gpu_the_viewport_opens_path_traced() {
+    if !have_gpu() || rt_gpu::hardware_gpu().is_some() {
+        return;
+    }
+    let mut harness = opening_harness();
+    assert!(
+        harness.state().live.enabled,
+        "the viewport opened on the raster preview"
+    );
+    step_until(&mut harness, "the path-traced view's first image", |app| {
+        app.live
+            .view
+            .as_ref()
+            .is_some_and(|v| v.display().is_some())
+    });
+}
