@@ -13,13 +13,12 @@ Prints: `cycles render time: SECONDS`
 
 import argparse
 import json
-import math
 from pathlib import Path
 
 import bpy
 
 from cornell_scene import parse_cornell
-from cycles_settings import look_at, match_rt, square_exr_film, timed_render
+from cycles_settings import camera_and_world, match_rt, square_exr_film, timed_render
 
 ROOT = Path(__file__).resolve().parent.parent
 DEPTH = 8
@@ -70,20 +69,7 @@ def build(size, spp):
         ob = bpy.data.objects.new(obj["name"], mesh)
         scene.collection.objects.link(ob)
     camera_json = json.loads((folder / "cornell.json").read_text())
-    cam = bpy.data.cameras.new("camera")
-    cam.sensor_fit = "VERTICAL"
-    cam.angle_y = math.radians(camera_json["vfov"])
-    # The box is ~550 units across and the camera 800 from it: beyond Blender's default 100.
-    cam.clip_start, cam.clip_end = 0.1, 1e5
-    cam_ob = bpy.data.objects.new("camera", cam)
-    scene.collection.objects.link(cam_ob)
-    cam_ob.matrix_world = look_at(camera_json)
-    scene.camera = cam_ob
-    # Black: a new world's nodes give a grey background of strength 1.
-    world = bpy.data.worlds.new("black")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    scene.world = world
+    camera_and_world(bpy, scene, camera_json, [0.0, 0.0, 0.0])
     square_exr_film(scene, size)
     match_rt(scene, spp, DEPTH)
     return scene

@@ -19,14 +19,13 @@ Prints: `cycles render time: SECONDS` (after a one-sample render that loads the 
 
 import argparse
 import json
-import math
 from pathlib import Path
 
 import bpy
 import mathutils
 
 from cycles_cornell import material as lambert_or_emitter
-from cycles_settings import look_at, match_rt, square_exr_film, timed_render
+from cycles_settings import camera_and_world, match_rt, square_exr_film, timed_render
 
 DEPTH = 8
 
@@ -44,30 +43,30 @@ def read_mtl(path):
     return materials
 
 
+def single_bsdf(name, node_type, inputs):
+    """A material of one BSDF node of `node_type` with these input values."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.clear()
+    bsdf = nodes.new(node_type)
+    for key, value in inputs.items():
+        bsdf.inputs[key].default_value = value
+    mat.node_tree.links.new(bsdf.outputs["BSDF"],
+                            nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+    return mat
+
+
 def cycles_material(name, m):
-    if m.get("illum", [0])[0] == 7:
-        mat = bpy.data.materials.new(name)
-        mat.use_nodes = True
-        nodes, links = mat.node_tree.nodes, mat.node_tree.links
-        nodes.clear()
-        glass = nodes.new("ShaderNodeBsdfGlass")
-        glass.distribution = "SHARP" if hasattr(glass, "distribution") and "SHARP" in [
-            i.identifier for i in glass.bl_rna.properties["distribution"].enum_items] else "GGX"
-        glass.inputs["Roughness"].default_value = 0.0
-        glass.inputs["IOR"].default_value = m.get("Ni", [1.5])[0]
-        glass.inputs["Color"].default_value = (*m.get("Tf", [1, 1, 1]), 1.0)
-        links.new(glass.outputs["BSDF"], nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
-        return mat
-    if m.get("illum", [0])[0] == 3:
-        mat = bpy.data.materials.new(name)
-        mat.use_nodes = True
-        nodes, links = mat.node_tree.nodes, mat.node_tree.links
-        nodes.clear()
-        mirror = nodes.new("ShaderNodeBsdfGlossy")
-        mirror.inputs["Roughness"].default_value = 0.0
-        mirror.inputs["Color"].default_value = (*m.get("Ks", [1, 1, 1]), 1.0)
-        links.new(mirror.outputs["BSDF"], nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
-        return mat
+    illum = m.get("illum", [0])[0]
+    if illum == 7:
+        # GGX at roughness 0 is Cycles' smooth glass.
+        return single_bsdf(name, "ShaderNodeBsdfGlass", {
+            "Roughness": 0.0, "IOR": m.get("Ni", [1.5])[0],
+            "Color": (*m.get("Tf", [1, 1, 1]), 1.0)})
+    if illum == 3:
+        return single_bsdf(name, "ShaderNodeBsdfGlossy", {
+            "Roughness": 0.0, "Color": (*m.get("Ks", [1, 1, 1]), 1.0)})
     return lambert_or_emitter(name, m.get("Kd", [0, 0, 0]), m.get("Ke", [0, 0, 0]))
 
 
@@ -123,20 +122,7 @@ def build(obj_path, camera_path, size, spp):
         mesh.materials.append(cycles_material(f"mat{i}", m))
         scene.collection.objects.link(bpy.data.objects.new(obj["name"], mesh))
     camera_json = json.loads(camera_path.read_text())
-    cam = bpy.data.cameras.new("camera")
-    cam.sensor_fit = "VERTICAL"
-    cam.angle_y = math.radians(camera_json["vfov"])
-    cam.clip_start, cam.clip_end = 1e-3, 1e5
-    cam_ob = bpy.data.objects.new("camera", cam)
-    scene.collection.objects.link(cam_ob)
-    cam_ob.matrix_world = look_at(camera_json)
-    scene.camera = cam_ob
-    world = bpy.data.worlds.new("background")
-    world.use_nodes = True
-    background = world.node_tree.nodes["Background"]
-    background.inputs["Color"].default_value = (*camera_json.get("background", [0, 0, 0]), 1.0)
-    background.inputs["Strength"].default_value = 1.0
-    scene.world = world
+    camera_and_world(bpy, scene, camera_json, camera_json.get("background", [0, 0, 0]))
     square_exr_film(scene, size)
     match_rt(scene, spp, DEPTH)
     return scene

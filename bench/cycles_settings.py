@@ -83,3 +83,25 @@ def timed_render(bpy, scene, spp, out):
     started = time.perf_counter()
     bpy.ops.render.render(write_still=True)
     print(f"cycles render time: {time.perf_counter() - started:.3f}")
+
+
+def camera_and_world(bpy, scene, camera, background):
+    """rt's camera file (from, to, up, vertical fov) as the scene's camera, clipping nothing a
+    bench scene holds (Blender's default far plane is 100), and a world of radiance
+    `background` (rt's colour for rays that leave the scene)."""
+    import math
+
+    cam = bpy.data.cameras.new("camera")
+    cam.sensor_fit = "VERTICAL"
+    cam.angle_y = math.radians(camera["vfov"])
+    cam.clip_start, cam.clip_end = 1e-3, 1e5
+    cam_ob = bpy.data.objects.new("camera", cam)
+    scene.collection.objects.link(cam_ob)
+    cam_ob.matrix_world = look_at(camera)
+    scene.camera = cam_ob
+    world = bpy.data.worlds.new("background")
+    world.use_nodes = True
+    node = world.node_tree.nodes["Background"]
+    node.inputs["Color"].default_value = (*background, 1.0)
+    node.inputs["Strength"].default_value = 1.0
+    scene.world = world
