@@ -29,7 +29,7 @@ struct Step {
 pub enum Origin {
     /// The scene compiled into the binary.
     Embedded,
-    /// A Wavefront OBJ or glTF file (saving writes a project elsewhere).
+    /// A model file: OBJ, glTF, PLY or STL (saving writes a project elsewhere).
     Obj(PathBuf),
     /// A project file (saving writes back to it).
     Project(PathBuf),

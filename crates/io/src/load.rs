@@ -3,17 +3,24 @@
 
 use std::path::Path;
 
-use super::{gltf, obj, project};
+use super::{gltf, obj, ply, project, stl};
 use rt_core::error::{Error, Result};
 use rt_core::scene::Scene;
 
 /// The extensions of the scene files rt reads, lowercase, without the dot.
-pub const SCENE_EXTENSIONS: &[&str] = &["obj", "gltf", "glb", project::PROJECT_EXTENSION];
+pub const SCENE_EXTENSIONS: &[&str] = &[
+    "obj",
+    "gltf",
+    "glb",
+    "ply",
+    "stl",
+    project::PROJECT_EXTENSION,
+];
 
 /// What a caller may choose about loading; the default suits a user opening a file.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct LoadOptions {
-    /// Seed for the colours of OBJ objects without a material.
+    /// Seed for the colours of OBJ objects without a material (and of PLY and STL meshes).
     pub seed: u32,
     /// Which of a glTF file's scenes to load (its default scene when `None`); an error for any
     /// other kind of file.
@@ -27,6 +34,10 @@ pub enum SceneFormat {
     Obj,
     /// glTF 2.0, `.gltf` or `.glb`.
     Gltf,
+    /// Stanford PLY, one mesh.
+    Ply,
+    /// STL (stereolithography), one mesh.
+    Stl,
     /// An rt project (`.rtproj`).
     Project,
 }
@@ -41,6 +52,8 @@ impl SceneFormat {
         match extension.as_str() {
             "obj" => Ok(SceneFormat::Obj),
             "gltf" | "glb" => Ok(SceneFormat::Gltf),
+            "ply" => Ok(SceneFormat::Ply),
+            "stl" => Ok(SceneFormat::Stl),
             e if e == project::PROJECT_EXTENSION => Ok(SceneFormat::Project),
             _ => {
                 let what = match extension.as_str() {
@@ -58,13 +71,19 @@ impl SceneFormat {
         }
     }
 
-    /// A model made elsewhere (OBJ, glTF), as opposed to a project rt saved.
+    /// A model made elsewhere (OBJ, glTF, PLY, STL), as opposed to a project rt saved.
     pub fn is_model(self) -> bool {
         self != SceneFormat::Project
     }
+
+    /// Geometry alone, with no camera or light of its own (OBJ, PLY, STL): framed for viewing on
+    /// loading, and lit by the editor's studio environment.
+    pub fn is_bare_geometry(self) -> bool {
+        matches!(self, SceneFormat::Obj | SceneFormat::Ply | SceneFormat::Stl)
+    }
 }
 
-/// ".obj, .gltf, .glb, .rtproj", for messages.
+/// ".obj, .gltf, .glb, .ply, .stl, .rtproj", for messages.
 pub fn scene_extensions_listed() -> String {
     SCENE_EXTENSIONS
         .iter()
@@ -75,9 +94,10 @@ pub fn scene_extensions_listed() -> String {
 
 /// Loads the scene file at `path`, by its extension (in any case), with one policy for all
 /// callers:
-/// - `.obj`: the file, with `options.seed` for the colours of objects without a material, framed
-///   for viewing ([`Scene::frame_for_viewing`]: the camera shows the whole model, and a model
-///   without emitters gets a grey ambient), since an OBJ has no camera and no light of its own.
+/// - `.obj`, `.ply`, `.stl`: the file, with `options.seed` for the colours of objects without a
+///   material, framed for viewing ([`Scene::frame_for_viewing`]: the camera shows the whole
+///   model, and a model without emitters gets a grey ambient), since these files have no camera
+///   and no light of their own.
 /// - `.gltf`, `.glb`: the scene `options.gltf_scene` (the file's default one when `None`); the
 ///   glTF loader frames a file without a camera and lights one without light
 ///   ([`gltf::load_gltf`]).
@@ -107,8 +127,12 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene> {
         });
     }
     match format {
-        SceneFormat::Obj => {
-            let mut scene = obj::load_obj(path, options.seed)?;
+        SceneFormat::Obj | SceneFormat::Ply | SceneFormat::Stl => {
+            let mut scene = match format {
+                SceneFormat::Obj => obj::load_obj(path, options.seed)?,
+                SceneFormat::Ply => ply::load_ply(path, options.seed)?,
+                _ => stl::load_stl(path, options.seed)?,
+            };
             scene.frame_for_viewing();
             Ok(scene)
         }
@@ -129,6 +153,8 @@ mod tests {
             ("d.gltf", SceneFormat::Gltf),
             ("e.GLB", SceneFormat::Gltf),
             ("f.RtProj", SceneFormat::Project),
+            ("g.ply", SceneFormat::Ply),
+            ("h.STL", SceneFormat::Stl),
         ] {
             assert_eq!(SceneFormat::of(Path::new(name)).unwrap(), format, "{name}");
         }
@@ -143,7 +169,7 @@ mod tests {
             assert!(
                 message.starts_with(name)
                     && message.contains("unknown scene type")
-                    && message.contains("rt reads .obj, .gltf, .glb, .rtproj"),
+                    && message.contains("rt reads .obj, .gltf, .glb, .ply, .stl, .rtproj"),
                 "{message}"
             );
         }

@@ -1,7 +1,10 @@
-//! A mutation fuzzer on stable Rust: at least 10,000 malformed OBJ and MTL inputs, 10,000 project
-//! archives and 2,000 camera files, made by mutating valid files, go through the loaders and the GPU scene build, which must return errors,
+//! A mutation fuzzer on stable Rust: at least 10,000 malformed OBJ and MTL inputs, 10,000 PLY and
+//! 10,000 STL files (text and binary), 10,000 project archives and 2,000 camera files, made by mutating valid files, go through the loaders and the GPU scene build, which must return errors,
 //! never panic. Deterministic (seeded), so a failure reproduces; any crashing input found is kept
 //! as a regression case in `regressions()`.
+
+#[path = "common/mesh_writers.rs"]
+mod mesh_writers;
 
 use std::path::Path;
 
@@ -430,4 +433,116 @@ fn ten_thousand_malformed_project_files_never_panic() {
         errors > iterations / 4,
         "only {errors} of {iterations} mutated projects were rejected"
     );
+}
+
+/// One random edit of a binary file: a byte changed, a run removed or repeated, or the end cut.
+fn mutate_bytes(fuzz: &mut Fuzz, bytes: &[u8]) -> Vec<u8> {
+    let mut out = bytes.to_vec();
+    for _ in 0..1 + fuzz.next(4) {
+        if out.is_empty() {
+            break;
+        }
+        let at = fuzz.next(out.len());
+        let run = 1 + fuzz.next(16.min(out.len() - at));
+        match fuzz.next(5) {
+            0 => out[at] = fuzz.next(256) as u8,
+            1 => {
+                out.drain(at..at + run);
+            }
+            2 => {
+                let copy = out[at..at + run].to_vec();
+                out.splice(at..at, copy);
+            }
+            3 => out.truncate(at),
+            _ => out[at..at + run].fill(0xff),
+        }
+    }
+    out
+}
+
+/// PLY and STL seeds: a small mesh with normals, texture coordinates and colours in every
+/// encoding.
+fn mesh_seeds() -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
+    use mesh_writers::{PlyEncoding, ply, stl_ascii, stl_binary, triangle_faces};
+    let mut mesh = rt_core::shapes::uv_sphere(1.0, 3, 4);
+    mesh.uvs = Some(
+        mesh.positions
+            .iter()
+            .map(|p| glam::Vec2::new(p.x, p.y))
+            .collect(),
+    );
+    let colors: Vec<[u8; 3]> = (0..mesh.positions.len())
+        .map(|i| [i as u8, 7, 200])
+        .collect();
+    let mut faces = triangle_faces(&mesh);
+    faces.push(vec![0, 1, 2, 3, 4]);
+    let plys = [
+        PlyEncoding::Ascii,
+        PlyEncoding::LittleEndian,
+        PlyEncoding::BigEndian,
+    ]
+    .into_iter()
+    .map(|encoding| ply(&mesh, Some(&colors), &faces, encoding))
+    .collect();
+    let stls = vec![
+        stl_ascii(&mesh, true),
+        stl_binary(&mesh, "binary"),
+        stl_binary(&mesh, "solid binary"),
+    ];
+    (plys, stls)
+}
+
+fn ten_thousand_malformed_mesh_files(
+    format: &str,
+    seeds: &[Vec<u8>],
+    read: fn(&[u8]) -> Result<rt_core::scene::Mesh, Error>,
+) {
+    let mut fuzz = Fuzz(0x91e5 + format.len() as u32);
+    let iterations = 10_000;
+    let mut errors = 0;
+    for _ in 0..iterations {
+        let seed = &seeds[fuzz.next(seeds.len())];
+        let input = if seed.is_ascii() && fuzz.next(2) == 0 {
+            fuzz.mutated(&String::from_utf8_lossy(seed)).into_bytes()
+        } else {
+            mutate_bytes(&mut fuzz, seed)
+        };
+        let shown = String::from_utf8_lossy(&input).into_owned();
+        let bytes = input.clone();
+        assert_no_panic(format, &shown, move || {
+            if let Ok(mesh) = read(&bytes) {
+                let scene = rt_core::Scene {
+                    objects: vec![rt_core::scene::Object {
+                        name: "fuzz".into(),
+                        mesh: mesh.into(),
+                        material: rt_core::Material::lambertian([0.5; 3]),
+                        transform: Default::default(),
+                    }],
+                    ..Default::default()
+                };
+                let _ = GpuScene::build(&scene);
+            }
+        });
+        errors += usize::from(read(&input).is_err());
+    }
+    assert!(
+        errors > iterations / 4,
+        "only {errors} of {iterations} mutated {format} files were rejected"
+    );
+}
+
+#[test]
+fn ten_thousand_malformed_ply_files_never_panic() {
+    let (plys, _) = mesh_seeds();
+    ten_thousand_malformed_mesh_files("PLY", &plys, |bytes| {
+        rt_io::ply::read_ply(Path::new("fuzz.ply"), bytes)
+    });
+}
+
+#[test]
+fn ten_thousand_malformed_stl_files_never_panic() {
+    let (_, stls) = mesh_seeds();
+    ten_thousand_malformed_mesh_files("STL", &stls, |bytes| {
+        rt_io::stl::read_stl(Path::new("fuzz.stl"), bytes)
+    });
 }

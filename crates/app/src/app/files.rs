@@ -67,7 +67,9 @@ impl RtApp {
         apply_editor_defaults(&mut scene, format);
         let origin = match format {
             SceneFormat::Project => Origin::Project(path.into()),
-            SceneFormat::Obj | SceneFormat::Gltf => Origin::Obj(path.into()),
+            SceneFormat::Obj | SceneFormat::Gltf | SceneFormat::Ply | SceneFormat::Stl => {
+                Origin::Obj(path.into())
+            }
         };
         self.replace_document(Document::new(scene, origin));
         Ok(())
@@ -181,13 +183,13 @@ impl RtApp {
     }
 }
 
-/// The editor's own choices for a model it opens, on top of `rt_io::load`'s policy: an OBJ
-/// that brings no light gets the studio environment (a glTF's loader decides its light itself), and
+/// The editor's own choices for a model it opens, on top of `rt_io::load`'s policy: an OBJ,
+/// PLY or STL that brings no light gets the studio environment (a glTF's loader decides its light itself), and
 /// a model's max depth follows its materials ([`recommended_max_depth`]). They are the editor's,
 /// not the shared policy, because they would change what `rt-cli render` makes of the same file
 /// (there, `--environment default` and `--max-depth` choose). A project opens exactly as saved.
 pub fn apply_editor_defaults(scene: &mut Scene, format: SceneFormat) {
-    if format == SceneFormat::Obj {
+    if format.is_bare_geometry() {
         light_with_the_default_environment(scene);
     }
     if format.is_model() {

@@ -88,7 +88,7 @@ fn bad_arguments_and_files_exit_2_with_one_line() {
         ),
         (
             vec!["render", "scene.xyz", "-o", "x.png"],
-            "scene.xyz: unknown scene type '.xyz': rt reads .obj, .gltf, .glb, .rtproj",
+            "scene.xyz: unknown scene type '.xyz': rt reads .obj, .gltf, .glb, .ply, .stl, .rtproj",
         ),
         (
             vec!["info", "scene.obj", "--gltf-scene", "0"],

@@ -96,6 +96,21 @@ pub fn load_gltf_bytes(
     })
 }
 
+/// A glTF 1.0 file: a binary container of version 1, or JSON whose `asset.version` is 1.x (or,
+/// without an asset, whose meshes are a map by id, as 1.0 wrote them).
+fn is_gltf_1(bytes: &[u8]) -> bool {
+    if let Some(version) = bytes.strip_prefix(b"glTF").and_then(|rest| rest.get(..4)) {
+        return version == 1u32.to_le_bytes();
+    }
+    let Ok(json) = serde_json::from_slice::<serde_json::Value>(bytes) else {
+        return false;
+    };
+    match json["asset"]["version"].as_str() {
+        Some(version) => version.starts_with("1."),
+        None => json["meshes"].is_object(),
+    }
+}
+
 fn load_unguarded(
     bytes: &[u8],
     path: &Path,
@@ -108,8 +123,17 @@ fn load_unguarded(
         message,
     };
     // Required extensions are checked before validation, which would only call them unsupported.
-    let unvalidated = gltf::Gltf::from_slice_without_validation(bytes)
-        .map_err(|e| err(format!("not valid glTF: {e}")))?;
+    let unvalidated = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| {
+        if is_gltf_1(bytes) {
+            err(
+                "glTF 1.0; rt reads glTF 2.0 (gltf-pipeline upgrades a file: \
+                 npx gltf-pipeline -i in.gltf -o out.gltf)"
+                    .into(),
+            )
+        } else {
+            err(format!("not valid glTF: {e}"))
+        }
+    })?;
     for ext in unvalidated.document.extensions_required() {
         if !SUPPORTED_EXTENSIONS.contains(&ext) {
             return Err(err(unsupported_extension(ext)));

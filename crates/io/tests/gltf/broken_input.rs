@@ -295,3 +295,54 @@ fn the_clear_coat_test_model_loads_its_coats() {
     );
     rt_core::GpuScene::build(&scene).unwrap();
 }
+
+/// glTF 1.0 (JSON with `asset.version` 1.0, or a binary container of version 1) is named as such,
+/// with the way to upgrade it, not reported as broken 2.0; Debian's corpus has six such files.
+#[test]
+fn gltf_1_files_are_named_as_such() {
+    let json_1 = json!({
+        "asset": {"version": "1.0"},
+        "meshes": {"mesh_1": {"primitives": []}},
+        "scene": "defaultScene",
+        "scenes": {"defaultScene": {"nodes": []}}
+    });
+    let mut glb_1 = b"glTF".to_vec();
+    glb_1.extend(1u32.to_le_bytes());
+    glb_1.extend(20u32.to_le_bytes());
+    glb_1.extend([0u8; 8]);
+    for (what, bytes) in [("JSON", json_1.to_string().into_bytes()), ("binary", glb_1)] {
+        let message = load_gltf_bytes(
+            &bytes,
+            Path::new("old.gltf"),
+            Path::new("."),
+            &|p| {
+                Err(rt_core::Error::File {
+                    path: p.into(),
+                    message: "no files".into(),
+                })
+            },
+            None,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            message.starts_with("old.gltf: glTF 1.0; rt reads glTF 2.0")
+                && message.contains("gltf-pipeline"),
+            "{what}: {message}"
+        );
+    }
+    let dir = Path::new("/usr/share/assimp/models/glTF");
+    if dir.is_dir() {
+        let mut files = Vec::new();
+        files_under(dir, &mut files);
+        assert!(files.len() >= 6, "{files:?}");
+        for file in files {
+            let message = load_gltf(&file, None).unwrap_err().to_string();
+            assert!(
+                message.contains("glTF 1.0"),
+                "{}: {message}",
+                file.display()
+            );
+        }
+    }
+}

@@ -1,0 +1,43 @@
+//! What the single-mesh formats (PLY, STL) share: one object named after the file with the
+//! default material of a bare OBJ object, and parsers guarded against panics.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::obj::distinct_color;
+use rt_core::error::{Error, Result};
+use rt_core::material::Material;
+use rt_core::scene::{Mesh, Object, Scene};
+
+pub use rt_core::math::sampling::srgb_to_linear;
+
+/// A scene of `mesh` alone, named after the file, with the material an OBJ object without one
+/// gets: a distinct colour from `seed`, or MTL's default grey (0.8) where vertex colours carry
+/// the colour (they multiply the albedo). [`crate::load`] frames it for viewing, as an OBJ.
+pub fn mesh_object_scene(path: &Path, mesh: Mesh, seed: u32) -> Scene {
+    let albedo = if mesh.colors.is_some() {
+        [0.8; 3]
+    } else {
+        distinct_color(seed, 0)
+    };
+    let name = path
+        .file_stem()
+        .map_or_else(|| "mesh".to_string(), |s| s.to_string_lossy().into_owned());
+    let mut scene = Scene::default();
+    scene.objects.push(Object {
+        name,
+        mesh: Arc::new(mesh),
+        material: Material::lambertian(albedo),
+        transform: Default::default(),
+    });
+    scene
+}
+
+/// Runs a parser, turning a panic inside it (a bug in a parser, triggered by odd input) into an
+/// error naming the file, so bad input never takes the program down.
+pub fn guard_parser<T>(path: &Path, format: &str, parse: impl FnOnce() -> T) -> Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(parse)).map_err(|_| Error::File {
+        path: path.into(),
+        message: format!("the {format} parser failed on this file (malformed input)"),
+    })
+}
