@@ -1,5 +1,9 @@
 //! Builds the BVH the kernel traverses, with obvhs (PLOC + reinsertion + leaf collapse): a binary
-//! BVH2 of uncompressed boxes, or obvhs' compressed wide BVH8 (CWBVH) collapsed from it.
+//! BVH2 of uncompressed boxes, or obvhs' compressed wide BVH8 (CWBVH) collapsed from it. Where
+//! that tree is deeper than a traversal stack (coincident or degenerate triangles can chain it),
+//! the median-split tree of [`balanced`] replaces it, so any triangle soup builds.
+
+mod balanced;
 
 use std::time::{Duration, Instant};
 
@@ -89,14 +93,38 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
     let tris = obvhs_triangles(triangles);
     let mut core_time = Duration::ZERO;
     let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, quality.params(), &mut core_time);
+    let (mut nodes, mut triangle_order, mut depth) = kernel_nodes(&bvh, empty_root);
+    if depth > MAX_BVH_DEPTH {
+        log::warn!(
+            "the surface-area BVH is {depth} levels deep (coincident or degenerate triangles); \
+             using a median-split BVH"
+        );
+        (nodes, triangle_order, depth) =
+            kernel_nodes(&balanced::median_split_bvh2(&tris), empty_root);
+    }
+    if depth > MAX_BVH_DEPTH {
+        return Err(format!(
+            "BVH depth {depth} exceeds the kernel's traversal stack ({MAX_BVH_DEPTH})"
+        ));
+    }
+    Ok(BuiltBvh {
+        nodes,
+        triangle_order,
+        depth,
+        build_time: start.elapsed(),
+    })
+}
 
+/// obvhs' BVH2 as the kernel's nodes (root first, leaves inlined into their parents), the
+/// triangle order its leaves index, and its depth.
+fn kernel_nodes(bvh: &obvhs::bvh2::Bvh2, empty_root: BvhNode) -> (Vec<BvhNode>, Vec<u32>, usize) {
     let mut nodes = vec![empty_root];
-    let mut triangle_order = Vec::with_capacity(triangles.len());
+    let mut triangle_order = Vec::with_capacity(bvh.primitive_indices.len());
     let mut depth = 1;
     let root = &bvh.nodes[0];
     if root.prim_count > 0 {
         // A single leaf: the root's left child, the right one empty.
-        let (first, count) = append_leaf(&bvh, root, &mut triangle_order);
+        let (first, count) = append_leaf(bvh, root, &mut triangle_order);
         nodes[0].left_min = root.aabb.min.to_array();
         nodes[0].left_max = root.aabb.max.to_array();
         nodes[0].left = first;
@@ -110,7 +138,7 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
             for (side, child_index) in [first_child, first_child + 1].into_iter().enumerate() {
                 let child = &bvh.nodes[child_index];
                 let (index, count) = if child.prim_count > 0 {
-                    append_leaf(&bvh, child, &mut triangle_order)
+                    append_leaf(bvh, child, &mut triangle_order)
                 } else {
                     nodes.push(BvhNode::default());
                     stack.push((child_index, nodes.len() - 1, level + 1));
@@ -128,17 +156,7 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
             }
         }
     }
-    if depth > MAX_BVH_DEPTH {
-        return Err(format!(
-            "BVH depth {depth} exceeds the kernel's traversal stack ({MAX_BVH_DEPTH})"
-        ));
-    }
-    Ok(BuiltBvh {
-        nodes,
-        triangle_order,
-        depth,
-        build_time: start.elapsed(),
-    })
+    (nodes, triangle_order, depth)
 }
 
 fn obvhs_triangles(triangles: &[[Vec3; 3]]) -> Vec<obvhs::triangle::Triangle> {
@@ -202,20 +220,31 @@ pub fn build_wide_bvh(
             "a vertex coordinate of magnitude {largest:e} is beyond the wide BVH's {MAX_WIDE_BVH_COORDINATE:e}"
         ));
     }
-    let bvh = std::panic::catch_unwind(|| {
+    // obvhs validates its tree in debug builds and panics where it is deeper than its own stack:
+    // that, like a tree too deep for the kernel's stack, takes the median-split tree.
+    let surface_area = std::panic::catch_unwind(|| {
         let mut core_time = Duration::ZERO;
         obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, quality.params(), &mut core_time)
-    })
-    .map_err(|_| "the wide BVH builder failed on this geometry".to_string())?;
-    if bvh.primitive_indices.len() != triangles.len() {
-        return Err(format!(
-            "wide BVH lists {} triangles, the scene has {}",
-            bvh.primitive_indices.len(),
-            triangles.len()
-        ));
-    }
-    let nodes: Vec<WideBvhNode> = bvh.nodes.iter().map(|n| bytemuck::cast(*n)).collect();
-    let depth = wide_depth(&nodes);
+    });
+    let surface_area = match surface_area {
+        Ok(bvh) => Some(wide_kernel_nodes(bvh, triangles.len())?),
+        Err(_) => None,
+    };
+    let (nodes, triangle_order, depth) = match surface_area {
+        Some(built) if built.2 <= MAX_WIDE_BVH_DEPTH => built,
+        _ => {
+            log::warn!(
+                "the surface-area wide BVH is too deep (coincident or degenerate triangles); \
+                 using one collapsed from a median-split BVH"
+            );
+            let balanced = balanced::median_split_bvh2(&tris);
+            let wide = std::panic::catch_unwind(|| {
+                obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&balanced, 3, true, false)
+            })
+            .map_err(|_| "the wide BVH builder failed on this geometry".to_string())?;
+            wide_kernel_nodes(wide, triangles.len())?
+        }
+    };
     if depth > MAX_WIDE_BVH_DEPTH {
         return Err(format!(
             "wide BVH depth {depth} exceeds the kernel's traversal stack ({MAX_WIDE_BVH_DEPTH})"
@@ -223,10 +252,26 @@ pub fn build_wide_bvh(
     }
     Ok(BuiltWideBvh {
         nodes,
-        triangle_order: bvh.primitive_indices,
+        triangle_order,
         depth,
         build_time: start.elapsed(),
     })
+}
+
+/// obvhs' CWBVH as the kernel's nodes, the triangle order its leaves index, and its depth.
+fn wide_kernel_nodes(
+    bvh: obvhs::cwbvh::CwBvh,
+    triangles: usize,
+) -> Result<(Vec<WideBvhNode>, Vec<u32>, usize), String> {
+    if bvh.primitive_indices.len() != triangles {
+        return Err(format!(
+            "wide BVH lists {} triangles, the scene has {triangles}",
+            bvh.primitive_indices.len()
+        ));
+    }
+    let nodes: Vec<WideBvhNode> = bvh.nodes.iter().map(|n| bytemuck::cast(*n)).collect();
+    let depth = wide_depth(&nodes);
+    Ok((nodes, bvh.primitive_indices, depth))
 }
 
 /// Levels on the longest root-to-leaf path of a wide tree whose inner children come after their

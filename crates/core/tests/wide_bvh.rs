@@ -58,9 +58,55 @@ fn scenes() -> Vec<(&'static str, Scene)> {
             load_obj(&root.join("spot/spot_triangulated_textured.obj"), 0).unwrap(),
         ),
         ("soup", scene_of(soup)),
+        ("fan over repeated corners", repeated_corner_fan()),
         ("one triangle", scene_of(vec![Vec3::ZERO, Vec3::X, Vec3::Y])),
         ("empty", Scene::default()),
     ]
+}
+
+/// What `box_longline.obj` (Debian's assimp-testmodels) makes: one face of 470 vertices that
+/// repeats a quad's four corners, fan-triangulated into hundreds of coincident and degenerate
+/// triangles, plus 2,000 copies of one triangle beside it.
+fn repeated_corner_fan() -> Scene {
+    let corners = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+    let polygon: Vec<Vec3> = (0..470).map(|i| corners[i % 4]).collect();
+    let mut positions: Vec<Vec3> = polygon
+        .windows(2)
+        .skip(1)
+        .flat_map(|pair| [polygon[0], pair[0], pair[1]])
+        .collect();
+    let copy = [
+        Vec3::new(2.0, 0.0, 0.5),
+        Vec3::new(3.0, 0.0, 0.5),
+        Vec3::new(2.0, 1.0, 0.5),
+    ];
+    positions.extend((0..2000).flat_map(|_| copy));
+    scene_of(positions)
+}
+
+/// Coincident and degenerate triangles chain the surface-area builder's tree hundreds of levels
+/// deep; both layouts then take the median-split tree, within their traversal stacks, and stay
+/// the layout asked for.
+#[test]
+fn coincident_triangles_build_within_the_traversal_stacks() {
+    let scene = repeated_corner_fan();
+    for (layout, bound) in [
+        (BvhLayout::Bvh2, rt_core::bvh::MAX_BVH_DEPTH),
+        (BvhLayout::Cwbvh, MAX_WIDE_BVH_DEPTH),
+    ] {
+        let built = GpuScene::build_with_layout(&scene, BvhQuality::Medium, layout).unwrap();
+        assert_eq!(built.layout, layout);
+        assert!(
+            built.bvh_depth <= bound,
+            "{layout:?}: depth {}",
+            built.bvh_depth
+        );
+        built.check_kernel_indices().unwrap();
+        let hit = rt_core::estimator::trace(&built, Vec3::new(0.3, 0.6, 1.0), -Vec3::Z, f32::MAX);
+        assert!((hit.t - 1.0).abs() < 1e-6, "{layout:?}: {hit:?}");
+        let hit = rt_core::estimator::trace(&built, Vec3::new(2.2, 0.2, 1.0), -Vec3::Z, f32::MAX);
+        assert!((hit.t - 0.5).abs() < 1e-6, "{layout:?}: {hit:?}");
+    }
 }
 
 #[test]

@@ -1,5 +1,6 @@
 //! OBJ/MTL loading: polygons, indices, groups, material splits, every MTL mapping rule, textures,
-//! and malformed input reported with file and line.
+//! forgiving reading of what Blender and assimp open (missing files, Windows paths, other
+//! encodings, unnamed materials), and malformed input reported with file and line.
 #![expect(
     clippy::unwrap_used,
     reason = "test helpers fail the test on unexpected errors"
@@ -250,7 +251,7 @@ fn objects_without_material_get_distinct_deterministic_colours() {
 }
 
 #[test]
-fn textures_load_relative_to_the_mtl_and_missing_ones_are_named() {
+fn textures_load_relative_to_the_mtl_and_broken_ones_are_named() {
     let png = {
         let mut bytes = std::io::Cursor::new(Vec::new());
         image::RgbaImage::from_pixel(2, 2, image::Rgba([255, 0, 0, 255]))
@@ -275,16 +276,6 @@ fn textures_load_relative_to_the_mtl_and_missing_ones_are_named() {
         }
     );
     assert!(scene.objects[0].mesh.uvs.is_some());
-
-    let dir = dir_with(&[
-        ("scene.obj", obj.as_bytes()),
-        ("scene.mtl", b"newmtl t\nmap_Kd nowhere.png\n"),
-    ]);
-    let err = load_obj(&dir.join("scene.obj"), 0).unwrap_err().to_string();
-    assert!(
-        err.contains("nowhere.png"),
-        "error should name the texture: {err}"
-    );
 
     let dir = dir_with(&[
         ("scene.obj", obj.as_bytes()),
@@ -359,10 +350,109 @@ fn malformed_input_names_the_file_and_line() {
 }
 
 #[test]
-fn errors_from_tobj_carry_the_line_too() {
-    // An empty usemtl is rejected by tobj itself.
-    let (line, _) = parse_error_line(load("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl\nf 1 2 3\n", None));
-    assert_eq!(line, 4);
+fn a_material_without_a_name_is_named() {
+    // Blender writes a material with an empty name as a bare `newmtl` (and `usemtl`), which tobj
+    // refuses.
+    let scene = load(
+        "mtllib scene.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl\nf 1 2 3\n",
+        Some("newmtl\nKd 1 0 0\n"),
+    )
+    .unwrap();
+    assert_eq!(
+        scene.objects[0].material,
+        Material::lambertian([1.0, 0.0, 0.0])
+    );
+}
+
+#[test]
+fn missing_files_are_warnings_with_defaults() {
+    let obj = format!("mtllib nowhere.mtl\n{SQUARE}f 1 2 3\n");
+    let scene = load(&obj, None).unwrap();
+    assert_eq!(
+        scene.objects[0].material,
+        Material::lambertian(rt_io::obj::distinct_color(7, 0)),
+        "a missing mtllib leaves the object its default material"
+    );
+    let obj =
+        format!("mtllib scene.mtl\n{SQUARE}vt 0 0\nvt 1 0\nvt 1 1\nusemtl t\nf 1/1 2/2 3/3\n");
+    let scene = load(&obj, Some("newmtl t\nKd 0.2 0.3 0.4\nmap_Kd nowhere.png\n")).unwrap();
+    assert_eq!(
+        scene.objects[0].material,
+        Material::Lambertian {
+            albedo: [0.2, 0.3, 0.4],
+            texture: None
+        },
+        "a missing texture leaves the material untextured"
+    );
+}
+
+#[test]
+fn windows_paths_other_cases_and_foreign_folders_find_the_file() {
+    let png = {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        image::RgbaImage::from_pixel(1, 1, image::Rgba([0, 255, 0, 255]))
+            .write_to(&mut bytes, image::ImageFormat::Png)
+            .unwrap();
+        bytes.into_inner()
+    };
+    let obj =
+        format!("mtllib Scene.MTL\n{SQUARE}vt 0 0\nvt 1 0\nvt 1 1\nusemtl t\nf 1/1 2/2 3/3\n");
+    for name in [
+        ".\\tex.png",
+        "TEX.PNG",
+        "C:\\Users\\someone\\models\\tex.png",
+        "/home/else/tex.png",
+    ] {
+        let mtl = format!("newmtl t\nmap_Kd {name}\n");
+        let dir = dir_with(&[
+            ("scene.obj", obj.as_bytes()),
+            ("scene.mtl", mtl.as_bytes()),
+            ("tex.png", &png),
+        ]);
+        let scene = load_obj(&dir.join("scene.obj"), 0).unwrap();
+        assert_eq!(scene.textures.len(), 1, "{name}");
+        assert_eq!(&scene.textures[0].rgba8[..], &[0, 255, 0, 255], "{name}");
+    }
+}
+
+#[test]
+fn text_in_other_encodings_is_read() {
+    // Latin-1 names (an old Windows exporter), in the OBJ and its MTL alike.
+    let mut obj =
+        b"mtllib scene.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\no Gr\xfcn\nusemtl B\xe4r\nf 1 2 3\n"
+            .to_vec();
+    let dir = dir_with(&[
+        ("scene.obj", &obj),
+        ("scene.mtl", b"newmtl B\xe4r\nKd 0 0 1\n"),
+    ]);
+    let scene = load_obj(&dir.join("scene.obj"), 0).unwrap();
+    assert_eq!(scene.objects[0].name, "Grün");
+    assert_eq!(
+        scene.objects[0].material,
+        Material::lambertian([0.0, 0.0, 1.0])
+    );
+    // UTF-16 with a byte-order mark, both endiannesses.
+    let text = format!("{SQUARE}o Wörld\nf 1 2 3 4\n");
+    for big_endian in [true, false] {
+        obj = if big_endian {
+            vec![0xFE, 0xFF]
+        } else {
+            vec![0xFF, 0xFE]
+        };
+        for unit in text.encode_utf16() {
+            obj.extend(if big_endian {
+                unit.to_be_bytes()
+            } else {
+                unit.to_le_bytes()
+            });
+        }
+        let dir = dir_with(&[("scene.obj", &obj)]);
+        let scene = load_obj(&dir.join("scene.obj"), 0).unwrap();
+        assert_eq!(
+            (scene.objects[0].name.as_str(), scene.triangle_count()),
+            ("Wörld", 2)
+        );
+    }
 }
 
 #[test]
@@ -379,13 +469,6 @@ fn bad_files_are_errors_not_panics() {
     assert!(
         matches!(load_obj(&dir, 0), Err(Error::File { .. })),
         "a directory is not an OBJ"
-    );
-    let err = load(&format!("mtllib nowhere.mtl\n{SQUARE}f 1 2 3\n"), None)
-        .unwrap_err()
-        .to_string();
-    assert!(
-        err.contains("nowhere.mtl"),
-        "a missing mtllib is named: {err}"
     );
     let (line, _) = parse_error_line(load(
         &format!("mtllib scene.mtl\n{SQUARE}f 1 2 3\n"),
@@ -437,4 +520,50 @@ fn vertex_colours_are_read() {
     assert_eq!(colors[1], glam::Vec3::Y);
     let plain = load("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n", None).unwrap();
     assert!(plain.objects[0].mesh.colors.is_none());
+}
+
+/// Debian's assimp-testmodels (installed by scripts/test): every OBJ file Blender opens loads and
+/// builds, the forgiving cases among them (a Windows texture path, a missing MTL, Latin-1 and
+/// UTF-16 text, an unnamed material, a 470-vertex face repeating its corners); the one made
+/// invalid on purpose stays an error naming its line.
+#[test]
+fn the_assimp_obj_files_load() {
+    let dir = Path::new("/usr/share/assimp/models/OBJ");
+    if !dir.is_dir() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI: {} is missing (scripts/test installs assimp-testmodels)",
+            dir.display()
+        );
+        eprintln!("skipped: install assimp-testmodels for the OBJ corpus test");
+        return;
+    }
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 20, "{files:?}");
+    for file in &files {
+        let name = file.file_name().unwrap().to_string_lossy();
+        let result = load_obj(file, 0);
+        if name == "number_formats.obj" {
+            // '3.1+e2' is no number (assimp's own test of a malformed exponent).
+            let (line, message) = parse_error_line(result);
+            assert_eq!(line, 11, "{message}");
+            continue;
+        }
+        let scene = result.unwrap_or_else(|e| panic!("{name}: {e}"));
+        rt_core::GpuScene::build(&scene).unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+    let spider = load_obj(&dir.join("spider.obj"), 0).unwrap();
+    assert_eq!(
+        spider.textures.len(),
+        5,
+        "spider.mtl's '.\\\\*.jpg' textures"
+    );
+    let utf16 = load_obj(&dir.join("box_UTF16BE.obj"), 0).unwrap();
+    assert_eq!(utf16.triangle_count(), 12);
 }
