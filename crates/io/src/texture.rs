@@ -1,4 +1,6 @@
-//! Loading image textures (PNG, JPEG, PPM/PNM, EXR, … through `image`).
+//! Loading image textures through `image`, by content (by extension for TGA, which has no
+//! signature): PNG, JPEG, TGA, BMP, TIFF, WebP, GIF, DDS,
+//! QOI, PNM, HDR and EXR.
 
 use std::path::Path;
 

@@ -567,3 +567,48 @@ fn the_assimp_obj_files_load() {
     let utf16 = load_obj(&dir.join("box_UTF16BE.obj"), 0).unwrap();
     assert_eq!(utf16.triangle_count(), 12);
 }
+
+/// Textures decode in every format the `image` crate writes here (DDS, which it only reads,
+/// aside); by content where the format has a signature (a PNG named `.jpg` reads), by extension
+/// where it has none (TGA).
+#[test]
+fn textures_decode_in_every_common_format() {
+    let image = image::RgbaImage::from_fn(2, 1, |x, _| {
+        if x == 0 {
+            image::Rgba([255, 0, 0, 255])
+        } else {
+            image::Rgba([0, 0, 255, 255])
+        }
+    });
+    let formats = [
+        image::ImageFormat::Png,
+        image::ImageFormat::Tga,
+        image::ImageFormat::Bmp,
+        image::ImageFormat::Tiff,
+        image::ImageFormat::WebP,
+        image::ImageFormat::Gif,
+        image::ImageFormat::Qoi,
+    ];
+    for format in formats {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        let written = if format == image::ImageFormat::Gif {
+            image::DynamicImage::ImageRgba8(image.clone()).write_to(&mut bytes, format)
+        } else {
+            image.write_to(&mut bytes, format)
+        };
+        written.unwrap_or_else(|e| panic!("{format:?}: {e}"));
+        let name = match format {
+            image::ImageFormat::Png => "misnamed.jpg".to_string(),
+            _ => format!("texture.{}", format.extensions_str()[0]),
+        };
+        let dir = dir_with(&[(&name, &bytes.into_inner())]);
+        let texture = rt_io::texture::load_texture(&dir.join(&name))
+            .unwrap_or_else(|e| panic!("{format:?}: {e}"));
+        assert_eq!((texture.width, texture.height), (2, 1), "{format:?}");
+        assert_eq!(
+            &texture.rgba8[..],
+            &[255, 0, 0, 255, 0, 0, 255, 255],
+            "{format:?}"
+        );
+    }
+}
