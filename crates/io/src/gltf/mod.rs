@@ -183,6 +183,7 @@ fn load_unguarded(
         base,
         read_file,
         document: doc,
+        skipped_primitives: 0,
     };
     let chosen = match scene {
         Some(i) => doc.scenes().nth(i).ok_or_else(|| {
@@ -201,6 +202,20 @@ fn load_unguarded(
         loader
             .visit(&node, Mat4::IDENTITY, &mut stack)
             .map_err(err)?;
+    }
+    if loader.skipped_primitives > 0 {
+        if loader.objects.is_empty() {
+            return Err(err(format!(
+                "its {} primitives are points or lines, nothing rt can render (it renders \
+                 surfaces: triangles, strips and fans)",
+                loader.skipped_primitives
+            )));
+        }
+        log::warn!(
+            "{}: skipped {} primitives of points or lines (rt renders surfaces)",
+            path.display(),
+            loader.skipped_primitives
+        );
     }
     let mut out = Scene {
         objects: loader.objects,
@@ -308,4 +323,7 @@ struct Loader<'a> {
     read_file: &'a dyn Fn(&Path) -> Result<Vec<u8>>,
     /// For the textures extensions name by index (`KHR_materials_clearcoat`, `_sheen`).
     document: &'a gltf::Document,
+    /// Primitives of points or lines met (rt renders surfaces): skipped with a warning, an error
+    /// only when nothing else is left.
+    skipped_primitives: usize,
 }

@@ -38,6 +38,14 @@ impl Loader<'_> {
             .unwrap_or_else(|| format!("node {}", node.index()));
         if let Some(mesh) = node.mesh() {
             for primitive in mesh.primitives() {
+                use gltf::mesh::Mode;
+                if !matches!(
+                    primitive.mode(),
+                    Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+                ) {
+                    self.skipped_primitives += 1;
+                    continue;
+                }
                 let m = self.mesh(&mesh, &primitive)?;
                 let material = self.material(&primitive.material())?;
                 let object_name = if mesh.primitives().len() > 1 {

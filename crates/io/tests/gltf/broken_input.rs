@@ -29,7 +29,7 @@ fn unsupported_and_broken_files_are_clear_errors() {
         (
             "points",
             Box::new(|d| d["meshes"][0]["primitives"][0]["mode"] = json!(0)),
-            "Points",
+            "points or lines, nothing rt can render",
         ),
         (
             "short buffer",
@@ -345,4 +345,24 @@ fn gltf_1_files_are_named_as_such() {
             );
         }
     }
+}
+
+/// Points and lines beside triangles are skipped (a scan's point cloud, an exporter's edges): the
+/// triangles load.
+#[test]
+fn points_and_lines_beside_triangles_are_skipped() {
+    let mut doc = document();
+    let triangles = doc["meshes"][0]["primitives"][0].clone();
+    for mode in [0, 1, 2, 3] {
+        let mut other = triangles.clone();
+        other["mode"] = json!(mode);
+        doc["meshes"][0]["primitives"]
+            .as_array_mut()
+            .unwrap()
+            .push(other);
+    }
+    let scene = load(&embedded(doc), None).unwrap();
+    let plain = load(&embedded(document()), None).unwrap();
+    assert_eq!(scene.triangle_count(), plain.triangle_count());
+    assert_eq!(scene.objects.len(), plain.objects.len());
 }
