@@ -56,6 +56,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_volume",
     "KHR_materials_volume_scatter",
     "KHR_texture_transform",
+    "EXT_texture_webp",
 ];
 
 /// Loads a .gltf or .glb file; `scene` picks one of its scenes (the default scene, else the first,
@@ -161,6 +162,7 @@ fn load_unguarded(
         }
     }
     fill_position_bounds(&mut root, path);
+    use_webp_sources(&mut root);
     let document =
         gltf::Document::from_json(root).map_err(|e| err(format!("not valid glTF: {e}")))?;
     let gltf = gltf::Gltf { document, blob };
@@ -282,6 +284,23 @@ fn fill_position_bounds(root: &mut gltf::json::Root, path: &Path) {
     }
 }
 
+/// `EXT_texture_webp`: a texture reads the WebP image its extension names (rt decodes WebP) rather
+/// than the fallback `source` (which the extension lets a file leave out).
+fn use_webp_sources(root: &mut gltf::json::Root) {
+    let images = root.images.len();
+    for texture in &mut root.textures {
+        let webp = texture
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get("EXT_texture_webp"))
+            .and_then(|webp| webp["source"].as_u64())
+            .filter(|&i| (i as usize) < images);
+        if let Some(image) = webp {
+            texture.source = gltf::json::Index::new(image as u32);
+        }
+    }
+}
+
 fn has_pbr_emission(scene: &Scene) -> bool {
     scene.objects.iter().any(|o| match &o.material {
         Material::Pbr(p) => p.emission_strength > 0.0 && p.emission.iter().any(|c| *c > 0.0),
@@ -298,7 +317,7 @@ fn unsupported_extension(ext: &str) -> String {
         "KHR_mesh_quantization" => {
             "quantized vertex attributes; dequantize first, e.g. `gltf-transform dequantize IN OUT`"
         }
-        "KHR_texture_basisu" | "EXT_texture_webp" | "EXT_texture_avif" => {
+        "KHR_texture_basisu" | "EXT_texture_avif" => {
             "textures in a format rt cannot decode; convert them to PNG or JPEG first, e.g. \
              `gltf-transform png IN OUT`"
         }

@@ -243,3 +243,32 @@ fn the_layers_textures_map_onto_their_slots() {
     let e = load(&embedded(doc), None).unwrap_err().to_string();
     assert!(e.contains("sheenColorTexture"), "{e}");
 }
+
+/// `EXT_texture_webp`, required and without a fallback image: the texture reads its WebP image.
+#[test]
+fn webp_textures_load() {
+    let mut webp = std::io::Cursor::new(Vec::new());
+    image::RgbaImage::from_raw(2, 1, vec![0, 255, 0, 255, 0, 0, 255, 255])
+        .unwrap()
+        .write_to(&mut webp, image::ImageFormat::WebP)
+        .unwrap();
+    let mut doc = document_with_image();
+    doc["images"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"uri": format!(
+            "data:image/webp;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(webp.get_ref())
+        )}));
+    doc["textures"] = json!([{"extensions": {"EXT_texture_webp": {"source": 1}}}]);
+    for list in ["extensionsUsed", "extensionsRequired"] {
+        doc[list] = json!(["EXT_texture_webp"]);
+    }
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
+    let scene = load(&embedded(doc), None).unwrap();
+    assert_eq!(scene.textures.len(), 1);
+    assert_eq!(
+        &scene.textures[0].rgba8[..],
+        &[0, 255, 0, 255, 0, 0, 255, 255]
+    );
+}
