@@ -85,10 +85,14 @@ pub(super) fn load_buffers(
     Ok(out)
 }
 
-/// What an attribute's accessor may hold.
+/// What an attribute's accessor may hold (with `KHR_mesh_quantization`'s integer types).
 #[derive(Clone, Copy)]
 pub(super) enum Expect {
-    Vec3F32,
+    /// Floats, or integers of 8 or 16 bits, normalized or not.
+    Position,
+    /// Floats, or normalized signed integers of 8 or 16 bits.
+    Normal,
+    /// Floats, or integers of 8 or 16 bits, normalized or not.
     Uv,
     Indices,
     Color,
@@ -104,9 +108,14 @@ pub(super) fn check_accessor(
     use gltf::accessor::{DataType as T, Dimensions as D};
     let what = || format!("accessor {}", accessor.index());
     let (ty, dims) = (accessor.data_type(), accessor.dimensions());
+    let small_integer = matches!(ty, T::I8 | T::U8 | T::I16 | T::U16);
     let ok = match expect {
-        Expect::Vec3F32 => ty == T::F32 && dims == D::Vec3,
-        Expect::Uv => matches!(ty, T::F32 | T::U8 | T::U16) && dims == D::Vec2,
+        Expect::Position => (ty == T::F32 || small_integer) && dims == D::Vec3,
+        Expect::Normal => {
+            (ty == T::F32 || (matches!(ty, T::I8 | T::I16) && accessor.normalized()))
+                && dims == D::Vec3
+        }
+        Expect::Uv => (ty == T::F32 || small_integer) && dims == D::Vec2,
         Expect::Indices => matches!(ty, T::U8 | T::U16 | T::U32) && dims == D::Scalar,
         Expect::Color => matches!(ty, T::F32 | T::U8 | T::U16) && matches!(dims, D::Vec3 | D::Vec4),
     };
@@ -154,4 +163,48 @@ pub(super) fn check_accessor(
         ));
     }
     Ok(())
+}
+
+/// A checked accessor's elements as floats, `N` per element, dequantized as glTF says: a
+/// normalized integer c of b bits is c / (2^b − 1) unsigned, max(c / (2^(b−1) − 1), −1) signed;
+/// a plain integer is its value (`KHR_mesh_quantization`, where the node's transform scales it).
+pub(super) fn read_floats<const N: usize>(
+    accessor: &gltf::Accessor,
+    buffers: &[Vec<u8>],
+) -> Vec<[f32; N]> {
+    use gltf::accessor::DataType as T;
+    let Some(view) = accessor.view() else {
+        return Vec::new();
+    };
+    let buffer = &buffers[view.buffer().index()];
+    let size = accessor.size();
+    let stride = view.stride().unwrap_or(size);
+    let start = view.offset() + accessor.offset();
+    let normalized = accessor.normalized();
+    let ty = accessor.data_type();
+    let component = ty.size();
+    let value = |bytes: &[u8]| -> f32 {
+        let raw = |b: &[u8]| match ty {
+            T::I8 => f32::from(b[0] as i8),
+            T::U8 => f32::from(b[0]),
+            T::I16 => f32::from(i16::from_le_bytes([b[0], b[1]])),
+            T::U16 => f32::from(u16::from_le_bytes([b[0], b[1]])),
+            T::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32,
+            T::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+        };
+        let c = raw(bytes);
+        match (normalized, ty) {
+            (true, T::I8) => (c / 127.0).max(-1.0),
+            (true, T::U8) => c / 255.0,
+            (true, T::I16) => (c / 32767.0).max(-1.0),
+            (true, T::U16) => c / 65535.0,
+            _ => c,
+        }
+    };
+    (0..accessor.count())
+        .map(|i| {
+            let at = start + i * stride;
+            std::array::from_fn(|k| value(&buffer[at + k * component..]))
+        })
+        .collect()
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 
 use super::Loader;
-use super::buffers::{Expect, check_accessor};
+use super::buffers::{Expect, check_accessor, read_floats};
 use rt_core::scene::Mesh;
 
 impl Loader<'_> {
@@ -33,10 +33,10 @@ impl Loader<'_> {
         let positions_accessor = primitive
             .get(&gltf::Semantic::Positions)
             .ok_or_else(|| format!("{at} has no POSITION attribute"))?;
-        check_accessor(&positions_accessor, self.buffers, Expect::Vec3F32)
+        check_accessor(&positions_accessor, self.buffers, Expect::Position)
             .map_err(|e| format!("{at}: {e}"))?;
         for (semantic, expect) in [
-            (gltf::Semantic::Normals, Expect::Vec3F32),
+            (gltf::Semantic::Normals, Expect::Normal),
             (gltf::Semantic::TexCoords(0), Expect::Uv),
             (gltf::Semantic::Colors(0), Expect::Color),
         ] {
@@ -48,24 +48,34 @@ impl Loader<'_> {
             check_accessor(&a, self.buffers, Expect::Indices).map_err(|e| format!("{at}: {e}"))?;
         }
         let reader = primitive.reader(|b| self.buffers.get(b.index()).map(Vec::as_slice));
-        let positions: Vec<Vec3> = reader
-            .read_positions()
-            .ok_or_else(|| format!("{at}: unreadable POSITION"))?
+        let positions: Vec<Vec3> = read_floats::<3>(&positions_accessor, self.buffers)
+            .into_iter()
             .map(Vec3::from)
             .collect();
         if let Some(bad) = positions.iter().position(|p| !p.is_finite()) {
             return Err(format!("{at}: vertex {bad} is not finite"));
         }
         let n = positions.len();
-        let normals: Option<Vec<Vec3>> = reader
-            .read_normals()
-            .map(|it| it.map(Vec3::from).collect::<Vec<_>>())
+        let normals: Option<Vec<Vec3>> = primitive
+            .get(&gltf::Semantic::Normals)
+            .map(|a| {
+                // Quantized normals are only roughly unit length; float ones are kept as written.
+                let quantized = a.data_type() != gltf::accessor::DataType::F32;
+                read_floats::<3>(&a, self.buffers)
+                    .into_iter()
+                    .map(|n| {
+                        let n = Vec3::from(n);
+                        if quantized { n.normalize_or_zero() } else { n }
+                    })
+                    .collect::<Vec<_>>()
+            })
             .filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
         let uv_transform = uv_transform_of(&primitive.material());
-        let uvs: Option<Vec<Vec2>> = reader
-            .read_tex_coords(0)
-            .map(|t| {
-                t.into_f32()
+        let uvs: Option<Vec<Vec2>> = primitive
+            .get(&gltf::Semantic::TexCoords(0))
+            .map(|a| {
+                read_floats::<2>(&a, self.buffers)
+                    .into_iter()
                     .map(|uv| {
                         let [u, v] = uv_transform(uv);
                         Vec2::new(u, 1.0 - v)

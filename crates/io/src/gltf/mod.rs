@@ -57,6 +57,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_volume_scatter",
     "KHR_texture_transform",
     "EXT_texture_webp",
+    "KHR_mesh_quantization",
 ];
 
 /// Loads a .gltf or .glb file; `scene` picks one of its scenes (the default scene, else the first,

@@ -271,3 +271,61 @@ fn specular_clearcoat_and_sheen_map_onto_the_layers() {
     assert_eq!((p.clearcoat, p.sheen_color), (0.0, [0.0; 3]));
     assert_eq!(p.anisotropy, 0.0);
 }
+
+/// `KHR_mesh_quantization`: positions as 16-bit integers (scaled by the node), normals as
+/// normalized bytes and UVs as normalized 16-bit integers read as the float quad they encode.
+#[test]
+fn quantized_attributes_read_as_the_floats_they_encode() {
+    let mut buffer = Vec::new();
+    for p in [[-1i16, 0, 1], [1, 0, 1], [1, 0, -1], [-1, 0, -1]] {
+        p.iter().for_each(|c| buffer.extend(c.to_le_bytes()));
+        buffer.extend([0u8; 2]); // stride 8
+    }
+    for _ in 0..4 {
+        buffer.extend([0u8, 127, 0, 0]); // (0, 1, 0), stride 4
+    }
+    for uv in [[0u16, 16384], [65535, 16384], [65535, 65535], [0, 65535]] {
+        uv.iter().for_each(|c| buffer.extend(c.to_le_bytes()));
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        buffer.extend(i.to_le_bytes());
+    }
+    let mut doc = document();
+    for list in ["extensionsUsed", "extensionsRequired"] {
+        doc[list] = json!(["KHR_mesh_quantization"]);
+    }
+    doc["accessors"] = json!([
+        {"bufferView": 0, "componentType": 5122, "count": 4, "type": "VEC3",
+         "min": [-1, 0, -1], "max": [1, 0, 1]},
+        {"bufferView": 1, "componentType": 5120, "normalized": true, "count": 4, "type": "VEC3"},
+        {"bufferView": 2, "componentType": 5123, "normalized": true, "count": 4, "type": "VEC2"},
+        {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}
+    ]);
+    doc["bufferViews"] = json!([
+        {"buffer": 0, "byteOffset": 0, "byteLength": 32, "byteStride": 8},
+        {"buffer": 0, "byteOffset": 32, "byteLength": 16, "byteStride": 4},
+        {"buffer": 0, "byteOffset": 48, "byteLength": 16},
+        {"buffer": 0, "byteOffset": 64, "byteLength": 12}
+    ]);
+    doc["buffers"] = json!([{"byteLength": buffer.len(), "uri": format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&buffer)
+    )}]);
+    let quantized = load(&serde_json::to_vec(&doc).unwrap(), None).unwrap();
+    let float = load(&embedded(document()), None).unwrap();
+    let (q, f) = (&quantized.objects[0], &float.objects[0]);
+    assert_eq!(q.mesh.positions, f.mesh.positions);
+    assert_eq!(q.mesh.normals, f.mesh.normals);
+    assert_eq!(q.mesh.indices, f.mesh.indices);
+    assert_eq!(q.transform, f.transform);
+    for (a, b) in q
+        .mesh
+        .uvs
+        .as_ref()
+        .unwrap()
+        .iter()
+        .zip(f.mesh.uvs.as_ref().unwrap())
+    {
+        assert!((*a - *b).abs().max_element() < 1e-4, "{a} vs {b}");
+    }
+}
