@@ -612,3 +612,98 @@ fn textures_decode_in_every_common_format() {
         );
     }
 }
+
+fn png(width: u32, height: u32, texel: [u8; 4]) -> Vec<u8> {
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image::RgbaImage::from_pixel(width, height, image::Rgba(texel))
+        .write_to(&mut bytes, image::ImageFormat::Png)
+        .unwrap();
+    bytes.into_inner()
+}
+
+/// MTL's maps beyond `map_Kd` reach the PBR material's slots: a normal map (`norm`, with `-bm`), a
+/// height map in `map_Bump` turned into one, `map_d` joined to the base colour's alpha, `map_Ke`,
+/// `map_Pr`/`map_Pm` packed; a plain diffuse material with a map becomes a PBR one without a
+/// specular layer; `map_Kd -o -s` moves the object's UVs.
+#[test]
+fn mtl_maps_reach_the_pbr_slots() {
+    let obj = format!(
+        "mtllib scene.mtl\n{SQUARE}vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n\
+         o a\nusemtl mapped\nf 1/1/1 2/2/1 3/3/1\no b\nusemtl bumped\nf 1/1/1 2/2/1 3/3/1\n"
+    );
+    let mtl = "newmtl mapped\nKd 0.5 0.5 0.5\nmap_Kd -s 2 2 1 -o 0.5 0 diffuse.png\n\
+               norm -bm 0.5 normal.png\nmap_d alpha.png\nmap_Ke glow.png\nmap_Pr rough.png\n\
+               map_Pm metal.png\nPm 0.5\nmap_Ks ignored.png\n\
+               newmtl bumped\nKd 0.2 0.4 0.6\nmap_Bump -bm 2 height.png\n";
+    let dir = dir_with(&[
+        ("scene.obj", obj.as_bytes()),
+        ("scene.mtl", mtl.as_bytes()),
+        ("diffuse.png", &png(2, 2, [200, 100, 50, 255])),
+        ("normal.png", &png(2, 2, [128, 128, 255, 255])),
+        ("alpha.png", &png(2, 2, [64, 64, 64, 255])),
+        ("glow.png", &png(1, 1, [255, 0, 0, 255])),
+        ("rough.png", &png(1, 1, [30, 30, 30, 255])),
+        ("metal.png", &png(1, 1, [90, 90, 90, 255])),
+        ("height.png", &png(2, 2, [100, 100, 100, 255])),
+    ]);
+    let scene = load_obj(&dir.join("scene.obj"), 0).unwrap();
+    let Material::Pbr(mapped) = &scene.objects[0].material else {
+        panic!("{:?}", scene.objects[0].material)
+    };
+    let texture = |i: Option<usize>| &scene.textures[i.unwrap()];
+    assert_eq!(mapped.normal_scale, 0.5);
+    assert_eq!(
+        texture(mapped.normal_texture).name,
+        dir.join("normal.png").display().to_string()
+    );
+    assert_eq!(mapped.alpha_mode, rt_core::material::AlphaMode::Blend);
+    assert_eq!(
+        &texture(mapped.texture).rgba8[..4],
+        &[200, 100, 50, 64],
+        "colour with map_d's alpha"
+    );
+    assert_eq!(
+        (mapped.emission, texture(mapped.emission_texture).rgba8[0]),
+        ([1.0; 3], 255)
+    );
+    assert_eq!(
+        &texture(mapped.metallic_roughness_texture).rgba8[..],
+        &[0, 30, 90, 255]
+    );
+    assert_eq!(
+        (mapped.roughness, mapped.metallic),
+        (1.0, 0.5),
+        "factors: Pr missing, Pm 0.5"
+    );
+    assert_eq!(
+        (mapped.specular, mapped.base_color),
+        (1.0, [0.5; 3]),
+        "Pm makes it PBR by the MTL mapping: its specular layer kept, the texture multiplying Kd"
+    );
+    let uvs = scene.objects[0].mesh.uvs.as_ref().unwrap();
+    assert_eq!(
+        uvs[1],
+        glam::Vec2::new(2.5, 0.0),
+        "(1, 0) scaled by 2 and offset by 0.5"
+    );
+
+    let Material::Pbr(bumped) = &scene.objects[1].material else {
+        panic!("{:?}", scene.objects[1].material)
+    };
+    let normal = texture(bumped.normal_texture);
+    assert!(
+        normal.name.contains("normal map from height"),
+        "{}",
+        normal.name
+    );
+    assert_eq!(
+        &normal.rgba8[..4],
+        &[128, 128, 255, 255],
+        "a flat height field faces straight out"
+    );
+    assert_eq!(
+        (bumped.base_color, bumped.normal_scale, bumped.specular),
+        ([0.2, 0.4, 0.6], 1.0, 0.0)
+    );
+    rt_core::GpuScene::build(&scene).unwrap();
+}

@@ -10,9 +10,11 @@
 //! file or texture is a warning: its objects keep default materials, its material no texture. A
 //! file that is there but broken stays an error naming it.
 
+mod maps;
 mod mtl;
 mod paths;
 mod text;
+mod textures;
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -28,6 +30,7 @@ use rt_core::error::{Error, Result};
 use rt_core::material::{Material, Rgb};
 use rt_core::scene::{Mesh, Object, Scene, Texture};
 use text::{decode_text, name_unnamed_materials, validate_obj_text};
+use textures::MtlTextures;
 
 pub use mtl::material_from_mtl;
 
@@ -125,51 +128,29 @@ pub fn load_obj_bytes(
         .first()
         .and_then(|p| p.parent().map(Path::to_path_buf));
     let mut scene = Scene::default();
-    let mut texture_ids: HashMap<PathBuf, usize> = HashMap::new();
-    let mut converted: Vec<Material> = Vec::with_capacity(materials.len());
+    let mtl_name = mtl_paths.borrow().first().cloned().unwrap_or_default();
+    let mut textures = MtlTextures::new(mtl_dir.as_deref().unwrap_or(dir), &mtl_name, load_texture);
+    let mut converted: Vec<(Material, Option<UvTransform>)> = Vec::with_capacity(materials.len());
     for m in &materials {
-        let texture = match &m.diffuse_texture {
-            Some(name) if !name.trim().is_empty() => {
-                let texture_dir = mtl_dir.as_deref().unwrap_or(dir);
-                let found = paths::candidates(texture_dir, name)
-                    .into_iter()
-                    .map(|path| (load_texture(&path), path))
-                    .find(|(loaded, _)| !is_missing(loaded));
-                match found {
-                    Some((loaded, path)) => Some(match texture_ids.get(&path) {
-                        Some(&id) => id,
-                        None => {
-                            scene.textures.push(loaded?);
-                            texture_ids.insert(path, scene.textures.len() - 1);
-                            scene.textures.len() - 1
-                        }
-                    }),
-                    None => {
-                        log::warn!(
-                            "{}: material '{}': its texture '{}' is missing; the material has none",
-                            obj_path.display(),
-                            m.name,
-                            name.trim()
-                        );
-                        None
-                    }
-                }
-            }
-            _ => None,
-        };
-        let material = material_from_mtl(m, texture);
+        let loaded = textures.material(m)?;
+        let material = maps::with_maps(material_from_mtl(m, loaded.diffuse), &loaded.maps, m);
         material
             .validate(&format!("material '{}'", m.name))
             .map_err(Error::Scene)?;
-        converted.push(material);
+        let uv_transform = loaded
+            .diffuse_statement
+            .filter(|s| s.offset != [0.0; 2] || s.scale != [1.0; 2])
+            .map(|s| (s.offset, s.scale));
+        converted.push((material, uv_transform));
     }
+    scene.textures = textures.textures;
 
     let mut name_counts: HashMap<String, usize> = HashMap::new();
     for model in &models {
         *name_counts.entry(model.name.clone()).or_default() += 1;
     }
     for (index, model) in models.into_iter().enumerate() {
-        let mesh = mesh_from_tobj(&model.mesh);
+        let mut mesh = mesh_from_tobj(&model.mesh);
         if mesh.indices.is_empty() {
             continue;
         }
@@ -178,7 +159,15 @@ pub fn load_obj_bytes(
             .material_id
             .and_then(|id| converted.get(id).zip(materials.get(id)))
         {
-            Some((mat, mtl)) => (mat.clone(), Some(mtl.name.clone())),
+            Some(((mat, uv_transform), mtl)) => {
+                // `map_Kd -o u v -s u v`: baked into this object's UVs.
+                if let (Some((offset, scale)), Some(uvs)) = (uv_transform, mesh.uvs.as_mut()) {
+                    for uv in uvs {
+                        *uv = *uv * Vec2::from(*scale) + Vec2::from(*offset);
+                    }
+                }
+                (mat.clone(), Some(mtl.name.clone()))
+            }
             None => (
                 Material::lambertian(distinct_color(seed, index as u32)),
                 None,
@@ -209,10 +198,8 @@ fn find_file(
         .find_map(|path| read_file(&path).ok().map(|bytes| (path, bytes)))
 }
 
-/// A load that failed because the file is not there (as opposed to there and broken).
-fn is_missing<T>(loaded: &Result<T>) -> bool {
-    matches!(loaded, Err(Error::Io { source, .. }) if source.kind() == std::io::ErrorKind::NotFound)
-}
+/// `map_Kd`'s `-o` offset and `-s` scale.
+type UvTransform = ([f32; 2], [f32; 2]);
 
 fn mesh_from_tobj(m: &tobj::Mesh) -> Mesh {
     let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(Vec3::from_slice).collect();
