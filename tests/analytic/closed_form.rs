@@ -257,3 +257,61 @@ fn too_large_an_image_is_a_clear_error() {
         "{message}"
     );
 }
+
+/// Textures beyond what one GPU buffer holds (lavapipe binds 128 MiB) are box-filtered down, not
+/// an error: a uniform image past the limit renders as the same colour in one texel (to the last
+/// bits of the bilinear weights, which depend on the image's size).
+#[test]
+fn textures_past_the_buffer_limit_are_downscaled_not_refused() {
+    let Some(ctx) = gpu() else { return };
+    let limits = ctx.device.limits();
+    let budget = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    if budget > 512 << 20 {
+        eprintln!("skipped: this adapter binds {budget} bytes; the test image would be larger");
+        return;
+    }
+    let side = ((budget / 4) as f64).sqrt() as u32 + 2;
+    let textured = |side: u32| {
+        let mut card = quad(Vec3::ZERO, Vec3::Z, 2.0);
+        card.uvs = Some(vec![
+            glam::Vec2::ZERO,
+            glam::Vec2::X,
+            glam::Vec2::ONE,
+            glam::Vec2::Y,
+        ]);
+        let mut scene = scene(
+            vec![object(
+                "card",
+                card,
+                Material::Lambertian {
+                    albedo: [1.0; 3],
+                    texture: Some(0),
+                },
+            )],
+            camera(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 20.0),
+            [1.0; 3],
+            settings(8, 8, 4, 2),
+        );
+        scene.textures = vec![rt_core::scene::Texture {
+            name: format!("{side}²"),
+            width: side,
+            height: side,
+            rgba8: [200u8, 120, 40, 255].repeat((side * side) as usize).into(),
+            sampler: Default::default(),
+        }];
+        scene
+    };
+    let big = textured(side);
+    assert!(4 * u64::from(side) * u64::from(side) > budget);
+    let (image, one_texel) = (render(ctx, &big), render(ctx, &textured(1)));
+    for (a, b) in image.pixels.iter().zip(&one_texel.pixels) {
+        for c in 0..3 {
+            assert!(
+                (a[c] - b[c]).abs() <= 1e-6 * b[c].abs().max(1e-3),
+                "{a:?} vs {b:?}"
+            );
+        }
+    }
+}

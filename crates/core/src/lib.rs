@@ -35,6 +35,7 @@ pub mod scene_features;
 pub mod shapes;
 pub mod sky;
 pub mod tangents;
+pub mod texture_budget;
 
 pub use camera::Camera;
 pub use environment::{Environment, EnvironmentMap};

@@ -8,8 +8,18 @@ use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 
 /// Uploads `scene`'s eleven storage buffers (in this order), each with the binding the tracing
-/// kernels read it at.
+/// kernels read it at. Textures beyond what one buffer may hold are box-filtered down
+/// (`GpuScene::with_textures_within`), with a warning saying what and why, rather than failing.
 pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wgpu::Buffer); 11]> {
+    let limits = ctx.device.limits();
+    let budget = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let fitted = scene.with_textures_within(budget).map(|(fitted, fit)| {
+        log::warn!("{fit}");
+        fitted
+    });
+    let scene = fitted.as_ref().unwrap_or(scene);
     Ok([
         (
             bindings::TRIANGLES,
