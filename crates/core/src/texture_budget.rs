@@ -47,8 +47,8 @@ impl GpuScene {
         if needed_bytes <= budget_bytes {
             return None;
         }
-        // Each image by its offset: its size, then its (possibly smaller) texels and size.
-        let mut images: BTreeMap<u32, ((u32, u32), Vec<u32>, (u32, u32))> = BTreeMap::new();
+        // Each image by its offset.
+        let mut images: BTreeMap<u32, Image> = BTreeMap::new();
         for slot in self.materials.iter().flat_map(|m| m.textures.iter()) {
             if slot.is_empty() {
                 continue;
@@ -78,21 +78,21 @@ impl GpuScene {
             (*texels, *size) = halve(texels, *size);
         }
         let mut fitted = self.clone();
-        fitted.texels = Vec::with_capacity(images.values().map(|(_, t, _)| t.len()).sum());
+        fitted.texels = Vec::with_capacity(images.values().map(|i| i.texels.len()).sum());
         let mut moved: BTreeMap<u32, TextureSlot> = BTreeMap::new();
         let mut downscaled = Vec::new();
-        for (&offset, (before, texels, after)) in &images {
+        for (&offset, image) in &images {
             moved.insert(
                 offset,
                 TextureSlot {
                     offset: fitted.texels.len() as u32,
-                    width: after.0,
-                    height: after.1,
+                    width: image.size.0,
+                    height: image.size.1,
                 },
             );
-            fitted.texels.extend_from_slice(texels);
-            if before != after {
-                downscaled.push((*before, *after));
+            fitted.texels.extend_from_slice(&image.texels);
+            if image.before != image.size {
+                downscaled.push((image.before, image.size));
             }
         }
         for slot in fitted
@@ -111,6 +111,13 @@ impl GpuScene {
         };
         Some((fitted, fit))
     }
+}
+
+/// One image of the scene while it is fitted: its size as built, its texels and size now.
+struct Image {
+    before: (u32, u32),
+    texels: Vec<u32>,
+    size: (u32, u32),
 }
 
 /// An RGBA8 image at half its size (sides rounded up): each texel the mean of the 2×2 block it
