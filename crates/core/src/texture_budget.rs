@@ -58,24 +58,28 @@ impl GpuScene {
                 let texels =
                     self.texels[start..start + (slot.width * slot.height) as usize].to_vec();
                 let size = (slot.width, slot.height);
-                (size, texels, size)
+                Image {
+                    before: size,
+                    texels,
+                    size,
+                }
             });
         }
-        let total = |images: &BTreeMap<u32, ((u32, u32), Vec<u32>, (u32, u32))>| {
+        let total = |images: &BTreeMap<u32, Image>| {
             images
                 .values()
-                .map(|(_, t, _)| 4 * t.len() as u64)
+                .map(|i| 4 * i.texels.len() as u64)
                 .sum::<u64>()
         };
         while total(&images) > budget_bytes {
-            let Some((_, texels, size)) = images
+            let Some(largest) = images
                 .values_mut()
-                .filter(|(_, t, _)| t.len() > 1)
-                .max_by_key(|(_, t, _)| t.len())
+                .filter(|i| i.texels.len() > 1)
+                .max_by_key(|i| i.texels.len())
             else {
                 break;
             };
-            (*texels, *size) = halve(texels, *size);
+            (largest.texels, largest.size) = halve(&largest.texels, largest.size);
         }
         let mut fitted = self.clone();
         fitted.texels = Vec::with_capacity(images.values().map(|i| i.texels.len()).sum());
