@@ -58,31 +58,163 @@ pub(super) fn load_buffers(
     base: &Path,
     read_file: &dyn Fn(&Path) -> Result<Vec<u8>>,
 ) -> std::result::Result<Vec<Vec<u8>>, String> {
+    let compressed = compressed_views(doc)?;
     let mut out = Vec::with_capacity(doc.buffers().len());
     for buffer in doc.buffers() {
+        let index = buffer.index();
+        let has_uri = matches!(buffer.source(), gltf::buffer::Source::Uri(_));
+        // `EXT_meshopt_compression`'s placeholder: no data of its own (not the GLB chunk, which
+        // only buffer 0 may name), filled by decompressing the views that refer to it.
+        let placeholder = !has_uri
+            && (index > 0 || blob.is_none())
+            && doc.views().any(|v| v.buffer().index() == index)
+            && doc
+                .views()
+                .filter(|v| v.buffer().index() == index)
+                .all(|v| compressed.iter().any(|c| c.view == v.index()));
+        if placeholder {
+            let end = doc
+                .views()
+                .filter(|v| v.buffer().index() == index)
+                .map(|v| v.offset() + v.length())
+                .max()
+                .unwrap_or(0);
+            out.push(vec![0u8; end]);
+            continue;
+        }
         let data = match buffer.source() {
             gltf::buffer::Source::Bin => blob
-                .ok_or_else(|| {
-                    format!(
-                        "buffer {} refers to a GLB chunk the file lacks",
-                        buffer.index()
-                    )
-                })?
+                .ok_or_else(|| format!("buffer {index} refers to a GLB chunk the file lacks"))?
                 .to_vec(),
-            gltf::buffer::Source::Uri(uri) => read_uri(uri, base, read_file)
-                .map_err(|e| format!("buffer {}: {e}", buffer.index()))?,
+            gltf::buffer::Source::Uri(uri) => {
+                read_uri(uri, base, read_file).map_err(|e| format!("buffer {index}: {e}"))?
+            }
         };
         if data.len() < buffer.length() {
             return Err(format!(
-                "buffer {} has {} bytes but declares {}",
-                buffer.index(),
+                "buffer {index} has {} bytes but declares {}",
                 data.len(),
                 buffer.length()
             ));
         }
         out.push(data);
     }
+    for view in &compressed {
+        view.decompress_into(&mut out)?;
+    }
     Ok(out)
+}
+
+/// A buffer view stored with `EXT_meshopt_compression`.
+struct CompressedView {
+    view: usize,
+    /// Where its decompressed bytes go: the view's own buffer and range.
+    target: (usize, usize, usize),
+    /// Where its compressed bytes are: buffer, offset, length.
+    source: (usize, usize, usize),
+    stride: usize,
+    count: usize,
+    mode: String,
+    filter: String,
+}
+
+fn compressed_views(doc: &gltf::Document) -> std::result::Result<Vec<CompressedView>, String> {
+    let mut out = Vec::new();
+    for view in doc.views() {
+        let Some(ext) = view.extension_value("EXT_meshopt_compression") else {
+            continue;
+        };
+        let at = format!("buffer view {} (EXT_meshopt_compression)", view.index());
+        let number = |key: &str, default: Option<u64>| {
+            ext.get(key)
+                .and_then(serde_json::Value::as_u64)
+                .or(default)
+                .map(|n| n as usize)
+                .ok_or_else(|| format!("{at}: '{key}' is missing or not a count"))
+        };
+        let text = |key: &str, default: &str| {
+            ext.get(key)
+                .and_then(serde_json::Value::as_str)
+                .unwrap_or(default)
+                .to_string()
+        };
+        let (stride, count) = (number("byteStride", None)?, number("count", None)?);
+        let source = (
+            number("buffer", None)?,
+            number("byteOffset", Some(0))?,
+            number("byteLength", None)?,
+        );
+        if source.0 >= doc.buffers().len() {
+            return Err(format!("{at}: there is no buffer {}", source.0));
+        }
+        let decoded = stride
+            .checked_mul(count)
+            .ok_or(format!("{at}: too large"))?;
+        if decoded > view.length() {
+            return Err(format!(
+                "{at}: {count} elements of {stride} bytes do not fit its {} bytes",
+                view.length()
+            ));
+        }
+        // The codecs cannot expand data more than 64-fold (2 header bits for 16 bytes); a larger
+        // claim is damage, refused before anything is allocated for it.
+        if decoded > 64 * source.2 + 4096 {
+            return Err(format!(
+                "{at}: {decoded} bytes cannot come from {} compressed bytes",
+                source.2
+            ));
+        }
+        out.push(CompressedView {
+            view: view.index(),
+            target: (view.buffer().index(), view.offset(), decoded),
+            source,
+            stride,
+            count,
+            mode: text("mode", ""),
+            filter: text("filter", "NONE"),
+        });
+    }
+    Ok(out)
+}
+
+impl CompressedView {
+    fn decompress_into(&self, buffers: &mut [Vec<u8>]) -> std::result::Result<(), String> {
+        use super::meshopt;
+        let at = format!("buffer view {} (EXT_meshopt_compression)", self.view);
+        let (buffer, offset, length) = self.source;
+        let data = buffers[buffer]
+            .get(offset..offset.saturating_add(length))
+            .ok_or_else(|| format!("{at}: its data lies past buffer {buffer}"))?;
+        let indices = |values: Vec<u32>| match self.stride {
+            2 => Ok(values
+                .iter()
+                .flat_map(|&i| (i as u16).to_le_bytes())
+                .collect()),
+            4 => Ok(values.iter().flat_map(|&i| i.to_le_bytes()).collect()),
+            s => Err(format!("indices of {s} bytes (2 or 4 expected)")),
+        };
+        let mut bytes: Vec<u8> = match self.mode.as_str() {
+            "ATTRIBUTES" => meshopt::decode_attributes(data, self.count, self.stride),
+            "TRIANGLES" => meshopt::decode_triangles(data, self.count).and_then(indices),
+            "INDICES" => meshopt::decode_indices(data, self.count).and_then(indices),
+            other => Err(format!("unknown mode '{other}'")),
+        }
+        .map_err(|e| format!("{at}: {e}"))?;
+        match self.filter.as_str() {
+            "NONE" => Ok(()),
+            "OCTAHEDRAL" => meshopt::filter_octahedral(&mut bytes, self.stride),
+            "QUATERNION" => meshopt::filter_quaternion(&mut bytes, self.stride),
+            "EXPONENTIAL" => meshopt::filter_exponential(&mut bytes, self.stride),
+            other => Err(format!("unknown filter '{other}'")),
+        }
+        .map_err(|e| format!("{at}: {e}"))?;
+        let (target, start, decoded) = self.target;
+        let slot = buffers[target]
+            .get_mut(start..start + decoded)
+            .ok_or_else(|| format!("{at}: the view lies past buffer {target}"))?;
+        slot.copy_from_slice(&bytes);
+        Ok(())
+    }
 }
 
 /// What an attribute's accessor may hold (with `KHR_mesh_quantization`'s integer types).

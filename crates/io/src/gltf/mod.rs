@@ -24,6 +24,7 @@ mod buffers;
 mod lights;
 mod materials;
 mod meshes;
+pub mod meshopt;
 mod nodes;
 
 use std::collections::HashMap;
@@ -58,6 +59,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_texture_transform",
     "EXT_texture_webp",
     "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
 ];
 
 /// Loads a .gltf or .glb file; `scene` picks one of its scenes (the default scene, else the first,
@@ -311,7 +313,7 @@ fn has_pbr_emission(scene: &Scene) -> bool {
 
 fn unsupported_extension(ext: &str) -> String {
     let what = match ext {
-        "KHR_draco_mesh_compression" | "EXT_meshopt_compression" | "KHR_meshopt_compression" => {
+        "KHR_draco_mesh_compression" | "KHR_meshopt_compression" => {
             "compressed meshes; decompress them first, e.g. `gltf-transform copy IN OUT` (it \
              decodes Draco and meshopt)"
         }

@@ -329,3 +329,70 @@ fn quantized_attributes_read_as_the_floats_they_encode() {
         assert!((*a - *b).abs().max_element() < 1e-4, "{a} vs {b}");
     }
 }
+
+/// `EXT_meshopt_compression`: the quad's attributes (mode ATTRIBUTES) and indices (TRIANGLES)
+/// compressed by meshoptimizer into one buffer, the views' own buffer a fallback without data:
+/// the same mesh as the plain file.
+#[test]
+fn meshopt_compressed_views_load_as_the_plain_ones() {
+    let plain_bytes = quad_buffer();
+    let floats = |range: std::ops::Range<usize>| -> Vec<f32> {
+        plain_bytes[range]
+            .chunks(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    };
+    let vec3 = |v: Vec<f32>| {
+        v.chunks(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect::<Vec<[f32; 3]>>()
+    };
+    let positions = meshopt::encode_vertex_buffer(&vec3(floats(0..48))).unwrap();
+    let normals = meshopt::encode_vertex_buffer(&vec3(floats(48..96))).unwrap();
+    let uv_floats = floats(96..128);
+    let uvs: Vec<[f32; 2]> = uv_floats.chunks(2).map(|c| [c[0], c[1]]).collect();
+    let uvs = meshopt::encode_vertex_buffer(&uvs).unwrap();
+    let indices = meshopt::encode_index_buffer(&[0, 1, 2, 0, 2, 3], 4).unwrap();
+    let mut compressed = Vec::new();
+    let mut views = Vec::new();
+    for (stream, (offset, length, stride, count, mode)) in [
+        (&positions, (0, 48, 12, 4, "ATTRIBUTES")),
+        (&normals, (48, 48, 12, 4, "ATTRIBUTES")),
+        (&uvs, (96, 32, 8, 4, "ATTRIBUTES")),
+        (&indices, (128, 12, 2, 6, "TRIANGLES")),
+    ] {
+        views.push(
+            json!({"buffer": 1, "byteOffset": offset, "byteLength": length,
+            "extensions": {"EXT_meshopt_compression": {"buffer": 0,
+                "byteOffset": compressed.len(), "byteLength": stream.len(),
+                "byteStride": stride, "count": count, "mode": mode}}}),
+        );
+        compressed.extend_from_slice(stream);
+    }
+    let mut doc = document();
+    for list in ["extensionsUsed", "extensionsRequired"] {
+        doc[list] = json!(["EXT_meshopt_compression"]);
+    }
+    doc["bufferViews"] = json!(views);
+    doc["buffers"] = json!([
+        {"byteLength": compressed.len(), "uri": format!("data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(&compressed))},
+        {"byteLength": 140, "extensions": {"EXT_meshopt_compression": {"fallback": true}}}
+    ]);
+    let scene = load(&serde_json::to_vec(&doc).unwrap(), None).unwrap();
+    let plain = load(&embedded(document()), None).unwrap();
+    for (a, b) in scene.objects.iter().zip(&plain.objects) {
+        assert_eq!(a.mesh.positions, b.mesh.positions);
+        assert_eq!(a.mesh.normals, b.mesh.normals);
+        assert_eq!(a.mesh.uvs, b.mesh.uvs);
+        let turned = |t: &[u32; 3]| {
+            let first = (0..3).min_by_key(|&i| t[i]).unwrap_or(0);
+            [t[first], t[(first + 1) % 3], t[(first + 2) % 3]]
+        };
+        let (ta, tb): (Vec<_>, Vec<_>) = (
+            a.mesh.indices.iter().map(turned).collect(),
+            b.mesh.indices.iter().map(turned).collect(),
+        );
+        assert_eq!(ta, tb, "the same triangles, each with its winding");
+    }
+}
