@@ -16,7 +16,7 @@ use crate::bvh::{BvhLayout, BvhQuality, build_bvh, build_wide_bvh};
 use crate::error::{Error, Result};
 use crate::gpu_material::object_material;
 use crate::gpu_types::{self, BvhNode, Shading, Triangle, WideBvhNode};
-use crate::material::Material;
+use crate::object_frames::ObjectFrame;
 use crate::scene::Scene;
 pub use crate::scene_features::SceneFeatures;
 
@@ -91,23 +91,24 @@ impl GpuScene {
     ) -> Result<Self> {
         let mut out = GpuScene::default();
         let texture_offsets = out.pack_texels(scene)?;
+        // World-space corners for the BVH and each triangle's (object, face); the attributes are
+        // read from the meshes again when the triangles are written in BVH order.
         let mut world = Vec::with_capacity(scene.triangle_count());
-        let mut tri_data = Vec::with_capacity(scene.triangle_count());
+        let mut faces: Vec<(u32, u32)> = Vec::with_capacity(scene.triangle_count());
+        let mut frames = Vec::with_capacity(scene.objects.len());
         for (object_index, object) in scene.objects.iter().enumerate() {
             let (material, tangents) =
                 object_material(scene, object, &texture_offsets, &mut out.features)?;
             out.materials.push(material);
-            let index = object_index as u32;
-            world_triangles(
-                object,
-                index,
-                tangents.as_deref(),
-                &mut world,
-                &mut tri_data,
-            )?;
+            let frame = ObjectFrame::new(object, object_index as u32, tangents)?;
+            for face in 0..frame.faces() {
+                world.push(frame.world(face));
+                faces.push((object_index as u32, face as u32));
+            }
+            frames.push(frame);
         }
         let triangle_order = out.build_bvh(&world, quality, layout)?;
-        out.push_in_order(&world, &tri_data, &triangle_order);
+        out.push_in_order(&world, &faces, &frames, &triangle_order);
         // The kernel reads shading attributes only for triangles that have them.
         if out
             .triangles
@@ -180,12 +181,19 @@ impl GpuScene {
     }
 
     /// The triangles and their shading attributes (and tangents, with normal maps) in BVH order.
-    fn push_in_order(&mut self, world: &[[Vec3; 3]], tri_data: &[TriangleData], order: &[u32]) {
+    fn push_in_order(
+        &mut self,
+        world: &[[Vec3; 3]],
+        faces: &[(u32, u32)],
+        frames: &[ObjectFrame],
+        order: &[u32],
+    ) {
         self.triangles.reserve(world.len());
         self.shading.reserve(world.len());
         for &i in order {
             let mut p = world[i as usize];
-            let (material, normals, uvs, t, colors) = tri_data[i as usize];
+            let (object, face) = faces[i as usize];
+            let (material, normals, uvs, t, colors) = frames[object as usize].data(face as usize);
             let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
             let (mut uvs, mut t, mut colors) = (uvs, t, colors);
             let mut normals = normals;
@@ -372,91 +380,4 @@ impl GpuScene {
             ("tangents", bytes(self.tangents.len(), 16)),
         ]
     }
-}
-
-/// What a triangle carries besides its corners, before the BVH orders it: its material (the
-/// object's index), normals, UVs, tangents and vertex colours.
-type TriangleData = (
-    u32,
-    Option<[Vec3; 3]>,
-    Option<[Vec2; 3]>,
-    Option<[[f32; 4]; 3]>,
-    Option<[u32; 3]>,
-);
-
-/// Checks `object`'s mesh and transform and appends its triangles in world space to `world`,
-/// with what they carry to `tri_data` (`tangents`: three per triangle, from `object_material`).
-fn world_triangles(
-    object: &crate::Object,
-    object_index: u32,
-    tangents: Option<&[[f32; 4]]>,
-    world: &mut Vec<[Vec3; 3]>,
-    tri_data: &mut Vec<TriangleData>,
-) -> Result<()> {
-    let mesh = &object.mesh;
-    let label = || format!("object '{}'", object.name);
-    // Vertex colours tint diffuse and PBR materials (the others have no base colour).
-    let colored = mesh
-        .colors
-        .as_ref()
-        .is_some_and(|c| c.len() == mesh.positions.len())
-        && matches!(
-            object.material,
-            Material::Lambertian { .. } | Material::Pbr(_)
-        );
-
-    let m = object.transform.matrix();
-    let nm = object.transform.normal_matrix();
-    if !m.is_finite() || m.determinant() == 0.0 {
-        return Err(Error::Scene(format!(
-            "{}: transform is singular or not finite",
-            label()
-        )));
-    }
-    let flip = m.determinant() < 0.0;
-    for (i, p) in mesh.positions.iter().enumerate() {
-        if !p.is_finite() {
-            return Err(Error::Scene(format!(
-                "{}: vertex {} is not finite ({p})",
-                label(),
-                i + 1
-            )));
-        }
-    }
-    let count = mesh.positions.len();
-    for (face, idx) in mesh.indices.iter().enumerate() {
-        if let Some(bad) = idx.iter().find(|&&i| i as usize >= count) {
-            return Err(Error::Scene(format!(
-                "{}: triangle {} uses vertex {} of {count}",
-                label(),
-                face + 1,
-                bad + 1
-            )));
-        }
-        // A mirroring transform reverses winding; swap two corners to keep the front face.
-        let idx = if flip { [idx[0], idx[2], idx[1]] } else { *idx };
-        let p = idx.map(|i| m.transform_point3(mesh.positions[i as usize]));
-        let n = mesh
-            .normals
-            .as_ref()
-            .map(|ns| idx.map(|i| (nm * ns[i as usize]).normalize_or_zero()));
-        let uv = mesh.uvs.as_ref().map(|uvs| idx.map(|i| uvs[i as usize]));
-        let colors = mesh
-            .colors
-            .as_ref()
-            .filter(|_| colored)
-            .map(|cs| idx.map(|i| gpu_types::pack_color(cs[i as usize].to_array())));
-        let corners = if flip { [0, 2, 1] } else { [0, 1, 2] };
-        let sign = if flip { -1.0 } else { 1.0 };
-        let t = tangents.map(|t| {
-            corners.map(|c| {
-                let [x, y, z, w] = t[face * 3 + c];
-                let d = m.transform_vector3(Vec3::new(x, y, z)).normalize_or_zero();
-                [d.x, d.y, d.z, w * sign]
-            })
-        });
-        world.push(p);
-        tri_data.push((object_index, n, uv, t, colors));
-    }
-    Ok(())
 }

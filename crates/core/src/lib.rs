@@ -27,6 +27,7 @@ pub mod material;
 pub mod material_kind;
 pub mod math;
 pub mod metrics;
+mod object_frames;
 pub mod oidn;
 pub mod output;
 pub mod part;
