@@ -89,6 +89,17 @@ impl GpuScene {
         quality: BvhQuality,
         layout: BvhLayout,
     ) -> Result<Self> {
+        let triangles = scene.triangle_count() as u64;
+        let texels: u64 = scene
+            .textures
+            .iter()
+            .map(|t| u64::from(t.width) * u64::from(t.height))
+            .sum();
+        crate::memory_budget::check_fits(
+            triangles,
+            crate::memory_budget::build_bytes(triangles, texels),
+            crate::memory_budget::available_bytes(),
+        )?;
         let mut out = GpuScene::default();
         let texture_offsets = out.pack_texels(scene)?;
         // World-space corners for the BVH and each triangle's (object, face); the attributes are

@@ -26,6 +26,7 @@ pub mod light_tree;
 pub mod material;
 pub mod material_kind;
 pub mod math;
+pub mod memory_budget;
 pub mod metrics;
 mod object_frames;
 pub mod oidn;
