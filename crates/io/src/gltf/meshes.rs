@@ -30,6 +30,11 @@ impl Loader<'_> {
                 "{at}: primitive mode {mode:?} is not made of triangles (rt renders surfaces)"
             ));
         }
+        if let Some(draco) = primitive.extension_value("KHR_draco_mesh_compression") {
+            let mesh = Arc::new(self.draco_mesh(&at, primitive, draco)?);
+            self.meshes.insert(key, mesh.clone());
+            return Ok(mesh);
+        }
         let positions_accessor = primitive
             .get(&gltf::Semantic::Positions)
             .ok_or_else(|| format!("{at} has no POSITION attribute"))?;
@@ -118,6 +123,74 @@ impl Loader<'_> {
         });
         self.meshes.insert(key, mesh.clone());
         Ok(mesh)
+    }
+}
+
+impl Loader<'_> {
+    /// A `KHR_draco_mesh_compression` primitive's mesh, from its Draco stream.
+    fn draco_mesh(
+        &self,
+        at: &str,
+        primitive: &gltf::Primitive,
+        extension: &serde_json::Value,
+    ) -> std::result::Result<Mesh, String> {
+        let at = format!("{at} (KHR_draco_mesh_compression)");
+        let view = extension["bufferView"]
+            .as_u64()
+            .and_then(|i| self.document.views().nth(i as usize))
+            .ok_or_else(|| format!("{at}: no such bufferView"))?;
+        let bytes = self.buffers[view.buffer().index()]
+            .get(view.offset()..view.offset() + view.length())
+            .ok_or_else(|| format!("{at}: its bufferView lies past its buffer"))?;
+        let ids = extension["attributes"]
+            .as_object()
+            .ok_or_else(|| format!("{at}: no attributes"))?;
+        let decoded = super::draco::decode(bytes, ids).map_err(|e| format!("{at}: {e}"))?;
+        let positions: Vec<Vec3> = decoded
+            .attribute::<3>("POSITION")
+            .ok_or_else(|| format!("{at}: no POSITION of 3 components"))?
+            .into_iter()
+            .map(Vec3::from)
+            .collect();
+        if let Some(bad) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(format!("{at}: vertex {bad} is not finite"));
+        }
+        let finite3 = |v: Vec<[f32; 3]>| {
+            let v: Vec<Vec3> = v.into_iter().map(Vec3::from).collect();
+            v.iter().all(|x| x.is_finite()).then_some(v)
+        };
+        let normals = decoded.attribute::<3>("NORMAL").and_then(finite3);
+        let uv_transform = uv_transform_of(&primitive.material());
+        let uvs = decoded
+            .attribute::<2>("TEXCOORD_0")
+            .map(|uvs| {
+                uvs.into_iter()
+                    .map(|uv| {
+                        let [u, v] = uv_transform(uv);
+                        Vec2::new(u, 1.0 - v)
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .filter(|v| v.iter().all(|x| x.is_finite()));
+        let colors = decoded
+            .attribute::<3>("COLOR_0")
+            .or_else(|| {
+                decoded
+                    .attribute::<4>("COLOR_0")
+                    .map(|c| c.into_iter().map(|[r, g, b, _]| [r, g, b]).collect())
+            })
+            .and_then(finite3);
+        Ok(Mesh {
+            positions,
+            normals,
+            uvs,
+            colors,
+            indices: decoded
+                .indices
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect(),
+        })
     }
 }
 

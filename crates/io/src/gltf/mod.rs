@@ -21,6 +21,7 @@
 //! read, so a broken file is an error naming the part at fault, never a panic.
 
 mod buffers;
+mod draco;
 mod lights;
 mod materials;
 mod meshes;
@@ -60,6 +61,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "EXT_texture_webp",
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
+    "KHR_draco_mesh_compression",
 ];
 
 /// Loads a .gltf or .glb file; `scene` picks one of its scenes (the default scene, else the first,
@@ -166,6 +168,7 @@ fn load_unguarded(
     }
     fill_position_bounds(&mut root, path);
     use_webp_sources(&mut root);
+    give_draco_accessors_a_view(&mut root);
     let document =
         gltf::Document::from_json(root).map_err(|e| err(format!("not valid glTF: {e}")))?;
     let gltf = gltf::Gltf { document, blob };
@@ -304,6 +307,37 @@ fn use_webp_sources(root: &mut gltf::json::Root) {
     }
 }
 
+/// `KHR_draco_mesh_compression`'s accessors may have no buffer view (the data is in the Draco
+/// stream), which gltf-json's validation refuses: they get the stream's view, which rt never
+/// reads through them.
+fn give_draco_accessors_a_view(root: &mut gltf::json::Root) {
+    let views = root.buffer_views.len();
+    let mut placeholders = Vec::new();
+    for primitive in root.meshes.iter().flat_map(|m| &m.primitives) {
+        let stream = primitive
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get("KHR_draco_mesh_compression"))
+            .and_then(|d| d["bufferView"].as_u64())
+            .filter(|&v| (v as usize) < views);
+        if let Some(view) = stream {
+            let accessors = primitive.attributes.values().map(|a| a.value());
+            placeholders.extend(
+                accessors
+                    .chain(primitive.indices.map(|i| i.value()))
+                    .map(|a| (a, view)),
+            );
+        }
+    }
+    for (accessor, view) in placeholders {
+        if let Some(accessor) = root.accessors.get_mut(accessor)
+            && accessor.buffer_view.is_none()
+        {
+            accessor.buffer_view = Some(gltf::json::Index::new(view as u32));
+        }
+    }
+}
+
 fn has_pbr_emission(scene: &Scene) -> bool {
     scene.objects.iter().any(|o| match &o.material {
         Material::Pbr(p) => p.emission_strength > 0.0 && p.emission.iter().any(|c| *c > 0.0),
@@ -313,7 +347,7 @@ fn has_pbr_emission(scene: &Scene) -> bool {
 
 fn unsupported_extension(ext: &str) -> String {
     let what = match ext {
-        "KHR_draco_mesh_compression" | "KHR_meshopt_compression" => {
+        "KHR_meshopt_compression" => {
             "compressed meshes; decompress them first, e.g. `gltf-transform copy IN OUT` (it \
              decodes Draco and meshopt)"
         }

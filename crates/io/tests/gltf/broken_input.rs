@@ -11,10 +11,10 @@ fn unsupported_and_broken_files_are_clear_errors() {
     type Edit = Box<dyn Fn(&mut Value)>;
     let cases: Vec<(&str, Edit, &str)> = vec![
         (
-            "Draco",
+            "meshopt's newer bitstreams",
             Box::new(|d| {
-                d["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
-                d["extensionsUsed"] = json!(["KHR_draco_mesh_compression"]);
+                d["extensionsRequired"] = json!(["KHR_meshopt_compression"]);
+                d["extensionsUsed"] = json!(["KHR_meshopt_compression"]);
             }),
             "gltf-transform",
         ),

@@ -396,3 +396,124 @@ fn meshopt_compressed_views_load_as_the_plain_ones() {
         assert_eq!(ta, tb, "the same triangles, each with its winding");
     }
 }
+
+/// `KHR_draco_mesh_compression`: a sphere compressed by Draco's edgebreaker (positions to 14
+/// bits, normals and UVs to 12, as exporters quantize them) loads as the same surface: as many
+/// triangles, every corner within the quantization step of a vertex of the original, with that
+/// vertex's normal and UV; a stream that is not Draco is an error naming the primitive.
+#[test]
+fn draco_compressed_primitives_load_as_the_surface_encoded() {
+    use draco_core::draco_types::DataType;
+    use draco_core::encoder_buffer::EncoderBuffer;
+    use draco_core::encoder_options::EncoderOptions;
+    use draco_core::geometry_attribute::{GeometryAttributeType, PointAttribute};
+    use draco_core::geometry_indices::PointIndex;
+
+    let sphere = rt_core::shapes::uv_sphere(1.0, 8, 16);
+    let normals = sphere.normals.clone().unwrap();
+    let uvs: Vec<[f32; 2]> = sphere
+        .positions
+        .iter()
+        .map(|p| [0.5 + 0.5 * p.x, 0.5 + 0.5 * p.z])
+        .collect();
+    let mut mesh = draco_core::mesh::Mesh::new();
+    let attribute = |kind, values: Vec<f32>, components: usize| {
+        let mut a = PointAttribute::new();
+        a.init(
+            kind,
+            components as u8,
+            DataType::Float32,
+            false,
+            values.len() / components,
+        );
+        for (i, v) in values.iter().enumerate() {
+            a.buffer_mut().write(4 * i, &v.to_le_bytes());
+        }
+        a
+    };
+    let flat3 = |v: &[glam::Vec3]| v.iter().flat_map(|p| p.to_array()).collect::<Vec<f32>>();
+    let position_id = mesh.add_attribute(attribute(
+        GeometryAttributeType::Position,
+        flat3(&sphere.positions),
+        3,
+    ));
+    let normal_id =
+        mesh.add_attribute(attribute(GeometryAttributeType::Normal, flat3(&normals), 3));
+    let uv_id = mesh.add_attribute(attribute(GeometryAttributeType::TexCoord, uvs.concat(), 2));
+    for t in &sphere.indices {
+        mesh.add_face(t.map(PointIndex));
+    }
+    let mut encoder = draco_core::mesh_encoder::MeshEncoder::new();
+    encoder.set_mesh(mesh);
+    let mut options = EncoderOptions::new();
+    options.set_global_int("encoding_method", 1); // edgebreaker
+    for (id, bits) in [(position_id, 14), (normal_id, 12), (uv_id, 12)] {
+        options.set_attribute_int(id, "quantization_bits", bits);
+    }
+    let mut encoded = EncoderBuffer::new();
+    encoder.encode(&options, &mut encoded).unwrap();
+    let stream = encoded.data().to_vec();
+
+    let document_with = |stream: &[u8]| {
+        let mut doc = document();
+        for list in ["extensionsUsed", "extensionsRequired"] {
+            doc[list] = json!(["KHR_draco_mesh_compression"]);
+        }
+        let count = sphere.positions.len();
+        doc["accessors"] = json!([
+            {"componentType": 5126, "count": count, "type": "VEC3", "min": [-1, -1, -1], "max": [1, 1, 1]},
+            {"componentType": 5126, "count": count, "type": "VEC3"},
+            {"componentType": 5126, "count": count, "type": "VEC2"},
+            {"componentType": 5125, "count": 3 * sphere.indices.len(), "type": "SCALAR"}
+        ]);
+        doc["meshes"][0]["primitives"][0]["extensions"] = json!({"KHR_draco_mesh_compression": {
+            "bufferView": 0,
+            "attributes": {"POSITION": position_id, "NORMAL": normal_id, "TEXCOORD_0": uv_id}}});
+        doc["bufferViews"] = json!([{"buffer": 0, "byteOffset": 0, "byteLength": stream.len()}]);
+        doc["buffers"] = json!([{"byteLength": stream.len(), "uri": format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(stream))}]);
+        serde_json::to_vec(&doc).unwrap()
+    };
+    let scene = load(&document_with(&stream), None).unwrap();
+    let loaded = &scene.objects[0].mesh;
+    assert_eq!(loaded.indices.len(), sphere.indices.len());
+    let (normals_read, uvs_read) = (
+        loaded.normals.as_ref().unwrap(),
+        loaded.uvs.as_ref().unwrap(),
+    );
+    for t in &loaded.indices {
+        for &i in t {
+            let p = loaded.positions[i as usize];
+            let (nearest, distance) = sphere
+                .positions
+                .iter()
+                .enumerate()
+                .map(|(j, q)| (j, (*q - p).length()))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .unwrap();
+            assert!(
+                distance < 2.0 * 2.0 / 16384.0,
+                "corner {p} is {distance} from the sphere's vertices"
+            );
+            // Vertices that coincide (the seam, the poles) may carry either's attributes.
+            let matches_one = sphere.positions.iter().enumerate().any(|(j, q)| {
+                (*q - p).length() <= distance + 1e-6
+                    && (normals[j] - normals_read[i as usize]).length() < 0.01
+                    && (glam::Vec2::new(uvs[j][0], 1.0 - uvs[j][1]) - uvs_read[i as usize]).length()
+                        < 0.01
+            });
+            assert!(
+                matches_one,
+                "corner {p} (nearest vertex {nearest}): its normal or UV differs"
+            );
+        }
+    }
+    let message = load(&document_with(b"not a draco stream at all"), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("mesh 0 primitive 0 (KHR_draco_mesh_compression)"),
+        "{message}"
+    );
+}
