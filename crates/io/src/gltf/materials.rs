@@ -385,6 +385,9 @@ fn sampler_of(sampler: &gltf::texture::Sampler) -> TextureSampler {
 }
 
 fn decode_texture(bytes: &[u8]) -> std::result::Result<image::RgbaImage, String> {
+    if crate::texture::is_ktx2(bytes) {
+        return crate::texture::transcode_basis(bytes);
+    }
     let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| e.to_string())?;

@@ -59,6 +59,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_volume_scatter",
     "KHR_texture_transform",
     "EXT_texture_webp",
+    "KHR_texture_basisu",
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
     "KHR_draco_mesh_compression",
@@ -167,7 +168,7 @@ fn load_unguarded(
         }
     }
     fill_position_bounds(&mut root, path);
-    use_webp_sources(&mut root);
+    use_extension_sources(&mut root);
     give_draco_accessors_a_view(&mut root);
     let document =
         gltf::Document::from_json(root).map_err(|e| err(format!("not valid glTF: {e}")))?;
@@ -290,18 +291,23 @@ fn fill_position_bounds(root: &mut gltf::json::Root, path: &Path) {
     }
 }
 
-/// `EXT_texture_webp`: a texture reads the WebP image its extension names (rt decodes WebP) rather
-/// than the fallback `source` (which the extension lets a file leave out).
-fn use_webp_sources(root: &mut gltf::json::Root) {
+/// `KHR_texture_basisu` and `EXT_texture_webp`: a texture reads the KTX2 or WebP image its
+/// extension names (rt decodes both) rather than the fallback `source` (which the extensions let
+/// a file leave out).
+fn use_extension_sources(root: &mut gltf::json::Root) {
     let images = root.images.len();
     for texture in &mut root.textures {
-        let webp = texture
-            .extensions
-            .as_ref()
-            .and_then(|e| e.others.get("EXT_texture_webp"))
-            .and_then(|webp| webp["source"].as_u64())
-            .filter(|&i| (i as usize) < images);
-        if let Some(image) = webp {
+        let source = ["KHR_texture_basisu", "EXT_texture_webp"]
+            .iter()
+            .find_map(|name| {
+                texture
+                    .extensions
+                    .as_ref()
+                    .and_then(|e| e.others.get(*name))
+                    .and_then(|ext| ext["source"].as_u64())
+                    .filter(|&i| (i as usize) < images)
+            });
+        if let Some(image) = source {
             texture.source = gltf::json::Index::new(image as u32);
         }
     }
@@ -354,7 +360,7 @@ fn unsupported_extension(ext: &str) -> String {
         "KHR_mesh_quantization" => {
             "quantized vertex attributes; dequantize first, e.g. `gltf-transform dequantize IN OUT`"
         }
-        "KHR_texture_basisu" | "EXT_texture_avif" => {
+        "EXT_texture_avif" => {
             "textures in a format rt cannot decode; convert them to PNG or JPEG first, e.g. \
              `gltf-transform png IN OUT`"
         }
