@@ -25,8 +25,8 @@ pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
 
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// Wavefront OBJ, glTF 2.0 (.gltf, .glb) or rt project (.rtproj); the embedded Cornell box when
-    /// omitted.
+    /// Wavefront OBJ, glTF 2.0 (.gltf, .glb), PLY, STL or rt project (.rtproj); the embedded Cornell
+    /// box when omitted.
     pub scene: Option<PathBuf>,
     /// Which of a glTF file's scenes to load (its default scene otherwise).
     #[arg(long, value_name = "N")]
