@@ -74,6 +74,15 @@ const EMPTY_MAX: [f32; 3] = [f32::NEG_INFINITY; 3];
 /// Builds over world-space triangles. An empty input gives one node with two empty children: child
 /// index 0 with no triangles, which traversals read as no child (the root is nobody's child).
 pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBvh, String> {
+    build_bvh_over(&obvhs_triangles(triangles), quality)
+}
+
+/// [`build_bvh`] over triangles already in obvhs' form (what `GpuScene` builds them into
+/// directly, so that no second copy of the corners is held during the build).
+pub fn build_bvh_over(
+    tris: &[obvhs::triangle::Triangle],
+    quality: BvhQuality,
+) -> Result<BuiltBvh, String> {
     let start = Instant::now();
     let empty_root = BvhNode {
         left_min: EMPTY_MIN,
@@ -82,7 +91,7 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
         right_max: EMPTY_MAX,
         ..Default::default()
     };
-    if triangles.is_empty() {
+    if tris.is_empty() {
         return Ok(BuiltBvh {
             nodes: vec![empty_root],
             triangle_order: Vec::new(),
@@ -90,9 +99,8 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
             build_time: start.elapsed(),
         });
     }
-    let tris = obvhs_triangles(triangles);
     let mut core_time = Duration::ZERO;
-    let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, quality.params(), &mut core_time);
+    let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(tris, quality.params(), &mut core_time);
     let (mut nodes, mut triangle_order, mut depth) = kernel_nodes(&bvh, empty_root);
     if depth > MAX_BVH_DEPTH {
         log::warn!(
@@ -100,7 +108,7 @@ pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBv
              using a median-split BVH"
         );
         (nodes, triangle_order, depth) =
-            kernel_nodes(&balanced::median_split_bvh2(&tris), empty_root);
+            kernel_nodes(&balanced::median_split_bvh2(tris), empty_root);
     }
     if depth > MAX_BVH_DEPTH {
         return Err(format!(
@@ -159,7 +167,8 @@ fn kernel_nodes(bvh: &obvhs::bvh2::Bvh2, empty_root: BvhNode) -> (Vec<BvhNode>, 
     (nodes, triangle_order, depth)
 }
 
-fn obvhs_triangles(triangles: &[[Vec3; 3]]) -> Vec<obvhs::triangle::Triangle> {
+/// Triangles in obvhs' form (corners as `Vec3A`).
+pub fn obvhs_triangles(triangles: &[[Vec3; 3]]) -> Vec<obvhs::triangle::Triangle> {
     triangles
         .iter()
         .map(|t| obvhs::triangle::Triangle {
@@ -197,8 +206,16 @@ pub fn build_wide_bvh(
     triangles: &[[Vec3; 3]],
     quality: BvhQuality,
 ) -> Result<BuiltWideBvh, String> {
+    build_wide_bvh_over(&obvhs_triangles(triangles), quality)
+}
+
+/// [`build_wide_bvh`] over triangles already in obvhs' form.
+pub fn build_wide_bvh_over(
+    tris: &[obvhs::triangle::Triangle],
+    quality: BvhQuality,
+) -> Result<BuiltWideBvh, String> {
     let start = Instant::now();
-    if triangles.is_empty() {
+    if tris.is_empty() {
         return Ok(BuiltWideBvh {
             nodes: vec![WideBvhNode::default()],
             triangle_order: Vec::new(),
@@ -206,13 +223,12 @@ pub fn build_wide_bvh(
             build_time: start.elapsed(),
         });
     }
-    let tris = obvhs_triangles(triangles);
     // obvhs' collapse to 8-wide nodes sums surface-area costs in f32: with coordinates near f32's
     // range they overflow, and its node decisions come out invalid (a debug assertion found by the
     // project fuzzer). Such scenes take the BVH2, whose builder copes.
-    let largest = triangles
+    let largest = tris
         .iter()
-        .flatten()
+        .flat_map(|t| [t.v0, t.v1, t.v2])
         .map(|v| v.abs().max_element())
         .fold(0.0f32, f32::max);
     if largest > MAX_WIDE_BVH_COORDINATE {
@@ -224,10 +240,10 @@ pub fn build_wide_bvh(
     // that, like a tree too deep for the kernel's stack, takes the median-split tree.
     let surface_area = std::panic::catch_unwind(|| {
         let mut core_time = Duration::ZERO;
-        obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, quality.params(), &mut core_time)
+        obvhs::cwbvh::builder::build_cwbvh_from_tris(tris, quality.params(), &mut core_time)
     });
     let surface_area = match surface_area {
-        Ok(bvh) => Some(wide_kernel_nodes(bvh, triangles.len())?),
+        Ok(bvh) => Some(wide_kernel_nodes(bvh, tris.len())?),
         Err(_) => None,
     };
     let (nodes, triangle_order, depth) = match surface_area {
@@ -237,12 +253,12 @@ pub fn build_wide_bvh(
                 "the surface-area wide BVH is too deep (coincident or degenerate triangles); \
                  using one collapsed from a median-split BVH"
             );
-            let balanced = balanced::median_split_bvh2(&tris);
+            let balanced = balanced::median_split_bvh2(tris);
             let wide = std::panic::catch_unwind(|| {
                 obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&balanced, 3, true, false)
             })
             .map_err(|_| "the wide BVH builder failed on this geometry".to_string())?;
-            wide_kernel_nodes(wide, triangles.len())?
+            wide_kernel_nodes(wide, tris.len())?
         }
     };
     if depth > MAX_WIDE_BVH_DEPTH {

@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use glam::{Vec2, Vec3};
 
-use crate::bvh::{BvhLayout, BvhQuality, build_bvh, build_wide_bvh};
+use crate::bvh::{BvhLayout, BvhQuality, build_bvh_over, build_wide_bvh_over};
 use crate::error::{Error, Result};
 use crate::gpu_material::object_material;
 use crate::gpu_types::{self, BvhNode, Shading, Triangle, WideBvhNode};
@@ -102,8 +102,9 @@ impl GpuScene {
         )?;
         let mut out = GpuScene::default();
         let texture_offsets = out.pack_texels(scene)?;
-        // World-space corners for the BVH and each triangle's (object, face); the attributes are
-        // read from the meshes again when the triangles are written in BVH order.
+        // World-space corners for the BVH (in the builder's form, the only copy) and each
+        // triangle's (object, face); corners and attributes are read from the meshes again when
+        // the triangles are written in BVH order.
         let mut world = Vec::with_capacity(scene.triangle_count());
         let mut faces: Vec<(u32, u32)> = Vec::with_capacity(scene.triangle_count());
         let mut frames = Vec::with_capacity(scene.objects.len());
@@ -113,13 +114,15 @@ impl GpuScene {
             out.materials.push(material);
             let frame = ObjectFrame::new(object, object_index as u32, tangents)?;
             for face in 0..frame.faces() {
-                world.push(frame.world(face));
+                let [v0, v1, v2] = frame.world(face).map(glam::Vec3A::from);
+                world.push(obvhs::triangle::Triangle { v0, v1, v2 });
                 faces.push((object_index as u32, face as u32));
             }
             frames.push(frame);
         }
         let triangle_order = out.build_bvh(&world, quality, layout)?;
-        out.push_in_order(&world, &faces, &frames, &triangle_order);
+        drop(world);
+        out.push_in_order(&faces, &frames, &triangle_order);
         // The kernel reads shading attributes only for triangles that have them.
         if out
             .triangles
@@ -161,19 +164,19 @@ impl GpuScene {
     /// coordinates); returns the triangles' order in its leaves.
     fn build_bvh(
         &mut self,
-        world: &[[Vec3; 3]],
+        world: &[obvhs::triangle::Triangle],
         quality: BvhQuality,
         layout: BvhLayout,
     ) -> Result<Vec<u32>> {
         self.layout = layout;
         Ok(match layout {
             BvhLayout::Bvh2 => {
-                let bvh = build_bvh(world, quality).map_err(Error::Scene)?;
+                let bvh = build_bvh_over(world, quality).map_err(Error::Scene)?;
                 (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
                 self.nodes = bvh.nodes;
                 bvh.triangle_order
             }
-            BvhLayout::Cwbvh => match build_wide_bvh(world, quality) {
+            BvhLayout::Cwbvh => match build_wide_bvh_over(world, quality) {
                 Ok(bvh) => {
                     (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
                     self.wide_nodes = bvh.nodes;
@@ -182,7 +185,7 @@ impl GpuScene {
                 Err(why) => {
                     log::warn!("{why}; using the binary BVH instead");
                     self.layout = BvhLayout::Bvh2;
-                    let bvh = build_bvh(world, quality).map_err(Error::Scene)?;
+                    let bvh = build_bvh_over(world, quality).map_err(Error::Scene)?;
                     (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
                     self.nodes = bvh.nodes;
                     bvh.triangle_order
@@ -192,18 +195,12 @@ impl GpuScene {
     }
 
     /// The triangles and their shading attributes (and tangents, with normal maps) in BVH order.
-    fn push_in_order(
-        &mut self,
-        world: &[[Vec3; 3]],
-        faces: &[(u32, u32)],
-        frames: &[ObjectFrame],
-        order: &[u32],
-    ) {
-        self.triangles.reserve(world.len());
-        self.shading.reserve(world.len());
+    fn push_in_order(&mut self, faces: &[(u32, u32)], frames: &[ObjectFrame], order: &[u32]) {
+        self.triangles.reserve(faces.len());
+        self.shading.reserve(faces.len());
         for &i in order {
-            let mut p = world[i as usize];
             let (object, face) = faces[i as usize];
+            let mut p = frames[object as usize].world(face as usize);
             let (material, normals, uvs, t, colors) = frames[object as usize].data(face as usize);
             let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
             let (mut uvs, mut t, mut colors) = (uvs, t, colors);

@@ -10,8 +10,8 @@ use crate::error::{Error, Result};
 
 /// Peak bytes a triangle takes while a scene builds (world corners, BVH builder, the built
 /// arrays), measured with peak RSS over 69k–2.1M instanced triangles (`bench/instances.py`,
-/// 2026-12-06, docs/performance-log.md), rounded up.
-pub const BUILD_BYTES_PER_TRIANGLE: u64 = 320;
+/// 2026-12-06, docs/performance-log.md: 281), rounded up.
+pub const BUILD_BYTES_PER_TRIANGLE: u64 = 290;
 
 /// Bytes the build of `triangles` triangles and `texels` texels needs at its peak.
 pub fn build_bytes(triangles: u64, texels: u64) -> u64 {
@@ -91,7 +91,7 @@ mod tests {
             .to_string();
         assert!(
             message.contains("71000000 triangles")
-                && message.contains("22.7 GB")
+                && message.contains("20.6 GB")
                 && message.contains("8.0 GB"),
             "{message}"
         );
