@@ -202,3 +202,55 @@ fn a_gltf_dropped_on_the_window_opens() {
     assert_eq!(harness.state().doc.scene, before, "the scene is kept");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A PLY or an STL opens as an OBJ does: one object named after the file, the camera framing it,
+/// the studio environment lighting it.
+#[test]
+fn ply_and_stl_files_open_as_models() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    let dir = std::env::temp_dir().join(format!("rt-editor-ply-stl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let corners = ["0 0 0", "1 0 0", "0 1 0", "0 0 1"];
+    let faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let mut stl = String::from("solid tetra\n");
+    for f in faces {
+        stl += "facet normal 0 0 0\nouter loop\n";
+        for v in f {
+            stl += &format!("vertex {}\n", corners[v]);
+        }
+        stl += "endloop\nendfacet\n";
+    }
+    stl += "endsolid tetra\n";
+    let mut ply = String::from(
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+         property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n",
+    );
+    ply += &corners.join("\n");
+    for f in faces {
+        ply += &format!("\n3 {} {} {}", f[0], f[1], f[2]);
+    }
+    std::fs::write(dir.join("tetra.stl"), stl).unwrap();
+    std::fs::write(dir.join("tetra.ply"), ply + "\n").unwrap();
+    for name in ["tetra.stl", "tetra.ply"] {
+        assert!(harness.state_mut().open_path(&dir.join(name)), "{name}");
+        harness.run_ok();
+        let scene = &harness.state().doc.scene;
+        assert_eq!(scene.objects.len(), 1, "{name}");
+        assert_eq!(scene.objects[0].name, "tetra", "{name}");
+        assert_eq!(scene.triangle_count(), 4, "{name}");
+        assert!(
+            scene.environment.is_some(),
+            "{name}: lit by the studio environment"
+        );
+        assert_ne!(
+            scene.camera,
+            rt_core::camera::Camera::default(),
+            "{name}: framed"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
