@@ -11,6 +11,22 @@ use rt_core::scene::{Mesh, Object, Scene};
 
 pub use rt_core::math::sampling::srgb_to_linear;
 
+/// Loads a single-mesh file: its bytes read by `read` (guarded against a parser's panic), the
+/// mesh made into a scene by [`mesh_object_scene`].
+pub fn load_mesh_file(
+    path: &Path,
+    seed: u32,
+    format: &str,
+    read: fn(&Path, &[u8]) -> Result<Mesh>,
+) -> Result<Scene> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Io {
+        path: path.into(),
+        source,
+    })?;
+    let mesh = guard_parser(path, format, || read(path, &bytes))??;
+    Ok(mesh_object_scene(path, mesh, seed))
+}
+
 /// A scene of `mesh` alone, named after the file, with the material an OBJ object without one
 /// gets: a distinct colour from `seed`, or MTL's default grey (0.8) where vertex colours carry
 /// the colour (they multiply the albedo). [`crate::load`] frames it for viewing, as an OBJ.

@@ -10,7 +10,7 @@
 //! - every other element (edges, materials, a scanner's range grid) is read past.
 //!
 //! A file without faces (a point cloud) is an error: rt renders surfaces. The mesh gets the
-//! material of an OBJ object without one ([`mesh_object_scene`]).
+//! material of an OBJ object without one (`mesh_file::mesh_object_scene`).
 
 use std::io::{BufRead, Cursor, Read};
 use std::path::Path;
@@ -19,18 +19,13 @@ use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{ElementDef, Encoding, Property, PropertyAccess};
 
-use super::mesh_file::{guard_parser, mesh_object_scene, srgb_to_linear};
+use super::mesh_file::{load_mesh_file, srgb_to_linear};
 use rt_core::error::{Error, Result};
 use rt_core::scene::{Mesh, Scene};
 
 /// Loads a PLY file as a scene of one object named after the file.
 pub fn load_ply(path: &Path, seed: u32) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.into(),
-        source,
-    })?;
-    let mesh = guard_parser(path, "PLY", || read_ply(path, &bytes))??;
-    Ok(mesh_object_scene(path, mesh, seed))
+    load_mesh_file(path, seed, "PLY", read_ply)
 }
 
 /// Reads a PLY file held in memory into a mesh.

@@ -19,7 +19,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use super::mesh_file::{guard_parser, mesh_object_scene};
+use super::mesh_file::load_mesh_file;
 use rt_core::error::{Error, Result};
 use rt_core::scene::{Mesh, Scene};
 
@@ -28,12 +28,7 @@ const TRIANGLE_BYTES: usize = 50;
 
 /// Loads an STL file as a scene of one object named after the file.
 pub fn load_stl(path: &Path, seed: u32) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.into(),
-        source,
-    })?;
-    let mesh = guard_parser(path, "STL", || read_stl(path, &bytes))??;
-    Ok(mesh_object_scene(path, mesh, seed))
+    load_mesh_file(path, seed, "STL", read_stl)
 }
 
 /// Reads an STL file held in memory into a mesh.
