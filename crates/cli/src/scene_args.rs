@@ -31,6 +31,10 @@ pub struct SceneArgs {
     /// Which of a glTF file's scenes to load (its default scene otherwise).
     #[arg(long, value_name = "N")]
     pub gltf_scene: Option<usize>,
+    /// Smooth shading for OBJ, PLY and STL meshes without normals (flat otherwise), split at edges
+    /// sharper than DEGREES (30 when not given, as Blender's Auto Smooth).
+    #[arg(long, value_name = "DEGREES", num_args = 0..=1, require_equals = true, default_missing_value = "30")]
+    pub smooth_normals: Option<u32>,
     /// Camera JSON file ({"from","to","up","vfov","width","height","background"}).
     #[arg(long)]
     pub camera: Option<PathBuf>,
@@ -132,6 +136,7 @@ impl SceneArgs {
         LoadOptions {
             seed: self.seed.unwrap_or(0),
             gltf_scene: self.gltf_scene,
+            smooth_normals_deg: self.smooth_normals,
         }
     }
 }

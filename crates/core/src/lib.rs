@@ -36,6 +36,7 @@ pub mod scene;
 pub mod scene_features;
 pub mod shapes;
 pub mod sky;
+pub mod smooth_normals;
 pub mod tangents;
 pub mod texture_budget;
 

@@ -25,6 +25,10 @@ pub struct LoadOptions {
     /// Which of a glTF file's scenes to load (its default scene when `None`); an error for any
     /// other kind of file.
     pub gltf_scene: Option<usize>,
+    /// Smooth shading for OBJ, PLY and STL meshes that have no normals, split at edges sharper
+    /// than this many degrees ([`rt_core::smooth_normals`]); `None` shades them flat, as their
+    /// facets are (STL's CAD parts mean it).
+    pub smooth_normals_deg: Option<u32>,
 }
 
 /// The kinds of scene file, told apart by extension (in any case).
@@ -133,6 +137,16 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene> {
                 SceneFormat::Ply => ply::load_ply(path, options.seed)?,
                 _ => stl::load_stl(path, options.seed)?,
             };
+            if let Some(crease) = options.smooth_normals_deg {
+                for object in &mut scene.objects {
+                    if object.mesh.normals.is_none() {
+                        object.mesh = std::sync::Arc::new(rt_core::smooth_normals::smooth_normals(
+                            &object.mesh,
+                            crease as f32,
+                        ));
+                    }
+                }
+            }
             scene.frame_for_viewing();
             Ok(scene)
         }
@@ -173,6 +187,34 @@ mod tests {
                 "{message}"
             );
         }
+    }
+
+    #[test]
+    fn smoothing_gives_normals_to_meshes_without_them_only_when_asked() {
+        let dir = std::env::temp_dir().join(format!("rt-load-smooth-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("fan.obj");
+        std::fs::write(
+            &path,
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\n",
+        )
+        .unwrap();
+        let flat = load(&path, &LoadOptions::default()).unwrap();
+        let options = LoadOptions {
+            smooth_normals_deg: Some(100),
+            ..LoadOptions::default()
+        };
+        let smooth = load(&path, &options).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert!(flat.objects[0].mesh.normals.is_none());
+        let normals = smooth.objects[0].mesh.normals.as_ref().unwrap();
+        // The shared edge's vertices average the two faces (at right angles, within 100°).
+        assert!(
+            normals
+                .iter()
+                .any(|n| (n.x - n.z).abs() < 1e-6 && n.x > 0.5),
+            "{normals:?}"
+        );
     }
 
     #[test]

@@ -380,3 +380,42 @@ fn fog_from_the_command_line() {
     let changed = clear.iter().zip(&foggy).filter(|(a, b)| a != b).count();
     assert!(changed * 2 > clear.len(), "fog changed {changed} pixels");
 }
+
+/// An STL renders on the CPU backend, flat by default and smoothly with `--smooth-normals` (another
+/// image, and another again at a 5° crease, which keeps this ball's facets); a value needs `=`,
+/// so the scene path after the flag stays the scene.
+#[test]
+fn an_stl_renders_flat_or_smooth() {
+    let dir = temp_dir("stl");
+    let sphere = rt_core::shapes::uv_sphere(1.0, 6, 12);
+    let mut stl = String::from("solid ball\n");
+    for t in &sphere.indices {
+        stl += "facet normal 0 0 0\nouter loop\n";
+        for &i in t {
+            let p = sphere.positions[i as usize];
+            stl += &format!("vertex {} {} {}\n", p.x, p.y, p.z);
+        }
+        stl += "endloop\nendfacet\n";
+    }
+    stl += "endsolid ball\n";
+    let scene = dir.join("ball.stl");
+    std::fs::write(&scene, stl).unwrap();
+    let render = |extra: &[&str], name: &str| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render", "--device", "cpu", "--width", "24", "--height", "24",
+        ];
+        args.extend(["--spp", "4", "-o", out.to_str().unwrap()]);
+        args.extend(extra);
+        args.push(scene.to_str().unwrap());
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{stderr}");
+        std::fs::read(out).unwrap()
+    };
+    let flat = render(&[], "flat.exr");
+    let smooth = render(&["--smooth-normals"], "smooth.exr");
+    let sharper = render(&["--smooth-normals=5"], "five.exr");
+    assert_ne!(flat, smooth, "smoothing changes the shading");
+    assert_ne!(smooth, sharper, "the crease angle matters");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
