@@ -11,6 +11,7 @@ mod line_reader;
 mod load;
 mod mesh_file;
 pub mod obj;
+mod parse_guard;
 pub mod ply;
 pub mod project;
 pub mod stl;

@@ -1,10 +1,11 @@
 //! What the single-mesh formats (PLY, STL) share: one object named after the file with the
-//! default material of a bare OBJ object, and parsers guarded against panics.
+//! default material of a bare OBJ object.
 
 use std::path::Path;
 use std::sync::Arc;
 
 use super::obj::distinct_color;
+use super::parse_guard::guard_parser;
 use rt_core::error::{Error, Result};
 use rt_core::material::Material;
 use rt_core::scene::{Mesh, Object, Scene};
@@ -47,13 +48,4 @@ pub fn mesh_object_scene(path: &Path, mesh: Mesh, seed: u32) -> Scene {
         transform: Default::default(),
     });
     scene
-}
-
-/// Runs a parser, turning a panic inside it (a bug in a parser, triggered by odd input) into an
-/// error naming the file, so bad input never takes the program down.
-pub fn guard_parser<T>(path: &Path, format: &str, parse: impl FnOnce() -> T) -> Result<T> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(parse)).map_err(|_| Error::File {
-        path: path.into(),
-        message: format!("the {format} parser failed on this file (malformed input)"),
-    })
 }

@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 use glam::{Vec2, Vec3};
 
 use super::line_reader::LineCountingReader;
-use super::mesh_file::guard_parser;
+use super::parse_guard::guard_parser;
 use super::texture::load_texture;
 use mtl::{MtlData, parse_mtl};
 use rt_core::error::{Error, Result};

@@ -15,7 +15,7 @@
 use std::path::Path;
 
 use super::super::line_reader::LineCountingReader;
-use super::super::mesh_file::guard_parser;
+use super::super::parse_guard::guard_parser;
 use super::text::{decode_text, name_unnamed_materials, normalize_mtl_colors};
 use rt_core::error::{Error, Result};
 use rt_core::material::{Material, Rgb};
