@@ -254,3 +254,34 @@ fn ply_and_stl_files_open_as_models() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A flat-shaded mesh gets "Shade smooth" in the Inspector: normals from its faces, undone by
+/// undo.
+#[test]
+fn shade_smooth_gives_a_flat_mesh_normals_and_undo_takes_them_back() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    let dir = std::env::temp_dir().join(format!("rt-editor-smooth-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("quad.obj");
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+    assert!(harness.state_mut().open_path(&path));
+    harness.state_mut().selection = Some(0);
+    harness.run_ok();
+    assert!(harness.state().doc.scene.objects[0].mesh.normals.is_none());
+    harness.get_by_label("Shade smooth").click();
+    harness.run_ok();
+    let normals = harness.state().doc.scene.objects[0].mesh.normals.clone();
+    assert_eq!(
+        normals,
+        Some(vec![glam::Vec3::Z; 4]),
+        "a flat quad's normals are its face's"
+    );
+    assert!(harness.state_mut().doc.undo());
+    harness.run_ok();
+    assert!(harness.state().doc.scene.objects[0].mesh.normals.is_none());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -110,7 +110,34 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
         ui.text_edit_singleline(&mut object.name)
             .on_hover_text("The object's name");
     });
-    ui.label(format!("{} triangles", object.mesh.indices.len()));
+    ui.horizontal(|ui| {
+        ui.label(format!("{} triangles", object.mesh.indices.len()));
+        let sharing = app
+            .doc
+            .scene
+            .objects
+            .iter()
+            .filter(|o| std::sync::Arc::ptr_eq(&o.mesh, &object.mesh))
+            .count();
+        if sharing > 1 {
+            ui.weak(format!("mesh shared by {sharing} objects"))
+                .on_hover_text(
+                    "Instances of one mesh (a glTF's shared meshes): stored once in projects",
+                );
+        }
+    });
+    if object.mesh.normals.is_none()
+        && ui
+            .button("Shade smooth")
+            .on_hover_text(
+                "Give this flat-shaded mesh normals: smooth across edges under 30°, sharp \
+                 above (as Blender's Auto Smooth); undo restores the facets",
+            )
+            .clicked()
+    {
+        object.mesh =
+            std::sync::Arc::new(rt_core::smooth_normals::smooth_normals(&object.mesh, 30.0));
+    }
 
     ui.add_space(4.0);
     ui.strong("Transform").on_hover_text(
@@ -191,7 +218,13 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
     }
     if choose_texture
         && let Some(path) = rfd::FileDialog::new()
-            .add_filter("Images", &["png", "jpg", "jpeg", "ppm", "exr"])
+            .add_filter(
+                "Images",
+                &[
+                    "png", "jpg", "jpeg", "tga", "bmp", "tif", "tiff", "webp", "gif", "dds", "qoi",
+                    "ktx2", "ppm", "hdr", "exr",
+                ],
+            )
             .pick_file()
     {
         app.set_texture_from_file(index, &path);
