@@ -89,6 +89,13 @@ pub fn is_ktx2(bytes: &[u8]) -> bool {
 /// the pure-Rust `basisu` transcoder; other KTX2 payloads (raw or block-compressed formats) are
 /// an error saying so.
 pub fn transcode_basis(bytes: &[u8]) -> std::result::Result<image::RgbaImage, String> {
+    // The transcoder is another crate's: a panic in it on a damaged file is an error here.
+    std::panic::catch_unwind(|| transcode_unguarded(bytes)).unwrap_or_else(|_| {
+        Err("the Basis Universal transcoder failed on this file (malformed input)".into())
+    })
+}
+
+fn transcode_unguarded(bytes: &[u8]) -> std::result::Result<image::RgbaImage, String> {
     use basisu::{DecodeFlags, TargetFormat, Transcoder};
     let transcoder = Transcoder::new(bytes)
         .map_err(|e| format!("a KTX2 texture rt cannot read (Basis Universal only): {e:?}"))?;
@@ -98,9 +105,14 @@ pub fn transcode_basis(bytes: &[u8]) -> std::result::Result<image::RgbaImage, St
             "texture is {width}x{height}; the limit is {MAX_TEXTURE_SIDE} per side"
         ));
     }
-    let rgba = transcoder
-        .transcode(0, TargetFormat::Rgba32, DecodeFlags::NONE)
-        .map_err(|e| format!("the Basis Universal texture does not transcode: {e:?}"))?;
+    // The transcoder is another crate's: a panic in it on a damaged file is an error here.
+    let rgba = std::panic::catch_unwind(|| {
+        transcoder.transcode(0, TargetFormat::Rgba32, DecodeFlags::NONE)
+    })
+    .map_err(|_| {
+        "the Basis Universal transcoder failed on this file (malformed input)".to_string()
+    })?
+    .map_err(|e| format!("the Basis Universal texture does not transcode: {e:?}"))?;
     image::RgbaImage::from_raw(width, height, rgba)
         .ok_or_else(|| "the transcoded texture has the wrong size".to_string())
 }
