@@ -629,12 +629,15 @@ fn png(width: u32, height: u32, texel: [u8; 4]) -> Vec<u8> {
 fn mtl_maps_reach_the_pbr_slots() {
     let obj = format!(
         "mtllib scene.mtl\n{SQUARE}vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n\
-         o a\nusemtl mapped\nf 1/1/1 2/2/1 3/3/1\no b\nusemtl bumped\nf 1/1/1 2/2/1 3/3/1\n"
+         o a\nusemtl mapped\nf 1/1/1 2/2/1 3/3/1\no b\nusemtl bumped\nf 1/1/1 2/2/1 3/3/1\n\
+         o c\nusemtl shiny\nf 1/1/1 2/2/1 3/3/1\n"
     );
     let mtl = "newmtl mapped\nKd 0.5 0.5 0.5\nmap_Kd -s 2 2 1 -o 0.5 0 diffuse.png\n\
                norm -bm 0.5 normal.png\nmap_d alpha.png\nmap_Ke glow.png\nmap_Pr rough.png\n\
                map_Pm metal.png\nPm 0.5\nmap_Ks ignored.png\n\
-               newmtl bumped\nKd 0.2 0.4 0.6\nmap_Bump -bm 2 height.png\n";
+               newmtl bumped\nKd 0.2 0.4 0.6\nmap_Bump -bm 2 height.png\n\
+               newmtl shiny\nKd 0.3 0.3 0.3\nKs 0.5 0.5 0.5\nNs 100\nmap_Ks spec.png\n\
+               map_Ns shininess.png\n";
     let dir = dir_with(&[
         ("scene.obj", obj.as_bytes()),
         ("scene.mtl", mtl.as_bytes()),
@@ -645,6 +648,8 @@ fn mtl_maps_reach_the_pbr_slots() {
         ("rough.png", &png(1, 1, [30, 30, 30, 255])),
         ("metal.png", &png(1, 1, [90, 90, 90, 255])),
         ("height.png", &png(2, 2, [100, 100, 100, 255])),
+        ("spec.png", &png(1, 1, [255, 200, 100, 255])),
+        ("shininess.png", &png(1, 1, [255, 255, 255, 255])),
     ]);
     let scene = load_obj(&dir.join("scene.obj"), 0).unwrap();
     let Material::Pbr(mapped) = &scene.objects[0].material else {
@@ -705,5 +710,17 @@ fn mtl_maps_reach_the_pbr_slots() {
         (bumped.base_color, bumped.normal_scale, bumped.specular),
         ([0.2, 0.4, 0.6], 1.0, 0.0)
     );
+    // map_Ks and map_Ns: a diffuse material gains a specular layer with its colour image, and a
+    // roughness image from shininess (Ns 100 × white: √(√(2/102)) = 0.374, byte 95).
+    let Material::Pbr(shiny) = &scene.objects[2].material else {
+        panic!("{:?}", scene.objects[2].material)
+    };
+    assert_eq!((shiny.specular, shiny.specular_color), (1.0, [0.5; 3]));
+    assert_eq!(
+        &texture(shiny.specular_color_texture).rgba8[..],
+        &[255, 200, 100, 255]
+    );
+    assert_eq!(texture(shiny.metallic_roughness_texture).rgba8[1], 95);
+    assert_eq!((shiny.roughness, shiny.base_color), (1.0, [0.3; 3]));
     rt_core::GpuScene::build(&scene).unwrap();
 }

@@ -10,8 +10,14 @@
 //! - `map_Ke`: multiplies the emission `Ke` (white where `Ke` is missing).
 //! - `map_Pr`, `map_Pm`: roughness and metallic (brightness), multiplying `Pr` and `Pm` (1 where
 //!   missing), packed into glTF's metallic-roughness image (green, blue).
-//! - `map_Ks`, `map_Ns`, `map_Ka`, `disp`, `decal`, `refl`: no slot in rt's materials; ignored
-//!   with a warning naming them.
+//! - `map_Ns` (without `map_Pr`): a shininess image multiplying `Ns` (1000 without it), each
+//!   texel's roughness by the Blinn–Phong match the MTL mapping uses for `Ns` (√α, α =
+//!   √(2/(Ns+2))), in the same image's green.
+//! - `map_Ks`: the specular colour image (`KHR_materials_specular`'s), multiplying `Ks` (white
+//!   without it); a diffuse material gains the specular layer it then needs, its roughness from
+//!   `Ns` (0.5 without).
+//! - `map_Ka`, `disp`, `decal`, `refl`: no slot in rt's materials; ignored with a warning naming
+//!   them.
 //!
 //! A material with any of the used maps becomes `Pbr`: a Lambertian one as a PBR material with no
 //! specular layer (`specular` 0, so the same diffuse surface), a metal, glass or emitter as its
@@ -89,6 +95,8 @@ pub struct MaterialMaps {
     pub metallic_roughness: Option<usize>,
     pub has_roughness_map: bool,
     pub has_metallic_map: bool,
+    /// `map_Ks`: the specular colour image.
+    pub specular_color: Option<usize>,
 }
 
 impl MaterialMaps {
@@ -97,6 +105,7 @@ impl MaterialMaps {
             || self.base_with_alpha.is_some()
             || self.emission.is_some()
             || self.metallic_roughness.is_some()
+            || self.specular_color.is_some()
     }
 }
 
@@ -159,6 +168,21 @@ pub fn with_maps(material: Material, maps: &MaterialMaps, m: &tobj::Material) ->
             pbr.emission_strength = 1.0;
         }
     }
+    if let Some(texture) = maps.specular_color {
+        if pbr.specular <= 0.0 {
+            // A diffuse material made PBR: the specular layer the map is for, rough by Ns.
+            pbr.specular = 1.0;
+            pbr.roughness = m
+                .shininess
+                .map_or(0.5, |ns| (2.0 / (ns.max(0.0) + 2.0)).sqrt().sqrt())
+                .clamp(0.0, 1.0);
+        }
+        pbr.specular_color = m
+            .specular
+            .filter(|k| k.iter().any(|&c| c > 0.0))
+            .unwrap_or([1.0; 3]);
+        pbr.specular_color_texture = Some(texture);
+    }
     if let Some(texture) = maps.metallic_roughness {
         pbr.metallic_roughness_texture = Some(texture);
         let factor = |key: &str| {
@@ -210,6 +234,26 @@ pub fn normal_map_from_height(height: &Texture, strength: f32) -> Texture {
         height: height.height,
         rgba8: rgba.into(),
         sampler: height.sampler,
+    }
+}
+
+/// A roughness image (grey) from a shininess image multiplying `ns`: each texel √α with α =
+/// √(2/(Ns+2)), the Blinn–Phong match of the MTL mapping.
+pub fn roughness_from_shininess(shininess: &Texture, ns: f32) -> Texture {
+    let rgba: Vec<u8> = shininess
+        .rgba8
+        .chunks_exact(4)
+        .flat_map(|p| {
+            let texel_ns = ns.max(0.0) * f32::from(brightness(p)) / 255.0;
+            let rough = (2.0 / (texel_ns + 2.0)).sqrt().sqrt();
+            let byte = (rough * 255.0).round().clamp(0.0, 255.0) as u8;
+            [byte, byte, byte, 255]
+        })
+        .collect();
+    Texture {
+        name: format!("{} (roughness from shininess)", shininess.name),
+        rgba8: rgba.into(),
+        ..shininess.clone()
     }
 }
 

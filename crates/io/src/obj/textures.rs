@@ -98,7 +98,18 @@ impl<'a> MtlTextures<'a> {
             maps.base_with_alpha = Some(self.add(joined));
         }
         maps.emission = load(self, &param("map_Ke"))?;
-        let roughness = load(self, &param("map_Pr"))?;
+        // map_Pr's roughness, else one from map_Ns (a shininess image multiplying Ns).
+        let roughness = match load(self, &param("map_Pr"))? {
+            Some(id) => Some(id),
+            None => match load(self, &statement(m.shininess_texture.as_ref()))? {
+                Some(id) => {
+                    let ns = m.shininess.unwrap_or(1000.0);
+                    let rough = maps::roughness_from_shininess(&self.textures[id], ns);
+                    Some(self.add(rough))
+                }
+                None => None,
+            },
+        };
         let metallic = load(self, &param("map_Pm"))?;
         if roughness.is_some() || metallic.is_some() {
             let packed = maps::metallic_roughness(
@@ -110,15 +121,11 @@ impl<'a> MtlTextures<'a> {
                 (roughness.is_some(), metallic.is_some());
         }
 
+        maps.specular_color = load(self, &statement(m.specular_texture.as_ref()))?;
+
         let mut ignored: Vec<&str> = Vec::new();
-        for (name, present) in [
-            ("map_Ks", m.specular_texture.is_some()),
-            ("map_Ns", m.shininess_texture.is_some()),
-            ("map_Ka", m.ambient_texture.is_some()),
-        ] {
-            if present {
-                ignored.push(name);
-            }
+        if m.ambient_texture.is_some() {
+            ignored.push("map_Ka");
         }
         for key in ["disp", "decal", "refl", "map_Ps", "map_Pc", "map_Pcr"] {
             if m.unknown_param.contains_key(key) {
