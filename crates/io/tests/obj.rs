@@ -522,8 +522,23 @@ fn vertex_colours_are_read() {
     assert!(plain.objects[0].mesh.colors.is_none());
 }
 
+/// A small image of `scene` on the CPU backend, every pixel finite.
+fn assert_renders(scene: &Scene, what: &str) {
+    let mut scene = scene.clone();
+    (scene.settings.width, scene.settings.height) = (8, 8);
+    let gpu = rt_core::GpuScene::build(&scene).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let frame = rt_core::frame::frame_for(&scene, &gpu).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let mut image = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    assert!(image.add_batch(&gpu, &frame, 1, &cancel), "{what}");
+    assert!(
+        image.pixels().iter().flatten().all(|c| c.is_finite()),
+        "{what}: a pixel is not finite"
+    );
+}
+
 /// Debian's assimp-testmodels (installed by scripts/test): every OBJ file Blender opens loads and
-/// builds, the forgiving cases among them (a Windows texture path, a missing MTL, Latin-1 and
+/// renders (a small image, every pixel finite), the forgiving cases among them (a Windows texture path, a missing MTL, Latin-1 and
 /// UTF-16 text, an unnamed material, a 470-vertex face repeating its corners); the one made
 /// invalid on purpose stays an error naming its line.
 #[test]
@@ -556,7 +571,7 @@ fn the_assimp_obj_files_load() {
             continue;
         }
         let scene = result.unwrap_or_else(|e| panic!("{name}: {e}"));
-        rt_core::GpuScene::build(&scene).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_renders(&scene, &name);
     }
     let spider = load_obj(&dir.join("spider.obj"), 0).unwrap();
     assert_eq!(
