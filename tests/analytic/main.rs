@@ -1,10 +1,11 @@
 //! Scenes with known answers, rendered on the GPU: furnaces, a lens-filling emitter, a mirror and a
 //! glass slab at normal incidence, and an empty scene.
 //!
-//! `closed_form.rs` holds the furnaces, emitters, mirror, slab and empty scene, `lights.rs` the
-//! delta lights, the sun and sky and the Sobol sampler, `materials.rs` PBR, normal maps, texture
-//! wrap modes and alpha, `media.rs` fog and volumes.
+//! `cameras.rs` holds the projections, `closed_form.rs` the furnaces, emitters, mirror, slab and
+//! empty scene, `lights.rs` the delta lights, the sun and sky and the Sobol sampler,
+//! `materials.rs` PBR, normal maps, texture wrap modes and alpha, `media.rs` fog and volumes.
 
+mod cameras;
 mod closed_form;
 #[path = "../common/mod.rs"]
 mod common;

@@ -366,6 +366,71 @@ fn camera_rays_escaped_sky_and_delta_lights_match_their_twin() {
     .check_rows(&gpu_out, 13, &rows);
 }
 
+/// Camera rays of every projection (`camera_ray_origin_dir` ⇄ `camera_ray`): orthographic with a
+/// thin lens, panorama and fisheye (pixels outside its circle get a zero direction in both), on a
+/// wide and a tall image.
+#[test]
+fn camera_rays_of_every_projection_match_their_twin() {
+    use rt_core::camera::Projection;
+    use rt_core::estimator::camera_ray;
+    let Some(ctx) = gpu() else { return };
+    let cases = [
+        (Projection::Orthographic, 0.05, 96, 64),
+        (Projection::Panorama, 0.0, 128, 64),
+        (Projection::Fisheye, 0.0, 96, 64),
+        (Projection::Fisheye, 0.0, 48, 80),
+    ];
+    for (projection, aperture, width, height) in cases {
+        let mut scene = rt_io::assets::cornell_box().unwrap();
+        scene.camera.projection = projection;
+        scene.camera.aperture_radius = aperture;
+        scene.camera.fisheye_angle_deg = 200.0;
+        scene.settings.width = width;
+        scene.settings.height = height;
+        let g = rt_core::GpuScene::build(&scene).unwrap();
+        let frame = rt_core::frame::frame_for(&scene, &g).unwrap();
+        assert_eq!(frame.projection, projection.tag());
+        let input = inputs(1, |rng| {
+            vec![(rng.next_f32() * (frame.width * frame.height) as f32) as u32]
+        });
+        let kernel = TwinKernel {
+            words_in: 1,
+            words_out: 6,
+            body: "let pixel = u_in(item, 0u);
+    var r = rng_init(pixel, item, frame.seed);
+    let ray = camera_ray_origin_dir(pixel % frame.width, pixel / frame.width, &r);
+    put3(item, 0u, ray[0]); put3(item, 3u, ray[1]);",
+            sobol: true,
+        };
+        let twin = TwinScene { frame, scene: g };
+        let gpu_out = kernel.run_in(ctx, &twin, &input);
+        let frame = &twin.frame;
+        let mut outside = 0;
+        let rows: Vec<Vec<u32>> = (0..ITEMS)
+            .map(|item| {
+                let pixel = input[item];
+                let mut r = Rng::with_sampler(pixel, item as u32, frame.seed, SamplerKind::Sobol);
+                let (o, dir) = camera_ray(frame, pixel % frame.width, pixel / frame.width, &mut r);
+                outside += usize::from(dir == Vec3::ZERO);
+                bits(&[o, dir].map(|v| v.to_array()).concat())
+            })
+            .collect();
+        if projection == Projection::Fisheye {
+            assert!(
+                outside > ITEMS / 20,
+                "{projection:?}: {outside} rays outside the circle"
+            );
+        }
+        Comparison {
+            name: projection.name(),
+            rel: 2e-4,
+            abs: 1e-5,
+            exact_words: &[],
+        }
+        .check_rows(&gpu_out, 6, &rows);
+    }
+}
+
 /// The light tree's pmf of an emitter found by a BSDF-sampled ray (`emitter_pdf` through
 /// `leaf_of` and `tree_pmf`), the packed normal it is weighed with, and the power table's pdf, at
 /// random points, normals and emitters of the Cornell box with thirty more lights.

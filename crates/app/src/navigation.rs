@@ -3,6 +3,7 @@
 //! wheel dollies.
 
 use glam::{Mat4, Quat, Vec2, Vec3};
+use rt_core::camera::Projection;
 use rt_core::{Camera, Scene};
 
 /// Radians of rotation per pixel dragged.
@@ -34,7 +35,8 @@ pub fn view_distance(bounds: Option<(Vec3, Vec3)>, camera: &Camera) -> f32 {
 pub fn pan(camera: &mut Camera, drag_px: Vec2, viewport_height_px: f32, distance: f32) {
     let (from, to, _) = eye_target(camera);
     let Ok(basis) = camera.basis() else { return };
-    let per_pixel = 2.0 * distance * basis.tan_half_vfov / viewport_height_px.max(1.0);
+    let half_height = ortho_half_height(camera).unwrap_or(distance * basis.tan_half_vfov);
+    let per_pixel = 2.0 * half_height / viewport_height_px.max(1.0);
     let shift = (-basis.u * drag_px.x + basis.v * drag_px.y) * per_pixel;
     camera.from = (from + shift).to_array();
     camera.to = (to + shift).to_array();
@@ -109,12 +111,23 @@ pub fn set_yaw_pitch_deg(camera: &mut Camera, yaw: f32, pitch: f32) {
     camera.up = [0.0, 1.0, 0.0];
 }
 
+/// Half the view's height in scene units when the camera is orthographic (the viewport draws
+/// panorama and fisheye cameras as perspective ones, as the raster preview does).
+fn ortho_half_height(camera: &Camera) -> Option<f32> {
+    (camera.projection == Projection::Orthographic).then(|| camera.effective_ortho_height() * 0.5)
+}
+
 /// The world-space ray through a point of the viewport given in [0, 1]² (y down), as the renderer
-/// generates it for the pinhole camera.
+/// generates it for a pinhole (or orthographic) camera.
 pub fn camera_ray(camera: &Camera, aspect: f32, uv: Vec2) -> Option<(Vec3, Vec3)> {
     let basis = camera.basis().ok()?;
-    let x = (2.0 * uv.x - 1.0) * basis.tan_half_vfov * aspect;
-    let y = (1.0 - 2.0 * uv.y) * basis.tan_half_vfov;
+    let (px, py) = (2.0 * uv.x - 1.0, 1.0 - 2.0 * uv.y);
+    if let Some(h) = ortho_half_height(camera) {
+        let origin = basis.origin + basis.u * (px * h * aspect) + basis.v * (py * h);
+        return Some((origin, -basis.w));
+    }
+    let x = px * basis.tan_half_vfov * aspect;
+    let y = py * basis.tan_half_vfov;
     let direction = (basis.u * x + basis.v * y - basis.w).normalize();
     Some((basis.origin, direction))
 }
@@ -129,8 +142,13 @@ pub fn project(camera: &Camera, aspect: f32, point: Vec3) -> Option<Vec2> {
     if depth.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
-    let x = d.dot(basis.u) / (depth * basis.tan_half_vfov * aspect);
-    let y = d.dot(basis.v) / (depth * basis.tan_half_vfov);
+    let (x, y) = match ortho_half_height(camera) {
+        Some(h) => (d.dot(basis.u) / (h * aspect), d.dot(basis.v) / h),
+        None => (
+            d.dot(basis.u) / (depth * basis.tan_half_vfov * aspect),
+            d.dot(basis.v) / (depth * basis.tan_half_vfov),
+        ),
+    };
     Some(Vec2::new(0.5 * (x + 1.0), 0.5 * (1.0 - y)))
 }
 
@@ -145,7 +163,8 @@ pub fn to_screen(camera: &Camera, rect: egui::Rect, point: Vec3) -> Option<egui:
 pub fn world_per_point(camera: &Camera, rect: egui::Rect, point: Vec3) -> Option<f32> {
     let basis = camera.basis().ok()?;
     let depth = (point - basis.origin).dot(-basis.w);
-    (depth > 0.0).then(|| 2.0 * depth * basis.tan_half_vfov / rect.height().max(1.0))
+    let half_height = ortho_half_height(camera).unwrap_or(depth * basis.tan_half_vfov);
+    (depth > 0.0).then(|| 2.0 * half_height / rect.height().max(1.0))
 }
 
 /// The nearest object hit by a ray, and the distance to it.
@@ -248,17 +267,39 @@ mod tests {
     /// projects back to that position, and a point behind the camera does not project.
     #[test]
     fn project_inverts_camera_ray() {
-        let scene = cornell();
-        for uv in [
-            Vec2::new(0.5, 0.5),
-            Vec2::new(0.1, 0.8),
-            Vec2::new(0.95, 0.05),
-        ] {
-            let (o, d) = camera_ray(&scene.camera, 1.5, uv).unwrap();
-            let back = project(&scene.camera, 1.5, o + d * 300.0).unwrap();
-            assert!((back - uv).length() < 1e-4, "{uv} -> {back}");
-            assert!(project(&scene.camera, 1.5, o - d * 300.0).is_none());
+        let mut scene = cornell();
+        for projection in [Projection::Perspective, Projection::Orthographic] {
+            scene.camera.projection = projection;
+            for uv in [
+                Vec2::new(0.5, 0.5),
+                Vec2::new(0.1, 0.8),
+                Vec2::new(0.95, 0.05),
+            ] {
+                let (o, d) = camera_ray(&scene.camera, 1.5, uv).unwrap();
+                let back = project(&scene.camera, 1.5, o + d * 300.0).unwrap();
+                assert!(
+                    (back - uv).length() < 1e-4,
+                    "{projection:?}: {uv} -> {back}"
+                );
+                assert!(project(&scene.camera, 1.5, o - d * 300.0).is_none());
+            }
         }
+    }
+
+    /// The orthographic viewport's rays are parallel and span the renderer's window: the corner
+    /// ray starts half the view's height (times the aspect) off the axis.
+    #[test]
+    fn orthographic_rays_are_parallel_over_the_views_height() {
+        let mut camera = cornell().camera;
+        camera.projection = Projection::Orthographic;
+        camera.ortho_height = Some(10.0);
+        let basis = camera.basis().unwrap();
+        let (o0, d0) = camera_ray(&camera, 2.0, Vec2::ZERO).unwrap();
+        let (o1, d1) = camera_ray(&camera, 2.0, Vec2::ONE).unwrap();
+        assert_eq!(d0, d1);
+        let offset = o1 - o0;
+        assert!((offset.dot(basis.u) - 20.0).abs() < 1e-3, "{offset}");
+        assert!((offset.dot(basis.v) + 10.0).abs() < 1e-3, "{offset}");
     }
 
     #[test]

@@ -44,9 +44,17 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
         None => println!("bounds: empty scene"),
     }
     let c = &scene.camera;
+    let projection = match c.projection {
+        rt_core::camera::Projection::Perspective => format!("vfov {}°", c.vfov_deg),
+        rt_core::camera::Projection::Orthographic => {
+            format!("orthographic, {} high", c.effective_ortho_height())
+        }
+        rt_core::camera::Projection::Panorama => "panorama (equirectangular)".into(),
+        rt_core::camera::Projection::Fisheye => format!("fisheye {}°", c.fisheye_angle_deg),
+    };
     println!(
-        "camera: from {:?} to {:?} up {:?} vfov {}°",
-        c.from, c.to, c.up, c.vfov_deg
+        "camera: from {:?} to {:?} up {:?} {projection}",
+        c.from, c.to, c.up
     );
     println!("ambient: {:?}", scene.ambient);
     match &scene.environment {

@@ -44,9 +44,21 @@ pub struct SceneArgs {
     pub camera_to: Option<[f32; 3]>,
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     pub camera_up: Option<[f32; 3]>,
-    /// Vertical field of view in degrees.
+    /// Vertical field of view in degrees (the perspective projection's).
     #[arg(long)]
     pub vfov: Option<f32>,
+    /// How the image maps to directions: perspective (a pinhole or thin lens), orthographic
+    /// (parallel rays), panorama (equirectangular, 360° × 180°: render it 2:1) or fisheye
+    /// (equidistant, an image circle as high as the image).
+    #[arg(long, value_name = "perspective|orthographic|panorama|fisheye")]
+    pub projection: Option<rt_core::camera::Projection>,
+    /// The orthographic view's height in scene units (default: the perspective view's height at
+    /// the point the camera looks at).
+    #[arg(long, value_name = "H")]
+    pub ortho_height: Option<f32>,
+    /// The angle the fisheye's image circle spans, in degrees (default 180).
+    #[arg(long, value_name = "DEGREES")]
+    pub fisheye_angle: Option<f32>,
     /// Radiance of rays that leave the scene.
     #[arg(long, value_name = "R,G,B", value_parser = parse_vec3)]
     pub ambient: Option<[f32; 3]>,
@@ -97,6 +109,11 @@ impl SceneArgs {
         camera.to = self.camera_to.unwrap_or(camera.to);
         camera.up = self.camera_up.unwrap_or(camera.up);
         camera.vfov_deg = self.vfov.unwrap_or(camera.vfov_deg);
+        camera.projection = self.projection.unwrap_or(camera.projection);
+        if self.ortho_height.is_some() {
+            camera.ortho_height = self.ortho_height;
+        }
+        camera.fisheye_angle_deg = self.fisheye_angle.unwrap_or(camera.fisheye_angle_deg);
         scene.ambient = self.ambient.unwrap_or(scene.ambient);
         scene.settings.seed = self.seed.unwrap_or(scene.settings.seed);
         match self.environment.as_deref() {

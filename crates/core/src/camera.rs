@@ -1,4 +1,5 @@
-//! The pinhole / thin-lens camera and its orthonormal basis.
+//! The camera: where it stands, how it maps the image to directions (perspective with a thin lens,
+//! orthographic, equirectangular panorama, equidistant fisheye) and its orthonormal basis.
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -19,6 +20,85 @@ pub struct Camera {
     /// Distance from `from` to the plane in focus; `None` focuses at `to`.
     #[serde(default)]
     pub focus_distance: Option<f32>,
+    /// How the image maps to directions (perspective unless said otherwise).
+    #[serde(default, skip_serializing_if = "Projection::is_perspective")]
+    pub projection: Projection,
+    /// The orthographic view's height in scene units; `None` takes the height the perspective
+    /// view has at the target, so switching projection keeps the framing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ortho_height: Option<f32>,
+    /// The angle the fisheye's image circle spans, in degrees, in (0, 360].
+    #[serde(
+        default = "default_fisheye_angle",
+        skip_serializing_if = "is_default_fisheye_angle"
+    )]
+    pub fisheye_angle_deg: f32,
+}
+
+/// How a camera maps the image to directions (`Frame::projection`, the same numbers in WGSL).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Projection {
+    /// A pinhole or thin lens: `vfov_deg` is the vertical field of view.
+    #[default]
+    Perspective,
+    /// Parallel rays along the view direction over a window `ortho_height` high.
+    Orthographic,
+    /// Equirectangular: longitude across the image (the view direction in its centre, behind the
+    /// camera at both edges), latitude from the nadir at the bottom to the zenith at the top.
+    Panorama,
+    /// Equidistant fisheye: the angle from the view direction grows linearly with the distance
+    /// from the centre, out to `fisheye_angle_deg / 2` at the rim of a circle as high as the image
+    /// (as wide, when the image is taller); pixels outside it are black.
+    Fisheye,
+}
+
+impl Projection {
+    pub const ALL: [Projection; 4] = [
+        Projection::Perspective,
+        Projection::Orthographic,
+        Projection::Panorama,
+        Projection::Fisheye,
+    ];
+
+    /// Its number in `Frame::projection` (`PROJECTION_*` in path.wgsl).
+    pub fn tag(self) -> u32 {
+        self as u32
+    }
+
+    /// The word users and the command line use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Projection::Perspective => "perspective",
+            Projection::Orthographic => "orthographic",
+            Projection::Panorama => "panorama",
+            Projection::Fisheye => "fisheye",
+        }
+    }
+
+    pub fn is_perspective(&self) -> bool {
+        *self == Projection::Perspective
+    }
+}
+
+impl std::str::FromStr for Projection {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Projection::ALL
+            .into_iter()
+            .find(|p| p.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| {
+                format!("unknown projection '{s}': expected perspective, orthographic, panorama or fisheye")
+            })
+    }
+}
+
+fn default_fisheye_angle() -> f32 {
+    180.0
+}
+
+fn is_default_fisheye_angle(angle: &f32) -> bool {
+    *angle == default_fisheye_angle()
 }
 
 /// The camera's derived frame.
@@ -30,6 +110,10 @@ pub struct CameraBasis {
     pub w: Vec3,
     pub tan_half_vfov: f32,
     pub focus_distance: f32,
+    pub projection: Projection,
+    /// Orthographic: half the view's height in scene units; fisheye: half its angle in radians;
+    /// else unused (`Frame::projection_scale`).
+    pub projection_scale: f32,
 }
 
 impl Default for Camera {
@@ -41,6 +125,9 @@ impl Default for Camera {
             vfov_deg: 40.0,
             aperture_radius: 0.0,
             focus_distance: None,
+            projection: Projection::Perspective,
+            ortho_height: None,
+            fisheye_angle_deg: default_fisheye_angle(),
         }
     }
 }
@@ -83,14 +170,48 @@ impl Camera {
                 "camera focus distance must be > 0, got {focus_distance}"
             ));
         }
+        let tan_half_vfov = (self.vfov_deg.to_radians() * 0.5).tan();
+        let projection_scale = match self.projection {
+            Projection::Orthographic => {
+                let height = self
+                    .ortho_height
+                    .unwrap_or(2.0 * view.length() * tan_half_vfov);
+                if !(height.is_finite() && height > 0.0) {
+                    return Err(format!(
+                        "camera orthographic height must be > 0, got {height}"
+                    ));
+                }
+                height * 0.5
+            }
+            Projection::Fisheye => {
+                let angle = self.fisheye_angle_deg;
+                if !(angle > 0.0 && angle <= 360.0) {
+                    return Err(format!(
+                        "camera fisheye angle must be in (0, 360] degrees, got {angle}"
+                    ));
+                }
+                angle.to_radians() * 0.5
+            }
+            Projection::Perspective | Projection::Panorama => 0.0,
+        };
         Ok(CameraBasis {
             origin: from,
             u,
             v,
             w,
-            tan_half_vfov: (self.vfov_deg.to_radians() * 0.5).tan(),
+            tan_half_vfov,
             focus_distance,
+            projection: self.projection,
+            projection_scale,
         })
+    }
+
+    /// The orthographic height this camera shows (its own, or the perspective view's height at
+    /// the target when it has none).
+    pub fn effective_ortho_height(&self) -> f32 {
+        let distance = (Vec3::from(self.from) - Vec3::from(self.to)).length();
+        self.ortho_height
+            .unwrap_or(2.0 * distance * (self.vfov_deg.to_radians() * 0.5).tan())
     }
 
     /// Moves the camera along its current view direction so that the sphere around the box
@@ -109,5 +230,8 @@ impl Camera {
         self.to = center.to_array();
         self.from = (center + direction * distance).to_array();
         self.focus_distance = None;
+        if self.ortho_height.is_some() {
+            self.ortho_height = Some(2.0 * radius);
+        }
     }
 }

@@ -87,9 +87,9 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         light_sampler: u32::from(!gpu_scene.light_tree.is_empty()),
         fog: scene.fog.medium(),
         camera_media: camera_media(gpu_scene, basis.origin),
+        projection: basis.projection.tag(),
+        projection_scale: basis.projection_scale,
         _pad0: 0,
-        _pad1: 0,
-        _pad2: 0,
     })
 }
 

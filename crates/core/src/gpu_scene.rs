@@ -294,7 +294,12 @@ impl GpuScene {
     /// camera, from `scene` and this scene's triangles and materials.
     fn light(&mut self, scene: &Scene) -> Result<()> {
         let out = self;
-        out.features.thin_lens = scene.camera.aperture_radius > 0.0;
+        // Panorama and fisheye cameras have no lens (`estimator::camera_ray`).
+        out.features.thin_lens = scene.camera.aperture_radius > 0.0
+            && matches!(
+                scene.camera.projection,
+                crate::camera::Projection::Perspective | crate::camera::Projection::Orthographic
+            );
         (out.emitters, out.emitter_power) =
             crate::emitters::build_emitters(&out.triangles, &out.materials);
         for light in &scene.lights {

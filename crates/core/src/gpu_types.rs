@@ -441,9 +441,12 @@ pub struct Frame {
     /// The medium stack a camera ray starts with (`estimator::media::media_top`): empty (the fog)
     /// unless the camera sits inside a closed volume (`frame::camera_media`).
     pub camera_media: u32, // 208
-    pub _pad0: u32,           // 212
-    pub _pad1: u32,           // 216
-    pub _pad2: u32,           // 220
+    /// How camera rays leave the camera (`camera::Projection::tag`): 0 perspective, 1
+    /// orthographic, 2 panorama, 3 fisheye.
+    pub projection: u32, // 212
+    /// Orthographic: half the view's height in scene units; fisheye: half its angle in radians.
+    pub projection_scale: f32, // 216
+    pub _pad0: u32,           // 220
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power

@@ -216,9 +216,9 @@ struct Frame {
     light_sampler: u32,          // 172: 0 emitters by power (alias table), 1 by the light tree
     fog: Medium,                 // 176: the medium outside closed objects (zero: vacuum)
     camera_media: u32,           // 208: the medium stack camera rays start with (path.rs media_top)
-    _pad0: u32,                  // 212 (uniform arrays need a 16-byte stride: three words)
-    _pad1: u32,
-    _pad2: u32,
+    projection: u32,             // 212: 0 perspective, 1 orthographic, 2 panorama, 3 fisheye (PROJECTION_*)
+    projection_scale: f32,       // 216: orthographic half height; fisheye half angle (radians)
+    _pad0: u32,                  // 220 (uniform arrays need a 16-byte stride)
 }
 
 struct Emitter {

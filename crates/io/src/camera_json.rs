@@ -1,5 +1,7 @@
 //! Camera files: `{"from": [x,y,z], "to": [...], "up": [...], "vfov": deg, "width": w, "height": h,
-//! "background": [r,g,b]}` as in `assets/cornell/cornell.json`. Only `from` and `to` are required.
+//! "background": [r,g,b]}` as in `assets/cornell/cornell.json`, and optionally `"projection":
+//! "perspective" | "orthographic" | "panorama" | "fisheye"`, `"ortho_height"` (scene units) and
+//! `"fisheye_angle"` (degrees). Only `from` and `to` are required.
 
 use std::path::Path;
 
@@ -20,6 +22,9 @@ pub struct CameraFile {
     pub width: Option<u32>,
     pub height: Option<u32>,
     pub background: Option<[f32; 3]>,
+    pub projection: Option<rt_core::camera::Projection>,
+    pub ortho_height: Option<f32>,
+    pub fisheye_angle: Option<f32>,
 }
 
 impl CameraFile {
@@ -63,6 +68,15 @@ impl CameraFile {
         }
         if let Some(bg) = self.background {
             scene.ambient = bg;
+        }
+        if let Some(projection) = self.projection {
+            scene.camera.projection = projection;
+        }
+        if self.ortho_height.is_some() {
+            scene.camera.ortho_height = self.ortho_height;
+        }
+        if let Some(angle) = self.fisheye_angle {
+            scene.camera.fisheye_angle_deg = angle;
         }
     }
 }

@@ -77,12 +77,22 @@ pub fn view_projection(camera: &Camera, aspect: f32, bounds: Option<(Vec3, Vec3)
     let up = Vec3::from(camera.up);
     // wgpu clip space: depth in [0, 1], y up (the "directx" convention).
     let view = glam::camera::rh::view::look_at_mat4(eye, Vec3::from(camera.to), up);
-    let proj = glam::camera::rh::proj::directx::perspective(
-        camera.vfov_deg.clamp(0.01, 179.0).to_radians(),
-        aspect.max(1e-6),
-        near,
-        far,
-    );
+    let aspect = aspect.max(1e-6);
+    // Panorama and fisheye have no matrix: the raster preview draws them as the perspective
+    // view (the path-traced view shows them as rendered).
+    let proj = if camera.projection == rt_core::camera::Projection::Orthographic {
+        let half_h = camera.effective_ortho_height() * 0.5;
+        let half_w = half_h * aspect;
+        let near = ((distance - radius) * 0.9).max(0.0);
+        glam::camera::rh::proj::directx::orthographic(-half_w, half_w, -half_h, half_h, near, far)
+    } else {
+        glam::camera::rh::proj::directx::perspective(
+            camera.vfov_deg.clamp(0.01, 179.0).to_radians(),
+            aspect,
+            near,
+            far,
+        )
+    };
     proj * view
 }
 

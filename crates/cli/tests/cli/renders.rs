@@ -419,3 +419,61 @@ fn an_stl_renders_flat_or_smooth() {
     assert_ne!(smooth, sharper, "the crease angle matters");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--projection` and a camera file's "projection" reach the render: an orthographic view of the
+/// Cornell box differs from the perspective one, a fisheye's corners are black, a panorama renders;
+/// an unknown projection or a bad height is an error naming the flag's values.
+#[test]
+fn projections_from_flags_and_camera_files_render() {
+    let dir = temp_dir("projections");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render", "--device", "cpu", "--width", "32", "--height", "24",
+        ];
+        args.extend(["--spp", "4", "-o", out.to_str().unwrap()]);
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        image::open(&out).unwrap().to_rgb32f()
+    };
+    let perspective = render("p.exr", &[]);
+    let ortho = render("o.exr", &["--projection", "orthographic"]);
+    assert_ne!(perspective, ortho);
+    let fisheye = render(
+        "f.exr",
+        &["--projection", "fisheye", "--fisheye-angle", "160"],
+    );
+    assert_eq!(
+        fisheye.get_pixel(0, 0).0,
+        [0.0; 3],
+        "outside the image circle"
+    );
+    assert!(fisheye.get_pixel(16, 12).0[0] > 0.0, "inside it");
+    let camera = dir.join("camera.json");
+    std::fs::write(
+        &camera,
+        r#"{"from": [278, 273, -800], "to": [278, 273, 0], "projection": "panorama"}"#,
+    )
+    .unwrap();
+    let panorama = render("pano.exr", &["--camera", camera.to_str().unwrap()]);
+    assert_ne!(panorama, perspective);
+    let (code, _, stderr) = rt_cli(&["render", "--projection", "cylinder"]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("orthographic"), "{stderr}");
+    let out = dir.join("bad.exr");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "--device",
+        "cpu",
+        "--projection",
+        "orthographic",
+        "--ortho-height",
+        "0",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("orthographic height"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

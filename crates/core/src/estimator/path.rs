@@ -29,21 +29,39 @@ use crate::math::medium::{FAR, free_flight, is_vacuum, scattering_albedo};
 use crate::math::rng::{self, Rng};
 use crate::math::sampling::*;
 
-/// The camera ray through a jittered point of pixel (x, y): box pixel filter, thin lens when
-/// `lens_radius > 0`.
+/// The numbers of `Frame::projection` (`camera::Projection::tag`; `PROJECTION_*` in path.wgsl).
+pub const PROJECTION_ORTHOGRAPHIC: u32 = 1;
+pub const PROJECTION_PANORAMA: u32 = 2;
+pub const PROJECTION_FISHEYE: u32 = 3;
+
+/// The camera ray through a jittered point of pixel (x, y): box pixel filter, the frame's
+/// projection, a thin lens when `lens_radius > 0` (perspective and orthographic). A fisheye pixel
+/// outside the image circle gets a zero direction: it sees nothing (`start_path`).
 pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) {
     let jx = rng.next_f32();
     let jy = rng.next_f32();
-    let sx =
-        (2.0 * (x as f32 + jx) / frame.width as f32 - 1.0) * frame.tan_half_vfov * frame.aspect;
-    let sy = (1.0 - 2.0 * (y as f32 + jy) / frame.height as f32) * frame.tan_half_vfov;
+    // The point on the image in [-1, 1]², y up.
+    let px = 2.0 * (x as f32 + jx) / frame.width as f32 - 1.0;
+    let py = 1.0 - 2.0 * (y as f32 + jy) / frame.height as f32;
     let (u, v, w) = (
         Vec3::from(frame.cam_u),
         Vec3::from(frame.cam_v),
         Vec3::from(frame.cam_w),
     );
     let origin = Vec3::from(frame.cam_origin);
-    let direction = (sx * u + sy * v - w).normalize();
+    let (origin, direction) = match frame.projection {
+        PROJECTION_ORTHOGRAPHIC => {
+            let h = frame.projection_scale;
+            (origin + (px * h * frame.aspect) * u + (py * h) * v, -w)
+        }
+        PROJECTION_PANORAMA => return (origin, panorama_direction(px, py, u, v, w)),
+        PROJECTION_FISHEYE => return (origin, fisheye_direction(frame, px, py, u, v, w)),
+        _ => {
+            let sx = px * frame.tan_half_vfov * frame.aspect;
+            let sy = py * frame.tan_half_vfov;
+            (origin, (sx * u + sy * v - w).normalize())
+        }
+    };
     if frame.lens_radius <= 0.0 {
         return (origin, direction);
     }
@@ -51,6 +69,34 @@ pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) 
     let (dx, dy) = sample_disk(rng);
     let lens_origin = origin + frame.lens_radius * (dx * u + dy * v);
     (lens_origin, (focus - lens_origin).normalize())
+}
+
+/// The equirectangular panorama's direction at image point (px, py) ∈ [-1, 1]²: longitude π·px
+/// from the view direction (towards `u` for px > 0), latitude π/2·py.
+fn panorama_direction(px: f32, py: f32, u: Vec3, v: Vec3, w: Vec3) -> Vec3 {
+    let phi = px * std::f32::consts::PI;
+    let theta = py * std::f32::consts::FRAC_PI_2;
+    let horizontal = phi.sin() * u - phi.cos() * w;
+    (theta.cos() * horizontal + theta.sin() * v).normalize()
+}
+
+/// The equidistant fisheye's direction at image point (px, py) ∈ [-1, 1]²: at distance r from
+/// the centre (1 at the rim of a circle as high as the image, or as wide when it is taller), the
+/// angle from the view direction is r × `projection_scale`; zero outside the circle.
+fn fisheye_direction(frame: &Frame, px: f32, py: f32, u: Vec3, v: Vec3, w: Vec3) -> Vec3 {
+    let short = frame.aspect.min(1.0);
+    let fx = px * frame.aspect / short;
+    let fy = py / short;
+    let r = (fx * fx + fy * fy).sqrt();
+    if r > 1.0 {
+        return Vec3::ZERO;
+    }
+    if r <= 0.0 {
+        return -w;
+    }
+    let theta = r * frame.projection_scale;
+    let across = (fx / r) * u + (fy / r) * v;
+    (theta.sin() * across - theta.cos() * w).normalize()
 }
 
 /// The firefly clamp (`frame.clamp_max`, 0 off): light reaching the camera after `bounces`
@@ -146,17 +192,24 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
     };
     let mut rng = Rng::with_sampler(y * frame.width + x, sample, frame.seed, kind);
     let (origin, direction) = camera_ray(frame, x, y, &mut rng);
+    // A pixel that sees nothing (outside a fisheye's circle) is a path that ends at once with
+    // zero weight: black, no ray traced (the kernels' wavefront traces one that adds nothing).
+    let sees = direction != Vec3::ZERO;
     PathState {
         origin,
-        direction,
-        beta: Vec3::ONE,
+        direction: if sees {
+            direction
+        } else {
+            -Vec3::from(frame.cam_w)
+        },
+        beta: if sees { Vec3::ONE } else { Vec3::ZERO },
         channel: 0,
         radiance: Vec3::ZERO,
         prev_bsdf_pdf: 0.0,
         tree_normal: 0,
         media: frame.camera_media,
         eta_scale: 1.0,
-        depth: 0,
+        depth: if sees { 0 } else { frame.max_depth },
         rng,
         first_hit: None,
         rays: 0,

@@ -107,24 +107,74 @@ fn is_finite3(v: vec3<f32>) -> bool {
     return all(e != vec3(0x7f800000u));
 }
 
+const PROJECTION_ORTHOGRAPHIC: u32 = 1u;
+const PROJECTION_PANORAMA: u32 = 2u;
+const PROJECTION_FISHEYE: u32 = 3u;
+
+// The camera ray through a jittered point of pixel (x, y) (path.rs `camera_ray`): box filter, the
+// frame's projection, a thin lens (perspective and orthographic); a fisheye pixel outside the image
+// circle gets a zero direction.
 fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<vec3<f32>, 2> {
     let jx = rng_next(rng);
     let jy = rng_next(rng);
-    let sx = (2.0 * (f32(x) + jx) / f32(frame.width) - 1.0) * frame.tan_half_vfov * frame.aspect;
-    let sy = (1.0 - 2.0 * (f32(y) + jy) / f32(frame.height)) * frame.tan_half_vfov;
-    let direction = normalize(sx * frame.cam_u + sy * frame.cam_v - frame.cam_w);
-    if (!HAS_THIN_LENS || frame.lens_radius <= 0.0) {
-        return array(frame.cam_origin, direction);
+    let px = 2.0 * (f32(x) + jx) / f32(frame.width) - 1.0;
+    let py = 1.0 - 2.0 * (f32(y) + jy) / f32(frame.height);
+    var origin = frame.cam_origin;
+    var direction: vec3<f32>;
+    if (frame.projection == PROJECTION_ORTHOGRAPHIC) {
+        let h = frame.projection_scale;
+        origin = origin + (px * h * frame.aspect) * frame.cam_u + (py * h) * frame.cam_v;
+        direction = -frame.cam_w;
+    } else if (frame.projection == PROJECTION_PANORAMA) {
+        return array(origin, panorama_direction(px, py));
+    } else if (frame.projection == PROJECTION_FISHEYE) {
+        return array(origin, fisheye_direction(px, py));
+    } else {
+        let sx = px * frame.tan_half_vfov * frame.aspect;
+        let sy = py * frame.tan_half_vfov;
+        direction = normalize(sx * frame.cam_u + sy * frame.cam_v - frame.cam_w);
     }
-    let focus = frame.cam_origin + direction * (frame.focus_distance / dot(direction, -frame.cam_w));
+    if (!HAS_THIN_LENS || frame.lens_radius <= 0.0) {
+        return array(origin, direction);
+    }
+    let focus = origin + direction * (frame.focus_distance / dot(direction, -frame.cam_w));
     let d = sample_disk(rng);
-    let lens_origin = frame.cam_origin + frame.lens_radius * (d.x * frame.cam_u + d.y * frame.cam_v);
+    let lens_origin = origin + frame.lens_radius * (d.x * frame.cam_u + d.y * frame.cam_v);
     return array(lens_origin, normalize(focus - lens_origin));
+}
+
+// The equirectangular panorama's direction at image point (px, py) in [-1, 1]^2 (path.rs).
+fn panorama_direction(px: f32, py: f32) -> vec3<f32> {
+    let phi = px * PI;
+    let theta = py * (0.5 * PI);
+    let horizontal = sin(phi) * frame.cam_u - cos(phi) * frame.cam_w;
+    return normalize(cos(theta) * horizontal + sin(theta) * frame.cam_v);
+}
+
+// The equidistant fisheye's direction at image point (px, py) (path.rs): zero outside the circle.
+fn fisheye_direction(px: f32, py: f32) -> vec3<f32> {
+    let short = min(frame.aspect, 1.0);
+    let fx = px * frame.aspect / short;
+    let fy = py / short;
+    let r = sqrt(fx * fx + fy * fy);
+    if (r > 1.0) {
+        return vec3(0.0);
+    }
+    if (r <= 0.0) {
+        return -frame.cam_w;
+    }
+    let theta = r * frame.projection_scale;
+    let across = (fx / r) * frame.cam_u + (fy / r) * frame.cam_v;
+    return normalize(sin(theta) * across - cos(theta) * frame.cam_w);
 }
 
 // A new path through pixel (x, y): its camera ray.
 fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     let cam = camera_ray_origin_dir(x, y, rng);
+    if (all(cam[1] == vec3(0.0))) {
+        // Sees nothing (outside a fisheye's circle): a path that ends at once with zero weight.
+        return PathState(cam[0], frame.max_depth, -frame.cam_w, 0.0, vec3(0.0), 0u, vec3(0.0), 0u, frame.camera_media, 1.0);
+    }
     return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, frame.camera_media, 1.0);
 }
 

@@ -212,9 +212,9 @@ fn frame_layout() -> StructLayout {
             light_sampler,
             fog,
             camera_media,
-            _pad0,
-            _pad1,
-            _pad2
+            projection,
+            projection_scale,
+            _pad0
         ]
     )
 }

@@ -64,27 +64,39 @@ impl Loader<'_> {
         if let Some(camera) = node.camera()
             && self.camera.is_none()
         {
-            match camera.projection() {
-                gltf::camera::Projection::Perspective(p) => {
-                    let from = world.transform_point3(Vec3::ZERO);
-                    let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
-                    let up = world.transform_vector3(Vec3::Y).normalize_or_zero();
-                    self.camera = Some((
-                        rt_core::camera::Camera {
-                            from: from.to_array(),
-                            to: (from + forward).to_array(),
-                            up: up.to_array(),
-                            vfov_deg: p.yfov().to_degrees(),
-                            ..Default::default()
-                        },
-                        p.aspect_ratio(),
-                    ));
-                }
-                gltf::camera::Projection::Orthographic(_) => log::warn!(
-                    "{}: {name} has an orthographic camera, which rt cannot use",
-                    self.path.display()
+            let from = world.transform_point3(Vec3::ZERO);
+            let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+            let up = world.transform_vector3(Vec3::Y).normalize_or_zero();
+            let placed = rt_core::camera::Camera {
+                from: from.to_array(),
+                to: (from + forward).to_array(),
+                up: up.to_array(),
+                ..Default::default()
+            };
+            self.camera = Some(match camera.projection() {
+                gltf::camera::Projection::Perspective(p) => (
+                    rt_core::camera::Camera {
+                        vfov_deg: p.yfov().to_degrees(),
+                        ..placed
+                    },
+                    p.aspect_ratio(),
                 ),
-            }
+                // xmag and ymag are half the view's width and height (glTF 2.0 §3.10.3), in
+                // the camera node's units: its world scale along y maps them to the scene's.
+                gltf::camera::Projection::Orthographic(o) => {
+                    let scale = world.transform_vector3(Vec3::Y).length();
+                    let height = 2.0 * o.ymag().abs() * scale;
+                    let aspect = (o.ymag() != 0.0).then(|| (o.xmag() / o.ymag()).abs());
+                    (
+                        rt_core::camera::Camera {
+                            projection: rt_core::camera::Projection::Orthographic,
+                            ortho_height: (height.is_finite() && height > 0.0).then_some(height),
+                            ..placed
+                        },
+                        aspect.filter(|a| a.is_finite() && *a > 0.0),
+                    )
+                }
+            });
         }
         if let Some(light) = node.light() {
             self.lights.push(light_of(&light, world, &name));

@@ -283,6 +283,12 @@ fn check_scene(scene: &Scene) -> Result<(), String> {
     if !(finite(&[c.aperture_radius]) && c.focus_distance.is_none_or(f32::is_finite)) {
         return Err("camera: aperture and focus distance must be finite".into());
     }
+    if !(c.ortho_height.is_none_or(|h| h.is_finite() && h > 0.0)
+        && c.fisheye_angle_deg > 0.0
+        && c.fisheye_angle_deg <= 360.0)
+    {
+        return Err("camera: ortho_height must be > 0 and fisheye_angle_deg in (0, 360]".into());
+    }
     if !scene.ambient.iter().all(|v| v.is_finite() && *v >= 0.0) {
         return Err("ambient: must be finite and >= 0".into());
     }

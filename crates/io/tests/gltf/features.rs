@@ -146,6 +146,25 @@ fn a_gltf_scene_round_trips_through_a_project() {
     assert!(Arc::ptr_eq(&back.objects[0].mesh, &back.objects[1].mesh));
 }
 
+/// An orthographic glTF camera becomes rt's orthographic projection: its height is 2 × ymag (in
+/// the camera node's scale), the image's aspect xmag / ymag; it survives a project's round trip.
+#[test]
+fn an_orthographic_gltf_camera_is_honoured() {
+    let mut doc = document();
+    doc["cameras"][0] = json!({"type": "orthographic",
+        "orthographic": {"xmag": 3.0, "ymag": 1.5, "znear": 0.1, "zfar": 100.0}});
+    doc["nodes"][3]["scale"] = json!([2.0, 2.0, 2.0]);
+    let scene = load(&embedded(doc), None).unwrap();
+    let c = &scene.camera;
+    assert_eq!(c.projection, rt_core::camera::Projection::Orthographic);
+    let height = c.ortho_height.expect("the file's height");
+    assert!((height - 6.0).abs() < 1e-5, "2 × ymag × scale 2: {height}");
+    assert_eq!(scene.settings.height, scene.settings.width / 2, "aspect 2");
+    assert!(close(c.from, [0.0, 1.0, 10.0]));
+    let back = through_a_project(&scene);
+    assert_eq!(back.camera, scene.camera);
+}
+
 /// The spec requires POSITION's min and max, and the gltf crate refuses files without them, but
 /// exporters leave them out: rt computes its own bounds and opens such files (and ones whose
 /// bounds are malformed) with the same geometry.

@@ -1,7 +1,10 @@
-//! The Camera panel: position, rotation, field of view, depth of field (aperture, focus) and the
-//! framing and navigation controls.
+//! The Camera panel: position, rotation, projection and field of view, depth of field (aperture,
+//! focus) and the framing and navigation controls.
 
 use egui::{DragValue, Ui};
+
+use rt_core::Camera;
+use rt_core::camera::Projection;
 
 use super::vec3_row;
 use crate::app::RtApp;
@@ -44,8 +47,7 @@ pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {
     if yaw != yaw0 || pitch != pitch0 {
         crate::navigation::set_yaw_pitch_deg(&mut camera, yaw, pitch);
     }
-    ui.add(egui::Slider::new(&mut camera.vfov_deg, 1.0..=170.0).text("vertical FOV °"))
-        .on_hover_text("Vertical field of view in degrees");
+    projection_controls(ui, &mut camera, size);
     ui.add(
         egui::Slider::new(&mut camera.aperture_radius, 0.0..=size * 0.05)
             .text("aperture")
@@ -96,5 +98,57 @@ pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {
     if camera != app.doc.scene.camera {
         app.doc
             .edit("change camera", "camera", |s| s.camera = camera);
+    }
+}
+
+/// The projection and what sizes its view: the field of view (perspective), the view's height
+/// (orthographic; unset, it follows the distance to the target as the perspective view would) or
+/// the fisheye's angle.
+fn projection_controls(ui: &mut Ui, camera: &mut Camera, size: f32) {
+    egui::ComboBox::from_label("projection")
+        .selected_text(camera.projection.name())
+        .show_ui(ui, |ui| {
+            for p in Projection::ALL {
+                ui.selectable_value(&mut camera.projection, p, p.name());
+            }
+        })
+        .response
+        .on_hover_text(
+            "Perspective (a lens), orthographic (parallel rays), panorama (360° equirectangular: \
+             render it 2:1) or fisheye (equidistant circle). The raster preview draws panorama \
+             and fisheye as perspective; the path-traced view (P) shows them as rendered.",
+        );
+    match camera.projection {
+        Projection::Perspective => {
+            ui.add(egui::Slider::new(&mut camera.vfov_deg, 1.0..=170.0).text("vertical FOV °"))
+                .on_hover_text("Vertical field of view in degrees");
+        }
+        Projection::Orthographic => {
+            ui.horizontal(|ui| {
+                let mut fixed = camera.ortho_height.is_some();
+                if ui
+                    .checkbox(&mut fixed, "fixed height")
+                    .on_hover_text(
+                        "Off: the view's height follows the distance to the target, so zooming \
+                         works as in perspective",
+                    )
+                    .changed()
+                {
+                    camera.ortho_height = fixed.then(|| camera.effective_ortho_height());
+                }
+                if let Some(h) = &mut camera.ortho_height {
+                    ui.add(DragValue::new(h).speed(size * 0.005).range(1e-6..=f32::MAX))
+                        .on_hover_text("The view's height in scene units");
+                }
+            });
+        }
+        Projection::Panorama => {}
+        Projection::Fisheye => {
+            ui.add(
+                egui::Slider::new(&mut camera.fisheye_angle_deg, 1.0..=360.0)
+                    .text("fisheye angle °"),
+            )
+            .on_hover_text("The angle the image circle spans, in degrees");
+        }
     }
 }
