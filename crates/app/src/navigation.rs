@@ -80,6 +80,13 @@ fn turn(direction: Vec3, up: Vec3, drag_px: Vec2) -> Vec3 {
 pub fn dolly(camera: &mut Camera, scroll: f32, distance: f32) {
     let (from, to, _) = eye_target(camera);
     let factor = (-scroll * 0.002).exp().clamp(0.2, 5.0);
+    if let Some(height) = camera.ortho_height.as_mut()
+        && camera.projection == Projection::Orthographic
+    {
+        // Moving an orthographic camera changes nothing it shows: the wheel zooms instead.
+        *height *= factor;
+        return;
+    }
     let step = (to - from).normalize_or(Vec3::NEG_Z) * distance * (1.0 - factor);
     camera.from = (from + step).to_array();
     camera.to = (to + step).to_array();
@@ -112,9 +119,10 @@ pub fn set_yaw_pitch_deg(camera: &mut Camera, yaw: f32, pitch: f32) {
 }
 
 /// Half the view's height in scene units when the camera is orthographic (the viewport draws
-/// panorama and fisheye cameras as perspective ones, as the raster preview does).
+/// panorama and fisheye cameras as perspective ones, as the raster preview does). The editor gives
+/// an orthographic camera its height when it is chosen (`ui::panels::camera`).
 fn ortho_half_height(camera: &Camera) -> Option<f32> {
-    (camera.projection == Projection::Orthographic).then(|| camera.effective_ortho_height() * 0.5)
+    (camera.projection == Projection::Orthographic).then(|| camera.ortho_height_in(None) * 0.5)
 }
 
 /// The world-space ray through a point of the viewport given in [0, 1]² (y down), as the renderer

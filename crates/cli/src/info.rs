@@ -47,7 +47,7 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
     let projection = match c.projection {
         rt_core::camera::Projection::Perspective => format!("vfov {}°", c.vfov_deg),
         rt_core::camera::Projection::Orthographic => {
-            format!("orthographic, {} high", c.effective_ortho_height())
+            format!("orthographic, {} high", c.ortho_height_in(scene.bounds()))
         }
         rt_core::camera::Projection::Panorama => "panorama (equirectangular)".into(),
         rt_core::camera::Projection::Fisheye => format!("fisheye {}°", c.fisheye_angle_deg),

@@ -24,7 +24,8 @@ pub struct Camera {
     #[serde(default, skip_serializing_if = "Projection::is_perspective")]
     pub projection: Projection,
     /// The orthographic view's height in scene units; `None` takes the height the perspective
-    /// view has at the target, so switching projection keeps the framing.
+    /// view has at the scene's centre (`ortho_height_in`), so switching projection keeps the
+    /// framing.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ortho_height: Option<f32>,
     /// The angle the fisheye's image circle spans, in degrees, in (0, 360].
@@ -173,9 +174,7 @@ impl Camera {
         let tan_half_vfov = (self.vfov_deg.to_radians() * 0.5).tan();
         let projection_scale = match self.projection {
             Projection::Orthographic => {
-                let height = self
-                    .ortho_height
-                    .unwrap_or(2.0 * view.length() * tan_half_vfov);
+                let height = self.ortho_height_in(None);
                 if !(height.is_finite() && height > 0.0) {
                     return Err(format!(
                         "camera orthographic height must be > 0, got {height}"
@@ -206,12 +205,20 @@ impl Camera {
         })
     }
 
-    /// The orthographic height this camera shows (its own, or the perspective view's height at
-    /// the target when it has none).
-    pub fn effective_ortho_height(&self) -> f32 {
-        let distance = (Vec3::from(self.from) - Vec3::from(self.to)).length();
-        self.ortho_height
-            .unwrap_or(2.0 * distance * (self.vfov_deg.to_radians() * 0.5).tan())
+    /// The orthographic height this camera shows: its own, or the height the perspective view has
+    /// at the depth of the scene's centre (`bounds`), or at the target without bounds or when the
+    /// centre lies behind the camera (a glTF camera's target is one unit ahead: a poor guide).
+    pub fn ortho_height_in(&self, bounds: Option<(Vec3, Vec3)>) -> f32 {
+        if let Some(h) = self.ortho_height {
+            return h;
+        }
+        let from = Vec3::from(self.from);
+        let view = Vec3::from(self.to) - from;
+        let depth = bounds
+            .map(|(lo, hi)| ((lo + hi) * 0.5 - from).dot(view.normalize_or_zero()))
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .unwrap_or(view.length());
+        2.0 * depth * (self.vfov_deg.to_radians() * 0.5).tan()
     }
 
     /// Moves the camera along its current view direction so that the sphere around the box

@@ -29,7 +29,7 @@ pub fn validate(scene: &Scene) -> Result<()> {
 pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
     let settings = &scene.settings;
     validate(scene)?;
-    let basis = scene.camera.basis().map_err(Error::Scene)?;
+    let basis = camera_with_height(scene).basis().map_err(Error::Scene)?;
     Ok(Frame {
         cam_origin: basis.origin.to_array(),
         lens_radius: scene.camera.aperture_radius,
@@ -91,6 +91,20 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         projection_scale: basis.projection_scale,
         _pad0: 0,
     })
+}
+
+/// The scene's camera, an orthographic one given the height it shows in this scene when it has
+/// none of its own (`Camera::ortho_height_in`).
+fn camera_with_height(scene: &Scene) -> std::borrow::Cow<'_, crate::camera::Camera> {
+    let camera = &scene.camera;
+    if camera.projection == crate::camera::Projection::Orthographic && camera.ortho_height.is_none()
+    {
+        let mut resolved = camera.clone();
+        resolved.ortho_height = Some(camera.ortho_height_in(scene.bounds()));
+        std::borrow::Cow::Owned(resolved)
+    } else {
+        std::borrow::Cow::Borrowed(camera)
+    }
 }
 
 /// The medium stack a camera at `origin` starts in: the closed volume it sits inside (glass,

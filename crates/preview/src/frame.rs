@@ -81,7 +81,7 @@ pub fn view_projection(camera: &Camera, aspect: f32, bounds: Option<(Vec3, Vec3)
     // Panorama and fisheye have no matrix: the raster preview draws them as the perspective
     // view (the path-traced view shows them as rendered).
     let proj = if camera.projection == rt_core::camera::Projection::Orthographic {
-        let half_h = camera.effective_ortho_height() * 0.5;
+        let half_h = camera.ortho_height_in(bounds) * 0.5;
         let half_w = half_h * aspect;
         let near = ((distance - radius) * 0.9).max(0.0);
         glam::camera::rh::proj::directx::orthographic(-half_w, half_w, -half_h, half_h, near, far)

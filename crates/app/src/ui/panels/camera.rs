@@ -47,7 +47,7 @@ pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {
     if yaw != yaw0 || pitch != pitch0 {
         crate::navigation::set_yaw_pitch_deg(&mut camera, yaw, pitch);
     }
-    projection_controls(ui, &mut camera, size);
+    projection_controls(ui, &mut camera, size, app.doc.bounds());
     ui.add(
         egui::Slider::new(&mut camera.aperture_radius, 0.0..=size * 0.05)
             .text("aperture")
@@ -104,7 +104,13 @@ pub fn camera_panel(app: &mut RtApp, ui: &mut Ui) {
 /// The projection and what sizes its view: the field of view (perspective), the view's height
 /// (orthographic; unset, it follows the distance to the target as the perspective view would) or
 /// the fisheye's angle.
-fn projection_controls(ui: &mut Ui, camera: &mut Camera, size: f32) {
+fn projection_controls(
+    ui: &mut Ui,
+    camera: &mut Camera,
+    size: f32,
+    bounds: Option<(glam::Vec3, glam::Vec3)>,
+) {
+    let before = camera.projection;
     egui::ComboBox::from_label("projection")
         .selected_text(camera.projection.name())
         .show_ui(ui, |ui| {
@@ -118,29 +124,30 @@ fn projection_controls(ui: &mut Ui, camera: &mut Camera, size: f32) {
              render it 2:1) or fisheye (equidistant circle). The raster preview draws panorama \
              and fisheye as perspective; the path-traced view (P) shows them as rendered.",
         );
+    if camera.projection == Projection::Orthographic && before != Projection::Orthographic {
+        // Keep the framing: the height the perspective view had at the scene's centre.
+        camera.ortho_height = Some(camera.ortho_height_in(bounds));
+    }
     match camera.projection {
         Projection::Perspective => {
             ui.add(egui::Slider::new(&mut camera.vfov_deg, 1.0..=170.0).text("vertical FOV °"))
                 .on_hover_text("Vertical field of view in degrees");
         }
         Projection::Orthographic => {
+            let shown = camera.ortho_height_in(bounds);
+            let mut height = shown;
             ui.horizontal(|ui| {
-                let mut fixed = camera.ortho_height.is_some();
-                if ui
-                    .checkbox(&mut fixed, "fixed height")
-                    .on_hover_text(
-                        "Off: the view's height follows the distance to the target, so zooming \
-                         works as in perspective",
-                    )
-                    .changed()
-                {
-                    camera.ortho_height = fixed.then(|| camera.effective_ortho_height());
-                }
-                if let Some(h) = &mut camera.ortho_height {
-                    ui.add(DragValue::new(h).speed(size * 0.005).range(1e-6..=f32::MAX))
-                        .on_hover_text("The view's height in scene units");
-                }
+                ui.label("height");
+                ui.add(
+                    DragValue::new(&mut height)
+                        .speed(size * 0.005)
+                        .range(1e-6..=f32::MAX),
+                )
+                .on_hover_text("The view's height in scene units (the wheel zooms it)");
             });
+            if height != shown {
+                camera.ortho_height = Some(height);
+            }
         }
         Projection::Panorama => {}
         Projection::Fisheye => {
