@@ -102,6 +102,7 @@ pub fn render_thumbnail(scene: &Scene, cancel: &AtomicBool) -> Option<egui::Colo
     let view = rt_core::output::View {
         transform: rt_core::output::ViewTransform::KhronosPbrNeutral,
         exposure_stops: 0.0,
+        white_balance_k: None,
     };
     let size = [
         scene.settings.width as usize,

@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use rt_core::output::{ImageFormat, SampleCounts};
 
-use crate::render::ViewArg;
+use crate::render::ViewArgs;
 
 #[derive(Args, Debug)]
 pub struct MergeArgs {
@@ -26,12 +26,9 @@ pub struct MergeArgs {
     /// (`--denoise[=auto|oidn|atrous]`, as `render --denoise`).
     #[arg(long, value_enum, num_args = 0..=1, require_equals = true, default_missing_value = "auto", value_name = "DENOISER")]
     denoise: Option<crate::options::DenoiseArg>,
-    /// Exposure in stops for 8-bit outputs.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    exposure: f32,
-    /// View transform for 8-bit outputs (as `render --view`).
-    #[arg(long, value_enum, default_value = "standard")]
-    view: ViewArg,
+    /// Exposure, view transform and white balance for 8-bit outputs, as `render`'s.
+    #[command(flatten)]
+    display: ViewArgs,
 }
 
 pub fn run(args: MergeArgs) -> Result<()> {
@@ -43,7 +40,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
         merger.add(path, &rt_core::part::read_part(path)?)?;
     }
     let merged = merger.finish(args.allow_partial)?;
-    let view = args.view.with_exposure(args.exposure);
+    let view = args.display.view();
     let (width, height) = (merged.header.width, merged.header.height);
     if format == ImageFormat::Exr {
         rt_core::part::save_part(&args.output, &merged)

@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 use crate::options::open_device;
-use crate::render::ViewArg;
+use crate::render::ViewArgs;
 use crate::scene_args::SceneArgs;
 
 #[derive(Args, Debug)]
@@ -22,12 +22,9 @@ pub struct PreviewArgs {
     width: Option<u32>,
     #[arg(long)]
     height: Option<u32>,
-    /// Exposure in stops for 8-bit outputs (EXR is always linear).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    exposure: f32,
-    /// View transform for 8-bit outputs, as `render`'s.
-    #[arg(long, value_enum, default_value = "standard")]
-    view: ViewArg,
+    /// Exposure, view transform and white balance for 8-bit outputs, as `render`'s.
+    #[command(flatten)]
+    display: ViewArgs,
     /// GPU adapter: auto, lavapipe (also `cpu`), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     adapter: rt_gpu::AdapterChoice,
@@ -58,7 +55,7 @@ pub fn run(args: PreviewArgs) -> Result<()> {
         rt_preview::build_frame(&scene, &scene.camera, scene.bounds(), None, [width, height]);
     let pixels = rt_preview::render_image(&ctx, &frame)?;
     let elapsed = started.elapsed();
-    let view = args.view.with_exposure(args.exposure);
+    let view = args.display.view();
     rt_core::output::save_image(&args.output, width, height, &pixels, view)
         .with_context(|| format!("saving {}", args.output.display()))?;
     eprintln!("device:         {}", ctx.adapter_label());

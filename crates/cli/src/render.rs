@@ -6,6 +6,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
+use rt_core::output::ViewTransform;
 use rt_core::{GpuScene, Scene};
 use rt_gpu::both_devices::BothDevices;
 use rt_gpu::progressive::Progressive;
@@ -37,13 +38,8 @@ pub struct RenderArgs {
     /// converged version, from per-pixel sample variance) is at most this, e.g. 0.05.
     #[arg(long, value_name = "X")]
     noise_target: Option<f64>,
-    /// Exposure in stops for 8-bit outputs (EXR is always linear).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    exposure: f32,
-    /// View transform for 8-bit outputs: `standard` clamps each channel at 1; `neutral` is the
-    /// Khronos PBR Neutral tone mapper (highlights roll off instead of clipping). EXR stays linear.
-    #[arg(long, value_enum, default_value = "standard")]
-    view: ViewArg,
+    #[command(flatten)]
+    display: ViewArgs,
     /// Also write a denoised copy beside the output (NAME.denoised.EXT) guided by albedo and
     /// normals: `--denoise` or `--denoise=auto` uses Open Image Denoise where it is installed
     /// (scripts/ensure-oidn) and rt's À-Trous filter otherwise; `=oidn` requires OIDN; `=atrous`.
@@ -62,30 +58,61 @@ pub struct RenderArgs {
     engine: EngineArgs,
 }
 
+/// How 8-bit outputs show radiance: `--exposure`, `--view`, `--white-balance` (render, preview,
+/// merge).
+#[derive(clap::Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// Exposure in stops for 8-bit outputs (EXR is always linear).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    exposure: f32,
+    /// View transform for 8-bit outputs: `standard` clamps each channel at 1; `neutral` is the
+    /// Khronos PBR Neutral tone mapper (highlights roll off instead of clipping); `agx` is
+    /// Blender's default since 4.0 (a wide latitude, highlights desaturating towards white). EXR
+    /// stays linear.
+    #[arg(long, value_enum, default_value = "standard")]
+    view: ViewArg,
+    /// White balance for 8-bit outputs: the colour temperature, in kelvin (1667–25000), of the
+    /// light that should look white (3200 for tungsten; 6500 about nothing), as Blender's White
+    /// Balance with its default tint.
+    #[arg(long, value_name = "KELVIN", value_parser = parse_kelvin)]
+    white_balance: Option<f32>,
+}
+
+fn parse_kelvin(s: &str) -> Result<f32, String> {
+    let k: f32 = s
+        .parse()
+        .map_err(|_| format!("'{s}' is not a temperature in kelvin"))?;
+    rt_core::display::white_balance_matrix(k)
+        .map(|_| k)
+        .ok_or_else(|| format!("{s} K is outside 1667–25000 K"))
+}
+
+impl ViewArgs {
+    pub fn view(&self) -> rt_core::output::View {
+        rt_core::output::View {
+            transform: match self.view {
+                ViewArg::Standard => ViewTransform::Standard,
+                ViewArg::Neutral => ViewTransform::KhronosPbrNeutral,
+                ViewArg::Agx => ViewTransform::Agx,
+            },
+            exposure_stops: self.exposure,
+            white_balance_k: self.white_balance,
+        }
+    }
+}
+
 /// `--view` values.
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
 pub enum ViewArg {
     Standard,
     #[value(alias = "khronos-pbr-neutral")]
     Neutral,
-}
-
-impl ViewArg {
-    pub fn with_exposure(self, exposure_stops: f32) -> rt_core::output::View {
-        use rt_core::output::ViewTransform;
-        rt_core::output::View {
-            transform: match self {
-                ViewArg::Standard => ViewTransform::Standard,
-                ViewArg::Neutral => ViewTransform::KhronosPbrNeutral,
-            },
-            exposure_stops,
-        }
-    }
+    Agx,
 }
 
 impl RenderArgs {
     fn view(&self) -> rt_core::output::View {
-        self.view.with_exposure(self.exposure)
+        self.display.view()
     }
 
     /// With --time-limit or --noise-target, the samples per pixel are only the most to take.

@@ -10,6 +10,7 @@ pub mod camera;
 pub mod cpu_render;
 pub mod denoise;
 pub mod denoiser;
+pub mod display;
 pub mod emitters;
 pub mod environment;
 pub mod error;

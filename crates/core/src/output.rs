@@ -1,6 +1,7 @@
 //! Writing rendered images. EXR holds linear radiance as float (never tone-mapped); PNG, JPEG and
-//! PPM hold `sRGB(view(radiance · 2^exposure))` in 8 bits, `view` a plain clamp to [0, 1]
-//! (`ViewTransform::Standard`) or the Khronos PBR Neutral tone mapper. Every save goes to a
+//! PPM hold `sRGB(view(balance · radiance · 2^exposure))` in 8 bits, `view` a plain clamp to [0, 1]
+//! (`ViewTransform::Standard`), the Khronos PBR Neutral tone mapper or AgX, `balance` an optional
+//! white balance (`display.rs`). Every save goes to a
 //! temporary file in the same folder first and is renamed over the target, so a crash or a full
 //! disk never leaves a half-written image where a good one was.
 
@@ -68,13 +69,36 @@ pub enum ViewTransform {
     /// github.com/KhronosGroup/ToneMapping): colours below 0.76 keep their hue and value (up to a
     /// small black offset), highlights roll off smoothly towards white instead of clipping.
     KhronosPbrNeutral,
+    /// AgX, Blender's default since 4.0 (`display::agx`): a wide latitude of about 16.5 stops,
+    /// highlights that roll off and desaturate towards white instead of skewing in hue.
+    Agx,
 }
 
-/// A view transform with an exposure in stops (applied first).
+impl ViewTransform {
+    pub const ALL: [ViewTransform; 3] = [
+        ViewTransform::Standard,
+        ViewTransform::KhronosPbrNeutral,
+        ViewTransform::Agx,
+    ];
+
+    /// The name users see.
+    pub fn label(self) -> &'static str {
+        match self {
+            ViewTransform::Standard => "Standard",
+            ViewTransform::KhronosPbrNeutral => "Khronos PBR Neutral",
+            ViewTransform::Agx => "AgX",
+        }
+    }
+}
+
+/// A view transform with an exposure in stops and a white balance (applied first).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct View {
     pub transform: ViewTransform,
     pub exposure_stops: f32,
+    /// The colour temperature (kelvin) of the light that should display white; `None` (or 6500)
+    /// leaves colours as rendered.
+    pub white_balance_k: Option<f32>,
 }
 
 impl From<f32> for View {
@@ -83,6 +107,7 @@ impl From<f32> for View {
         View {
             transform: ViewTransform::Standard,
             exposure_stops,
+            white_balance_k: None,
         }
     }
 }
@@ -108,27 +133,38 @@ pub fn khronos_pbr_neutral(rgb: [f32; 3]) -> [f32; 3] {
 impl View {
     /// `to_srgb8` of every pixel, as opaque RGBA bytes (what a texture upload takes).
     pub fn to_rgba8(&self, rgb: &[[f32; 3]]) -> Vec<u8> {
+        let balance = self.balance();
         let mut bytes = Vec::with_capacity(rgb.len() * 4);
         for p in rgb {
-            bytes.extend(self.to_srgb8(*p));
+            bytes.extend(self.balanced_to_srgb8(*p, balance));
             bytes.push(255);
         }
         bytes
     }
 
+    /// The white balance's matrix (none without one).
+    fn balance(&self) -> Option<[[f32; 3]; 3]> {
+        self.white_balance_k
+            .and_then(crate::display::white_balance_matrix)
+    }
+
     /// 8-bit sRGB of one linear RGB pixel (NaN and negative values show black).
     pub fn to_srgb8(&self, rgb: [f32; 3]) -> [u8; 3] {
-        let scale = self.exposure_stops.exp2();
-        let c = rgb.map(|v| {
-            if v.is_finite() {
-                (v * scale).max(0.0)
-            } else {
-                0.0
-            }
-        });
+        self.balanced_to_srgb8(rgb, self.balance())
+    }
+
+    fn balanced_to_srgb8(&self, rgb: [f32; 3], balance: Option<[[f32; 3]; 3]>) -> [u8; 3] {
+        let exposure = self.exposure_stops.exp2();
+        let rgb = rgb.map(|v| if v.is_finite() { v * exposure } else { 0.0 });
+        let rgb = match balance {
+            Some(m) => m.map(|row| row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]),
+            None => rgb,
+        };
+        let c = rgb.map(|v| v.max(0.0));
         let c = match self.transform {
             ViewTransform::Standard => c,
             ViewTransform::KhronosPbrNeutral => khronos_pbr_neutral(c),
+            ViewTransform::Agx => crate::display::agx(c),
         };
         c.map(|v| (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8)
     }
@@ -155,7 +191,11 @@ pub fn encode_image(
                 .map_err(encode_err)?;
         }
         _ => {
-            let data: Vec<u8> = rgb.iter().flat_map(|&c| view.to_srgb8(c)).collect();
+            let balance = view.balance();
+            let data: Vec<u8> = rgb
+                .iter()
+                .flat_map(|&c| view.balanced_to_srgb8(c, balance))
+                .collect();
             let buffer = image::RgbImage::from_raw(width, height, data)
                 .ok_or_else(|| Error::Scene("image size does not match its pixels".into()))?;
             let f = match format {
@@ -481,7 +521,7 @@ mod tests {
         assert!(last > 0.98, "bright white approaches 1: {last}");
         let bright = View {
             transform: ViewTransform::KhronosPbrNeutral,
-            exposure_stops: 0.0,
+            ..View::default()
         }
         .to_srgb8([4.0, 2.0, 1.0]);
         let clamped = View::from(0.0).to_srgb8([4.0, 2.0, 1.0]);

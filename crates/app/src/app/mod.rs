@@ -38,10 +38,13 @@ pub struct RenderView {
     pub open: bool,
     pub exposure: f32,
     pub transform: rt_core::output::ViewTransform,
+    /// The white balance's temperature (kelvin), if any.
+    pub white_balance_k: Option<f32>,
     pub zoom: f32,
     pub texture: Option<egui::TextureHandle>,
-    /// (image revision, exposure, view transform, denoised) the texture was made from.
-    pub texture_key: Option<(u64, f32, rt_core::output::ViewTransform, bool)>,
+    /// (image revision, exposure, view transform, white balance, denoised) the texture was made
+    /// from.
+    pub texture_key: Option<(u64, f32, rt_core::output::ViewTransform, Option<f32>, bool)>,
     /// Show (and save) the denoised image instead of the raw one.
     pub show_denoised: bool,
     /// The denoised image, computed on first use.
@@ -218,6 +221,7 @@ impl RenderView {
         rt_core::output::View {
             transform: self.transform,
             exposure_stops: self.exposure,
+            white_balance_k: self.white_balance_k,
         }
     }
 }

@@ -37,6 +37,7 @@ impl RtApp {
             open: true,
             exposure: 0.0,
             transform: Default::default(),
+            white_balance_k: None,
             zoom: 1.0,
             texture: None,
             texture_key: None,

@@ -114,22 +114,29 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
         ui.add(egui::Slider::new(&mut view.exposure, -8.0..=8.0).text("exposure (stops)"))
             .on_hover_text("Brighten or darken the display and the PNG/JPEG/PPM you save");
         egui::ComboBox::from_id_salt(("view transform", view.id))
-            .selected_text(match view.transform {
-                ViewTransform::Standard => "Standard",
-                ViewTransform::KhronosPbrNeutral => "Khronos PBR Neutral",
-            })
+            .selected_text(view.transform.label())
             .show_ui(ui, |ui| {
-                ui.selectable_value(&mut view.transform, ViewTransform::Standard, "Standard")
-                    .on_hover_text("Clamp at 1: exact colours, clipped highlights");
-                ui.selectable_value(
-                    &mut view.transform,
-                    ViewTransform::KhronosPbrNeutral,
-                    "Khronos PBR Neutral",
-                )
-                .on_hover_text("Highlights roll off to white; colours below 0.76 are kept");
+                for (transform, hint) in [
+                    (
+                        ViewTransform::Standard,
+                        "Clamp at 1: exact colours, clipped highlights",
+                    ),
+                    (
+                        ViewTransform::KhronosPbrNeutral,
+                        "Highlights roll off to white; colours below 0.76 are kept",
+                    ),
+                    (
+                        ViewTransform::Agx,
+                        "Blender's default: wide latitude, highlights desaturate towards white",
+                    ),
+                ] {
+                    ui.selectable_value(&mut view.transform, transform, transform.label())
+                        .on_hover_text(hint);
+                }
             })
             .response
             .on_hover_text("How radiance becomes display colours (EXR saves stay linear)");
+        white_balance_control(ui, &mut view.white_balance_k);
         ui.add(
             egui::Slider::new(&mut view.zoom, 0.1..=8.0)
                 .logarithmic(true)
@@ -177,6 +184,7 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
             view.job.image_revision,
             view.exposure,
             view.transform,
+            view.white_balance_k,
             show_denoised,
         );
         if view.texture_key != Some(key) {
@@ -226,4 +234,25 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
         image.counts(),
         view.view(),
     )
+}
+
+/// A white balance: off, or the colour temperature (kelvin) of the light that should look white.
+fn white_balance_control(ui: &mut egui::Ui, kelvin: &mut Option<f32>) {
+    let mut on = kelvin.is_some();
+    if ui
+        .checkbox(&mut on, "white balance")
+        .on_hover_text("Make light of a colour temperature look white (display and PNG/JPEG only)")
+        .changed()
+    {
+        *kelvin = on.then_some(rt_core::display::NEUTRAL_KELVIN);
+    }
+    if let Some(k) = kelvin {
+        ui.add(
+            egui::DragValue::new(k)
+                .range(1667.0..=25000.0)
+                .speed(20.0)
+                .suffix(" K"),
+        )
+        .on_hover_text("3200 K neutralises tungsten light; 6500 K changes nothing");
+    }
 }

@@ -477,3 +477,33 @@ fn projections_from_flags_and_camera_files_render() {
     assert!(stderr.contains("orthographic height"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--view agx` and `--white-balance` change the PNG (not the EXR's linear values); 3200 K cools
+/// the Cornell box's PNG (blue up, red down); a temperature outside 1667–25000 K is refused.
+#[test]
+fn agx_and_white_balance_shape_8_bit_outputs() {
+    let dir = temp_dir("views");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render", "--device", "cpu", "--width", "16", "--height", "16",
+        ];
+        args.extend(["--spp", "4", "-o", out.to_str().unwrap()]);
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        image::open(&out).unwrap().to_rgb8()
+    };
+    let mean = |img: &image::RgbImage, c: usize| {
+        img.pixels().map(|p| f64::from(p.0[c])).sum::<f64>() / img.len() as f64
+    };
+    let standard = render("s.png", &[]);
+    let agx = render("a.png", &["--view", "agx"]);
+    assert_ne!(standard, agx);
+    let cool = render("w.png", &["--white-balance", "3200"]);
+    assert!(mean(&cool, 2) > mean(&standard, 2) && mean(&cool, 0) < mean(&standard, 0));
+    let (code, _, stderr) = rt_cli(&["render", "--white-balance", "900"]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("1667"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
