@@ -1,5 +1,6 @@
 //! `rt-cli`: render scenes headless, describe them, and benchmark the renderer.
 
+mod animation;
 mod bench;
 mod compare;
 mod converge;

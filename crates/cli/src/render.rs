@@ -21,7 +21,7 @@ use crate::summary::{
 
 mod progress;
 
-#[derive(Args, Debug)]
+#[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
     #[command(flatten)]
     scene: SceneArgs,
@@ -50,6 +50,8 @@ pub struct RenderArgs {
     /// sampling on, with the target as each pixel's threshold).
     #[arg(long, conflicts_with = "adaptive")]
     no_adaptive: bool,
+    #[command(flatten)]
+    animation: crate::animation::AnimationArgs,
     #[command(flatten)]
     shard: ShardArgs,
     #[command(flatten)]
@@ -121,7 +123,23 @@ impl RenderArgs {
     }
 }
 
+/// Renders the image, or with `--frames`/`--turntable` each frame in turn to OUT.NNNN.EXT.
 pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
+    let Some(frames) = args.animation.frames()? else {
+        return render_image(args, verbose);
+    };
+    for frame in frames {
+        let mut one = args.clone();
+        one.output = crate::animation::numbered(&args.output, frame.number);
+        one.scene.animation_time = Some(frame.time);
+        one.scene.turntable_turns = frame.turns;
+        eprintln!("frame:          {} (t = {:.3} s)", frame.number, frame.time);
+        render_image(one, verbose).with_context(|| format!("frame {}", frame.number))?;
+    }
+    Ok(())
+}
+
+fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
     let (scene, range) = prepare_scene(&args)?;
     let both = args.engine.device == crate::options::DeviceArg::All;
     let (on_cpu, why) = match both {

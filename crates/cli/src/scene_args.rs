@@ -89,6 +89,14 @@ pub struct SceneArgs {
     /// The fog's Henyey–Greenstein anisotropy g in (−1, 1): > 0 scatters forward (default 0).
     #[arg(long, value_name = "G", allow_hyphen_values = true)]
     pub fog_anisotropy: Option<f32>,
+    /// Set per frame by an animation (`render --frames`, `--turntable`), not a flag: the time at
+    /// which a glTF file's animations place its nodes.
+    #[arg(skip)]
+    pub animation_time: Option<f32>,
+    /// Set per frame by `render --turntable`: how far round (in turns) the camera has orbited
+    /// the vertical axis through the scene's centre.
+    #[arg(skip)]
+    pub turntable_turns: Option<f32>,
 }
 
 impl SceneArgs {
@@ -114,6 +122,9 @@ impl SceneArgs {
             camera.ortho_height = self.ortho_height;
         }
         camera.fisheye_angle_deg = self.fisheye_angle.unwrap_or(camera.fisheye_angle_deg);
+        if let Some(turns) = self.turntable_turns {
+            orbit_vertically(&mut scene, turns);
+        }
         scene.ambient = self.ambient.unwrap_or(scene.ambient);
         scene.settings.seed = self.seed.unwrap_or(scene.settings.seed);
         match self.environment.as_deref() {
@@ -154,8 +165,23 @@ impl SceneArgs {
             seed: self.seed.unwrap_or(0),
             gltf_scene: self.gltf_scene,
             smooth_normals_deg: self.smooth_normals,
+            animation_time: self.animation_time,
         }
     }
+}
+
+/// Turns the camera (position and target) by `turns` about the vertical axis (+y) through the
+/// scene's centre: a turntable keeps the camera's distance and elevation.
+fn orbit_vertically(scene: &mut Scene, turns: f32) {
+    let Some((lo, hi)) = scene.bounds() else {
+        return;
+    };
+    let centre = (lo + hi) * 0.5;
+    let turn = glam::Quat::from_rotation_y(turns * std::f32::consts::TAU);
+    let about = |p: [f32; 3]| (centre + turn * (glam::Vec3::from(p) - centre)).to_array();
+    let camera = &mut scene.camera;
+    camera.from = about(camera.from);
+    camera.to = about(camera.to);
 }
 
 fn is_gltf(path: &std::path::Path) -> bool {

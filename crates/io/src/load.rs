@@ -18,7 +18,7 @@ pub const SCENE_EXTENSIONS: &[&str] = &[
 ];
 
 /// What a caller may choose about loading; the default suits a user opening a file.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct LoadOptions {
     /// Seed for the colours of OBJ objects without a material (and of PLY and STL meshes).
     pub seed: u32,
@@ -29,6 +29,9 @@ pub struct LoadOptions {
     /// than this many degrees ([`rt_core::smooth_normals`]); `None` shades them flat, as their
     /// facets are (STL's CAD parts mean it).
     pub smooth_normals_deg: Option<u32>,
+    /// The time, in seconds, at which a glTF file's animations place its nodes (meshes, cameras,
+    /// lights); `None` loads the nodes as they stand. Other formats have no animation.
+    pub animation_time: Option<f32>,
 }
 
 /// The kinds of scene file, told apart by extension (in any case).
@@ -150,7 +153,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene> {
             scene.frame_for_viewing();
             Ok(scene)
         }
-        SceneFormat::Gltf => gltf::load_gltf(path, options.gltf_scene),
+        SceneFormat::Gltf => gltf::load_gltf_at(path, options.gltf_scene, options.animation_time),
         SceneFormat::Project => project::load_project(path),
     }
 }

@@ -20,6 +20,7 @@
 //! are not used (a path tracer computes occlusion). Every byte range is checked before it is
 //! read, so a broken file is an error naming the part at fault, never a panic.
 
+mod animation;
 mod buffers;
 mod draco;
 mod lights;
@@ -68,6 +69,12 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
 /// Loads a .gltf or .glb file; `scene` picks one of its scenes (the default scene, else the first,
 /// when `None`).
 pub fn load_gltf(path: &Path, scene: Option<usize>) -> Result<Scene> {
+    load_gltf_at(path, scene, None)
+}
+
+/// `load_gltf` with the file's animations at `time` seconds (`None`: the nodes as they stand,
+/// without their animation).
+pub fn load_gltf_at(path: &Path, scene: Option<usize>, time: Option<f32>) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
@@ -79,7 +86,7 @@ pub fn load_gltf(path: &Path, scene: Option<usize>) -> Result<Scene> {
             source,
         })
     };
-    load_gltf_bytes(&bytes, path, &base, &read, scene)
+    load_gltf_bytes_at(&bytes, path, &base, &read, scene, time)
 }
 
 /// `load_gltf` over bytes in memory; `read_file` loads what URIs name (relative to `base`).
@@ -90,10 +97,22 @@ pub fn load_gltf_bytes(
     read_file: &dyn Fn(&Path) -> Result<Vec<u8>>,
     scene: Option<usize>,
 ) -> Result<Scene> {
+    load_gltf_bytes_at(bytes, path, base, read_file, scene, None)
+}
+
+/// `load_gltf_bytes` with the file's animations at `time` seconds.
+pub fn load_gltf_bytes_at(
+    bytes: &[u8],
+    path: &Path,
+    base: &Path,
+    read_file: &dyn Fn(&Path) -> Result<Vec<u8>>,
+    scene: Option<usize>,
+    time: Option<f32>,
+) -> Result<Scene> {
     // The gltf crate's validation can panic on some malformed files: a bug in it must not take
     // the program down, so it becomes an error naming the file.
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        load_unguarded(bytes, path, base, read_file, scene)
+        load_unguarded(bytes, path, base, read_file, scene, time)
     }))
     .unwrap_or_else(|_| {
         Err(Error::File {
@@ -124,6 +143,7 @@ fn load_unguarded(
     base: &Path,
     read_file: &dyn Fn(&Path) -> Result<Vec<u8>>,
     scene: Option<usize>,
+    time: Option<f32>,
 ) -> Result<Scene> {
     let err = |message: String| Error::File {
         path: path.to_path_buf(),
@@ -180,6 +200,16 @@ fn load_unguarded(
         }
     }
     let buffers = load_buffers(doc, gltf.blob.as_deref(), base, read_file).map_err(err)?;
+    let animated = match time {
+        Some(t) => {
+            let (locals, any) = animation::animated_locals(doc, &buffers, t).map_err(err)?;
+            if !any {
+                log::warn!("{}: has no animation to play", path.display());
+            }
+            locals
+        }
+        None => HashMap::new(),
+    };
     let mut loader = Loader {
         path,
         buffers: &buffers,
@@ -193,6 +223,7 @@ fn load_unguarded(
         read_file,
         document: doc,
         skipped_primitives: 0,
+        animated,
     };
     let chosen = match scene {
         Some(i) => doc.scenes().nth(i).ok_or_else(|| {
@@ -388,4 +419,6 @@ struct Loader<'a> {
     /// Primitives of points or lines met (rt renders surfaces): skipped with a warning, an error
     /// only when nothing else is left.
     skipped_primitives: usize,
+    /// Local transforms of the nodes an animation moves, at the time asked for (`animation.rs`).
+    animated: HashMap<usize, Mat4>,
 }

@@ -23,7 +23,10 @@ impl Loader<'_> {
         if stack.len() >= MAX_NODE_DEPTH {
             return Err(format!("nodes nest deeper than {MAX_NODE_DEPTH} levels"));
         }
-        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        let local = match self.animated.get(&node.index()) {
+            Some(animated) => *animated,
+            None => Mat4::from_cols_array_2d(&node.transform().matrix()),
+        };
         let world = parent * local;
         if !world.is_finite() {
             return Err(format!(

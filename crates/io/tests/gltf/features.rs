@@ -4,6 +4,8 @@
 use super::*;
 use std::sync::Arc;
 
+use base64::Engine as _;
+
 use rt_core::light::{LightKind, SpotFalloff};
 
 fn close(a: [f32; 3], b: [f32; 3]) -> bool {
@@ -163,6 +165,89 @@ fn an_orthographic_gltf_camera_is_honoured() {
     assert!(close(c.from, [0.0, 1.0, 10.0]));
     let back = through_a_project(&scene);
     assert_eq!(back.camera, scene.camera);
+}
+
+/// A glTF animation moves what its nodes carry: at time t a linearly animated mesh node stands
+/// where its keys put it, a camera keyed with STEP holds until its next key; without a time the
+/// nodes stand as the file places them.
+#[test]
+fn animations_move_meshes_and_cameras_at_the_time_asked_for() {
+    let mut doc = document();
+    let mut data = Vec::new();
+    let floats = [
+        0.0f32, 2.0, 1.0, 2.0, 3.0, 5.0, 2.0, 3.0, 0.0, 1.0, 10.0, 0.0, 1.0, 20.0,
+    ];
+    floats.iter().for_each(|f| data.extend(f.to_le_bytes()));
+    let uri = base64::engine::general_purpose::STANDARD.encode(&data);
+    doc["buffers"].as_array_mut().unwrap().push(json!({
+        "byteLength": data.len(),
+        "uri": format!("data:application/octet-stream;base64,{uri}")
+    }));
+    let views = doc["bufferViews"].as_array_mut().unwrap();
+    let first_view = views.len();
+    views.push(json!({"buffer": 1, "byteOffset": 0, "byteLength": 8}));
+    views.push(json!({"buffer": 1, "byteOffset": 8, "byteLength": 24}));
+    views.push(json!({"buffer": 1, "byteOffset": 32, "byteLength": 24}));
+    let accessors = doc["accessors"].as_array_mut().unwrap();
+    let first = accessors.len();
+    accessors.push(
+        json!({"bufferView": first_view, "componentType": 5126, "count": 2,
+        "type": "SCALAR", "min": [0.0], "max": [2.0]}),
+    );
+    accessors.push(
+        json!({"bufferView": first_view + 1, "componentType": 5126, "count": 2, "type": "VEC3"}),
+    );
+    accessors.push(
+        json!({"bufferView": first_view + 2, "componentType": 5126, "count": 2, "type": "VEC3"}),
+    );
+    doc["animations"] = json!([{
+        "samplers": [
+            {"input": first, "output": first + 1, "interpolation": "LINEAR"},
+            {"input": first, "output": first + 2, "interpolation": "STEP"}
+        ],
+        "channels": [
+            {"sampler": 0, "target": {"node": 0, "path": "translation"}},
+            {"sampler": 1, "target": {"node": 3, "path": "translation"}}
+        ]
+    }]);
+    let bytes = embedded(doc);
+    let at = |time: Option<f32>| {
+        rt_io::gltf::load_gltf_bytes_at(
+            &bytes,
+            Path::new("test.gltf"),
+            Path::new("."),
+            &no_files,
+            None,
+            time,
+        )
+        .unwrap()
+    };
+    let still = at(None);
+    assert!(close(
+        still.objects[0].transform.translation,
+        [1.0, 2.0, 3.0]
+    ));
+    let mid = at(Some(1.0));
+    assert!(
+        close(mid.objects[0].transform.translation, [3.0, 2.0, 3.0]),
+        "{:?}",
+        mid.objects[0].transform
+    );
+    assert!(
+        close(mid.objects[0].transform.scale, [2.0; 3]),
+        "scale kept from the node"
+    );
+    assert!(
+        close(mid.camera.from, [0.0, 1.0, 10.0]),
+        "STEP holds the first key"
+    );
+    let end = at(Some(5.0));
+    assert!(close(end.objects[0].transform.translation, [5.0, 2.0, 3.0]));
+    assert!(close(end.camera.from, [0.0, 1.0, 20.0]));
+    assert!(
+        close(end.objects[1].transform.translation, [5.0, 0.0, 0.0]),
+        "not animated"
+    );
 }
 
 /// The spec requires POSITION's min and max, and the gltf crate refuses files without them, but
