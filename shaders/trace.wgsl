@@ -38,7 +38,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     }
     // The pixel's number seeds its random numbers (the same whether or not the image is tiled); the
     // accumulation buffer holds only this tile's rows.
-    let pixel = y * frame.width + x;
+    let pixel = film_pixel(x, y);
     let slot = (y - frame.tile_row_begin) * frame.width + x;
     if (pixel_stopped(slot)) {
         return;

@@ -84,7 +84,7 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let slot = wave_slot(i % band);
     let x = slot % frame.width;
     let y = frame.tile_row_begin + slot / frame.width;
-    var rng = rng_init(y * frame.width + x, frame.sample_offset + frame.sample_base + i / band, frame.seed);
+    var rng = rng_init(film_pixel(x, y), frame.sample_offset + frame.sample_base + i / band, frame.seed);
     let path = start_path(x, y, &rng);
     paths[i] = WavePath(path, rng, Hit(0.0, MISS, 0.0, 0.0));
     ray_queues[i] = i;

@@ -66,6 +66,7 @@ pub fn settings(width: u32, height: u32, spp: u32, max_depth: u32) -> RenderSett
         nee_only: false,
         adaptive_threshold: None,
         light_sampler: Default::default(),
+        film_window: None,
     }
 }
 

@@ -11,6 +11,7 @@ mod options;
 mod plot;
 mod preview;
 mod preview_bench;
+mod region;
 mod render;
 mod scene_args;
 mod series;

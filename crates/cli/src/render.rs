@@ -50,6 +50,20 @@ pub struct RenderArgs {
     /// sampling on, with the target as each pixel's threshold).
     #[arg(long, conflicts_with = "adaptive")]
     no_adaptive: bool,
+    /// Render only this window of the image, X0,Y0 to X1,Y1 in pixels (X1 and Y1 excluded): its
+    /// pixels take the samples the whole render takes there. Written alone, or with --into
+    /// pasted into an earlier render of the whole image.
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = crate::region::parse_region)]
+    region: Option<[u32; 4]>,
+    /// With --region: paste the window into this render of the whole image and save the result
+    /// as the output (which may be this file).
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "region",
+        conflicts_with = "sample_range"
+    )]
+    into: Option<PathBuf>,
     #[command(flatten)]
     animation: crate::animation::AnimationArgs,
     #[command(flatten)]
@@ -257,7 +271,7 @@ fn save_output(
             let note = format!("samples {first}..{end}: {rendered_by}");
             crate::shard::save(&args.output, [first, end], scenes, image, aovs, note)
         }
-        None => save(args, image),
+        None => save(args, image, scenes.0.settings.film_window),
     }
 }
 
@@ -291,7 +305,13 @@ fn prepare_scene(args: &RenderArgs) -> Result<(Scene, Option<[u32; 2]>)> {
     } else if settings.adaptive_threshold.is_none() {
         settings.adaptive_threshold = args.noise_target.map(|x| x as f32);
     }
+    if let Some(region) = args.region {
+        crate::region::apply(settings, region)?;
+    }
     let range = args.shard.range(settings.samples_per_pixel)?;
+    if range.is_some() && args.into.is_some() {
+        anyhow::bail!("--into pastes a finished image: render the shards, merge them, then paste");
+    }
     if range.is_some() {
         crate::shard::check_options(&args.output, open_ended, args.denoise.is_some())?;
     }
@@ -405,7 +425,11 @@ fn save_after_failure(
     let Some(image) = last_image.filter(|i| i.samples_per_pixel > 0) else {
         return error.context("the render failed before any samples were read back");
     };
-    match save(args, &image) {
+    if args.into.is_some() {
+        // A half-rendered window is not pasted over a finished image.
+        return error.context("the render failed; nothing was pasted --into the image");
+    }
+    match save(args, &image, None) {
         Ok(()) => error.context(format!(
             "the render failed; the {} spp read back before the failure were saved to {}",
             image.samples_per_pixel,
@@ -418,7 +442,22 @@ fn save_after_failure(
 }
 
 /// Saves `image` as the output (atomically, in the format its name says).
-fn save(args: &RenderArgs, image: &rt_gpu::Image) -> Result<()> {
+fn save(
+    args: &RenderArgs,
+    image: &rt_gpu::Image,
+    window: Option<rt_core::scene::FilmWindow>,
+) -> Result<()> {
+    if let (Some(into), Some(window)) = (&args.into, window) {
+        let size = [image.width, image.height];
+        return crate::region::compose_into(
+            into,
+            &args.output,
+            window,
+            size,
+            &image.pixels,
+            args.view(),
+        );
+    }
     rt_core::output::save_render(
         &args.output,
         image.width,

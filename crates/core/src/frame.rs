@@ -30,6 +30,14 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
     let settings = &scene.settings;
     validate(scene)?;
     let basis = camera_with_height(scene).basis().map_err(Error::Scene)?;
+    let window = settings.film_window.unwrap_or(crate::scene::FilmWindow {
+        x: 0,
+        y: 0,
+        film_width: settings.width,
+        film_height: settings.height,
+    });
+    let (film_x, film_y, film_width, film_height) =
+        (window.x, window.y, window.film_width, window.film_height);
     Ok(Frame {
         cam_origin: basis.origin.to_array(),
         lens_radius: scene.camera.aperture_radius,
@@ -38,7 +46,7 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         cam_v: basis.v.to_array(),
         tan_half_vfov: basis.tan_half_vfov,
         cam_w: basis.w.to_array(),
-        aspect: settings.width as f32 / settings.height as f32,
+        aspect: film_width as f32 / film_height as f32,
         ambient: scene.ambient,
         max_depth: settings.max_depth,
         width: settings.width,
@@ -89,6 +97,10 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         camera_media: camera_media(gpu_scene, basis.origin),
         projection: basis.projection.tag(),
         projection_scale: basis.projection_scale,
+        film_x,
+        film_y,
+        film_width,
+        film_height,
         _pad0: 0,
     })
 }

@@ -446,7 +446,14 @@ pub struct Frame {
     pub projection: u32, // 212
     /// Orthographic: half the view's height in scene units; fisheye: half its angle in radians.
     pub projection_scale: f32, // 216
-    pub _pad0: u32,           // 220
+    /// The image is a window of a film `film_width × film_height` at (`film_x`, `film_y`)
+    /// (`RenderSettings::film_window`; the whole film: 0, 0, width, height): the camera maps the
+    /// film, and a pixel's random numbers are those of its place in the film.
+    pub film_x: u32, // 220
+    pub film_y: u32,          // 224
+    pub film_width: u32,      // 228
+    pub film_height: u32,     // 232
+    pub _pad0: u32,           // 236
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power

@@ -218,7 +218,11 @@ struct Frame {
     camera_media: u32,           // 208: the medium stack camera rays start with (path.rs media_top)
     projection: u32,             // 212: 0 perspective, 1 orthographic, 2 panorama, 3 fisheye (PROJECTION_*)
     projection_scale: f32,       // 216: orthographic half height; fisheye half angle (radians)
-    _pad0: u32,                  // 220 (uniform arrays need a 16-byte stride)
+    film_x: u32,                 // 220: the image is a window of the film at (film_x, film_y) ...
+    film_y: u32,                 // 224
+    film_width: u32,             // 228: ... of the film's size (path.wgsl film_pixel)
+    film_height: u32,            // 232
+    _pad0: u32,                  // 236 (uniform arrays need a 16-byte stride)
 }
 
 struct Emitter {

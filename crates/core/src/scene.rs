@@ -179,6 +179,23 @@ pub struct RenderSettings {
     /// spot lights); by default the tree where the scene has many lights.
     #[serde(default)]
     pub light_sampler: LightSampler,
+    /// The image is this window of a larger film (a render region): the camera maps the film, the
+    /// image holds `width × height` of its pixels from (`x`, `y`), and each of those pixels takes
+    /// the random numbers it has in the whole film, so a region equals the same window of the
+    /// full render. `None`: the image is the whole film.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub film_window: Option<FilmWindow>,
+}
+
+/// Where an image sits in the film it is a window of (`RenderSettings::film_window`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FilmWindow {
+    /// The window's top-left pixel in the film.
+    pub x: u32,
+    pub y: u32,
+    /// The whole film's size in pixels.
+    pub film_width: u32,
+    pub film_height: u32,
 }
 
 /// How next-event estimation picks a light (`RenderSettings::light_sampler`).
@@ -242,6 +259,7 @@ impl Default for RenderSettings {
             nee_only: false,
             adaptive_threshold: None,
             light_sampler: LightSampler::default(),
+            film_window: None,
         }
     }
 }
@@ -265,6 +283,19 @@ impl RenderSettings {
         }
         if self.samples_per_pixel == 0 {
             return Err("samples per pixel must be at least 1".into());
+        }
+        if let Some(w) = self.film_window {
+            let inside = |start: u32, len: u32, film: u32| {
+                film > 0
+                    && film <= MAX_IMAGE_SIDE
+                    && start.checked_add(len).is_some_and(|e| e <= film)
+            };
+            if !(inside(w.x, self.width, w.film_width) && inside(w.y, self.height, w.film_height)) {
+                return Err(format!(
+                    "the region {}x{} at ({}, {}) does not fit in the {}x{} image",
+                    self.width, self.height, w.x, w.y, w.film_width, w.film_height
+                ));
+            }
         }
         if let Some(c) = self.clamp
             && !(c.is_finite() && c > 0.0)

@@ -605,3 +605,61 @@ fn frames_render_an_animation_and_a_turntable() {
     assert_ne!(a, b, "the second frame looks from the other side");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--region` renders only a window, and its pixels are the whole render's there, bit for bit (they
+/// take the same samples), on the CPU backend and on the GPU; `--into` pastes the window into the
+/// whole image, so re-rendering a region of a finished image gives that image back.
+#[test]
+fn a_region_is_the_same_window_of_the_whole_render() {
+    let dir = temp_dir("region");
+    let mut devices = vec!["cpu"];
+    if has_gpu() {
+        devices.push("gpu");
+    }
+    for device in devices {
+        let render = |name: &str, extra: &[&str]| {
+            let out = dir.join(name);
+            let mut args = vec![
+                "render", "--device", device, "--width", "32", "--height", "24",
+            ];
+            args.extend(["--spp", "3", "-o", out.to_str().unwrap()]);
+            args.extend_from_slice(extra);
+            let (code, _, stderr) = rt_cli(&args);
+            assert_eq!(code, 0, "{device} {extra:?}: {stderr}");
+            out
+        };
+        let whole = image::open(render("whole.exr", &[])).unwrap().to_rgb32f();
+        let window = image::open(render("window.exr", &["--region", "8,4,24,20"]))
+            .unwrap()
+            .to_rgb32f();
+        assert_eq!((window.width(), window.height()), (16, 16));
+        for (x, y, p) in window.enumerate_pixels() {
+            assert_eq!(
+                p,
+                whole.get_pixel(x + 8, y + 4),
+                "{device}: pixel ({x}, {y})"
+            );
+        }
+        let whole_path = dir.join("whole.exr");
+        let pasted = render(
+            "pasted.exr",
+            &[
+                "--region",
+                "8,4,24,20",
+                "--into",
+                whole_path.to_str().unwrap(),
+            ],
+        );
+        let pasted = image::open(pasted).unwrap().to_rgb32f();
+        assert_eq!(
+            pasted, whole,
+            "{device}: the window pasted back changes nothing"
+        );
+    }
+    let (code, _, stderr) = rt_cli(&[
+        "render", "--width", "16", "--height", "16", "--region", "0,0,17,4",
+    ]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("reaches past"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -40,9 +40,9 @@ pub const PROJECTION_FISHEYE: u32 = 3;
 pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) {
     let jx = rng.next_f32();
     let jy = rng.next_f32();
-    // The point on the image in [-1, 1]², y up.
-    let px = 2.0 * (x as f32 + jx) / frame.width as f32 - 1.0;
-    let py = 1.0 - 2.0 * (y as f32 + jy) / frame.height as f32;
+    // The point on the film in [-1, 1]², y up.
+    let px = 2.0 * ((x + frame.film_x) as f32 + jx) / frame.film_width as f32 - 1.0;
+    let py = 1.0 - 2.0 * ((y + frame.film_y) as f32 + jy) / frame.film_height as f32;
     let (u, v, w) = (
         Vec3::from(frame.cam_u),
         Vec3::from(frame.cam_v),
@@ -183,6 +183,12 @@ pub struct FirstHit {
     pub emission: Vec3,
 }
 
+/// Image pixel (x, y)'s number in the film (`Frame::film_x`…), which seeds its random numbers:
+/// a render region takes the samples the whole image takes there (the WGSL `film_pixel`).
+pub fn film_pixel(frame: &Frame, x: u32, y: u32) -> u32 {
+    (y + frame.film_y) * frame.film_width + x + frame.film_x
+}
+
 /// The camera ray of pixel (x, y), sample `sample` (the WGSL `start_path`).
 pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
     let kind = if frame.sampler == 1 {
@@ -190,7 +196,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
     } else {
         rng::SamplerKind::Independent
     };
-    let mut rng = Rng::with_sampler(y * frame.width + x, sample, frame.seed, kind);
+    let mut rng = Rng::with_sampler(film_pixel(frame, x, y), sample, frame.seed, kind);
     let (origin, direction) = camera_ray(frame, x, y, &mut rng);
     // A pixel that sees nothing (outside a fisheye's circle) is a path that ends at once with
     // zero weight: black, no ray traced (the kernels' wavefront traces one that adds nothing).

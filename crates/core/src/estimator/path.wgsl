@@ -107,6 +107,11 @@ fn is_finite3(v: vec3<f32>) -> bool {
     return all(e != vec3(0x7f800000u));
 }
 
+// Image pixel (x, y)'s number in the film, which seeds its random numbers (path.rs `film_pixel`).
+fn film_pixel(x: u32, y: u32) -> u32 {
+    return (y + frame.film_y) * frame.film_width + x + frame.film_x;
+}
+
 const PROJECTION_ORTHOGRAPHIC: u32 = 1u;
 const PROJECTION_PANORAMA: u32 = 2u;
 const PROJECTION_FISHEYE: u32 = 3u;
@@ -117,8 +122,8 @@ const PROJECTION_FISHEYE: u32 = 3u;
 fn camera_ray_origin_dir(x: u32, y: u32, rng: ptr<function, Sampler>) -> array<vec3<f32>, 2> {
     let jx = rng_next(rng);
     let jy = rng_next(rng);
-    let px = 2.0 * (f32(x) + jx) / f32(frame.width) - 1.0;
-    let py = 1.0 - 2.0 * (f32(y) + jy) / f32(frame.height);
+    let px = 2.0 * (f32(x + frame.film_x) + jx) / f32(frame.film_width) - 1.0;
+    let py = 1.0 - 2.0 * (f32(y + frame.film_y) + jy) / f32(frame.film_height);
     var origin = frame.cam_origin;
     var direction: vec3<f32>;
     if (frame.projection == PROJECTION_ORTHOGRAPHIC) {

@@ -214,6 +214,10 @@ fn frame_layout() -> StructLayout {
             camera_media,
             projection,
             projection_scale,
+            film_x,
+            film_y,
+            film_width,
+            film_height,
             _pad0
         ]
     )
