@@ -53,9 +53,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     for (var s = 0u; s < frame.samples_this_dispatch; s++) {
         let sample_index = frame.sample_offset + frame.sample_base + s;
         var rng = rng_init(pixel, sample_index, frame.seed);
-        aov_albedo = vec3(0.0);
-        aov_normal = vec3(0.0);
-        aov_emission = vec3(0.0);
+        reset_aov_sample();
         var l = path_radiance(x, y, &rng, &rays);
         if (sample_is_kept(l)) {
             add_sample(&sums, l);
@@ -63,7 +61,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
             dropped += 1u;
         }
         if (WRITE_AOVS) {
-            let values = AovMeans(vec4(aov_albedo, 0.0), vec4(aov_normal, 0.0), vec4(aov_emission, 0.0));
+            let values = aov_sample_values();
             add_aov_sample(&aov_means, values, f32(frame.sample_base + s + 1u));
         }
     }

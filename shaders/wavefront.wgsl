@@ -118,14 +118,13 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     var shadow: ShadowRay;
     var rays = 0u;
     let first = path.depth == 0u;
-    aov_albedo = vec3(0.0);
-    aov_normal = vec3(0.0);
-    aov_emission = vec3(0.0);
+    reset_aov_sample();
     let goes_on = shade_vertex(&path, paths[p].hit, &rng, &shadow, true, &rays);
     if (WRITE_AOVS && first) {
-        path_aovs[3u * p] = vec4(aov_albedo, 0.0);
-        path_aovs[3u * p + 1u] = vec4(aov_normal, 0.0);
-        path_aovs[3u * p + 2u] = vec4(aov_emission, 0.0);
+        let values = aov_sample_values();
+        path_aovs[3u * p] = values.albedo;
+        path_aovs[3u * p + 1u] = values.normal;
+        path_aovs[3u * p + 2u] = values.emission;
     }
     paths[p].path = path;
     paths[p].rng = rng;

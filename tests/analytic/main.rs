@@ -2,13 +2,14 @@
 //! glass slab at normal incidence, and an empty scene.
 //!
 //! `cameras.rs` holds the projections, `closed_form.rs` the furnaces, emitters, mirror, slab and
-//! empty scene, `lights.rs` the delta lights, the sun and sky and the Sobol sampler,
+//! empty scene, `film.rs` alpha and the depth pass, `lights.rs` the delta lights, the sun and sky and the Sobol sampler,
 //! `materials.rs` PBR, normal maps, texture wrap modes and alpha, `media.rs` fog and volumes.
 
 mod cameras;
 mod closed_form;
 #[path = "../common/mod.rs"]
 mod common;
+mod film;
 mod lights;
 mod materials;
 mod media;

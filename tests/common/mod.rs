@@ -67,6 +67,7 @@ pub fn settings(width: u32, height: u32, spp: u32, max_depth: u32) -> RenderSett
         adaptive_threshold: None,
         light_sampler: Default::default(),
         film_window: None,
+        transparent: false,
     }
 }
 

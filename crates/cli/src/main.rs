@@ -6,6 +6,7 @@ mod compare;
 mod converge;
 mod info;
 mod interactive;
+mod layers;
 mod merge;
 mod options;
 mod plot;

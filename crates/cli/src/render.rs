@@ -64,6 +64,16 @@ pub struct RenderArgs {
         conflicts_with = "sample_range"
     )]
     into: Option<PathBuf>,
+    /// A transparent background (Cycles' Film ▸ Transparent): the background seen directly adds
+    /// nothing and alpha is the share of each pixel's camera rays that met a surface (glass
+    /// counts as met); the background still lights the scene. PNG (straight alpha) or EXR
+    /// (premultiplied).
+    #[arg(long)]
+    transparent: bool,
+    /// Render passes written as layers of the EXR beside the beauty: any of depth, normal,
+    /// albedo, position, object, material (e.g. --aov depth,normal).
+    #[arg(long, value_name = "LIST", value_parser = crate::layers::parse_pass_list)]
+    aov: Option<crate::layers::PassList>,
     #[command(flatten)]
     animation: crate::animation::AnimationArgs,
     #[command(flatten)]
@@ -132,6 +142,16 @@ impl RenderArgs {
     }
 
     /// With --time-limit or --noise-target, the samples per pixel are only the most to take.
+    /// The render passes `--aov` asks for.
+    fn passes(&self) -> Option<&[rt_core::passes::Pass]> {
+        self.aov.as_ref().map(|list| list.0.as_slice())
+    }
+
+    /// Alpha or passes asked for: the render keeps its first hits.
+    fn wants_layers(&self) -> bool {
+        self.transparent || self.aov.is_some()
+    }
+
     fn open_ended(&self) -> bool {
         self.time_limit.is_some() || self.noise_target.is_some()
     }
@@ -165,7 +185,7 @@ fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
         false => Some(open_device(&args.engine.adapter)?),
     };
     let gpu_scene = GpuScene::build(&scene)?;
-    let guides = args.denoise.is_some() || range.is_some();
+    let guides = args.denoise.is_some() || range.is_some() || args.wants_layers();
     let mut run = match &ctx {
         None => {
             let first = range.map_or(0, |r| r[0]);
@@ -271,6 +291,11 @@ fn save_output(
             let note = format!("samples {first}..{end}: {rendered_by}");
             crate::shard::save(&args.output, [first, end], scenes, image, aovs, note)
         }
+        None if args.wants_layers() => {
+            let aovs = aovs.context("the render kept no first hits")?;
+            let passes = args.passes();
+            crate::layers::save(&args.output, image, aovs, scenes, passes, args.view())
+        }
         None => save(args, image, scenes.0.settings.film_window),
     }
 }
@@ -305,10 +330,20 @@ fn prepare_scene(args: &RenderArgs) -> Result<(Scene, Option<[u32; 2]>)> {
     } else if settings.adaptive_threshold.is_none() {
         settings.adaptive_threshold = args.noise_target.map(|x| x as f32);
     }
+    settings.transparent |= args.transparent;
+    crate::layers::check(&args.output, settings.transparent, args.passes())?;
     if let Some(region) = args.region {
         crate::region::apply(settings, region)?;
     }
     let range = args.shard.range(settings.samples_per_pixel)?;
+    if range.is_some() && args.wants_layers() {
+        anyhow::bail!(
+            "--transparent and --aov are not kept in render parts yet: render the frame whole"
+        );
+    }
+    if args.wants_layers() && args.into.is_some() {
+        anyhow::bail!("--into pastes colour only: leave out --transparent and --aov");
+    }
     if range.is_some() && args.into.is_some() {
         anyhow::bail!("--into pastes a finished image: render the shards, merge them, then paste");
     }
@@ -411,7 +446,7 @@ fn shard_options(args: &RenderArgs, range: Option<[u32; 2]>) -> rt_gpu::RenderOp
         first_sample: range.map_or(0, |r| r[0]),
         ..args
             .engine
-            .render_options(args.denoise.is_some() || range.is_some())
+            .render_options(args.denoise.is_some() || range.is_some() || args.wants_layers())
     }
 }
 

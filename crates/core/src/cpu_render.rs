@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use crate::accumulation::{PixelSums, add_pixels, add_sample, pixel_mean};
 use crate::adaptive::{Adaptive, AdaptiveStreams, sums_f64};
 use crate::estimator::trace_path;
+use crate::first_hits::FirstHits;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
 use crate::part::Guides;
@@ -36,6 +37,10 @@ struct PixelBatch {
     sums: [PixelSums; 2],
     /// Sums of the guides over the batch's samples.
     guides: [glam::Vec3; 3],
+    /// Sums of coverage and of distance × coverage (`FirstHits`).
+    hits: [f32; 2],
+    /// The object (+1) the render's first sample met, when this batch took that sample.
+    first_object: Option<u32>,
 }
 
 /// A frame's samples accumulated on the CPU.
@@ -55,6 +60,8 @@ pub struct CpuAccumulation {
     /// With adaptive sampling, its streams: even samples in one, odd in the other.
     adaptive: Option<AdaptiveStreams>,
     guides: Option<Guides>,
+    /// Coverage, depth and object ids, kept with the guides.
+    hits: Option<FirstHits>,
     /// What the batch in progress adds, per pixel (empty between renders' first batches).
     scratch: Vec<PixelBatch>,
 }
@@ -78,6 +85,7 @@ impl CpuAccumulation {
                 normal: vec![[0.0; 3]; n],
                 emission: vec![[0.0; 3]; n],
             }),
+            hits: guides.then(|| FirstHits::new(n)),
             scratch: Vec::new(),
         }
     }
@@ -122,6 +130,7 @@ impl CpuAccumulation {
         let width = self.width as usize;
         let stopped = self.adaptive.as_ref().map(|a| a.stopped());
         let keep_guides = self.guides.is_some();
+        let first_of_render = self.first_sample;
         // Kept between batches, and zero between them: no fresh pages to fault in per batch.
         let mut scratch = std::mem::take(&mut self.scratch);
         scratch.resize(self.sums.len(), PixelBatch::default());
@@ -152,6 +161,11 @@ impl CpuAccumulation {
                             .zip([f.albedo, f.normal, f.emission])
                         {
                             *sum += v;
+                        }
+                        pixel.hits[0] += f.coverage;
+                        pixel.hits[1] += f.depth * f.coverage;
+                        if s == first_of_render {
+                            pixel.first_object = Some(f.object);
                         }
                     }
                 }
@@ -186,6 +200,18 @@ impl CpuAccumulation {
                 {
                     let mean = glam::Vec3::from(plane[i]);
                     plane[i] = ((mean * n + sum) / (n + count as f32)).to_array();
+                }
+            }
+            if let Some(h) = self.hits.as_mut().filter(|_| sampled) {
+                let n = before[i] as f32;
+                for (plane, sum) in [&mut h.coverage, &mut h.depth_weighted]
+                    .into_iter()
+                    .zip(add.hits)
+                {
+                    plane[i] = (plane[i] * n + sum) / (n + count as f32);
+                }
+                if let Some(object) = add.first_object {
+                    h.object[i] = object;
                 }
             }
         }
@@ -251,6 +277,11 @@ impl CpuAccumulation {
     /// The denoiser's guides (running means over each pixel's samples), when kept.
     pub fn guides(&self) -> Option<&Guides> {
         self.guides.as_ref()
+    }
+
+    /// Coverage, depth and object ids (kept with the guides).
+    pub fn first_hits(&self) -> Option<&FirstHits> {
+        self.hits.as_ref()
     }
 }
 

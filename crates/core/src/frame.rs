@@ -101,7 +101,7 @@ pub fn frame_for(scene: &Scene, gpu_scene: &GpuScene) -> Result<Frame> {
         film_y,
         film_width,
         film_height,
-        _pad0: 0,
+        transparent: u32::from(settings.transparent),
     })
 }
 

@@ -453,7 +453,9 @@ pub struct Frame {
     pub film_y: u32,          // 224
     pub film_width: u32,      // 228
     pub film_height: u32,     // 232
-    pub _pad0: u32,           // 236
+    /// 1: a transparent film (`RenderSettings::transparent`): the background seen directly adds
+    /// nothing; the guides' coverage gives each pixel's alpha.
+    pub transparent: u32, // 236
 }
 
 /// One emitter triangle in the alias table that picks emitters in proportion to their power

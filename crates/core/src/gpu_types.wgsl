@@ -222,7 +222,7 @@ struct Frame {
     film_y: u32,                 // 224
     film_width: u32,             // 228: ... of the film's size (path.wgsl film_pixel)
     film_height: u32,            // 232
-    _pad0: u32,                  // 236 (uniform arrays need a 16-byte stride)
+    transparent: u32,            // 236: 1: the background seen directly adds nothing (alpha)
 }
 
 struct Emitter {

@@ -272,6 +272,18 @@ pub fn encode_exr_with_variance(
     pixels: &[[f32; 4]],
     counts: SampleCounts,
 ) -> Result<Vec<u8>> {
+    encode_exr_layers(width, height, pixels, counts, &[])
+}
+
+/// `encode_exr_with_variance` with more channels beside the colour: an alpha (`A`) and named
+/// layers such as `depth.Z` or `normal.X` (render passes: `crate::passes`), one value per pixel.
+pub fn encode_exr_layers(
+    width: u32,
+    height: u32,
+    pixels: &[[f32; 4]],
+    counts: SampleCounts,
+    extra: &[(String, Vec<f32>)],
+) -> Result<Vec<u8>> {
     use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, SmallVec, WritableImage};
     let size = width as usize * height as usize;
     if pixels.len() != size {
@@ -287,6 +299,17 @@ pub fn encode_exr_with_variance(
             FlatSamples::F32(pixel_variance(pixels, counts)),
         ),
     ];
+    for (name, values) in extra {
+        if values.len() != size {
+            return Err(Error::Scene(format!(
+                "the {name} channel does not match the image"
+            )));
+        }
+        channels.push(AnyChannel::new(
+            name.as_str(),
+            FlatSamples::F32(values.clone()),
+        ));
+    }
     if let SampleCounts::PerPixel(per_pixel) = counts {
         // Exact in u32 (f32 would round counts above 2^24).
         channels.push(AnyChannel::new(

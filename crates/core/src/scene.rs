@@ -185,6 +185,11 @@ pub struct RenderSettings {
     /// full render. `None`: the image is the whole film.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub film_window: Option<FilmWindow>,
+    /// A transparent film (Cycles' Film ▸ Transparent): the background seen directly adds no
+    /// light, and each pixel's alpha is the share of its camera rays that met a surface (glass
+    /// counts as met). The background still lights the scene.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub transparent: bool,
 }
 
 /// Where an image sits in the film it is a window of (`RenderSettings::film_window`).
@@ -260,6 +265,7 @@ impl Default for RenderSettings {
             adaptive_threshold: None,
             light_sampler: LightSampler::default(),
             film_window: None,
+            transparent: false,
         }
     }
 }

@@ -158,7 +158,7 @@ impl<'a> BothDevices<'a> {
     pub fn read_aovs(&self) -> Result<Option<Aovs>> {
         Ok(match self.gpu.read_aovs()? {
             Some(aovs) => Some(aovs),
-            None => self.cpu.guides().map(Aovs::from),
+            None => Aovs::of_cpu(&self.cpu),
         })
     }
 }

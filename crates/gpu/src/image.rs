@@ -31,11 +31,7 @@ impl Image {
             sums: part.sums.clone(),
         };
         let g = &part.guides;
-        let aovs = (g.albedo.len() == part.counts.len()).then(|| Aovs {
-            albedo: g.albedo.clone(),
-            normal: g.normal.clone(),
-            emission: g.emission.clone(),
-        });
+        let aovs = (g.albedo.len() == part.counts.len()).then(|| Aovs::from(g));
         (image, aovs)
     }
 
@@ -109,16 +105,28 @@ pub struct Aovs {
     pub normal: Vec<[f32; 3]>,
     /// Light seen directly: emitters and sky at the first segment.
     pub emission: Vec<[f32; 3]>,
+    /// Coverage (alpha), depth and object ids; empty where they were not kept (render parts).
+    pub hits: rt_core::first_hits::FirstHits,
 }
 
 impl From<&rt_core::part::Guides> for Aovs {
-    /// The CPU backend's guides (`rt_core::cpu_render`), kept the same way.
+    /// Guides alone (a part's: parts keep no coverage, depth or ids).
     fn from(g: &rt_core::part::Guides) -> Self {
         Aovs {
             albedo: g.albedo.clone(),
             normal: g.normal.clone(),
             emission: g.emission.clone(),
+            hits: Default::default(),
         }
+    }
+}
+
+impl Aovs {
+    /// The CPU backend's guides and first hits (`rt_core::cpu_render`), when it kept them.
+    pub fn of_cpu(accumulation: &rt_core::cpu_render::CpuAccumulation) -> Option<Aovs> {
+        let mut aovs = Aovs::from(accumulation.guides()?);
+        aovs.hits = accumulation.first_hits().cloned().unwrap_or_default();
+        Some(aovs)
     }
 }
 

@@ -140,10 +140,18 @@ impl Outputs {
                 .map(|v| [v[0], v[1], v[2]])
                 .collect()
         };
+        // The w channels: coverage, distance × coverage, the first sample's object + 1
+        // (path.wgsl `aov_sample_values`).
+        let w = |k: usize| values.iter().skip(k).step_by(3).map(|v| v[3]);
         Ok(Aovs {
             albedo: take(0),
             normal: take(1),
             emission: take(2),
+            hits: rt_core::first_hits::FirstHits {
+                coverage: w(0).collect(),
+                depth_weighted: w(1).collect(),
+                object: w(2).map(|o| o as u32).collect(),
+            },
         })
     }
 }

@@ -159,7 +159,7 @@ impl<'a> Progressive<'a> {
     pub fn read_aovs(&self) -> Result<Option<Aovs>> {
         Ok(match self {
             Progressive::Gpu(r) => r.read_aovs()?,
-            Progressive::Cpu(c) => c.accumulation.guides().map(Aovs::from),
+            Progressive::Cpu(c) => Aovs::of_cpu(&c.accumulation),
             Progressive::Both(b) => b.read_aovs()?,
         })
     }

@@ -74,6 +74,7 @@ pub fn render_tiled(
         albedo: vec![[0.0; 3]; pixel_count],
         normal: vec![[0.0; 3]; pixel_count],
         emission: vec![[0.0; 3]; pixel_count],
+        hits: rt_core::first_hits::FirstHits::new(pixel_count),
     });
     let mut done_samples = spp;
     let mut begin = 0;
@@ -117,6 +118,7 @@ pub fn render_tiled(
         }
         if let (Some(all), Some(tile)) = (aovs.as_mut(), renderer.read_aovs()?) {
             all.albedo[range.clone()].copy_from_slice(&tile.albedo);
+            all.hits.copy_tile(start, &tile.hits);
             all.normal[range.clone()].copy_from_slice(&tile.normal);
             all.emission[range].copy_from_slice(&tile.emission);
         }

@@ -663,3 +663,93 @@ fn a_region_is_the_same_window_of_the_whole_render() {
     assert!(stderr.contains("reaches past"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--transparent` writes alpha (PNG: 0 where the camera sees the background, 255 on the box);
+/// `--aov` writes named layers into the EXR beside the beauty and its premultiplied alpha; both
+/// refuse outputs that cannot hold them.
+#[test]
+fn transparent_backgrounds_and_render_passes_are_written() {
+    let dir = temp_dir("layers");
+    let camera = dir.join("outside.json");
+    // Outside the Cornell box, looking at it: the box fills the middle, the background the rest.
+    std::fs::write(
+        &camera,
+        r#"{"from": [278, 273, -1600], "to": [278, 273, 0], "vfov": 40}"#,
+    )
+    .unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render", "--device", "cpu", "--width", "24", "--height", "24",
+        ];
+        args.extend([
+            "--spp",
+            "4",
+            "--camera",
+            camera.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        out
+    };
+    let png = image::open(render("t.png", &["--transparent", "--ambient", "1,1,1"])).unwrap();
+    let png = png.as_rgba8().expect("an RGBA PNG");
+    assert_eq!(png.get_pixel(0, 0).0[3], 0, "background");
+    assert_eq!(png.get_pixel(12, 12).0[3], 255, "the box");
+    let exr = render(
+        "passes.exr",
+        &["--transparent", "--aov", "depth,normal,object,material"],
+    );
+    let layers = exr::prelude::read_all_flat_layers_from_file(&exr).unwrap();
+    let channels = &layers.layer_data[0].channel_data.list;
+    let names: Vec<String> = channels.iter().map(|c| c.name.to_string()).collect();
+    for name in [
+        "A",
+        "B",
+        "G",
+        "R",
+        "depth.Z",
+        "normal.X",
+        "normal.Y",
+        "normal.Z",
+        "object.ID",
+        "material.ID",
+    ] {
+        assert!(
+            names.iter().any(|n| n == name),
+            "{name} missing from {names:?}"
+        );
+    }
+    let values = |name: &str| -> Vec<f32> {
+        let c = channels
+            .iter()
+            .find(|c| c.name.to_string() == name)
+            .unwrap();
+        c.sample_data.values_as_f32().collect()
+    };
+    let (depth, alpha, object) = (values("depth.Z"), values("A"), values("object.ID"));
+    let centre = 12 * 24 + 12;
+    assert_eq!(alpha[0], 0.0);
+    assert_eq!(depth[0], 1e10, "nothing met: Blender's background depth");
+    assert!(
+        depth[centre] > 1600.0 && depth[centre] < 2300.0,
+        "depth {}",
+        depth[centre]
+    );
+    assert!(object[centre] >= 1.0 && object[0] == 0.0);
+    for (extra, message) in [
+        (&["--aov", "depth"][..], "name the output .exr"),
+        (&["--transparent"][..], "with alpha"),
+    ] {
+        let out = dir.join("x.jpg");
+        let mut args = vec!["render", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_ne!(code, 0);
+        assert!(stderr.contains(message), "{stderr}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

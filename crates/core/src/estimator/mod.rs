@@ -48,7 +48,7 @@ pub use hit::trace_brute_force;
 pub use light::{
     LightSample, ShadowMedia, delta_lights_at, direct_light, power_heuristic, sample_light,
 };
-pub use path::{FirstHit, camera_ray, radiance, trace_path};
+pub use path::{FirstHit, camera_ray, pixel_centre_ray, radiance, trace_path};
 pub use surface::{PbrInputs, Surface, SurfaceSample};
 pub use texture::{Slot, alpha_coin, base_color_texture, coverage, stops_ray, wrap_index};
 

@@ -43,32 +43,49 @@ pub fn camera_ray(frame: &Frame, x: u32, y: u32, rng: &mut Rng) -> (Vec3, Vec3) 
     // The point on the film in [-1, 1]², y up.
     let px = 2.0 * ((x + frame.film_x) as f32 + jx) / frame.film_width as f32 - 1.0;
     let py = 1.0 - 2.0 * ((y + frame.film_y) as f32 + jy) / frame.film_height as f32;
+    let (origin, direction) = film_ray(frame, px, py);
+    if frame.lens_radius <= 0.0
+        || matches!(frame.projection, PROJECTION_PANORAMA | PROJECTION_FISHEYE)
+    {
+        return (origin, direction);
+    }
+    let w = Vec3::from(frame.cam_w);
+    let focus = origin + direction * (frame.focus_distance / direction.dot(-w));
+    let (dx, dy) = sample_disk(rng);
+    let (u, v) = (Vec3::from(frame.cam_u), Vec3::from(frame.cam_v));
+    let lens_origin = origin + frame.lens_radius * (dx * u + dy * v);
+    (lens_origin, (focus - lens_origin).normalize())
+}
+
+/// The ray through the centre of pixel (x, y), without a lens: where the render passes place a
+/// pixel's mean depth (`crate::passes`).
+pub fn pixel_centre_ray(frame: &Frame, x: u32, y: u32) -> (Vec3, Vec3) {
+    let px = 2.0 * ((x + frame.film_x) as f32 + 0.5) / frame.film_width as f32 - 1.0;
+    let py = 1.0 - 2.0 * ((y + frame.film_y) as f32 + 0.5) / frame.film_height as f32;
+    film_ray(frame, px, py)
+}
+
+/// The pinhole ray of the frame's projection through film point (px, py) ∈ [-1, 1]².
+fn film_ray(frame: &Frame, px: f32, py: f32) -> (Vec3, Vec3) {
     let (u, v, w) = (
         Vec3::from(frame.cam_u),
         Vec3::from(frame.cam_v),
         Vec3::from(frame.cam_w),
     );
     let origin = Vec3::from(frame.cam_origin);
-    let (origin, direction) = match frame.projection {
+    match frame.projection {
         PROJECTION_ORTHOGRAPHIC => {
             let h = frame.projection_scale;
             (origin + (px * h * frame.aspect) * u + (py * h) * v, -w)
         }
-        PROJECTION_PANORAMA => return (origin, panorama_direction(px, py, u, v, w)),
-        PROJECTION_FISHEYE => return (origin, fisheye_direction(frame, px, py, u, v, w)),
+        PROJECTION_PANORAMA => (origin, panorama_direction(px, py, u, v, w)),
+        PROJECTION_FISHEYE => (origin, fisheye_direction(frame, px, py, u, v, w)),
         _ => {
             let sx = px * frame.tan_half_vfov * frame.aspect;
             let sy = py * frame.tan_half_vfov;
             (origin, (sx * u + sy * v - w).normalize())
         }
-    };
-    if frame.lens_radius <= 0.0 {
-        return (origin, direction);
     }
-    let focus = origin + direction * (frame.focus_distance / direction.dot(-w));
-    let (dx, dy) = sample_disk(rng);
-    let lens_origin = origin + frame.lens_radius * (dx * u + dy * v);
-    (lens_origin, (focus - lens_origin).normalize())
 }
 
 /// The equirectangular panorama's direction at image point (px, py) ∈ [-1, 1]²: longitude π·px
@@ -181,6 +198,12 @@ pub struct FirstHit {
     pub albedo: Vec3,
     pub normal: Vec3,
     pub emission: Vec3,
+    /// 1 when the camera ray met a surface (or scattered in a medium), else 0: alpha's sample.
+    pub coverage: f32,
+    /// The distance along the camera ray to what it met (0 when it met nothing).
+    pub depth: f32,
+    /// The object it met, plus one (0: none): `Object` index in the scene.
+    pub object: u32,
 }
 
 /// Image pixel (x, y)'s number in the film (`Frame::film_x`…), which seeds its random numbers:
@@ -250,7 +273,12 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         }
     }
     if hit.triangle == MISS {
-        let sky = path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf);
+        // A transparent film: the background seen directly adds nothing (alpha says where it is).
+        let sky = if path.depth == 0 && frame.transparent != 0 {
+            Vec3::ZERO
+        } else {
+            path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf)
+        };
         path.radiance += clamp_bounced(sky, frame, path.depth);
         if path.depth == 0
             && let Some(f) = path.first_hit.as_mut()
@@ -273,6 +301,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         f.albedo = first_hit_albedo(scene, material, tri, hit);
         let n = ng_raw.normalize();
         f.normal = if front { n } else { -n };
+        (f.coverage, f.depth, f.object) = (1.0, hit.t, tri.material + 1);
     }
     if material.kind == MaterialKind::Emissive.tag() || path.depth + 1 >= frame.max_depth {
         return false;
@@ -619,6 +648,7 @@ fn scatter_in_medium(
     {
         f.albedo = scattering_albedo(medium);
         f.normal = -path.direction;
+        (f.coverage, f.depth, f.object) = (1.0, (p - path.origin).length(), 0);
     }
     if path.depth + 1 >= frame.max_depth {
         return false;

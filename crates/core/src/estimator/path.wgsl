@@ -57,6 +57,9 @@ struct ShadowRay {
 var<private> aov_albedo: vec3<f32>;
 var<private> aov_normal: vec3<f32>;
 var<private> aov_emission: vec3<f32>;
+// The current sample's camera ray: (1 if it met a surface or scattered in a medium, else 0; the
+// distance to that; the object hit + 1, 0 for none): the w channels of the three means below.
+var<private> aov_hit: vec3<f32>;
 
 // Running means of a pixel's first-hit albedo, normal and directly seen light (the denoiser's
 // guides), kept at [3 slot], [3 slot + 1] and [3 slot + 2] of the entry file's `aovs` binding.
@@ -73,11 +76,26 @@ fn load_aov_means(slot: u32) -> AovMeans {
     return AovMeans(aovs[3u * slot], aovs[3u * slot + 1u], aovs[3u * slot + 2u]);
 }
 
-// Folds in the `n`-th sample's values.
+// Folds in the `n`-th sample's values: running means, except emission.w (the object id), which
+// keeps the first sample's (an id is never averaged).
 fn add_aov_sample(m: ptr<function, AovMeans>, values: AovMeans, n: f32) {
     (*m).albedo += (values.albedo - (*m).albedo) / n;
     (*m).normal += (values.normal - (*m).normal) / n;
+    let object = select((*m).emission.w, values.emission.w, n == 1.0);
     (*m).emission += (values.emission - (*m).emission) / n;
+    (*m).emission.w = object;
+}
+
+// A sample's guides as the means take them (`aov_*` and `aov_hit` in the w channels).
+fn aov_sample_values() -> AovMeans {
+    return AovMeans(vec4(aov_albedo, aov_hit.x), vec4(aov_normal, aov_hit.y), vec4(aov_emission, aov_hit.z));
+}
+
+fn reset_aov_sample() {
+    aov_albedo = vec3(0.0);
+    aov_normal = vec3(0.0);
+    aov_emission = vec3(0.0);
+    aov_hit = vec3(0.0);
 }
 
 fn store_aov_means(slot: u32, m: AovMeans) {
@@ -222,6 +240,7 @@ fn scatter_in_medium(path: ptr<function, PathState>, p: vec3<f32>, medium: Mediu
     if (WRITE_AOVS && (*path).depth == 0u) {
         aov_albedo = scattering_albedo(medium);
         aov_normal = -(*path).direction;
+        aov_hit = vec3(1.0, length(p - (*path).origin), 0.0);
     }
     if ((*path).depth + 1u >= frame.max_depth) {
         return false;
@@ -374,7 +393,9 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         }
     }
     if (hit.triangle == MISS) {
-        let sky = (*path).beta * escaped(direction, (*path).prev_bsdf_pdf);
+        // A transparent film: the background seen directly adds nothing (alpha says where it is).
+        let transparent = depth == 0u && frame.transparent != 0u;
+        let sky = select((*path).beta * escaped(direction, (*path).prev_bsdf_pdf), vec3(0.0), transparent);
         (*path).radiance += select(clamp_bounced(sky), sky, depth == 0u);
         if (WRITE_AOVS && depth == 0u) {
             aov_emission = sky;
@@ -388,6 +409,7 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     if (WRITE_AOVS && depth == 0u) {
         let n = normalize(ng_raw);
         aov_normal = select(-n, n, front);
+        aov_hit = vec3(1.0, hit.t, f32(tri.material + 1u));
         if (material.kind == MAT_EMISSIVE) {
             let e = material.emission;
             aov_albedo = e / max(max(e.x, max(e.y, e.z)), 1e-6);

@@ -218,7 +218,7 @@ fn frame_layout() -> StructLayout {
             film_y,
             film_width,
             film_height,
-            _pad0
+            transparent
         ]
     )
 }

@@ -129,7 +129,7 @@ impl<'a> LiveRenderer<'a> {
     pub(super) fn read_aovs(&self) -> Result<Option<Aovs>, String> {
         match self {
             LiveRenderer::Gpu(r) => r.read_aovs().map_err(|e| e.to_string()),
-            LiveRenderer::Cpu(c) => Ok(c.accumulation.guides().map(Aovs::from)),
+            LiveRenderer::Cpu(c) => Ok(Aovs::of_cpu(&c.accumulation)),
         }
     }
 }

@@ -1,0 +1,101 @@
+//! `render --transparent` and `--aov LIST`: the beauty with its alpha (EXR: premultiplied `A`, as
+//! the colour already leaves out the background; PNG: straight alpha, as Blender writes both) and
+//! the render passes as named layers of the same EXR (`rt_core::passes`).
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use rt_core::output::{ImageFormat, SampleCounts, View};
+use rt_core::passes::{Pass, PassInputs};
+use rt_core::{GpuScene, Scene};
+
+/// `--aov`'s list (one value to clap, which would take a `Vec` for repeated flags).
+#[derive(Clone, Debug)]
+pub struct PassList(pub Vec<Pass>);
+
+pub fn parse_pass_list(s: &str) -> Result<PassList, String> {
+    rt_core::passes::parse_passes(s).map(PassList)
+}
+
+/// Checks that the output can hold what was asked for, before anything renders.
+pub fn check(output: &Path, transparent: bool, passes: Option<&[Pass]>) -> Result<()> {
+    let format = ImageFormat::from_path(output)?;
+    if passes.is_some() && format != ImageFormat::Exr {
+        anyhow::bail!("--aov writes layers of an EXR: name the output .exr");
+    }
+    if transparent && !matches!(format, ImageFormat::Exr | ImageFormat::Png) {
+        anyhow::bail!("--transparent needs an output with alpha: .png or .exr");
+    }
+    Ok(())
+}
+
+/// Saves the image with its alpha and passes (atomically).
+pub fn save(
+    output: &Path,
+    image: &rt_gpu::Image,
+    aovs: &rt_gpu::Aovs,
+    scenes: (&Scene, &GpuScene),
+    passes: Option<&[Pass]>,
+    view: View,
+) -> Result<()> {
+    let (scene, gpu_scene) = scenes;
+    if aovs.hits.is_empty() {
+        anyhow::bail!("this render kept no coverage or depth (alpha and passes need them)");
+    }
+    let transparent = scene.settings.transparent;
+    let format = ImageFormat::from_path(output)?;
+    let bytes = if format == ImageFormat::Exr {
+        let mut extra = Vec::new();
+        if transparent {
+            extra.push(("A".to_string(), aovs.hits.coverage.clone()));
+        }
+        if let Some(passes) = passes {
+            let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+            let inputs = PassInputs {
+                scene,
+                frame: &frame,
+                albedo: &aovs.albedo,
+                normal: &aovs.normal,
+                hits: &aovs.hits,
+            };
+            extra.extend(rt_core::passes::pass_channels(passes, &inputs));
+        }
+        let counts = match &image.sample_counts {
+            Some(c) => SampleCounts::PerPixel(c),
+            None => SampleCounts::Uniform(image.samples_per_pixel),
+        };
+        rt_core::output::encode_exr_layers(
+            image.width,
+            image.height,
+            &image.pixels,
+            counts,
+            &extra,
+        )?
+    } else {
+        png_with_alpha(image, &aovs.hits.coverage, view)?
+    };
+    rt_core::output::write_atomically(output, &bytes)
+        .with_context(|| format!("saving {}", output.display()))
+}
+
+/// An 8-bit RGBA PNG with straight alpha: the premultiplied colour divided by the coverage, then
+/// shown through the view.
+fn png_with_alpha(image: &rt_gpu::Image, coverage: &[f32], view: View) -> Result<Vec<u8>> {
+    let mut rgba = Vec::with_capacity(image.pixels.len() * 4);
+    for (p, &alpha) in image.pixels.iter().zip(coverage) {
+        let straight = if alpha > 0.0 {
+            [p[0] / alpha, p[1] / alpha, p[2] / alpha]
+        } else {
+            [0.0; 3]
+        };
+        rgba.extend(view.to_srgb8(straight));
+        rgba.push((alpha.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
+    }
+    let buffer = image::RgbaImage::from_raw(image.width, image.height, rgba)
+        .context("the image size does not match its pixels")?;
+    let mut out = std::io::Cursor::new(Vec::new());
+    buffer
+        .write_to(&mut out, image::ImageFormat::Png)
+        .context("encoding the PNG")?;
+    Ok(out.into_inner())
+}
