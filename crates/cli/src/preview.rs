@@ -25,6 +25,10 @@ pub struct PreviewArgs {
     /// Exposure, view transform and white balance for 8-bit outputs, as `render`'s.
     #[command(flatten)]
     display: ViewArgs,
+    /// Draw the editor's floor grid too (left out by default: it is a viewport aid, not part of
+    /// the scene).
+    #[arg(long)]
+    grid: bool,
     /// GPU adapter: auto, lavapipe (also `cpu`), or part of an adapter's name.
     #[arg(long, default_value = "auto")]
     adapter: rt_gpu::AdapterChoice,
@@ -51,8 +55,11 @@ pub fn run(args: PreviewArgs) -> Result<()> {
         "{width}x{height} is larger than this adapter's textures ({limit} a side)"
     );
     let started = std::time::Instant::now();
-    let frame =
+    let mut frame =
         rt_preview::build_frame(&scene, &scene.camera, scene.bounds(), None, [width, height]);
+    if !args.grid {
+        frame.grid.clear();
+    }
     let pixels = rt_preview::render_image(&ctx, &frame)?;
     let elapsed = started.elapsed();
     let view = args.display.view();

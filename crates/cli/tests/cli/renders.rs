@@ -753,3 +753,44 @@ fn transparent_backgrounds_and_render_passes_are_written() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `rt-cli preview` leaves the editor's floor grid out of the image unless `--grid` asks for it.
+#[test]
+fn the_preview_image_has_no_grid_unless_asked() {
+    if !has_gpu() {
+        return;
+    }
+    let dir = temp_dir("preview-grid");
+    let scene = dir.join("ball.stl");
+    let ball = rt_core::shapes::uv_sphere(1.0, 8, 16);
+    let mut stl = String::from("solid ball\n");
+    for t in &ball.indices {
+        stl += "facet normal 0 0 0\nouter loop\n";
+        for &i in t {
+            let p = ball.positions[i as usize];
+            stl += &format!("vertex {} {} {}\n", p.x, p.y, p.z);
+        }
+        stl += "endloop\nendfacet\n";
+    }
+    stl += "endsolid ball\n";
+    std::fs::write(&scene, stl).unwrap();
+    let preview = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "preview",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--camera-from",
+            "0,2,6",
+        ];
+        args.extend(["-o", out.to_str().unwrap(), scene.to_str().unwrap()]);
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{stderr}");
+        image::open(out).unwrap().to_rgb8()
+    };
+    assert_ne!(preview("plain.png", &[]), preview("grid.png", &["--grid"]));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
