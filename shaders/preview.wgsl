@@ -80,7 +80,7 @@ struct PreviewObject {
     params: vec4<f32>,
     // x: the normal map's strength; y: the dielectric layer's F90 (glTF's `specular`; 0 without one).
     extra: vec4<f32>,
-    // x: selected, y: its images (TEX_*), z: has vertex normals.
+    // x: selected (outlined by outline.rs), y: its images (TEX_*), z: has vertex normals.
     flags: vec4<u32>,
 }
 
@@ -115,7 +115,9 @@ struct MeshVertex {
 // The object's material travels as flat varyings: a fragment reads no storage (lavapipe loads
 // storage one lane at a time).
 struct MeshVarying {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: the selection mask (outline.rs) draws the selected mesh again and must land on
+    // the very depths the frame's pass left.
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
@@ -455,11 +457,7 @@ fn surface(in: MeshVarying) -> vec4<f32> {
     o.params.y *= metal_rough.g;
     o.emission = vec4<f32>(o.emission.rgb * glow, o.emission.a);
     let shaded = shade(o, base, in.world, n);
-    var radiance = fogged(shaded.radiance, in.world);
-    if o.flags.x != 0u {
-        let rim = pow(1.0 - abs(dot(n, to_eye)), 2.0);
-        radiance = mix(radiance, vec3<f32>(1.0, 0.3, 0.02), 0.2 + 0.6 * rim);
-    }
+    let radiance = fogged(shaded.radiance, in.world);
     // Premultiplied by the material's alpha; the blended pass keeps 1 − a of what lies behind.
     let alpha = o.emission.a * sampled.a;
     return vec4<f32>(radiance * alpha, alpha * (1.0 - shaded.through));
@@ -468,6 +466,12 @@ fn surface(in: MeshVarying) -> vec4<f32> {
 @fragment
 fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
     return surface(in);
+}
+
+// The selection mask (outline.rs): 1 where the selected object is the nearest surface.
+@fragment
+fn fs_mask(in: MeshVarying) -> @location(0) vec4<f32> {
+    return vec4<f32>(1.0);
 }
 
 // The background: the environment seen along each pixel's view ray (a full-screen triangle at the

@@ -36,3 +36,26 @@ fn fs_blit(in: BlitVarying) -> @location(0) vec4<f32> {
     }
     return vec4<f32>(srgb_encode(c), 1.0);
 }
+
+// The selection outline (crates/preview/src/outline.rs): `blit_source` is the selection's mask;
+// a pixel outside it but within two pixels of it turns orange (linear radiance, blended over the
+// preview's image); elsewhere nothing is drawn.
+@fragment
+fn fs_outline(in: BlitVarying) -> @location(0) vec4<f32> {
+    let size = vec2<i32>(textureDimensions(blit_source));
+    let p = vec2<i32>(in.clip.xy);
+    if textureLoad(blit_source, p, 0).r > 0.5 {
+        discard;
+    }
+    var near = 0.0;
+    for (var dy = -2; dy <= 2; dy++) {
+        for (var dx = -2; dx <= 2; dx++) {
+            let q = clamp(p + vec2<i32>(dx, dy), vec2<i32>(0), size - vec2<i32>(1));
+            near = max(near, textureLoad(blit_source, q, 0).r);
+        }
+    }
+    if near < 0.5 {
+        discard;
+    }
+    return vec4<f32>(1.0, 0.3, 0.02, 1.0);
+}

@@ -278,3 +278,56 @@ fn the_preview_of_a_room_and_of_an_environment_lit_scene_per_object() {
         }
     }
 }
+
+/// A selected object keeps its own shading (the material being edited stays visible) and gets an
+/// orange outline just outside its silhouette, as Blender draws it: inside the object the image
+/// is the unselected one's, the pixels that change are orange and lie within two pixels of it.
+#[test]
+fn the_selection_is_outlined_not_tinted() {
+    let Some(ctx) = common::gpu() else { return };
+    let scene = showroom();
+    let draw = |selection| {
+        let frame = rt_preview::build_frame(
+            &scene,
+            &scene.camera,
+            scene.bounds(),
+            selection,
+            [WIDTH, HEIGHT],
+        );
+        rt_preview::render_image(ctx, &frame).expect("the preview renders")
+    };
+    let (plain, selected) = (draw(None), draw(Some(1)));
+    let hits = pixel_hits(&scene, WIDTH, HEIGHT);
+    let is_ball = |x: i64, y: i64| {
+        (0..WIDTH as i64).contains(&x)
+            && (0..HEIGHT as i64).contains(&y)
+            && hits[(y * WIDTH as i64 + x) as usize].is_some_and(|(o, _)| o == 1)
+    };
+    let (mut inside, mut outlined) = (0, 0);
+    for y in 0..HEIGHT as i64 {
+        for x in 0..WIDTH as i64 {
+            let i = (y * WIDTH as i64 + x) as usize;
+            let interior = (-2..=2).all(|dy| (-2..=2).all(|dx| is_ball(x + dx, y + dy)));
+            if interior {
+                inside += 1;
+                assert_eq!(
+                    plain[i], selected[i],
+                    "({x}, {y}) inside the selection changed"
+                );
+            }
+            if plain[i] != selected[i] {
+                let [r, g, b] = selected[i];
+                assert!(
+                    r > 0.9 && r > 2.0 * g && g > b,
+                    "({x}, {y}) changed to {:?}",
+                    selected[i]
+                );
+                let near = (-4..=4).any(|dy| (-4..=4).any(|dx| is_ball(x + dx, y + dy)));
+                assert!(near, "({x}, {y}) outlined far from the selection");
+                outlined += 1;
+            }
+        }
+    }
+    assert!(inside > 50, "the ball covers {inside} interior pixels");
+    assert!(outlined > 30, "only {outlined} outline pixels");
+}

@@ -13,6 +13,7 @@ pub mod bounce;
 mod cache;
 pub mod environment;
 mod frame;
+mod outline;
 mod pipelines;
 pub mod shadows;
 mod surfaces;
@@ -41,6 +42,8 @@ struct Target {
     color_texture: wgpu::Texture,
     color: wgpu::TextureView,
     depth: wgpu::TextureView,
+    /// The selection's mask (`outline.rs`).
+    mask: outline::Mask,
 }
 
 /// The shadow maps: one depth layer per view of `ShadowPlan`, and the key they were drawn for.
@@ -299,7 +302,8 @@ impl PreviewRenderer {
                 view: &target.depth,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
+                    // Kept for the selection's mask.
+                    store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
             }),
@@ -320,6 +324,33 @@ impl PreviewRenderer {
         }
         pass.set_pipeline(&self.pipelines.blended);
         self.draw_meshes(&mut pass, frame, true);
+        drop(pass);
+        if frame.objects.iter().any(|o| o.flags[0] != 0) {
+            let views = [&target.color, &target.depth];
+            self.pipelines
+                .outline
+                .draw(encoder, &target.mask, views, |pass| {
+                    pass.set_bind_group(0, view_bind_group, &[]);
+                    pass.set_bind_group(1, &self.white, &[]);
+                    self.draw_selected(pass, frame);
+                });
+        }
+    }
+
+    /// Draws the selected objects' meshes (the pipeline and bindings set by the caller).
+    fn draw_selected(&self, pass: &mut wgpu::RenderPass<'_>, frame: &PreviewFrame) {
+        for (i, mesh) in frame.meshes.iter().enumerate() {
+            if frame.objects.get(i).is_none_or(|o| o.flags[0] == 0) {
+                continue;
+            }
+            let Some(cached) = self.meshes.get(&(Arc::as_ptr(mesh) as usize)) else {
+                continue;
+            };
+            pass.set_vertex_buffer(0, cached.vertices.slice(..));
+            pass.set_index_buffer(cached.indices.slice(..), wgpu::IndexFormat::Uint32);
+            let instance = i as u32;
+            pass.draw_indexed(0..cached.index_count, 0, instance..instance + 1);
+        }
     }
 
     /// Draws `frame` and waits until the GPU has finished it (what a frame costs, for benchmarks).
@@ -541,6 +572,7 @@ impl PreviewRenderer {
             color: color_texture.create_view(&Default::default()),
             color_texture,
             depth,
+            mask: self.pipelines.outline.mask(device, size),
         });
     }
 }

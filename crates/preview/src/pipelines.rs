@@ -11,6 +11,7 @@ pub(super) struct Pipelines {
     pub(super) background: wgpu::RenderPipeline,
     pub(super) grid: wgpu::RenderPipeline,
     pub(super) shadow: wgpu::RenderPipeline,
+    pub(super) outline: super::outline::Outline,
     pub(super) view_layout: wgpu::BindGroupLayout,
     pub(super) shadow_layout: wgpu::BindGroupLayout,
     pub(super) texture_layout: wgpu::BindGroupLayout,
@@ -101,6 +102,12 @@ impl Pipelines {
         let [view_layout, shadow_layout, texture_layout] = bind_group_layouts(device);
         let draw = draw_pipelines(device, &module, [&view_layout, &texture_layout]);
         let shadow = shadow_pipeline(device, &module, &shadow_layout);
+        let outline = super::outline::Outline::new(
+            device,
+            &module,
+            [&view_layout, &texture_layout],
+            mesh_buffer(),
+        );
         let [sampler, clamped, shadow_sampler] = samplers(device);
         Pipelines {
             opaque: draw.opaque,
@@ -108,6 +115,7 @@ impl Pipelines {
             background: draw.background,
             grid: draw.grid,
             shadow,
+            outline,
             view_layout,
             shadow_layout,
             texture_layout,
