@@ -14,6 +14,7 @@ mod cache;
 pub mod environment;
 mod frame;
 mod outline;
+pub use outline::image_layout;
 mod pipelines;
 pub mod shadows;
 mod surfaces;
@@ -101,6 +102,30 @@ struct EnvironmentTextures {
     key: u64,
     sharp: wgpu::TextureView,
     blur: wgpu::TextureView,
+}
+
+/// A 2D image of `size` for the offscreen target (colour, depth, the selection's mask).
+fn target_texture(
+    device: &wgpu::Device,
+    label: &str,
+    size: [u32; 2],
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
 
 /// The preview's GPU resources, created once per device: pipelines, the view and objects buffers,
@@ -538,22 +563,7 @@ impl PreviewRenderer {
         if self.target.as_ref().is_some_and(|t| t.size == size) {
             return;
         }
-        let texture = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size[0],
-                    height: size[1],
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let texture = |label, format, usage| target_texture(device, label, size, format, usage);
         let color_texture = texture(
             "preview colour",
             COLOR_FORMAT,

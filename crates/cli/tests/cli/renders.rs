@@ -381,25 +381,28 @@ fn fog_from_the_command_line() {
     assert!(changed * 2 > clear.len(), "fog changed {changed} pixels");
 }
 
+/// `mesh` as an ASCII STL (facet normals left zero, as some exporters write them).
+fn ascii_stl(mesh: &rt_core::Mesh) -> String {
+    let mut stl = String::from("solid ball\n");
+    for t in &mesh.indices {
+        stl += "facet normal 0 0 0\nouter loop\n";
+        for &i in t {
+            let p = mesh.positions[i as usize];
+            stl += &format!("vertex {} {} {}\n", p.x, p.y, p.z);
+        }
+        stl += "endloop\nendfacet\n";
+    }
+    stl + "endsolid ball\n"
+}
+
 /// An STL renders on the CPU backend, flat by default and smoothly with `--smooth-normals` (another
 /// image, and another again at a 5° crease, which keeps this ball's facets); a value needs `=`,
 /// so the scene path after the flag stays the scene.
 #[test]
 fn an_stl_renders_flat_or_smooth() {
     let dir = temp_dir("stl");
-    let sphere = rt_core::shapes::uv_sphere(1.0, 6, 12);
-    let mut stl = String::from("solid ball\n");
-    for t in &sphere.indices {
-        stl += "facet normal 0 0 0\nouter loop\n";
-        for &i in t {
-            let p = sphere.positions[i as usize];
-            stl += &format!("vertex {} {} {}\n", p.x, p.y, p.z);
-        }
-        stl += "endloop\nendfacet\n";
-    }
-    stl += "endsolid ball\n";
     let scene = dir.join("ball.stl");
-    std::fs::write(&scene, stl).unwrap();
+    std::fs::write(&scene, ascii_stl(&rt_core::shapes::uv_sphere(1.0, 6, 12))).unwrap();
     let render = |extra: &[&str], name: &str| {
         let out = dir.join(name);
         let mut args = vec![
@@ -762,18 +765,7 @@ fn the_preview_image_has_no_grid_unless_asked() {
     }
     let dir = temp_dir("preview-grid");
     let scene = dir.join("ball.stl");
-    let ball = rt_core::shapes::uv_sphere(1.0, 8, 16);
-    let mut stl = String::from("solid ball\n");
-    for t in &ball.indices {
-        stl += "facet normal 0 0 0\nouter loop\n";
-        for &i in t {
-            let p = ball.positions[i as usize];
-            stl += &format!("vertex {} {} {}\n", p.x, p.y, p.z);
-        }
-        stl += "endloop\nendfacet\n";
-    }
-    stl += "endsolid ball\n";
-    std::fs::write(&scene, stl).unwrap();
+    std::fs::write(&scene, ascii_stl(&rt_core::shapes::uv_sphere(1.0, 8, 16))).unwrap();
     let preview = |name: &str, extra: &[&str]| {
         let out = dir.join(name);
         let mut args = vec![
