@@ -42,60 +42,38 @@ pub fn save(
     if aovs.hits.is_empty() {
         anyhow::bail!("this render kept no coverage or depth (alpha and passes need them)");
     }
-    let transparent = scene.settings.transparent;
     let format = ImageFormat::from_path(output)?;
-    let bytes = if format == ImageFormat::Exr {
-        let mut extra = Vec::new();
-        if transparent {
-            extra.push(("A".to_string(), aovs.hits.coverage.clone()));
-        }
-        if let Some(passes) = passes {
-            let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
-            let inputs = PassInputs {
-                scene,
-                frame: &frame,
-                albedo: &aovs.albedo,
-                normal: &aovs.normal,
-                hits: &aovs.hits,
-            };
-            extra.extend(rt_core::passes::pass_channels(passes, &inputs));
-        }
-        let counts = match &image.sample_counts {
-            Some(c) => SampleCounts::PerPixel(c),
-            None => SampleCounts::Uniform(image.samples_per_pixel),
+    let mut extra = Vec::new();
+    if let Some(passes) = passes {
+        let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+        let inputs = PassInputs {
+            scene,
+            frame: &frame,
+            albedo: &aovs.albedo,
+            normal: &aovs.normal,
+            hits: &aovs.hits,
         };
-        rt_core::output::encode_exr_layers(
-            image.width,
-            image.height,
+        extra.extend(rt_core::passes::pass_channels(passes, &inputs));
+    }
+    let counts = match &image.sample_counts {
+        Some(c) => SampleCounts::PerPixel(c),
+        None => SampleCounts::Uniform(image.samples_per_pixel),
+    };
+    let size = [image.width, image.height];
+    let bytes = if scene.settings.transparent {
+        let coverage = &aovs.hits.coverage;
+        rt_core::output::encode_with_alpha(
+            format,
+            size,
             &image.pixels,
             counts,
+            coverage,
             &extra,
+            view,
         )?
     } else {
-        png_with_alpha(image, &aovs.hits.coverage, view)?
+        rt_core::output::encode_exr_layers(size[0], size[1], &image.pixels, counts, &extra)?
     };
     rt_core::output::write_atomically(output, &bytes)
         .with_context(|| format!("saving {}", output.display()))
-}
-
-/// An 8-bit RGBA PNG with straight alpha: the premultiplied colour divided by the coverage, then
-/// shown through the view.
-fn png_with_alpha(image: &rt_gpu::Image, coverage: &[f32], view: View) -> Result<Vec<u8>> {
-    let mut rgba = Vec::with_capacity(image.pixels.len() * 4);
-    for (p, &alpha) in image.pixels.iter().zip(coverage) {
-        let straight = if alpha > 0.0 {
-            [p[0] / alpha, p[1] / alpha, p[2] / alpha]
-        } else {
-            [0.0; 3]
-        };
-        rgba.extend(view.to_srgb8(straight));
-        rgba.push((alpha.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
-    }
-    let buffer = image::RgbaImage::from_raw(image.width, image.height, rgba)
-        .context("the image size does not match its pixels")?;
-    let mut out = std::io::Cursor::new(Vec::new());
-    buffer
-        .write_to(&mut out, image::ImageFormat::Png)
-        .context("encoding the PNG")?;
-    Ok(out.into_inner())
 }

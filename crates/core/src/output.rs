@@ -327,6 +327,55 @@ pub fn encode_exr_layers(
     Ok(out.into_inner())
 }
 
+/// A render on a transparent film (`RenderSettings::transparent`) with its alpha, `coverage`:
+/// EXR with the colour as rendered (premultiplied: the background added nothing) and an `A`
+/// channel beside the variance and `extra` layers; PNG 8-bit RGBA with straight alpha (the colour
+/// divided by alpha, then `view`), as Blender writes both. Other formats hold no alpha.
+pub fn encode_with_alpha(
+    format: ImageFormat,
+    [width, height]: [u32; 2],
+    pixels: &[[f32; 4]],
+    counts: SampleCounts,
+    coverage: &[f32],
+    extra: &[(String, Vec<f32>)],
+    view: impl Into<View>,
+) -> Result<Vec<u8>> {
+    if coverage.len() != pixels.len() {
+        return Err(Error::Scene("the alpha does not match the image".into()));
+    }
+    match format {
+        ImageFormat::Exr => {
+            let mut layers = vec![("A".to_string(), coverage.to_vec())];
+            layers.extend_from_slice(extra);
+            encode_exr_layers(width, height, pixels, counts, &layers)
+        }
+        ImageFormat::Png => {
+            let view = view.into();
+            let balance = view.balance();
+            let mut rgba = Vec::with_capacity(pixels.len() * 4);
+            for (p, &alpha) in pixels.iter().zip(coverage) {
+                let straight = if alpha > 0.0 {
+                    [p[0] / alpha, p[1] / alpha, p[2] / alpha]
+                } else {
+                    [0.0; 3]
+                };
+                rgba.extend(view.balanced_to_srgb8(straight, balance));
+                rgba.push((alpha.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
+            }
+            let buffer = image::RgbaImage::from_raw(width, height, rgba)
+                .ok_or_else(|| Error::Scene("image size does not match its pixels".into()))?;
+            let mut out = std::io::Cursor::new(Vec::new());
+            buffer
+                .write_to(&mut out, image::ImageFormat::Png)
+                .map_err(|e| Error::Scene(format!("encoding the PNG failed: {e}")))?;
+            Ok(out.into_inner())
+        }
+        _ => Err(Error::Scene(
+            "a transparent render needs an output with alpha: PNG or EXR".into(),
+        )),
+    }
+}
+
 /// Saves a render: EXR files get the variance channel beside the colour; other formats are
 /// tone-mapped colour only.
 pub fn save_render(

@@ -226,6 +226,23 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
     {
         return rt_core::output::save_image(path, image.width, image.height, denoised, view.view());
     }
+    let coverage = view.job.aovs.as_ref().map(|a| &a.hits.coverage);
+    if view.job.scene.settings.transparent
+        && let Some(coverage) = coverage.filter(|c| c.len() == image.pixels.len())
+    {
+        let format = rt_core::output::ImageFormat::from_path(path)?;
+        let size = [image.width, image.height];
+        let bytes = rt_core::output::encode_with_alpha(
+            format,
+            size,
+            &image.pixels,
+            image.counts(),
+            coverage,
+            &[],
+            view.view(),
+        )?;
+        return rt_core::output::write_atomically(path, &bytes);
+    }
     rt_core::output::save_render(
         path,
         image.width,
@@ -254,5 +271,53 @@ fn white_balance_control(ui: &mut egui::Ui, kelvin: &mut Option<f32>) {
                 .suffix(" K"),
         )
         .on_hover_text("3200 K neutralises tungsten light; 6500 K changes nothing");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A render of a transparent scene saves its alpha: PNG RGBA with straight colour, EXR with
+    /// an `A` channel; an opaque one saves RGB as before.
+    #[test]
+    fn transparent_renders_save_their_alpha() {
+        let image = rt_gpu::Image::from_rgb(2, 1, &[[0.25, 0.25, 0.25], [0.0; 3]]);
+        let aovs = rt_gpu::Aovs {
+            hits: rt_core::first_hits::FirstHits {
+                coverage: vec![0.5, 0.0],
+                ..rt_core::first_hits::FirstHits::new(2)
+            },
+            ..Default::default()
+        };
+        let mut job = crate::render_job::RenderJob::finished(image, Some(aovs), None);
+        job.scene.settings.transparent = true;
+        let view = RenderView {
+            id: 1,
+            job,
+            open: true,
+            exposure: 0.0,
+            transform: Default::default(),
+            white_balance_k: None,
+            zoom: 1.0,
+            texture: None,
+            texture_key: None,
+            show_denoised: false,
+            denoised: None,
+            denoiser: None,
+        };
+        let dir = std::env::temp_dir().join(format!("rt-alpha-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let png = dir.join("a.png");
+        save(&view, &png).unwrap();
+        let read = image::open(&png).unwrap().to_rgba8();
+        // 0.25 premultiplied by alpha 0.5 is 0.5 straight: sRGB 188.
+        assert_eq!(read.get_pixel(0, 0).0, [188, 188, 188, 128]);
+        assert_eq!(read.get_pixel(1, 0).0[3], 0);
+        let exr = dir.join("a.exr");
+        save(&view, &exr).unwrap();
+        let read = image::open(&exr).unwrap().to_rgba32f();
+        assert_eq!(read.get_pixel(0, 0).0, [0.25, 0.25, 0.25, 0.5]);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

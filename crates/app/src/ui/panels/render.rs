@@ -62,6 +62,11 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
         .on_hover_text("Sample lights directly: far less noise with small lights");
     ui.checkbox(&mut settings.russian_roulette, "Russian roulette")
         .on_hover_text("End dim paths early at random (unbiased, faster)");
+    ui.checkbox(&mut settings.transparent, "Transparent background")
+        .on_hover_text(
+            "Leave the background out of the image (it still lights the scene) and save PNG or \
+             EXR with alpha, as Cycles' Film > Transparent",
+        );
     ui.horizontal(|ui| {
         use rt_core::math::rng::SamplerKind;
         ui.label("Sampler")
