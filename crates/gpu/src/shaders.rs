@@ -98,6 +98,10 @@ pub const SHADING: WgslFile = (
     "crates/core/src/estimator/shading.wgsl",
     rt_core::estimator::shading::WGSL,
 );
+pub const CAMERA: WgslFile = (
+    "crates/core/src/estimator/camera.wgsl",
+    rt_core::estimator::camera::WGSL,
+);
 pub const PATH: WgslFile = (
     "crates/core/src/estimator/path.wgsl",
     rt_core::estimator::path::WGSL,
@@ -142,6 +146,7 @@ pub const FILES: &[WgslFile] = &[
     LIGHT,
     MEDIA,
     SHADING,
+    CAMERA,
     PATH,
     ACCUMULATION,
     SHADER_TRACE,
@@ -188,6 +193,7 @@ macro_rules! tracing_module {
                 LIGHT,
                 MEDIA,
                 SHADING,
+                CAMERA,
                 PATH,
                 ACCUMULATION,
                 $entry,

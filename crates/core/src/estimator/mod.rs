@@ -24,7 +24,7 @@
 //! undoes the 1/η² that radiance takes inside glass.
 //!
 //! Each file is the twin of the WGSL file of its stem beside it (`bvh.rs` of `bvh.wgsl`,
-//! `cwbvh.rs` of `cwbvh.wgsl`, `path.rs` of `path.wgsl`, `light.rs` of `light.wgsl`, `light_tree.rs` of
+//! `cwbvh.rs` of `cwbvh.wgsl`, `camera.rs` of `camera.wgsl`, `path.rs` of `path.wgsl`, `light.rs` of `light.wgsl`, `light_tree.rs` of
 //! `light_tree.wgsl`, `shading.rs` of `shading.wgsl`, `media.rs` of `media.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
 //! of `texture.wgsl`), exported
 //! as its `WGSL` for `rt_gpu::shaders` to compose; the math they share with the rest of rt-core
@@ -34,6 +34,7 @@
 //! samples and statistically at many.
 
 pub mod bvh;
+pub mod camera;
 pub mod cwbvh;
 mod hit;
 pub mod light;
@@ -44,11 +45,12 @@ pub mod shading;
 pub mod surface;
 pub mod texture;
 
+pub use camera::{camera_ray, pixel_centre_ray};
 pub use hit::trace_brute_force;
 pub use light::{
     LightSample, ShadowMedia, delta_lights_at, direct_light, power_heuristic, sample_light,
 };
-pub use path::{FirstHit, camera_ray, pixel_centre_ray, radiance, trace_path};
+pub use path::{FirstHit, radiance, trace_path};
 pub use surface::{PbrInputs, Surface, SurfaceSample};
 pub use texture::{Slot, alpha_coin, base_color_texture, coverage, stops_ray, wrap_index};
 
