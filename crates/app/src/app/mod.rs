@@ -216,6 +216,24 @@ pub fn opens_path_traced(device_type: wgpu::DeviceType, live_on_cpu: bool) -> bo
 }
 
 impl RenderView {
+    /// A viewer of `job` as it opens: exposure 0, the standard view, no white balance, 1:1.
+    pub fn new(id: u64, job: RenderJob) -> Self {
+        RenderView {
+            id,
+            job,
+            open: true,
+            exposure: 0.0,
+            transform: Default::default(),
+            white_balance_k: None,
+            zoom: 1.0,
+            texture: None,
+            texture_key: None,
+            show_denoised: false,
+            denoised: None,
+            denoiser: None,
+        }
+    }
+
     /// The exposure and view transform the viewer shows and saves with.
     pub fn view(&self) -> rt_core::output::View {
         rt_core::output::View {

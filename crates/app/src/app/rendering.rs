@@ -31,20 +31,7 @@ impl RtApp {
     pub(super) fn add_render_view(&mut self, job: RenderJob) -> u64 {
         let id = self.next_render_id;
         self.next_render_id += 1;
-        self.renders.push(RenderView {
-            id,
-            job,
-            open: true,
-            exposure: 0.0,
-            transform: Default::default(),
-            white_balance_k: None,
-            zoom: 1.0,
-            texture: None,
-            texture_key: None,
-            show_denoised: false,
-            denoised: None,
-            denoiser: None,
-        });
+        self.renders.push(RenderView::new(id, job));
         id
     }
 

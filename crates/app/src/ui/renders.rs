@@ -292,20 +292,7 @@ mod tests {
         };
         let mut job = crate::render_job::RenderJob::finished(image, Some(aovs), None);
         job.scene.settings.transparent = true;
-        let view = RenderView {
-            id: 1,
-            job,
-            open: true,
-            exposure: 0.0,
-            transform: Default::default(),
-            white_balance_k: None,
-            zoom: 1.0,
-            texture: None,
-            texture_key: None,
-            show_denoised: false,
-            denoised: None,
-            denoiser: None,
-        };
+        let view = RenderView::new(1, job);
         let dir = std::env::temp_dir().join(format!("rt-alpha-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let png = dir.join("a.png");
