@@ -40,7 +40,9 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
     }
     let found = rayQueryGetCommittedIntersection(&query);
     if (found.kind == RAY_QUERY_INTERSECTION_NONE) {
-        return Hit(t_max, MISS, 0.0, 0.0);
+        return Hit(t_max, MISS, 0.0, 0.0, NO_INSTANCE);
     }
-    return Hit(found.t, found.primitive_index, found.barycentrics.x, found.barycentrics.y);
+    return Hit(
+        found.t, found.primitive_index, found.barycentrics.x, found.barycentrics.y, NO_INSTANCE
+    );
 }

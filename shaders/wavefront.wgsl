@@ -86,7 +86,7 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let y = frame.tile_row_begin + slot / frame.width;
     var rng = rng_init(film_pixel(x, y), frame.sample_offset + frame.sample_base + i / band, frame.seed);
     let path = start_path(x, y, &rng);
-    paths[i] = WavePath(path, rng, Hit(0.0, MISS, 0.0, 0.0));
+    paths[i] = WavePath(path, rng, Hit(0.0, MISS, 0.0, 0.0, NO_INSTANCE));
     ray_queues[i] = i;
     if (WRITE_AOVS) {
         // Stay zero if the path never reaches a vertex (max depth 0).

@@ -137,11 +137,12 @@ pub fn camera_media(gpu_scene: &GpuScene, origin: glam::Vec3) -> u32 {
     let mut inside = None;
     for d in probes {
         let d = d.normalize();
-        let hit = crate::estimator::trace(gpu_scene, origin, d, f32::MAX);
+        let mut hit = crate::estimator::trace(gpu_scene, origin, d, f32::MAX);
         if hit.triangle == u32::MAX {
             return 0;
         }
-        let tri = &gpu_scene.triangles[hit.triangle as usize];
+        let mut placed = None;
+        let tri = crate::estimator::instances::hit_triangle(gpu_scene, &mut hit, &mut placed).tri;
         let (v0, v1, v2) = (
             glam::Vec3::from(tri.v0),
             glam::Vec3::from(tri.v1),

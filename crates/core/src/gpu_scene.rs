@@ -54,25 +54,16 @@ pub struct GpuScene {
     /// in world space; empty unless some normal-mapped object needs them.
     pub tangents: Vec<[f32; 4]>,
     pub features: SceneFeatures,
-    /// The largest side of the triangles' bounding box (0 without triangles).
+    /// Copies of shared meshes placed in the world (`crate::instances`; built only by
+    /// `build_instanced`, for the CPU backend): their meshes' triangles, in their own space, follow
+    /// the world-space ones, each under its own BVH.
+    pub instances: Vec<crate::instances::Instance>,
+    /// The top-level BVH2 over `instances`' world boxes (leaves index `instances`).
+    pub instance_nodes: Vec<BvhNode>,
+    /// The largest side of the scene's bounding box (0 without triangles).
     pub extent: f32,
     pub bvh_depth: usize,
     pub bvh_build_time: Duration,
-}
-
-fn triangle_extent(triangles: &[Triangle]) -> f32 {
-    let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
-    for t in triangles {
-        for v in [t.v0, t.v1, t.v2] {
-            lo = lo.min(v.into());
-            hi = hi.max(v.into());
-        }
-    }
-    if triangles.is_empty() {
-        0.0
-    } else {
-        (hi - lo).max_element()
-    }
 }
 
 impl GpuScene {
@@ -84,45 +75,99 @@ impl GpuScene {
         Self::build_with_layout(scene, quality, BvhLayout::default())
     }
 
+    /// The scene flattened: every object's triangles in world space, copies of shared meshes
+    /// included (what the GPU kernels trace).
     pub fn build_with_layout(
         scene: &Scene,
         quality: BvhQuality,
         layout: BvhLayout,
     ) -> Result<Self> {
-        let triangles = scene.triangle_count() as u64;
+        Self::build_geometry(scene, quality, layout, false)
+    }
+
+    /// The scene with each mesh that objects share stored once, under its own BVH, and those
+    /// objects as instances of it (`crate::instances`): what the CPU backend traces, in memory
+    /// that grows with the unique triangles.
+    pub fn build_instanced(scene: &Scene, quality: BvhQuality, layout: BvhLayout) -> Result<Self> {
+        Self::build_geometry(scene, quality, layout, true)
+    }
+
+    fn build_geometry(
+        scene: &Scene,
+        quality: BvhQuality,
+        layout: BvhLayout,
+        share_meshes: bool,
+    ) -> Result<Self> {
+        let mut out = GpuScene::default();
+        let texture_offsets = out.pack_texels(scene)?;
+        let mut tangents = Vec::with_capacity(scene.objects.len());
+        for object in &scene.objects {
+            let (material, object_tangents) =
+                object_material(scene, object, &texture_offsets, &mut out.features)?;
+            out.materials.push(material);
+            tangents.push(object_tangents);
+        }
+        let groups = match share_meshes {
+            true => crate::instances::shared_meshes(scene, &out.materials),
+            false => Vec::new(),
+        };
+        let mut instanced = vec![false; scene.objects.len()];
+        for &i in groups.iter().flatten() {
+            instanced[i] = true;
+        }
+        let unique: u64 = (scene.objects.iter().zip(&instanced))
+            .filter(|(_, shared)| !**shared)
+            .map(|(o, _)| o.mesh.indices.len() as u64)
+            .chain(
+                groups
+                    .iter()
+                    .map(|g| scene.objects[g[0]].mesh.indices.len() as u64),
+            )
+            .sum();
         let texels: u64 = scene
             .textures
             .iter()
             .map(|t| u64::from(t.width) * u64::from(t.height))
             .sum();
         crate::memory_budget::check_fits(
-            triangles,
-            crate::memory_budget::build_bytes(triangles, texels),
+            unique,
+            crate::memory_budget::build_bytes(unique, texels),
             crate::memory_budget::available_bytes(),
         )?;
-        let mut out = GpuScene::default();
-        let texture_offsets = out.pack_texels(scene)?;
-        // World-space corners for the BVH (in the builder's form, the only copy) and each
-        // triangle's (object, face); corners and attributes are read from the meshes again when
-        // the triangles are written in BVH order.
-        let mut world = Vec::with_capacity(scene.triangle_count());
-        let mut faces: Vec<(u32, u32)> = Vec::with_capacity(scene.triangle_count());
-        let mut frames = Vec::with_capacity(scene.objects.len());
-        for (object_index, object) in scene.objects.iter().enumerate() {
-            let (material, tangents) =
-                object_material(scene, object, &texture_offsets, &mut out.features)?;
-            out.materials.push(material);
-            let frame = ObjectFrame::new(object, object_index as u32, tangents)?;
-            for face in 0..frame.faces() {
-                let [v0, v1, v2] = frame.world(face).map(glam::Vec3A::from);
-                world.push(obvhs::triangle::Triangle { v0, v1, v2 });
-                faces.push((object_index as u32, face as u32));
+        // The objects drawn in world space first, under the BVH at node 0.
+        let mut frames = Vec::new();
+        for (index, object) in scene.objects.iter().enumerate() {
+            if !instanced[index] {
+                let frame = ObjectFrame::new(object, index as u32, tangents[index].take())?;
+                frames.push(frame);
             }
-            frames.push(frame);
         }
-        let triangle_order = out.build_bvh(&world, quality, layout)?;
-        drop(world);
-        out.push_in_order(&faces, &frames, &triangle_order);
+        let Some((_, world_box)) = out.add_mesh_bvh(&frames, quality, layout)? else {
+            // A coordinate too large for the wide BVH's grid: all of it binary.
+            return Self::build_geometry(scene, quality, BvhLayout::Bvh2, share_meshes);
+        };
+        drop(frames);
+        let mut bounds = world_box;
+        // Each shared mesh once, in its own space, then its objects as instances.
+        let mut boxes = Vec::new();
+        for group in &groups {
+            let representative = crate::instances::in_mesh_space(&scene.objects[group[0]]);
+            let frame =
+                ObjectFrame::new(&representative, group[0] as u32, tangents[group[0]].take())?;
+            let Some((root, (lo, hi))) = out.add_mesh_bvh(&[frame], quality, layout)? else {
+                return Self::build_geometry(scene, quality, BvhLayout::Bvh2, share_meshes);
+            };
+            for &i in group {
+                let object = &scene.objects[i];
+                ObjectFrame::check_transform(object)?;
+                let instance = crate::instances::Instance::new(object, i as u32, root);
+                let (wlo, whi) = instance.world_box(lo, hi);
+                bounds = (bounds.0.min(wlo), bounds.1.max(whi));
+                boxes.push((wlo, whi));
+                out.instances.push(instance);
+            }
+        }
+        out.build_instance_bvh(&boxes, quality)?;
         // The kernel reads shading attributes only for triangles that have them.
         if out
             .triangles
@@ -131,7 +176,11 @@ impl GpuScene {
         {
             out.shading = Vec::new();
         }
-        out.extent = triangle_extent(&out.triangles);
+        out.extent = if bounds.0.x <= bounds.1.x {
+            (bounds.1 - bounds.0).max_element()
+        } else {
+            0.0
+        };
         out.light(scene)?;
         out.albedo_tables = crate::math::layers::albedo_tables_for(&out.materials);
         Ok(out)
@@ -160,38 +209,91 @@ impl GpuScene {
         Ok(texture_offsets)
     }
 
-    /// The BVH over `world` in `layout` (the binary one where the wide one cannot hold the
-    /// coordinates); returns the triangles' order in its leaves.
-    fn build_bvh(
+    /// Appends the triangles of `frames` (in BVH order, with their attributes) and a BVH over
+    /// them in `layout`, its node indices following the nodes already there; returns its root and
+    /// the triangles' box. The first call sets the scene's layout; `None` where the wide BVH's grid
+    /// cannot hold the coordinates (the caller builds all binary instead).
+    fn add_mesh_bvh(
         &mut self,
-        world: &[obvhs::triangle::Triangle],
+        frames: &[ObjectFrame],
         quality: BvhQuality,
         layout: BvhLayout,
-    ) -> Result<Vec<u32>> {
-        self.layout = layout;
-        Ok(match layout {
-            BvhLayout::Bvh2 => {
-                let bvh = build_bvh_over(world, quality).map_err(Error::Scene)?;
-                (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
-                self.nodes = bvh.nodes;
-                bvh.triangle_order
+    ) -> Result<Option<(u32, (Vec3, Vec3))>> {
+        // Corners in the builder's form (the only copy) and each triangle's (frame, face); the
+        // corners and attributes are read from the meshes again when written in BVH order.
+        let count: usize = frames.iter().map(ObjectFrame::faces).sum();
+        let mut corners = Vec::with_capacity(count);
+        let mut faces: Vec<(u32, u32)> = Vec::with_capacity(count);
+        let mut bounds = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for (f, frame) in frames.iter().enumerate() {
+            for face in 0..frame.faces() {
+                let [v0, v1, v2] = frame.world(face);
+                bounds = (
+                    bounds.0.min(v0.min(v1).min(v2)),
+                    bounds.1.max(v0.max(v1).max(v2)),
+                );
+                let [v0, v1, v2] = [v0, v1, v2].map(glam::Vec3A::from);
+                corners.push(obvhs::triangle::Triangle { v0, v1, v2 });
+                faces.push((f as u32, face as u32));
             }
-            BvhLayout::Cwbvh => match build_wide_bvh_over(world, quality) {
+        }
+        self.layout = layout;
+        let node_base = self.nodes.len().max(self.wide_nodes.len()) as u32;
+        let triangle_base = self.triangles.len() as u32;
+        let (order, depth, time) = match layout {
+            BvhLayout::Bvh2 => {
+                let bvh = build_bvh_over(&corners, quality).map_err(Error::Scene)?;
+                let rebased = bvh
+                    .nodes
+                    .iter()
+                    .map(|n| rebase(n, node_base, triangle_base));
+                self.nodes.extend(rebased);
+                (bvh.triangle_order, bvh.depth, bvh.build_time)
+            }
+            BvhLayout::Cwbvh => match build_wide_bvh_over(&corners, quality) {
                 Ok(bvh) => {
-                    (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
-                    self.wide_nodes = bvh.nodes;
-                    bvh.triangle_order
+                    self.wide_nodes
+                        .extend(bvh.nodes.iter().map(|n| WideBvhNode {
+                            child_base: n.child_base + node_base,
+                            primitive_base: n.primitive_base + triangle_base,
+                            ..*n
+                        }));
+                    (bvh.triangle_order, bvh.depth, bvh.build_time)
                 }
                 Err(why) => {
                     log::warn!("{why}; using the binary BVH instead");
-                    self.layout = BvhLayout::Bvh2;
-                    let bvh = build_bvh_over(world, quality).map_err(Error::Scene)?;
-                    (self.bvh_depth, self.bvh_build_time) = (bvh.depth, bvh.build_time);
-                    self.nodes = bvh.nodes;
-                    bvh.triangle_order
+                    return Ok(None);
                 }
             },
-        })
+        };
+        self.bvh_depth = self.bvh_depth.max(depth);
+        self.bvh_build_time += time;
+        drop(corners);
+        self.push_in_order(&faces, frames, &order);
+        Ok(Some((node_base, bounds)))
+    }
+
+    /// The top-level BVH2 over the instances' world `boxes` (each as a flat triangle across its
+    /// box's diagonal, which the builder bounds by the box), with the instances in its leaf order.
+    fn build_instance_bvh(&mut self, boxes: &[(Vec3, Vec3)], quality: BvhQuality) -> Result<()> {
+        if self.instances.is_empty() {
+            return Ok(());
+        }
+        let diagonals: Vec<_> = boxes
+            .iter()
+            .map(|&(lo, hi)| obvhs::triangle::Triangle {
+                v0: lo.into(),
+                v1: hi.into(),
+                v2: lo.into(),
+            })
+            .collect();
+        let bvh = build_bvh_over(&diagonals, quality).map_err(Error::Scene)?;
+        self.instance_nodes = bvh.nodes;
+        let placed = std::mem::take(&mut self.instances);
+        self.instances = (bvh.triangle_order.iter())
+            .map(|&i| placed[i as usize].clone())
+            .collect();
+        Ok(())
     }
 
     /// The triangles and their shading attributes (and tangents, with normal maps) in BVH order.
@@ -199,9 +301,9 @@ impl GpuScene {
         self.triangles.reserve(faces.len());
         self.shading.reserve(faces.len());
         for &i in order {
-            let (object, face) = faces[i as usize];
-            let mut p = frames[object as usize].world(face as usize);
-            let (material, normals, uvs, t, colors) = frames[object as usize].data(face as usize);
+            let (frame, face) = faces[i as usize];
+            let mut p = frames[frame as usize].world(face as usize);
+            let (material, normals, uvs, t, colors) = frames[frame as usize].data(face as usize);
             let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
             let (mut uvs, mut t, mut colors) = (uvs, t, colors);
             let mut normals = normals;
@@ -257,7 +359,8 @@ impl GpuScene {
     /// from; `None` when an object gains or loses a normal map (its tangents are built with the
     /// geometry).
     pub fn restyle(&self, scene: &Scene) -> Result<Option<GpuScene>> {
-        if scene.objects.len() != self.materials.len() {
+        // Which objects are instances follows their materials (emitters stay in world space).
+        if scene.objects.len() != self.materials.len() || !self.instances.is_empty() {
             return Ok(None);
         }
         let mut texture_offsets = Vec::with_capacity(scene.textures.len());
@@ -392,5 +495,20 @@ impl GpuScene {
             ),
             ("tangents", bytes(self.tangents.len(), 16)),
         ]
+    }
+}
+
+/// A BVH2 node of a mesh whose nodes begin at `node_base` and triangles at `triangle_base`, in the
+/// scene's arrays: inner children and leaves moved along (child 0, no child, stays 0).
+fn rebase(node: &BvhNode, node_base: u32, triangle_base: u32) -> BvhNode {
+    let child = |index: u32, count: u32| match (count, index) {
+        (0, 0) => 0,
+        (0, _) => index + node_base,
+        _ => index + triangle_base,
+    };
+    BvhNode {
+        left: child(node.left, node.left_count),
+        right: child(node.right, node.right_count),
+        ..*node
     }
 }

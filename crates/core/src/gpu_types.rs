@@ -541,7 +541,13 @@ pub struct Hit {
     pub triangle: u32, // 4
     pub b1: f32,       // 8
     pub b2: f32,       // 12
+    /// The instance whose mesh holds `triangle` (`GpuScene::instances`), or `NO_INSTANCE` for a
+    /// triangle stored in world space.
+    pub instance: u32, // 16
 }
+
+/// `Hit::instance` of a triangle stored in world space.
+pub const NO_INSTANCE: u32 = u32::MAX;
 
 mod layouts;
 pub use layouts::{StructLayout, layouts};

@@ -263,7 +263,10 @@ struct Hit {
     triangle: u32,   // 4
     b1: f32,         // 8
     b2: f32,         // 12
+    instance: u32,   // 16: NO_INSTANCE (the kernels trace world-space triangles only, so far)
 }
+
+const NO_INSTANCE: u32 = 0xffffffffu;
 
 // DeltaLight.kind: crates/core/src/light_kind.rs `LightTag` (tests/shaders.rs checks the values).
 const LIGHT_NONE: u32 = 0u;

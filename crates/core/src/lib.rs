@@ -21,6 +21,7 @@ pub mod frame;
 mod gpu_material;
 pub mod gpu_scene;
 pub mod gpu_types;
+pub mod instances;
 mod kernel_indices;
 pub mod light;
 pub mod light_kind;

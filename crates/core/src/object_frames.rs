@@ -40,13 +40,8 @@ impl<'a> ObjectFrame<'a> {
     pub fn new(object: &'a Object, index: u32, tangents: Option<Vec<[f32; 4]>>) -> Result<Self> {
         let mesh = &object.mesh;
         let label = || format!("object '{}'", object.name);
+        Self::check_transform(object)?;
         let m = object.transform.matrix();
-        if !m.is_finite() || m.determinant() == 0.0 {
-            return Err(Error::Scene(format!(
-                "{}: transform is singular or not finite",
-                label()
-            )));
-        }
         for (i, p) in mesh.positions.iter().enumerate() {
             if !p.is_finite() {
                 return Err(Error::Scene(format!(
@@ -82,6 +77,18 @@ impl<'a> ObjectFrame<'a> {
             colored,
             tangents,
         })
+    }
+
+    /// An error naming `object` where its transform is singular or not finite.
+    pub fn check_transform(object: &Object) -> Result<()> {
+        let m = object.transform.matrix();
+        if !m.is_finite() || m.determinant() == 0.0 {
+            return Err(Error::Scene(format!(
+                "object '{}': transform is singular or not finite",
+                object.name
+            )));
+        }
+        Ok(())
     }
 
     pub fn faces(&self) -> usize {

@@ -11,6 +11,11 @@ use crate::error::{GpuError, Result};
 /// kernels read it at. Textures beyond what one buffer may hold are box-filtered down
 /// (`GpuScene::with_textures_within`), with a warning saying what and why, rather than failing.
 pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wgpu::Buffer); 11]> {
+    if !scene.instances.is_empty() {
+        return Err(GpuError::Scene(rt_core::Error::Scene(
+            "the GPU kernels trace flattened scenes (GpuScene::build), not instances".into(),
+        )));
+    }
     let limits = ctx.device.limits();
     let budget = limits
         .max_storage_buffer_binding_size

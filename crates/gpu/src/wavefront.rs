@@ -24,7 +24,7 @@ pub const WAVE_GROUP: u32 = 64;
 pub const MAX_WAVE_PATHS: u32 = 1 << 18;
 
 /// Size of `WavePath` in `shaders/wavefront.wgsl` (checked against naga in tests/shaders.rs).
-pub const WAVE_PATH_BYTES: u64 = 112;
+pub const WAVE_PATH_BYTES: u64 = 128;
 
 /// Size of `ShadowRay` in `crates/core/src/estimator/path.wgsl` (checked against naga in tests/shaders.rs).
 pub const SHADOW_RAY_BYTES: u64 = 48;

@@ -15,7 +15,7 @@ var<private> stack_base: u32;
 
 fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
     let ray = prepare_ray(origin, direction);
-    var hit = Hit(t_max, MISS, 0.0, 0.0);
+    var hit = Hit(t_max, MISS, 0.0, 0.0, NO_INSTANCE);
     var sp = 0u;
     var index = 0u;
     loop {
@@ -29,7 +29,7 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
             let i = select(node.right + (k - nl), node.left + k, k < nl);
             let h = intersect_triangle_at(ray, i, hit.t);
             if (h.x > 0.0) {
-                hit = Hit(h.x, i, h.y, h.z);
+                hit = Hit(h.x, i, h.y, h.z, NO_INSTANCE);
                 if (any_hit) {
                     return hit;
                 }

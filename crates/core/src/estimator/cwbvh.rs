@@ -73,7 +73,7 @@ fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, 
     hits
 }
 
-/// Nearest hit through `scene.wide_nodes`, or with `any_hit` the first found. Compiled twice, for
+/// Nearest hit through the wide BVH in `scene.wide_nodes` whose root is node `root`, or with `any_hit` the first found. Compiled twice, for
 /// the baseline x86-64 and for CPUs with AVX2, FMA, BMI and LZCNT (`multiversion` picks one at run
 /// time): the same operations either way, so the same hits bit for bit (the tests compare both over
 /// 10⁶ rays); the newer instructions (bit counts and scans, three-operand vector forms) make it
@@ -81,30 +81,39 @@ fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, 
 #[multiversion::multiversion(targets("x86_64+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 pub(super) fn trace_wide(
     scene: &GpuScene,
+    root: u32,
     origin: Vec3,
     direction: Vec3,
     t_max: f32,
     any_hit: bool,
 ) -> Hit {
-    traverse(scene, origin, direction, t_max, any_hit)
+    traverse(scene, root, origin, direction, t_max, any_hit)
 }
 
 /// `trace_wide` as the baseline x86-64 runs it, for the tests.
 #[cfg(test)]
 fn trace_wide_baseline(
     scene: &GpuScene,
+    root: u32,
     origin: Vec3,
     direction: Vec3,
     t_max: f32,
     any_hit: bool,
 ) -> Hit {
-    traverse(scene, origin, direction, t_max, any_hit)
+    traverse(scene, root, origin, direction, t_max, any_hit)
 }
 
 /// The traversal itself, inlined into each of `trace_wide`'s versions with the node and leaf
 /// tests (so that they too are compiled for its instructions).
 #[inline(always)]
-fn traverse(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32, any_hit: bool) -> Hit {
+fn traverse(
+    scene: &GpuScene,
+    root: u32,
+    origin: Vec3,
+    direction: Vec3,
+    t_max: f32,
+    any_hit: bool,
+) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let permuted = permuted_origin(&ray);
     let mut hit = miss(t_max);
@@ -117,8 +126,9 @@ fn traverse(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32, any_hit
     // dropped in both twins): no allocation per ray.
     let mut stack = [(0u32, 0u32); crate::bvh::MAX_WIDE_BVH_DEPTH];
     let mut sp = 0;
-    // The root is the one inner child (rank 7, no inner slots before it) of a virtual node at 0.
-    let mut group = (0u32, 0x8000_0000u32);
+    // The root is the one inner child (rank 7, no inner slots before it) of a virtual node whose
+    // children begin at `root`.
+    let mut group = (root, 0x8000_0000u32);
     let mut triangles = (0u32, 0u32);
     loop {
         if triangles.1 != 0 && test_triangles(scene, &ray, permuted, triangles, &mut hit, any_hit) {

@@ -54,7 +54,7 @@ fn wide_child_hits(node: WideBvhNode, ray: PreparedRay, oct_inv4: u32, neg: vec3
 
 fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
     let ray = prepare_ray(origin, direction);
-    var hit = Hit(t_max, MISS, 0.0, 0.0);
+    var hit = Hit(t_max, MISS, 0.0, 0.0, NO_INSTANCE);
     let oct_inv = select(0u, 4u, direction.x >= 0.0) | select(0u, 2u, direction.y >= 0.0)
         | select(0u, 1u, direction.z >= 0.0);
     let oct_inv4 = oct_inv * 0x01010101u;
@@ -73,7 +73,7 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
             let i = tris.x + bit;
             let h = intersect_triangle_at(ray, i, hit.t);
             if (h.x > 0.0) {
-                hit = Hit(h.x, i, h.y, h.z);
+                hit = Hit(h.x, i, h.y, h.z, NO_INSTANCE);
                 if (any_hit) {
                     return hit;
                 }

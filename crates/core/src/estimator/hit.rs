@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::Hit;
+use crate::gpu_types::{Hit, NO_INSTANCE};
 use crate::math::intersect::{PreparedRay, intersect_triangle};
 use crate::math::intersect_lanes::{LANES, intersect_triangles};
 
@@ -19,6 +19,7 @@ pub(super) fn miss(t_max: f32) -> Hit {
         triangle: MISS,
         b1: 0.0,
         b2: 0.0,
+        instance: NO_INSTANCE,
     }
 }
 
@@ -35,6 +36,7 @@ pub(super) fn test_triangle(scene: &GpuScene, ray: &PreparedRay, i: u32, hit: &m
             triangle: i,
             b1,
             b2,
+            instance: NO_INSTANCE,
         };
         return true;
     }
@@ -80,6 +82,7 @@ pub(super) fn test_triangles(
                     triangle: i,
                     b1,
                     b2,
+                    instance: NO_INSTANCE,
                 };
                 if any_hit {
                     return true;

@@ -157,6 +157,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
 /// vertex) added to `path.radiance`, then the next direction sampled, the throughput updated and
 /// Russian roulette played. Returns whether the path goes on.
 pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit) -> bool {
+    let mut hit = hit;
     let lights_sampled =
         frame.emitter_count > 0 || frame.env_pick > 0.0 || frame.light_sampler == 1;
     // Whether the scene has media at all (the kernels' `HAS_MEDIA`): without, none of their
@@ -194,18 +195,20 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         }
         return false;
     }
-    let tri = &scene.triangles[hit.triangle as usize];
+    let mut placed = None;
+    let surface_triangle = super::instances::hit_triangle(scene, &mut hit, &mut placed);
+    let tri = surface_triangle.tri;
     let material = &scene.materials[tri.material as usize];
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let ng_raw = (v1 - v0).cross(v2 - v0);
     let front = path.direction.dot(ng_raw) < 0.0;
     if front {
-        add_emission(scene, frame, path, hit, ng_raw);
+        add_emission(scene, frame, path, hit, tri, ng_raw);
     }
     if path.depth == 0
         && let Some(f) = path.first_hit.as_mut()
     {
-        f.albedo = first_hit_albedo(scene, material, tri, hit);
+        f.albedo = first_hit_albedo(scene, material, &surface_triangle, hit);
         let n = ng_raw.normalize();
         f.normal = if front { n } else { -n };
         (f.coverage, f.depth, f.object) = (1.0, hit.t, tri.material + 1);
@@ -223,7 +226,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     let mut ns = ng;
     let mut n_interpolated = ng;
     if tri.has_normals & crate::gpu_types::HAS_NORMALS != 0 {
-        let shading = &scene.shading[hit.triangle as usize];
+        let shading = surface_triangle.shading;
         let n = Vec3::from(shading.n0) * b0
             + Vec3::from(shading.n1) * hit.b1
             + Vec3::from(shading.n2) * hit.b2;
@@ -235,7 +238,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         };
     }
     let uv = (tri.has_uvs != 0).then(|| {
-        let shading = &scene.shading[hit.triangle as usize];
+        let shading = surface_triangle.shading;
         Vec2::from(shading.uv0) * b0
             + Vec2::from(shading.uv1) * hit.b1
             + Vec2::from(shading.uv2) * hit.b2
@@ -247,7 +250,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         _ => Vec3::from(material.color),
     };
     let color = if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
-        color * vertex_color(&scene.shading[hit.triangle as usize], [b0, hit.b1, hit.b2])
+        color * vertex_color(surface_triangle.shading, [b0, hit.b1, hit.b2])
     } else {
         color
     };
@@ -256,7 +259,7 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         inputs = pbr_inputs_at(
             scene,
             material,
-            tri,
+            &surface_triangle,
             hit,
             uv,
             n_interpolated,
@@ -311,8 +314,14 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
 /// The light a front face at `hit` emits toward the path (the WGSL `add_emission`), weighted by
 /// multiple importance sampling against next-event estimation where that could have found it,
 /// added to the path's radiance (and to the first hit's emission).
-fn add_emission(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit, ng_raw: Vec3) {
-    let tri = &scene.triangles[hit.triangle as usize];
+fn add_emission(
+    scene: &GpuScene,
+    frame: &Frame,
+    path: &mut PathState,
+    hit: Hit,
+    tri: &crate::gpu_types::Triangle,
+    ng_raw: Vec3,
+) {
     let material = &scene.materials[tri.material as usize];
     let cos_out = -path.direction.dot(ng_raw.normalize());
     let le = surface_emission(
@@ -359,7 +368,7 @@ fn add_emission(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: Hit,
 fn pbr_inputs_at(
     scene: &GpuScene,
     material: &crate::gpu_types::Material,
-    tri: &crate::gpu_types::Triangle,
+    surface_triangle: &super::instances::HitTriangle<'_>,
     hit: Hit,
     uv: Option<Vec2>,
     n_interpolated: Vec3,
@@ -367,6 +376,7 @@ fn pbr_inputs_at(
     ns: &mut Vec3,
     path: &mut PathState,
 ) -> PbrInputs {
+    let tri = surface_triangle.tri;
     let b0 = 1.0 - hit.b1 - hit.b2;
     let lobe = material.lobe_of::<PbrLobe>();
     let mut inputs = match uv {
@@ -381,12 +391,7 @@ fn pbr_inputs_at(
             return None;
         }
         let t = Slot::of(material, slot).sample(scene, uv, false).truncate();
-        let i = 3 * hit.triangle as usize;
-        let corners = [
-            scene.tangents[i],
-            scene.tangents[i + 1],
-            scene.tangents[i + 2],
-        ];
+        let corners = *surface_triangle.tangents;
         let n = normal_mapped(n_interpolated, corners, [b0, hit.b1, hit.b2], t, scale);
         Some(if n.dot(ng) < 0.0 { -n } else { n })
     };
@@ -411,12 +416,7 @@ fn pbr_inputs_at(
         inputs.anisotropy_direction = if material.flags & crate::gpu_types::TANGENTS != 0
             && tri.has_normals & crate::gpu_types::HAS_NORMALS != 0
         {
-            let i = 3 * hit.triangle as usize;
-            let corners = [
-                scene.tangents[i],
-                scene.tangents[i + 1],
-                scene.tangents[i + 2],
-            ];
+            let corners = *surface_triangle.tangents;
             anisotropy_tangent(
                 *ns,
                 corners,
@@ -602,14 +602,14 @@ fn scatter_in_medium(
 fn first_hit_albedo(
     scene: &GpuScene,
     material: &crate::gpu_types::Material,
-    tri: &crate::gpu_types::Triangle,
+    surface_triangle: &super::instances::HitTriangle<'_>,
     hit: Hit,
 ) -> Vec3 {
     if material.kind == MaterialKind::Emissive.tag() {
         let e = Vec3::from(material.emission);
         return e / e.max_element().max(1e-6);
     }
-    let shading = || &scene.shading[hit.triangle as usize];
+    let (tri, shading) = (surface_triangle.tri, || surface_triangle.shading);
     let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
     let mut a = Vec3::from(material.color);
     if !material.texture(SLOT_BASE).is_empty() && tri.has_uvs != 0 {

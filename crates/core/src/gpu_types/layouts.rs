@@ -166,7 +166,7 @@ fn scene_layouts() -> Vec<StructLayout> {
             [position, kind, direction, cos_inner, power, cos_outer]
         ),
         layout!("Ray", Ray, [origin, t_max, direction, _pad]),
-        layout!("Hit", Hit, [t, triangle, b1, b2]),
+        layout!("Hit", Hit, [t, triangle, b1, b2, instance]),
     ]
 }
 

@@ -124,12 +124,30 @@ fn hex(digest: impl AsRef<[u8]>) -> String {
 
 /// `scene_hash`, `assets_hash` and `settings_hash` of a scene about to be rendered.
 pub fn scene_hashes(scene: &Scene, gpu_scene: &GpuScene) -> (String, String, String) {
+    // The geometry as the scene states it (each shared mesh once, then every object's transform),
+    // not as one build stores it: a CPU node's instanced build and a GPU node's flattened one of
+    // the same scene render parts that merge.
     let mut geometry = Sha256::new();
-    geometry.update(bytemuck::cast_slice(&gpu_scene.triangles));
-    geometry.update(bytemuck::cast_slice(&gpu_scene.shading));
+    let mut meshes_seen = std::collections::HashMap::new();
+    for object in &scene.objects {
+        let mesh = &object.mesh;
+        // Which mesh by its order of first use (an address differs between processes).
+        let next = meshes_seen.len() as u64;
+        let id = *meshes_seen
+            .entry(std::sync::Arc::as_ptr(mesh))
+            .or_insert(next);
+        geometry.update(id.to_le_bytes());
+        if id == next {
+            geometry.update(bytemuck::cast_slice(&mesh.positions));
+            geometry.update(bytemuck::cast_slice(&mesh.indices));
+            for attribute in [&mesh.normals, &mesh.colors] {
+                geometry.update(bytemuck::cast_slice(attribute.as_deref().unwrap_or(&[])));
+            }
+            geometry.update(bytemuck::cast_slice(mesh.uvs.as_deref().unwrap_or(&[])));
+        }
+        geometry.update(bytemuck::bytes_of(&object.transform.matrix()));
+    }
     geometry.update(bytemuck::cast_slice(&gpu_scene.materials));
-    geometry.update(bytemuck::cast_slice(&gpu_scene.tangents));
-    geometry.update(bytemuck::cast_slice(&gpu_scene.emitters));
     geometry.update(bytemuck::cast_slice(&gpu_scene.delta_lights));
     let mut assets = Sha256::new();
     assets.update(bytemuck::cast_slice(&gpu_scene.texels));

@@ -223,8 +223,8 @@ fn the_dispatched_traversal_equals_the_baseline_bit_for_bit() {
         };
         let any_hit = i % 3 == 0;
         let bits = |h: Hit| (h.t.to_bits(), h.triangle, h.b1.to_bits(), h.b2.to_bits());
-        let dispatched = trace_wide(&scene, origin, direction, t_max, any_hit);
-        let baseline = trace_wide_baseline(&scene, origin, direction, t_max, any_hit);
+        let dispatched = trace_wide(&scene, 0, origin, direction, t_max, any_hit);
+        let baseline = trace_wide_baseline(&scene, 0, origin, direction, t_max, any_hit);
         assert_eq!(
             bits(dispatched),
             bits(baseline),

@@ -1,0 +1,146 @@
+//! Instances: a mesh that several objects share is stored once, in its own space, under its own
+//! BVH, and each object that uses it is an instance — the mesh's BVH root, the object's transform
+//! and material — found through a top-level BVH over the instances' world boxes (as Embree's and
+//! pbrt-v4's object instances, Mitsuba's `shapegroup`/`instance`, Cycles' object instancing).
+//! Memory grows with the unique triangles, not with the copies: a forest of one tree costs one
+//! tree.
+//!
+//! Which objects become instances: those whose mesh (the same `Arc`) at least one other object
+//! uses with the same triangle records (vertex colours applied or not, tangents or not). Emitters
+//! and alpha-tested objects stay in world space: the emitter table, the light tree and the
+//! alpha test read world-space triangles with their own material, exactly as before.
+//!
+//! Only the CPU backend traces instances so far (`GpuScene::build_instanced`); the GPU kernels
+//! take scenes built flat.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use glam::{Affine3A, Mat3A, Vec3};
+
+use crate::estimator::instances::PlacedTriangle;
+use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, HAS_NORMALS, Material, TANGENTS};
+use crate::math::sampling::luminance;
+use crate::scene::{Mesh, Object, Scene};
+
+/// One placed copy of a shared mesh.
+#[derive(Clone, Debug)]
+pub struct Instance {
+    pub to_world: Affine3A,
+    pub to_object: Affine3A,
+    /// The inverse transpose of `to_world`'s linear part, for normals.
+    pub normal_to_world: Mat3A,
+    /// Its mesh's BVH root in the scene's node array (of its layout).
+    pub root: u32,
+    /// The object it draws (its material).
+    pub material: u32,
+    /// Whether the transform mirrors (a negative determinant): the winding turns over.
+    pub mirrored: bool,
+}
+
+impl Instance {
+    pub fn new(object: &Object, index: u32, root: u32) -> Self {
+        let m = object.transform.matrix();
+        let to_world = Affine3A::from_mat4(m);
+        Instance {
+            to_world,
+            to_object: to_world.inverse(),
+            normal_to_world: Mat3A::from(object.transform.normal_matrix()),
+            root,
+            material: index,
+            mirrored: m.determinant() < 0.0,
+        }
+    }
+
+    /// Turns `t`, a triangle of this instance's mesh in the mesh's space, into the world-space
+    /// triangle the flattened scene holds (`ObjectFrame` of `object_frames`): corners placed,
+    /// normals by the inverse transpose, tangents by the transform (their handedness flips with
+    /// a mirror, whose corners 1 and 2 swap).
+    pub fn place(&self, t: &mut PlacedTriangle) {
+        let p = |v: [f32; 3]| self.to_world.transform_point3(Vec3::from(v)).to_array();
+        let tri = &mut t.tri;
+        (tri.v0, tri.v1, tri.v2) = (p(tri.v0), p(tri.v1), p(tri.v2));
+        tri.material = self.material;
+        let s = &mut t.shading;
+        if tri.has_normals & HAS_NORMALS != 0 {
+            let n = |v: [f32; 3]| {
+                (self.normal_to_world * Vec3::from(v))
+                    .normalize_or_zero()
+                    .to_array()
+            };
+            (s.n0, s.n1, s.n2) = (n(s.n0), n(s.n1), n(s.n2));
+        }
+        let sign = if self.mirrored { -1.0 } else { 1.0 };
+        let tangents = &mut t.tangents;
+        for c in tangents.iter_mut() {
+            let d = self.to_world.transform_vector3(Vec3::new(c[0], c[1], c[2]));
+            let d = d.normalize_or_zero();
+            *c = [d.x, d.y, d.z, c[3] * sign];
+        }
+        if self.mirrored {
+            std::mem::swap(&mut tri.v1, &mut tri.v2);
+            std::mem::swap(&mut s.n1, &mut s.n2);
+            std::mem::swap(&mut s.c1, &mut s.c2);
+            std::mem::swap(&mut s.uv1, &mut s.uv2);
+            tangents.swap(1, 2);
+        }
+    }
+
+    /// The world box of a mesh whose box in its own space is `lo..hi`.
+    pub fn world_box(&self, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
+        let (mut wlo, mut whi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for corner in 0..8 {
+            let pick = |bit: u32, a: f32, b: f32| if corner & bit == 0 { a } else { b };
+            let c = Vec3::new(
+                pick(1, lo.x, hi.x),
+                pick(2, lo.y, hi.y),
+                pick(4, lo.z, hi.z),
+            );
+            let w = self.to_world.transform_point3(c);
+            (wlo, whi) = (wlo.min(w), whi.max(w));
+        }
+        (wlo, whi)
+    }
+}
+
+/// The objects that share meshes, grouped: each group's objects draw the same triangle records
+/// (same mesh, same use of vertex colours and tangents), at least two to a group; `materials`
+/// are the objects' packed materials. Objects in no group stay in world space.
+pub fn shared_meshes(scene: &Scene, materials: &[Material]) -> Vec<Vec<usize>> {
+    let mut groups: HashMap<(*const Mesh, bool, bool), Vec<usize>> = HashMap::new();
+    for (index, (object, material)) in scene.objects.iter().zip(materials).enumerate() {
+        let emits = luminance(Vec3::from(material.emission)) > 0.0;
+        if emits || material.flags & (ALPHA_MASK | ALPHA_BLEND) != 0 {
+            continue;
+        }
+        let count = object.mesh.positions.len();
+        let colored = object
+            .mesh
+            .colors
+            .as_ref()
+            .is_some_and(|c| c.len() == count)
+            && matches!(
+                object.material,
+                crate::material::Material::Lambertian { .. } | crate::material::Material::Pbr(_)
+            );
+        let key = (
+            Arc::as_ptr(&object.mesh),
+            colored,
+            material.flags & TANGENTS != 0,
+        );
+        groups.entry(key).or_default().push(index);
+    }
+    let mut groups: Vec<Vec<usize>> = groups.into_values().filter(|g| g.len() > 1).collect();
+    // In scene order, whatever the hash map's.
+    groups.sort_by_key(|g| g[0]);
+    groups
+}
+
+/// `object` as its mesh's representative: the same, placed at the origin unturned and unscaled,
+/// so that its triangles come out in the mesh's own space.
+pub fn in_mesh_space(object: &Object) -> Object {
+    Object {
+        transform: crate::scene::Transform::default(),
+        ..object.clone()
+    }
+}
