@@ -347,17 +347,32 @@ impl Scene {
     }
 
     /// World-space bounds of all objects, or `None` for an empty scene.
+    /// Copies of one mesh that differ only in where they stand (a grid, a crowd placed without
+    /// turning) share the box of their mesh under their turn and scale, found once: an exact box
+    /// at the cost of one pass over each mesh's vertices, not one over every copy's.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut bounds: Option<(Vec3, Vec3)> = None;
+        let mut placed: std::collections::HashMap<(*const Mesh, [u32; 9]), Option<(Vec3, Vec3)>> =
+            std::collections::HashMap::new();
         for object in &self.objects {
             let m = object.transform.matrix();
-            for p in &object.mesh.positions {
-                let p = m.transform_point3(*p);
-                bounds = Some(match bounds {
-                    None => (p, p),
-                    Some((lo, hi)) => (lo.min(p), hi.max(p)),
-                });
-            }
+            let linear = glam::Mat3::from_mat4(m);
+            let key = (
+                Arc::as_ptr(&object.mesh),
+                linear.to_cols_array().map(f32::to_bits),
+            );
+            let unmoved = *placed.entry(key).or_insert_with(|| {
+                let mut b: Option<(Vec3, Vec3)> = None;
+                for p in &object.mesh.positions {
+                    let p = linear * *p;
+                    b = Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))));
+                }
+                b
+            });
+            let Some((lo, hi)) = unmoved else { continue };
+            let t = m.w_axis.truncate();
+            let (lo, hi) = (lo + t, hi + t);
+            bounds = Some(bounds.map_or((lo, hi), |(blo, bhi)| (blo.min(lo), bhi.max(hi))));
         }
         bounds
     }
