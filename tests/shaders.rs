@@ -100,6 +100,7 @@ fn every_estimator_wgsl_file_has_its_rust_twin_beside_it() {
             "shaders/ray_query.wgsl",
             "shaders/trace.wgsl",
             "shaders/trace_rays.wgsl",
+            "shaders/trace_rays_bvh.wgsl",
             "shaders/wavefront.wgsl",
         ]
     );

@@ -16,17 +16,21 @@ use std::sync::atomic::AtomicBool;
 /// to rounding, after checking the image means agree within four standard errors and that both
 /// count the same rays, but for the paths of the pixels that differ.
 fn agreement(scene: &Scene) -> Option<f64> {
+    agreement_with(scene, &GpuScene::build(scene).unwrap())
+}
+
+/// `agreement` over `gpu_scene`, a build of `scene`.
+fn agreement_with(scene: &Scene, gpu_scene: &GpuScene) -> Option<f64> {
     let ctx = gpu()?;
-    let gpu_scene = GpuScene::build(scene).unwrap();
     let mut options = RenderOptions::default();
     options.tuning.count_rays = true;
-    let mut renderer = Renderer::for_scene(ctx, scene, &gpu_scene, options).unwrap();
+    let mut renderer = Renderer::for_scene(ctx, scene, gpu_scene, options).unwrap();
     let spp = scene.settings.samples_per_pixel;
     renderer.render(spp, |_| true).unwrap();
     let gpu_image = renderer.read_image().unwrap();
-    let frame = rt_core::frame::frame_for(scene, &gpu_scene).unwrap();
+    let frame = rt_core::frame::frame_for(scene, gpu_scene).unwrap();
     let mut cpu = CpuAccumulation::new(&frame, 0, None, false);
-    assert!(cpu.add_batch(&gpu_scene, &frame, spp, &AtomicBool::new(false)));
+    assert!(cpu.add_batch(gpu_scene, &frame, spp, &AtomicBool::new(false)));
     let cpu_pixels = cpu.pixels();
     let agree = gpu_image
         .pixels
@@ -103,6 +107,58 @@ fn the_cpu_backend_renders_the_gpu_image_on_every_reference_scene() {
         );
         assert!(
             fraction >= bound,
+            "{name}: only {:.1}% of pixels agree",
+            100.0 * fraction
+        );
+    }
+}
+
+/// `scene` with a second copy of each of its solid objects (whose mesh has height) sharing the
+/// first's mesh: behind it, turned, shrunk and mirrored, so that the build makes instances.
+fn with_mirrored_copies(mut scene: Scene) -> Scene {
+    let copies: Vec<_> = (scene.objects.iter())
+        .filter(|o| {
+            let ys = o.mesh.positions.iter().map(|p| p.y);
+            let (lo, hi) = ys.fold((f32::MAX, f32::MIN), |(l, h), y| (l.min(y), h.max(y)));
+            hi - lo > 0.01
+        })
+        .map(|o| {
+            let mut copy = o.clone();
+            copy.name = format!("{} (copy)", o.name);
+            let t = &mut copy.transform;
+            t.translation = [
+                t.translation[0] - 0.9,
+                t.translation[1],
+                t.translation[2] - 1.0,
+            ];
+            t.rotation_deg[1] += 40.0;
+            t.scale = [-0.8 * t.scale[0], 0.8 * t.scale[1], 0.8 * t.scale[2]];
+            copy
+        })
+        .collect();
+    scene.objects.extend(copies);
+    scene
+}
+
+#[test]
+fn the_gpu_traces_instances_as_the_cpu_backend_does() {
+    let mut textured = with_mirrored_copies(textured_scene_with_normals_metal_glass_and_lens());
+    textured.settings.samples_per_pixel = 4;
+    let mut pbr = with_mirrored_copies(pbr_scene_with_environment(24, 18));
+    pbr.settings.samples_per_pixel = 8;
+    for (name, scene) in [("textured, mirrored", textured), ("PBR, normal maps", pbr)] {
+        let layout = rt_core::bvh::BvhLayout::default();
+        let built = GpuScene::build_instanced(&scene, Default::default(), layout).unwrap();
+        assert!(!built.instances.is_empty(), "{name}: nothing instanced");
+        let Some(fraction) = agreement_with(&scene, &built) else {
+            return;
+        };
+        eprintln!(
+            "{name}: {:.1}% of pixels agree to rounding",
+            100.0 * fraction
+        );
+        assert!(
+            fraction >= 0.95,
             "{name}: only {:.1}% of pixels agree",
             100.0 * fraction
         );

@@ -168,6 +168,7 @@ impl GpuScene {
             }
         }
         out.build_instance_bvh(&boxes, quality)?;
+        out.features.instances = !out.instances.is_empty();
         // The kernel reads shading attributes only for triangles that have them.
         if out
             .triangles
@@ -463,7 +464,7 @@ impl GpuScene {
     }
 
     /// Bytes each buffer needs, by buffer name, for limit checks and reports.
-    pub fn buffer_sizes(&self) -> [(&'static str, u64); 9] {
+    pub fn buffer_sizes(&self) -> [(&'static str, u64); 11] {
         let bytes = |len: usize, size: usize| (len * size) as u64;
         [
             (
@@ -494,6 +495,17 @@ impl GpuScene {
                 bytes(self.env_texels.len(), size_of::<gpu_types::EnvTexel>()),
             ),
             ("tangents", bytes(self.tangents.len(), 16)),
+            (
+                "instances",
+                bytes(
+                    self.instances.len(),
+                    size_of::<crate::instances::Instance>(),
+                ),
+            ),
+            (
+                "instance nodes",
+                bytes(self.instance_nodes.len(), size_of::<BvhNode>()),
+            ),
         ]
     }
 }

@@ -19,6 +19,12 @@
 // without normal maps.
 @group(0) @binding(22) var<storage, read> tangents: array<vec4<f32>>;
 
+// Shared meshes (instances.rs): the placed copies and the top-level BVH2 over their world boxes
+// (placeholders, never read, without instances).
+override HAS_INSTANCES: bool = false;
+@group(0) @binding(27) var<storage, read> instances: array<Instance>;
+@group(0) @binding(28) var<storage, read> instance_nodes: array<BvhNode>;
+
 // Adaptive sampling: per pixel of the tile, 0 while it takes samples, else the sample count it
 // stopped at (the renderer sets it between batches from each pixel's noise estimate). Without
 // ADAPTIVE the buffer is a placeholder that is never read.

@@ -268,6 +268,18 @@ struct Hit {
 
 const NO_INSTANCE: u32 = 0xffffffffu;
 
+// One placed copy of a shared mesh: rows of 3x4 affine matrices, a point p going to
+// dot(r.xyz, p) + r.w per row r. Rust mirror: rt_core::instances::Instance.
+struct Instance {
+    to_object: array<vec4<f32>, 3>, // 0: world to the mesh's space
+    to_world: array<vec4<f32>, 3>,  // 48: the mesh's space to world
+    root: u32,                      // 96: its mesh's BVH root
+    material: u32,                  // 100: the object it draws
+    mirrored: u32,                  // 104: 1 where the transform mirrors
+    _pad: u32,                      // 108
+}
+
+
 // DeltaLight.kind: crates/core/src/light_kind.rs `LightTag` (tests/shaders.rs checks the values).
 const LIGHT_NONE: u32 = 0u;
 const LIGHT_POINT: u32 = 1u;

@@ -16,72 +16,122 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use glam::{Affine3A, Mat3A, Vec3};
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
 
 use crate::estimator::instances::PlacedTriangle;
 use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, HAS_NORMALS, Material, TANGENTS};
 use crate::math::sampling::luminance;
 use crate::scene::{Mesh, Object, Scene};
 
-/// One placed copy of a shared mesh.
-#[derive(Clone, Debug)]
+/// One placed copy of a shared mesh, as the kernels read it (`Instance` in `instances.wgsl`).
+/// Rows of 3×4 affine matrices: a point p goes to (r·(p, 1)) per row r.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Instance {
-    pub to_world: Affine3A,
-    pub to_object: Affine3A,
-    /// The inverse transpose of `to_world`'s linear part, for normals.
-    pub normal_to_world: Mat3A,
+    /// World to the mesh's space.
+    pub to_object: [[f32; 4]; 3], // 0
+    /// The mesh's space to world.
+    pub to_world: [[f32; 4]; 3], // 48
     /// Its mesh's BVH root in the scene's node array (of its layout).
-    pub root: u32,
+    pub root: u32, // 96
     /// The object it draws (its material).
-    pub material: u32,
-    /// Whether the transform mirrors (a negative determinant): the winding turns over.
-    pub mirrored: bool,
+    pub material: u32, // 100
+    /// 1 where the transform mirrors (a negative determinant): the winding turns over.
+    pub mirrored: u32, // 104
+    pub _pad: u32, // 108
+}
+
+fn rows(m: Mat4) -> [[f32; 4]; 3] {
+    let t = m.transpose();
+    [t.x_axis.into(), t.y_axis.into(), t.z_axis.into()]
+}
+
+/// `row`·(v, w): the product `instances.wgsl` computes.
+fn apply(row: [f32; 4], v: Vec3, w: f32) -> f32 {
+    row[0] * v.x + row[1] * v.y + row[2] * v.z + row[3] * w
 }
 
 impl Instance {
     pub fn new(object: &Object, index: u32, root: u32) -> Self {
         let m = object.transform.matrix();
-        let to_world = Affine3A::from_mat4(m);
         Instance {
-            to_world,
-            to_object: to_world.inverse(),
-            normal_to_world: Mat3A::from(object.transform.normal_matrix()),
+            to_object: rows(m.inverse()),
+            to_world: rows(m),
             root,
             material: index,
-            mirrored: m.determinant() < 0.0,
+            mirrored: u32::from(m.determinant() < 0.0),
+            _pad: 0,
         }
+    }
+
+    /// A world-space point in the mesh's space (`instance_point` in `instances.wgsl`).
+    pub fn point_to_object(&self, p: Vec3) -> Vec3 {
+        let [x, y, z] = self.to_object.map(|r| apply(r, p, 1.0));
+        Vec3::new(x, y, z)
+    }
+
+    /// A world-space direction in the mesh's space, not renormalised: t measures the same
+    /// distance along the ray in both spaces.
+    pub fn direction_to_object(&self, d: Vec3) -> Vec3 {
+        let [x, y, z] = self.to_object.map(|r| apply(r, d, 0.0));
+        Vec3::new(x, y, z)
+    }
+
+    fn point_to_world(&self, p: Vec3) -> Vec3 {
+        let [x, y, z] = self.to_world.map(|r| apply(r, p, 1.0));
+        Vec3::new(x, y, z)
+    }
+
+    fn vector_to_world(&self, d: Vec3) -> Vec3 {
+        let [x, y, z] = self.to_world.map(|r| apply(r, d, 0.0));
+        Vec3::new(x, y, z)
+    }
+
+    /// A normal to world space: by the inverse transpose of the linear part, whose rows are
+    /// `to_object`'s columns.
+    fn normal_to_world(&self, n: Vec3) -> Vec3 {
+        let [a, b, c] = self.to_object.map(|r| Vec3::new(r[0], r[1], r[2]));
+        a * n.x + b * n.y + c * n.z
     }
 
     /// Turns `t`, a triangle of this instance's mesh in the mesh's space, into the world-space
     /// triangle the flattened scene holds (`ObjectFrame` of `object_frames`): corners placed,
     /// normals by the inverse transpose, tangents by the transform (their handedness flips with
-    /// a mirror, whose corners 1 and 2 swap).
+    /// a mirror, whose corners 1 and 2 swap). `place_triangle` in `instances.wgsl`.
     pub fn place(&self, t: &mut PlacedTriangle) {
-        let p = |v: [f32; 3]| self.to_world.transform_point3(Vec3::from(v)).to_array();
         let tri = &mut t.tri;
+        let p = |v: [f32; 3]| self.point_to_world(Vec3::from(v)).to_array();
         (tri.v0, tri.v1, tri.v2) = (p(tri.v0), p(tri.v1), p(tri.v2));
         tri.material = self.material;
         let s = &mut t.shading;
         if tri.has_normals & HAS_NORMALS != 0 {
             let n = |v: [f32; 3]| {
-                (self.normal_to_world * Vec3::from(v))
+                self.normal_to_world(Vec3::from(v))
                     .normalize_or_zero()
                     .to_array()
             };
             (s.n0, s.n1, s.n2) = (n(s.n0), n(s.n1), n(s.n2));
         }
-        let sign = if self.mirrored { -1.0 } else { 1.0 };
-        let tangents = &mut t.tangents;
-        for c in tangents.iter_mut() {
-            let d = self.to_world.transform_vector3(Vec3::new(c[0], c[1], c[2]));
-            let d = d.normalize_or_zero();
-            *c = [d.x, d.y, d.z, c[3] * sign];
-        }
-        if self.mirrored {
+        self.place_tangents(&mut t.tangents);
+        if self.mirrored != 0 {
             std::mem::swap(&mut tri.v1, &mut tri.v2);
             std::mem::swap(&mut s.n1, &mut s.n2);
             std::mem::swap(&mut s.c1, &mut s.c2);
             std::mem::swap(&mut s.uv1, &mut s.uv2);
+        }
+    }
+
+    /// A triangle's corner tangents in world space, corners 1 and 2 swapped with a mirror
+    /// (`place_tangents` in `instances.wgsl`).
+    pub fn place_tangents(&self, tangents: &mut [[f32; 4]; 3]) {
+        let sign = if self.mirrored != 0 { -1.0 } else { 1.0 };
+        for c in tangents.iter_mut() {
+            let d = self.vector_to_world(Vec3::new(c[0], c[1], c[2]));
+            let d = d.normalize_or_zero();
+            *c = [d.x, d.y, d.z, c[3] * sign];
+        }
+        if self.mirrored != 0 {
             tangents.swap(1, 2);
         }
     }
@@ -96,7 +146,7 @@ impl Instance {
                 pick(2, lo.y, hi.y),
                 pick(4, lo.z, hi.z),
             );
-            let w = self.to_world.transform_point3(c);
+            let w = self.point_to_world(c);
             (wlo, whi) = (wlo.min(w), whi.max(w));
         }
         (wlo, whi)

@@ -27,4 +27,6 @@ pub struct SceneFeatures {
     pub alpha: bool,
     /// Participating media: a material's interior (or, set from the frame, the scene's fog).
     pub media: bool,
+    /// Shared meshes placed as instances (`crate::instances`): rays also walk their top level.
+    pub instances: bool,
 }

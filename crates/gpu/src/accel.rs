@@ -31,6 +31,13 @@ pub(crate) fn build(ctx: &GpuContext, scene: &GpuScene) -> Result<SceneAccel> {
             "an empty scene has nothing to build ray queries over: trace with rt's BVH".into(),
         ));
     }
+    if !scene.instances.is_empty() {
+        return Err(GpuError::Options(
+            "ray queries do not yet trace instances (shared meshes): trace with rt's BVH \
+             (--trace bvh)"
+                .into(),
+        ));
+    }
     let vertices: Vec<[f32; 3]> = scene
         .triangles
         .iter()

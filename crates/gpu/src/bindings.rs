@@ -78,6 +78,9 @@ pub const LIGHT_TREE: Binding = shared(26, "light_tree", Access::Read);
 pub const ENVIRONMENT: Binding = shared(20, "environment", Access::Read);
 pub const ALBEDO_TABLES: Binding = shared(21, "albedo_tables", Access::Read);
 pub const TANGENTS: Binding = shared(22, "tangents", Access::Read);
+/// Shared meshes' placed copies and the top level over them (placeholders without).
+pub const INSTANCES: Binding = shared(27, "instances", Access::Read);
+pub const INSTANCE_NODES: Binding = shared(28, "instance_nodes", Access::Read);
 /// Adaptive sampling's per-pixel stop marks (written by the CPU between batches).
 pub const PIXEL_DONE: Binding = shared(18, "pixel_done", Access::Read);
 // The outputs, declared by each kernel's own file.
@@ -113,7 +116,7 @@ pub const ACTIVE_SLOTS: Binding = Binding {
 };
 
 /// Every binding of the tracing kernels.
-pub const ALL: [Binding; 26] = [
+pub const ALL: [Binding; 28] = [
     FRAME,
     TRIANGLES,
     SHADING,
@@ -140,6 +143,8 @@ pub const ALL: [Binding; 26] = [
     ACCUM[2],
     ACCUM[3],
     LIGHT_TREE,
+    INSTANCES,
+    INSTANCE_NODES,
 ];
 
 /// The bindings `kernel` (over ray queries when `ray_query`) declares, in binding order.

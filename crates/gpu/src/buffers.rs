@@ -7,15 +7,10 @@ use crate::bindings::{self, Binding};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 
-/// Uploads `scene`'s eleven storage buffers (in this order), each with the binding the tracing
+/// Uploads `scene`'s thirteen storage buffers (in this order), each with the binding the tracing
 /// kernels read it at. Textures beyond what one buffer may hold are box-filtered down
 /// (`GpuScene::with_textures_within`), with a warning saying what and why, rather than failing.
-pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wgpu::Buffer); 11]> {
-    if !scene.instances.is_empty() {
-        return Err(GpuError::Scene(rt_core::Error::Scene(
-            "the GPU kernels trace flattened scenes (GpuScene::build), not instances".into(),
-        )));
-    }
+pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wgpu::Buffer); 13]> {
     let limits = ctx.device.limits();
     let budget = limits
         .max_storage_buffer_binding_size
@@ -63,6 +58,14 @@ pub fn scene_buffers(ctx: &GpuContext, scene: &GpuScene) -> Result<[(Binding, wg
         (
             bindings::TANGENTS,
             upload(ctx, "tangents", &scene.tangents)?,
+        ),
+        (
+            bindings::INSTANCES,
+            upload(ctx, "instances", &scene.instances)?,
+        ),
+        (
+            bindings::INSTANCE_NODES,
+            upload(ctx, "instance nodes", &scene.instance_nodes)?,
         ),
     ])
 }

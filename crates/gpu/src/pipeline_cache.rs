@@ -72,6 +72,7 @@ impl PipelineKey {
             ("HAS_NORMAL_MAPS", flag(self.features.normal_maps)),
             ("HAS_ALPHA", flag(self.features.alpha)),
             ("HAS_MEDIA", flag(self.features.media)),
+            ("HAS_INSTANCES", flag(self.features.instances)),
             ("SOBOL", flag(self.sobol)),
             ("WRITE_AOVS", flag(self.aovs)),
             ("ADAPTIVE", flag(self.adaptive)),

@@ -72,6 +72,14 @@ pub const CWBVH: WgslFile = (
     "crates/core/src/estimator/cwbvh.wgsl",
     rt_core::estimator::cwbvh::WGSL,
 );
+pub const INSTANCE_BVH: WgslFile = (
+    "crates/core/src/estimator/instance_bvh.wgsl",
+    rt_core::estimator::instance_bvh::WGSL,
+);
+pub const INSTANCES: WgslFile = (
+    "crates/core/src/estimator/instances.wgsl",
+    rt_core::estimator::instances::WGSL,
+);
 pub const SHADER_RAY_QUERY: WgslFile = shader_file!("ray_query.wgsl");
 pub const GPU_SCENE: WgslFile = ("crates/core/src/gpu_scene.wgsl", rt_core::gpu_scene::WGSL);
 pub const TEXTURE: WgslFile = (
@@ -113,6 +121,7 @@ pub const ACCUMULATION: WgslFile = (
 pub const SHADER_TRACE: WgslFile = shader_file!("trace.wgsl");
 pub const SHADER_WAVEFRONT: WgslFile = shader_file!("wavefront.wgsl");
 pub const SHADER_TRACE_RAYS: WgslFile = shader_file!("trace_rays.wgsl");
+pub const SHADER_TRACE_RAYS_BVH: WgslFile = shader_file!("trace_rays_bvh.wgsl");
 pub const SHADER_PREVIEW: WgslFile = shader_file!("preview.wgsl");
 pub const SHADER_PREVIEW_BLIT: WgslFile = shader_file!("preview_blit.wgsl");
 
@@ -138,8 +147,10 @@ pub const FILES: &[WgslFile] = &[
     INTERSECT,
     BVH,
     CWBVH,
+    INSTANCE_BVH,
     SHADER_RAY_QUERY,
     GPU_SCENE,
+    INSTANCES,
     TEXTURE,
     SURFACE,
     LIGHT_TREE,
@@ -152,6 +163,7 @@ pub const FILES: &[WgslFile] = &[
     SHADER_TRACE,
     SHADER_WAVEFRONT,
     SHADER_TRACE_RAYS,
+    SHADER_TRACE_RAYS_BVH,
     SHADER_PREVIEW,
     SHADER_PREVIEW_BLIT,
 ];
@@ -166,16 +178,17 @@ pub struct ShaderModule {
 /// every declaration; WGSL's module-scope order does not matter otherwise), the shared estimator,
 /// and its entry file.
 macro_rules! tracing_module {
-    ($name:literal, $traversal:expr, $entry:expr) => {
+    ($name:literal, [$($traversal:expr),*], $entry:expr) => {
         ShaderModule {
             name: $name,
             files: &[
-                $traversal,
+                $($traversal,)*
                 GPU_TYPES,
                 RNG,
                 SAMPLING,
                 INTERSECT,
                 GPU_SCENE,
+                INSTANCES,
                 TEXTURE,
                 MICROFACET,
                 BSDF,
@@ -203,27 +216,42 @@ macro_rules! tracing_module {
 }
 
 /// The megakernel over the BVH2.
-pub const TRACE: ShaderModule = tracing_module!("trace", BVH, SHADER_TRACE);
+pub const TRACE: ShaderModule = tracing_module!("trace", [BVH, INSTANCE_BVH], SHADER_TRACE);
 /// `TRACE` over the compressed wide BVH.
-pub const TRACE_WIDE: ShaderModule = tracing_module!("trace_wide", CWBVH, SHADER_TRACE);
+pub const TRACE_WIDE: ShaderModule =
+    tracing_module!("trace_wide", [CWBVH, INSTANCE_BVH], SHADER_TRACE);
 /// `TRACE` over the driver's ray queries (`Trace::Hardware`).
-pub const TRACE_HW: ShaderModule = tracing_module!("trace_hw", SHADER_RAY_QUERY, SHADER_TRACE);
+pub const TRACE_HW: ShaderModule = tracing_module!("trace_hw", [SHADER_RAY_QUERY], SHADER_TRACE);
 /// The wavefront kernels (the default: `Kernel::Wavefront`), over the BVH2.
-pub const WAVEFRONT: ShaderModule = tracing_module!("wavefront", BVH, SHADER_WAVEFRONT);
+pub const WAVEFRONT: ShaderModule =
+    tracing_module!("wavefront", [BVH, INSTANCE_BVH], SHADER_WAVEFRONT);
 /// `WAVEFRONT` over the compressed wide BVH.
-pub const WAVEFRONT_WIDE: ShaderModule = tracing_module!("wavefront_wide", CWBVH, SHADER_WAVEFRONT);
+pub const WAVEFRONT_WIDE: ShaderModule =
+    tracing_module!("wavefront_wide", [CWBVH, INSTANCE_BVH], SHADER_WAVEFRONT);
 /// `WAVEFRONT` over the driver's ray queries (`Trace::Hardware`).
 pub const WAVEFRONT_HW: ShaderModule =
-    tracing_module!("wavefront_hw", SHADER_RAY_QUERY, SHADER_WAVEFRONT);
+    tracing_module!("wavefront_hw", [SHADER_RAY_QUERY], SHADER_WAVEFRONT);
 
 pub const TRACE_RAYS: ShaderModule = ShaderModule {
     name: "trace_rays",
-    files: &[GPU_TYPES, INTERSECT, BVH, SHADER_TRACE_RAYS],
+    files: &[
+        GPU_TYPES,
+        INTERSECT,
+        BVH,
+        SHADER_TRACE_RAYS_BVH,
+        SHADER_TRACE_RAYS,
+    ],
 };
 
 pub const TRACE_RAYS_WIDE: ShaderModule = ShaderModule {
     name: "trace_rays_wide",
-    files: &[GPU_TYPES, INTERSECT, CWBVH, SHADER_TRACE_RAYS],
+    files: &[
+        GPU_TYPES,
+        INTERSECT,
+        CWBVH,
+        SHADER_TRACE_RAYS_BVH,
+        SHADER_TRACE_RAYS,
+    ],
 };
 
 /// The megakernel for a BVH layout, or over ray queries (`hardware`).

@@ -13,11 +13,13 @@ const BVH_STACK_SIZE: u32 = 64u; // core::bvh::MAX_BVH_DEPTH
 var<workgroup> bvh_stacks: array<u32, 4096>;
 var<private> stack_base: u32;
 
-fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
+// The nearest hit (or with `any_hit` the first) in the BVH whose root is node `root`: the
+// world-space triangles' (0) or an instanced mesh's (instance_bvh.wgsl).
+fn intersect_mesh(root: u32, origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
     let ray = prepare_ray(origin, direction);
     var hit = Hit(t_max, MISS, 0.0, 0.0, NO_INSTANCE);
     var sp = 0u;
-    var index = 0u;
+    var index = root;
     loop {
         let node = nodes[index];
         let tl = intersect_box(ray, node.left_min, node.left_max, hit.t);

@@ -52,7 +52,9 @@ fn wide_child_hits(node: WideBvhNode, ray: PreparedRay, oct_inv4: u32, neg: vec3
                            node.lo_z.y, node.hi_z.y, scaled_inv, shifted_origin, neg, oct_inv4, t_max);
 }
 
-fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
+// The nearest hit (or with `any_hit` the first) in the wide BVH whose root is node `root`: the
+// world-space triangles' (0) or an instanced mesh's (instance_bvh.wgsl).
+fn intersect_mesh(root: u32, origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
     let ray = prepare_ray(origin, direction);
     var hit = Hit(t_max, MISS, 0.0, 0.0, NO_INSTANCE);
     let oct_inv = select(0u, 4u, direction.x >= 0.0) | select(0u, 2u, direction.y >= 0.0)
@@ -60,8 +62,9 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
     let oct_inv4 = oct_inv * 0x01010101u;
     let neg = direction < vec3(0.0);
     var sp = 0u;
-    // The root is the one inner child (rank 7, no inner slots before it) of a virtual node at 0.
-    var group = vec2(0u, 0x80000000u);
+    // The root is the one inner child (rank 7, no inner slots before it) of a virtual node whose
+    // children begin at `root`.
+    var group = vec2(root, 0x80000000u);
     var tris = vec2(0u, 0u);
     loop {
         loop {

@@ -1,56 +1,14 @@
-//! Rays through instances (`crate::instances`): the top-level BVH2 over the instances' world
-//! boxes, each entered by carrying the ray into its mesh's space, and a hit turned back into the
-//! world-space triangle that the flattened scene would have held (`hit_triangle`), which is what
-//! shading reads.
-//!
-//! Only the Rust twin (the CPU backend) traces instances so far: the GPU kernels take scenes built
-//! flat (`GpuScene::build`), so this file has no WGSL twin yet.
+//! A hit turned into the world-space triangle that the flattened scene would have held
+//! (`hit_triangle`), which is what shading reads: a triangle of an instance's mesh
+//! (`crate::instances`) placed by the instance's transform. The twin of `instances.wgsl` beside
+//! it; the rays' way through the instances is `instance_bvh.rs`.
 
-use glam::Vec3;
+/// The WGSL twin of this module, `instances.wgsl` beside it (composed into the kernels by
+/// `rt_gpu::shaders`).
+pub const WGSL: &str = include_str!("instances.wgsl");
 
-use super::bvh::walk_bvh2;
-use super::hit::MISS;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Hit, NO_INSTANCE, Shading, Triangle};
-use crate::math::intersect::PreparedRay;
-
-/// `hit` narrowed by the instances `origin` + t·`direction` meets before `hit.t` (with
-/// `any_hit`, the first one found).
-pub(super) fn trace_instances(
-    scene: &GpuScene,
-    origin: Vec3,
-    direction: Vec3,
-    mut hit: Hit,
-    any_hit: bool,
-) -> Hit {
-    let ray = PreparedRay::new(origin, direction);
-    walk_bvh2(
-        &scene.instance_nodes,
-        0,
-        &ray,
-        &mut hit,
-        |first, count, hit| {
-            for k in first..first + count {
-                let instance = &scene.instances[k as usize];
-                // The direction is not renormalised: t measures the same distance in both spaces.
-                let o = instance.to_object.transform_point3(origin);
-                let d = instance.to_object.transform_vector3(direction);
-                let found = super::trace_mesh(scene, instance.root, o, d, hit.t, any_hit);
-                if found.triangle != MISS {
-                    *hit = Hit {
-                        instance: k,
-                        ..found
-                    };
-                    if any_hit {
-                        return true;
-                    }
-                }
-            }
-            false
-        },
-    );
-    hit
-}
 
 /// The triangle a hit found, as shading reads it: its corners, material and flags, its shading
 /// attributes (zero where the scene has none) and its three corner tangents (zero without).
@@ -126,7 +84,7 @@ fn place_in_world(scene: &GpuScene, hit: &mut Hit, stored: HitTriangle) -> Place
         tangents: *stored.tangents,
     };
     instance.place(&mut placed);
-    if instance.mirrored {
+    if instance.mirrored != 0 {
         std::mem::swap(&mut hit.b1, &mut hit.b2);
     }
     placed

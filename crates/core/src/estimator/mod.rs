@@ -37,6 +37,7 @@ pub mod bvh;
 pub mod camera;
 pub mod cwbvh;
 mod hit;
+pub mod instance_bvh;
 pub mod instances;
 pub mod light;
 pub mod light_tree;
@@ -57,7 +58,6 @@ pub use texture::{Slot, alpha_coin, base_color_texture, coverage, stops_ray, wra
 
 use glam::Vec3;
 
-use crate::bvh::BvhLayout;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Frame, Hit};
 
@@ -65,40 +65,13 @@ use crate::gpu_types::{Frame, Hit};
 /// traversal of the scene's layout, as `rt_gpu::shaders` composes `bvh.wgsl` or `cwbvh.wgsl`. It
 /// sits here, above both traversals, so that they depend only on `hit.rs` and not on each other.
 pub fn trace(scene: &GpuScene, origin: Vec3, direction: Vec3, t_max: f32) -> Hit {
-    intersect_scene(scene, origin, direction, t_max, false)
+    instance_bvh::intersect_scene(scene, origin, direction, t_max, false)
 }
 
 /// Whether anything lies on the segment from `origin` along unit `direction` up to `distance`:
 /// the traversal stops at the first hit it finds, as the kernels' shadow rays do.
 pub fn occluded(scene: &GpuScene, origin: Vec3, direction: Vec3, distance: f32) -> bool {
-    intersect_scene(scene, origin, direction, distance, true).triangle != hit::MISS
-}
-
-/// `intersect_scene` of the kernels: the nearest hit, or with `any_hit` the first found.
-/// The world-space triangles' BVH is node 0's; with instances (the CPU backend's scenes that
-/// share meshes) their top level is walked after it, with what it found as the bound.
-fn intersect_scene(scene: &GpuScene, origin: Vec3, dir: Vec3, t_max: f32, any_hit: bool) -> Hit {
-    let hit = trace_mesh(scene, 0, origin, dir, t_max, any_hit);
-    if scene.instances.is_empty() || (any_hit && hit.triangle != hit::MISS) {
-        return hit;
-    }
-    instances::trace_instances(scene, origin, dir, hit, any_hit)
-}
-
-/// Nearest hit (or with `any_hit` the first) through the triangle BVH whose root is node `root`
-/// in the scene's layout: the world-space triangles' (0) or an instanced mesh's.
-fn trace_mesh(
-    scene: &GpuScene,
-    root: u32,
-    origin: Vec3,
-    dir: Vec3,
-    t_max: f32,
-    any_hit: bool,
-) -> Hit {
-    match scene.layout {
-        BvhLayout::Bvh2 => bvh::trace_bvh2(scene, root, origin, dir, t_max, any_hit),
-        BvhLayout::Cwbvh => cwbvh::trace_wide(scene, root, origin, dir, t_max, any_hit),
-    }
+    instance_bvh::intersect_scene(scene, origin, direction, distance, true).triangle != hit::MISS
 }
 
 /// Per-pixel mean and unbiased sample variance of each channel.

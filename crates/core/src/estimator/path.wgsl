@@ -231,16 +231,16 @@ fn pbr_inputs_at(material: Material, tri: Triangle, hit: Hit, uv: vec2<f32>, n_i
         inputs = textured_pbr_inputs(material, uv);
         inputs.coat_normal = *ns;
         if (HAS_NORMAL_MAPS && (tri.has_normals & HAS_NORMALS) != 0u) {
-            let i = 3u * hit.triangle;
+            let c = hit_tangents(hit);
             let bary = vec3(b0, hit.b1, hit.b2);
             if (material.textures[SLOT_CLEARCOAT_NORMAL].offset != NO_TEXTURE) {
                 let t = material_texture(material, SLOT_CLEARCOAT_NORMAL, uv, false).rgb;
-                let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], bary, t, lobe.clearcoat_normal_scale);
+                let mapped = normal_mapped(n_interpolated, c[0], c[1], c[2], bary, t, lobe.clearcoat_normal_scale);
                 inputs.coat_normal = select(mapped, -mapped, dot(mapped, ng) < 0.0);
             }
             if (material.textures[SLOT_NORMAL].offset != NO_TEXTURE) {
                 let t = material_texture(material, SLOT_NORMAL, uv, false).rgb;
-                let mapped = normal_mapped(n_interpolated, tangents[i], tangents[i + 1u], tangents[i + 2u], bary, t, lobe.normal_scale);
+                let mapped = normal_mapped(n_interpolated, c[0], c[1], c[2], bary, t, lobe.normal_scale);
                 *ns = select(mapped, -mapped, dot(mapped, ng) < 0.0);
             }
         }
@@ -256,8 +256,8 @@ fn pbr_inputs_at(material: Material, tri: Triangle, hit: Hit, uv: vec2<f32>, n_i
     if (inputs.anisotropy > 0.0) {
         var d = vec3(0.0);
         if (HAS_NORMAL_MAPS && (material.flags & TANGENTS) != 0u && (tri.has_normals & HAS_NORMALS) != 0u) {
-            let i = 3u * hit.triangle;
-            d = anisotropy_tangent(*ns, tangents[i], tangents[i + 1u], tangents[i + 2u], vec3(b0, hit.b1, hit.b2), inputs.anisotropy_direction);
+            let c = hit_tangents(hit);
+            d = anisotropy_tangent(*ns, c[0], c[1], c[2], vec3(b0, hit.b1, hit.b2), inputs.anisotropy_direction);
         }
         inputs.anisotropy_direction = d;
     }
@@ -307,8 +307,9 @@ fn continue_from_surface(path: ptr<function, PathState>, surface: Surface, p: ve
 // the caller (its `distance` <= 0 when there is none), whose contribution the caller adds before
 // the path's next vertex, so without point, spot or sun lights the sums come out in the same order
 // either way (with them, their sum is added before the next-event estimate instead of after).
-fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sampler>,
+fn shade_vertex(path: ptr<function, PathState>, found: Hit, rng: ptr<function, Sampler>,
                 shadow: ptr<function, ShadowRay>, defer_shadow: bool, rays: ptr<function, u32>) -> bool {
+    var hit = found;
     (*shadow).distance = -1.0;
     let depth = (*path).depth;
     let direction = (*path).direction;
@@ -336,7 +337,20 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         }
         return false;
     }
-    let tri = triangles[hit.triangle];
+    // The triangle in world space (instances.rs `hit_triangle`). Triangles without normals or UVs
+    // have no shading record (the buffer may be a placeholder).
+    var tri = triangles[hit.triangle];
+    var sh: Shading;
+    if (tri.has_normals != 0u || tri.has_uvs != 0u) {
+        sh = shading[hit.triangle];
+    }
+    if (HAS_INSTANCES && hit.instance != NO_INSTANCE) {
+        let inst = instances[hit.instance];
+        place_triangle(inst, &tri, &sh);
+        if (inst.mirrored != 0u) {
+            hit = Hit(hit.t, hit.triangle, hit.b2, hit.b1, hit.instance);
+        }
+    }
     let material = materials[tri.material];
     let ng_raw = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
     let front = dot(direction, ng_raw) < 0.0;
@@ -350,12 +364,11 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
         } else {
             var a = material.color;
             if (HAS_TEXTURES && material.textures[SLOT_BASE].offset != NO_TEXTURE && tri.has_uvs != 0u) {
-                let s0 = shading[hit.triangle];
                 let c0 = 1.0 - hit.b1 - hit.b2;
-                a = base_color_texture(material, s0.uv0 * c0 + s0.uv1 * hit.b1 + s0.uv2 * hit.b2);
+                a = base_color_texture(material, sh.uv0 * c0 + sh.uv1 * hit.b1 + sh.uv2 * hit.b2);
             }
             if ((tri.has_normals & HAS_COLORS) != 0u) {
-                a *= vertex_color(shading[hit.triangle], vec3(1.0 - hit.b1 - hit.b2, hit.b1, hit.b2));
+                a *= vertex_color(sh, vec3(1.0 - hit.b1 - hit.b2, hit.b1, hit.b2));
             }
             aov_albedo = a;
         }
@@ -369,11 +382,6 @@ fn shade_vertex(path: ptr<function, PathState>, hit: Hit, rng: ptr<function, Sam
     let b0 = 1.0 - hit.b1 - hit.b2;
     let p = tri.v0 * b0 + tri.v1 * hit.b1 + tri.v2 * hit.b2;
     let ng = select(-1.0, 1.0, front) * normalize(ng_raw);
-    // Triangles without normals or UVs have no shading record (the buffer may be a placeholder).
-    var sh: Shading;
-    if (tri.has_normals != 0u || tri.has_uvs != 0u) {
-        sh = shading[hit.triangle];
-    }
     var ns = ng;
     var n_interpolated = ng;
     if ((tri.has_normals & HAS_NORMALS) != 0u) {

@@ -167,6 +167,11 @@ fn scene_layouts() -> Vec<StructLayout> {
         ),
         layout!("Ray", Ray, [origin, t_max, direction, _pad]),
         layout!("Hit", Hit, [t, triangle, b1, b2, instance]),
+        layout!(
+            "Instance",
+            crate::instances::Instance,
+            [to_object, to_world, root, material, mirrored, _pad]
+        ),
     ]
 }
 
