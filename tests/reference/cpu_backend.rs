@@ -148,7 +148,7 @@ fn the_gpu_traces_instances_as_the_cpu_backend_does() {
     pbr.settings.samples_per_pixel = 8;
     for (name, scene) in [("textured, mirrored", textured), ("PBR, normal maps", pbr)] {
         let layout = rt_core::bvh::BvhLayout::default();
-        let built = GpuScene::build_instanced(&scene, Default::default(), layout).unwrap();
+        let built = GpuScene::build_with_layout(&scene, Default::default(), layout).unwrap();
         assert!(!built.instances.is_empty(), "{name}: nothing instanced");
         let Some(fraction) = agreement_with(&scene, &built) else {
             return;

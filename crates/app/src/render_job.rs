@@ -314,14 +314,10 @@ fn run(
     } else {
         Some(device.get()?)
     };
-    // The CPU backend traces shared meshes as instances; the GPU kernels need them flattened.
     let gpu_scene = match gpu_scene {
-        Some(built) if job.on_cpu || built.instances.is_empty() => built,
-        _ => {
-            let built = Arc::new(match job.on_cpu {
-                true => GpuScene::build_instanced(scene, Default::default(), Default::default())?,
-                false => GpuScene::build(scene)?,
-            });
+        Some(built) => built,
+        None => {
+            let built = Arc::new(GpuScene::build(scene)?);
             let _ = tx.send(JobEvent::SceneBuilt(built.clone()));
             built
         }

@@ -254,7 +254,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             continue;
         };
         let build_started = Instant::now();
-        let gpu_scene = build(&args, &scene, false)?;
+        let gpu_scene = build(&args, &scene)?;
         let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
         // Warm-up: compiles the pipeline and settles the dispatch size.
         let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
@@ -417,7 +417,7 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
         let Some(scene) = selected(args, &name, scene)? else {
             continue;
         };
-        let gpu_scene = build(args, &scene, true)?;
+        let gpu_scene = build(args, &scene)?;
         let frame = rt_core::frame::frame_for(&scene, &gpu_scene)?;
         let mut accumulation = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
         let never = std::sync::atomic::AtomicBool::new(false);
@@ -474,11 +474,7 @@ fn selected(args: &BenchArgs, name: &str, scene: SceneLoader) -> Result<Option<S
 }
 
 /// The scene's GPU arrays with the BVH `--bvh` and `--bvh-quality` ask for.
-/// The CPU backend's build shares meshes as instances; the GPU kernels' is flat.
-fn build(args: &BenchArgs, scene: &Scene, on_cpu: bool) -> Result<GpuScene> {
+fn build(args: &BenchArgs, scene: &Scene) -> Result<GpuScene> {
     let (quality, layout) = (args.bvh.bvh_quality.into(), args.bvh.bvh.into());
-    Ok(match on_cpu {
-        true => GpuScene::build_instanced(scene, quality, layout)?,
-        false => GpuScene::build_with_layout(scene, quality, layout)?,
-    })
+    Ok(GpuScene::build_with_layout(scene, quality, layout)?)
 }

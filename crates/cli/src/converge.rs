@@ -99,10 +99,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     };
     let start = Instant::now();
     let (quality, layout) = (args.bvh.bvh_quality.into(), args.bvh.bvh.into());
-    let gpu_scene = match ctx {
-        None => GpuScene::build_instanced(&scene, quality, layout)?,
-        Some(_) => GpuScene::build_with_layout(&scene, quality, layout)?,
-    };
+    let gpu_scene = GpuScene::build_with_layout(&scene, quality, layout)?;
     let bvh = start.elapsed();
     let guides = args.denoise.is_some();
     let (mut renderer, on) = match &ctx {

@@ -184,11 +184,7 @@ fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
         true => None,
         false => Some(open_device(&args.engine.adapter)?),
     };
-    // The CPU backend traces shared meshes as instances; the GPU kernels, flattened copies.
-    let gpu_scene = match on_cpu {
-        true => GpuScene::build_instanced(&scene, Default::default(), Default::default())?,
-        false => GpuScene::build(&scene)?,
-    };
+    let gpu_scene = GpuScene::build(&scene)?;
     let guides = args.denoise.is_some() || range.is_some() || args.wants_layers();
     let mut run = match &ctx {
         None => {
@@ -267,13 +263,7 @@ fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
                 _ => format!("{} ({why})", rt_gpu::progressive::cpu_label()),
             };
             eprintln!("device:         {device}");
-            match gpu_scene.instances.len() {
-                0 => eprintln!("triangles:      {}", gpu_scene.triangles.len()),
-                n => eprintln!(
-                    "triangles:      {} stored, {n} of the objects instances of shared meshes",
-                    gpu_scene.triangles.len()
-                ),
-            }
+            eprintln!("triangles:      {}", crate::summary::triangles_line(&gpu_scene));
             let estimator = estimator_summary(&scene.settings, &gpu_scene);
             eprintln!("estimator:      {estimator}");
             print_image_summary(scenes, &image, range, &finish);

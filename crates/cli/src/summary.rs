@@ -51,7 +51,7 @@ pub fn print_scene_summary(
         kernel.name(),
         trace_name(trace)
     );
-    eprintln!("triangles:      {}", gpu_scene.triangles.len());
+    eprintln!("triangles:      {}", triangles_line(gpu_scene));
     eprintln!(
         "BVH build:      {:.2?} (depth {})",
         gpu_scene.bvh_build_time, gpu_scene.bvh_depth
@@ -131,4 +131,15 @@ pub fn print_image_summary(
         f64::from(image.samples_per_pixel) / secs
     );
     eprintln!("paths/s:        {:.3} M", paths / secs / 1e6);
+}
+
+/// The triangles a scene stores, and how many of its objects are copies placed as instances.
+pub fn triangles_line(gpu_scene: &rt_core::GpuScene) -> String {
+    match gpu_scene.instances.len() {
+        0 => gpu_scene.triangles.len().to_string(),
+        n => format!(
+            "{} stored ({n} objects are instances of shared meshes, each stored once)",
+            gpu_scene.triangles.len()
+        ),
+    }
 }

@@ -54,9 +54,9 @@ pub struct GpuScene {
     /// in world space; empty unless some normal-mapped object needs them.
     pub tangents: Vec<[f32; 4]>,
     pub features: SceneFeatures,
-    /// Copies of shared meshes placed in the world (`crate::instances`; built only by
-    /// `build_instanced`, for the CPU backend): their meshes' triangles, in their own space, follow
-    /// the world-space ones, each under its own BVH.
+    /// Copies of shared meshes placed in the world (`crate::instances`; none in a flattened
+    /// build): their meshes' triangles, in their own space, follow the world-space ones, each
+    /// under its own BVH.
     pub instances: Vec<crate::instances::Instance>,
     /// The top-level BVH2 over `instances`' world boxes (leaves index `instances`).
     pub instance_nodes: Vec<BvhNode>,
@@ -75,21 +75,21 @@ impl GpuScene {
         Self::build_with_layout(scene, quality, BvhLayout::default())
     }
 
-    /// The scene flattened: every object's triangles in world space, copies of shared meshes
-    /// included (what the GPU kernels trace).
+    /// The scene with each mesh that objects share stored once, under its own BVH, and those
+    /// objects as instances of it (`crate::instances`): memory that grows with the unique
+    /// triangles, not with the copies.
     pub fn build_with_layout(
         scene: &Scene,
         quality: BvhQuality,
         layout: BvhLayout,
     ) -> Result<Self> {
-        Self::build_geometry(scene, quality, layout, false)
+        Self::build_geometry(scene, quality, layout, true)
     }
 
-    /// The scene with each mesh that objects share stored once, under its own BVH, and those
-    /// objects as instances of it (`crate::instances`): what the CPU backend traces, in memory
-    /// that grows with the unique triangles.
-    pub fn build_instanced(scene: &Scene, quality: BvhQuality, layout: BvhLayout) -> Result<Self> {
-        Self::build_geometry(scene, quality, layout, true)
+    /// The scene flattened: every object's triangles in world space, copies of shared meshes
+    /// included (one acceleration structure over all of them, as the driver's ray queries take).
+    pub fn build_flattened(scene: &Scene, quality: BvhQuality, layout: BvhLayout) -> Result<Self> {
+        Self::build_geometry(scene, quality, layout, false)
     }
 
     fn build_geometry(
@@ -292,7 +292,7 @@ impl GpuScene {
         self.instance_nodes = bvh.nodes;
         let placed = std::mem::take(&mut self.instances);
         self.instances = (bvh.triangle_order.iter())
-            .map(|&i| placed[i as usize].clone())
+            .map(|&i| placed[i as usize])
             .collect();
         Ok(())
     }

@@ -1,5 +1,6 @@
 //! `GpuScene::check_kernel_indices`: the index invariants the tracing kernels rely on, checked
-//! against a built scene (BVH children and leaves, materials, shading records, texels, emitters).
+//! against a built scene (BVH children and leaves, instances, materials, shading records, texels,
+//! emitters).
 
 use crate::bvh::BvhLayout;
 use crate::gpu_scene::GpuScene;
@@ -20,7 +21,43 @@ impl GpuScene {
             BvhLayout::Bvh2 => self.check_bvh2_indices()?,
             BvhLayout::Cwbvh => self.check_wide_indices()?,
         }
+        self.check_instance_indices()?;
         self.check_record_indices()
+    }
+
+    /// Instances' mesh roots and materials, and the top level's children and leaf ranges.
+    fn check_instance_indices(&self) -> std::result::Result<(), String> {
+        let nodes = self.nodes.len().max(self.wide_nodes.len());
+        for (i, instance) in self.instances.iter().enumerate() {
+            if instance.root as usize >= nodes || instance.material as usize >= self.materials.len()
+            {
+                return Err(format!(
+                    "instance {i}: root node {} of {nodes}, material {} of {}",
+                    instance.root,
+                    instance.material,
+                    self.materials.len()
+                ));
+            }
+        }
+        if self.instances.is_empty() {
+            return Ok(());
+        }
+        let (top, count) = (self.instance_nodes.len(), self.instances.len() as u64);
+        for (i, node) in self.instance_nodes.iter().enumerate() {
+            for (index, leaf) in [(node.left, node.left_count), (node.right, node.right_count)] {
+                let bad = match leaf {
+                    0 => index != 0 && !(index as usize > i && (index as usize) < top),
+                    _ => u64::from(index) + u64::from(leaf) > count,
+                };
+                if bad {
+                    return Err(format!(
+                        "instance BVH node {i}: child {index} ({leaf} instances) outside the \
+                         {top} nodes or {count} instances"
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The wide BVH's inner children are later nodes, its leaves' triangle ranges lie inside the

@@ -27,9 +27,8 @@ pub fn check_fits(triangles: u64, needed: u64, available: Option<u64>) -> Result
             let gb = |b: u64| b as f64 / 1e9;
             Err(Error::Scene(format!(
                 "the scene's {triangles} triangles need about {:.1} GB to build, and {:.1} GB of \
-                 memory are available: the GPU kernels store instances as copies of their meshes \
-                 (the CPU backend, --device cpu, stores a shared mesh once), so fewer of them or \
-                 simpler meshes would fit",
+                 memory are available: simpler meshes would fit (copies of one mesh are stored \
+                 once and cost little)",
                 gb(needed),
                 gb(available)
             )))

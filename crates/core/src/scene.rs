@@ -352,7 +352,8 @@ impl Scene {
     /// at the cost of one pass over each mesh's vertices, not one over every copy's.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut bounds: Option<(Vec3, Vec3)> = None;
-        let mut placed: std::collections::HashMap<(*const Mesh, [u32; 9]), Option<(Vec3, Vec3)>> =
+        type Turned = (*const Mesh, [u32; 9]);
+        let mut placed: std::collections::HashMap<Turned, Option<(Vec3, Vec3)>> =
             std::collections::HashMap::new();
         for object in &self.objects {
             let m = object.transform.matrix();

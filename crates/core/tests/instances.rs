@@ -1,6 +1,6 @@
 #![allow(clippy::unwrap_used)]
 //! Instances (`rt_core::instances`): a scene whose objects share meshes, built with each shared
-//! mesh once (`GpuScene::build_instanced`, the CPU backend's) and flattened (`GpuScene::build`),
+//! mesh once (`GpuScene::build`) and flattened (`GpuScene::build_flattened`),
 //! finds the same surfaces along the same rays — turned, scaled unevenly, mirrored — and renders
 //! the same image; emitters stay in world space; a singular transform is an error naming the
 //! object.
@@ -107,8 +107,9 @@ fn shared_balls() -> Scene {
 }
 
 fn builds(scene: &Scene, layout: BvhLayout) -> (GpuScene, GpuScene) {
-    let flat = GpuScene::build_with_layout(scene, BvhQuality::default(), layout).unwrap();
-    let shared = GpuScene::build_instanced(scene, BvhQuality::default(), layout).unwrap();
+    let flat = GpuScene::build_flattened(scene, BvhQuality::default(), layout).unwrap();
+    let shared = GpuScene::build_with_layout(scene, BvhQuality::default(), layout).unwrap();
+    shared.check_kernel_indices().unwrap();
     (flat, shared)
 }
 
@@ -237,8 +238,6 @@ fn emitters_stay_in_world_space() {
 fn a_singular_instance_transform_is_an_error_naming_the_object() {
     let mut scene = shared_balls();
     scene.objects[3].transform.scale = [1.0, 0.0, 1.0];
-    let message = GpuScene::build_instanced(&scene, BvhQuality::default(), BvhLayout::default())
-        .unwrap_err()
-        .to_string();
+    let message = GpuScene::build(&scene).unwrap_err().to_string();
     assert!(message.contains("turned and stretched"), "{message}");
 }

@@ -29,7 +29,10 @@ fn a_scene_too_big_for_memory_is_an_error_before_the_build() {
         objects,
         ..Default::default()
     };
-    let message = GpuScene::build(&scene).unwrap_err().to_string();
+    let (quality, layout) = (Default::default(), Default::default());
+    let message = GpuScene::build_flattened(&scene, quality, layout)
+        .unwrap_err()
+        .to_string();
     assert!(
         message.contains("200000000000 triangles")
             && message.contains("GB of memory are available"),

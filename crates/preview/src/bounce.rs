@@ -158,12 +158,17 @@ fn direct(gpu: &rt_core::GpuScene, light: &PreviewLight, p: Vec3, n: Vec3) -> Ve
     if cos <= 0.0 || strength.max_element() <= 0.0 {
         return Vec3::ZERO;
     }
-    let hit = rt_core::estimator::trace(gpu, p, l, reach);
+    let mut hit = rt_core::estimator::trace(gpu, p, l, reach);
     // An emitter's light starts on its own surface: what the shadow ray meets there is the
     // emitter itself, not an occluder.
+    let material = |hit: &mut rt_core::gpu_types::Hit| {
+        let mut placed = None;
+        rt_core::estimator::instances::hit_triangle(gpu, hit, &mut placed)
+            .tri
+            .material
+    };
     let blocked = hit.triangle != u32::MAX
-        && (light.shadow[0] != light_kind::EMITTER
-            || gpu.triangles[hit.triangle as usize].material + 1 != light.shadow[3]);
+        && (light.shadow[0] != light_kind::EMITTER || material(&mut hit) + 1 != light.shadow[3]);
     if blocked { Vec3::ZERO } else { strength * cos }
 }
 
@@ -229,7 +234,7 @@ fn compute(
                 let mut weight = [0.0f32; 6];
                 let mut back = 0;
                 for &d in &rays {
-                    let hit = rt_core::estimator::trace(&gpu, c, d, f32::MAX);
+                    let mut hit = rt_core::estimator::trace(&gpu, c, d, f32::MAX);
                     let cosines = CUBE_SIDES.map(|a| a.dot(d).max(0.0));
                     for k in 0..6 {
                         weight[k] += cosines[k];
@@ -240,7 +245,10 @@ fn compute(
                         }
                         continue;
                     }
-                    let tri = &gpu.triangles[hit.triangle as usize];
+                    let mut placed = None;
+                    let tri =
+                        rt_core::estimator::instances::hit_triangle(&gpu, &mut hit, &mut placed)
+                            .tri;
                     let [v0, v1, v2] = [tri.v0, tri.v1, tri.v2].map(Vec3::from);
                     let mut n = (v1 - v0).cross(v2 - v0).normalize_or_zero();
                     if n.dot(d) > 0.0 {
