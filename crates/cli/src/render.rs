@@ -263,7 +263,10 @@ fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
                 _ => format!("{} ({why})", rt_gpu::progressive::cpu_label()),
             };
             eprintln!("device:         {device}");
-            eprintln!("triangles:      {}", crate::summary::triangles_line(&gpu_scene));
+            eprintln!(
+                "triangles:      {}",
+                crate::summary::triangles_line(&gpu_scene)
+            );
             let estimator = estimator_summary(&scene.settings, &gpu_scene);
             eprintln!("estimator:      {estimator}");
             print_image_summary(scenes, &image, range, &finish);

@@ -134,6 +134,31 @@ impl RtApp {
         self.select_object(Some(self.doc.scene.objects.len() - 1));
     }
 
+    /// Adds a copy of object `index` that shares its mesh (Blender's linked duplicate, Alt+D): an
+    /// instance, whose triangles are stored once however many copies there are. It stands a
+    /// tenth of the scene to the side (+x) and is selected, for the gizmo to move on.
+    pub fn duplicate_as_instance(&mut self, index: usize) {
+        let Some(original) = self.doc.scene.objects.get(index) else {
+            return;
+        };
+        let step = self
+            .doc
+            .bounds()
+            .map_or(1.0, |(lo, hi)| (hi - lo).max_element().max(1e-3) * 0.1);
+        let mut copy = original.clone();
+        copy.transform.translation[0] += step;
+        let sharing = (self.doc.scene.objects.iter())
+            .filter(|o| Arc::ptr_eq(&o.mesh, &original.mesh))
+            .count();
+        copy.name = format!("{} {}", original.name, sharing + 1);
+        self.doc
+            .edit("duplicate as instance", "duplicate as instance", |s| {
+                s.objects.push(copy)
+            });
+        self.doc.seal();
+        self.select_object(Some(self.doc.scene.objects.len() - 1));
+    }
+
     pub fn delete_object(&mut self, index: usize) {
         if index >= self.doc.scene.objects.len() {
             return;

@@ -83,8 +83,8 @@ Move, rotate, scale the selection: G, R, S, then the pointer (X, Y or Z holds an
 number sets the amount; Ctrl snaps); a click or Enter confirms, Esc or a right click cancels. \
 Dragging the selection's arrows, rings or squares moves, turns or scales it on that axis.\n\
 Keys: Ctrl+O open, Ctrl+S save, Ctrl+Shift+S save as, Ctrl+Z undo, Ctrl+Shift+Z redo, \
-F12 render, Esc cancel, Delete delete, F frame selection, Home reset view, P path-traced \
-viewport, L add a light. Files can be dropped on the window.";
+F12 render, Esc cancel, Delete delete, Alt+D duplicate as instance, F frame selection, Home reset \
+view, P path-traced viewport, L add a light. Files can be dropped on the window.";
 
 fn file_menu(app: &mut RtApp, ui: &mut egui::Ui) {
     if ui
@@ -196,6 +196,19 @@ fn edit_menu(app: &mut RtApp, ui: &mut egui::Ui) {
     }
     ui.separator();
     super::panels::add_area_light_buttons(app, ui, "Add quad light (L)");
+    if ui
+        .add_enabled(
+            app.selection.is_some(),
+            egui::Button::new("Duplicate as instance (Alt+D)"),
+        )
+        .on_hover_text(
+            "A copy of the selected object that shares its mesh: stored once, however many copies",
+        )
+        .clicked()
+        && let Some(index) = app.selection
+    {
+        app.duplicate_as_instance(index);
+    }
     if ui
         .add_enabled(
             app.selection.is_some(),

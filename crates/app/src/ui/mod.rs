@@ -130,6 +130,11 @@ impl RtApp {
         if shortcut(Modifiers::NONE, Key::Delete) {
             self.ui.pending_delete = self.selection;
         }
+        if shortcut(Modifiers::ALT, Key::D)
+            && let Some(index) = self.selection
+        {
+            self.duplicate_as_instance(index);
+        }
         if shortcut(Modifiers::NONE, Key::F) {
             self.frame_selection();
         }

@@ -91,6 +91,38 @@ fn select_change_material_undo_and_redo() {
 }
 
 #[test]
+fn alt_d_duplicates_the_selection_as_an_instance_of_its_mesh() {
+    if !have_gpu() {
+        return;
+    }
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("tall_block").click();
+    harness.run_ok();
+    let index = index_of(harness.state(), "tall_block");
+    let before = harness.state().doc.scene.objects.len();
+    harness.key_press_modifiers(egui::Modifiers::ALT, egui::Key::D);
+    harness.run_ok();
+    let app = harness.state();
+    assert_eq!(app.doc.scene.objects.len(), before + 1);
+    let (original, copy) = (
+        &app.doc.scene.objects[index],
+        &app.doc.scene.objects[before],
+    );
+    assert!(std::sync::Arc::ptr_eq(&original.mesh, &copy.mesh));
+    assert_ne!(original.transform, copy.transform, "the copy stands aside");
+    assert_eq!(app.selection, Some(before), "the copy is selected");
+    harness.get_by_label("mesh shared by 2 objects");
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    harness.run_ok();
+    assert_eq!(
+        harness.state().doc.scene.objects.len(),
+        before,
+        "undo removes it"
+    );
+}
+
+#[test]
 fn add_a_light_then_delete_it_after_confirming() {
     if !have_gpu() {
         return;

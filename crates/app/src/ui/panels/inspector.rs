@@ -122,7 +122,8 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
         if sharing > 1 {
             ui.weak(format!("mesh shared by {sharing} objects"))
                 .on_hover_text(
-                    "Instances of one mesh (a glTF's shared meshes): stored once in projects",
+                    "Instances of one mesh (a glTF's shared meshes, or Duplicate as instance): \
+                     stored once in projects and when rendering",
                 );
         }
     });
