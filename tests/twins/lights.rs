@@ -61,12 +61,29 @@ fn light_scenes() -> Vec<(&'static str, TwinScene)> {
             BvhLayout::Cwbvh,
             false,
         ),
+        ("instanced blocks, mirrored, BVH2", BvhLayout::Bvh2, false),
+        ("instanced blocks, mirrored, CWBVH", BvhLayout::Cwbvh, false),
     ] {
         let mut scene = if name.contains("tree") {
             cornell_with_many_lights()
         } else {
             rt_io::assets::cornell_box().unwrap()
         };
+        if name.contains("instanced") {
+            // Each block again, sharing its mesh: moved, turned and mirrored (instances).
+            let copies: Vec<_> = (scene.objects.iter())
+                .filter(|o| o.name.ends_with("block"))
+                .map(|o| {
+                    let mut copy = o.clone();
+                    copy.name.push_str(" copy");
+                    copy.transform.translation = [-120.0, 10.0, 60.0];
+                    copy.transform.rotation_deg = [0.0, 35.0, 0.0];
+                    copy.transform.scale = [-0.6, 0.5, 0.6];
+                    copy
+                })
+                .collect();
+            scene.objects.extend(copies);
+        }
         if environment {
             let mut rng = Rng::new(5, 0, 0x11);
             let texels = (0..16 * 8)
@@ -80,6 +97,7 @@ fn light_scenes() -> Vec<(&'static str, TwinScene)> {
         let gpu =
             rt_core::GpuScene::build_with_layout(&scene, BvhQuality::default(), layout).unwrap();
         assert_eq!(gpu.layout, layout);
+        assert_eq!(gpu.features.instances, name.contains("instanced"));
         let frame = rt_core::frame::frame_for(&scene, &gpu).unwrap();
         assert!(frame.emitter_count > 0 && (frame.env_pick > 0.0) == environment);
         assert_eq!(frame.light_sampler == 1, name.contains("tree"));

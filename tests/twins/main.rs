@@ -161,6 +161,8 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invoc
                 storage(21, true),
                 storage(22, true),
                 storage(26, true),
+                storage(27, true),
+                storage(28, true),
             ],
         });
         let twin_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -172,7 +174,13 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invoc
             bind_group_layouts: &[Some(&scene_layout), Some(&twin_layout)],
             immediate_size: 0,
         });
-        let constants = [("SOBOL", f64::from(u8::from(self.sobol)))];
+        let constants = [
+            ("SOBOL", f64::from(u8::from(self.sobol))),
+            (
+                "HAS_INSTANCES",
+                f64::from(u8::from(scene.scene.features.instances)),
+            ),
+        ];
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("twin test"),
             layout: Some(&layout),
@@ -215,6 +223,8 @@ fn twin_main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invoc
             (21, storage_buffer(bytemuck::cast_slice(&g.albedo_tables))),
             (22, storage_buffer(bytemuck::cast_slice(&g.tangents))),
             (26, storage_buffer(bytemuck::cast_slice(&g.light_tree))),
+            (27, storage_buffer(bytemuck::cast_slice(&g.instances))),
+            (28, storage_buffer(bytemuck::cast_slice(&g.instance_nodes))),
         ];
         let out_bytes = (ITEMS * self.words_out * 4) as u64;
         let output = device.create_buffer(&wgpu::BufferDescriptor {

@@ -60,6 +60,10 @@ pub struct GpuScene {
     pub instances: Vec<crate::instances::Instance>,
     /// The top-level BVH2 over `instances`' world boxes (leaves index `instances`).
     pub instance_nodes: Vec<BvhNode>,
+    /// Each instance's mesh's box in the mesh's space (what a moved instance's world box follows).
+    pub instance_mesh_boxes: Vec<(Vec3, Vec3)>,
+    /// The box of the triangles stored in world space (inverted without any).
+    pub world_box: (Vec3, Vec3),
     /// The largest side of the scene's bounding box (0 without triangles).
     pub extent: f32,
     pub bvh_depth: usize,
@@ -147,28 +151,24 @@ impl GpuScene {
             return Self::build_geometry(scene, quality, BvhLayout::Bvh2, share_meshes);
         };
         drop(frames);
-        let mut bounds = world_box;
+        out.world_box = world_box;
         // Each shared mesh once, in its own space, then its objects as instances.
-        let mut boxes = Vec::new();
         for group in &groups {
             let representative = crate::instances::in_mesh_space(&scene.objects[group[0]]);
             let frame =
                 ObjectFrame::new(&representative, group[0] as u32, tangents[group[0]].take())?;
-            let Some((root, (lo, hi))) = out.add_mesh_bvh(&[frame], quality, layout)? else {
+            let Some((root, mesh_box)) = out.add_mesh_bvh(&[frame], quality, layout)? else {
                 return Self::build_geometry(scene, quality, BvhLayout::Bvh2, share_meshes);
             };
             for &i in group {
                 let object = &scene.objects[i];
                 ObjectFrame::check_transform(object)?;
-                let instance = crate::instances::Instance::new(object, i as u32, root);
-                let (wlo, whi) = instance.world_box(lo, hi);
-                bounds = (bounds.0.min(wlo), bounds.1.max(whi));
-                boxes.push((wlo, whi));
-                out.instances.push(instance);
+                out.instances
+                    .push(crate::instances::Instance::new(object, i as u32, root));
+                out.instance_mesh_boxes.push(mesh_box);
             }
         }
-        out.build_instance_bvh(&boxes, quality)?;
-        out.features.instances = !out.instances.is_empty();
+        out.place_instances(quality)?;
         // The kernel reads shading attributes only for triangles that have them.
         if out
             .triangles
@@ -177,11 +177,6 @@ impl GpuScene {
         {
             out.shading = Vec::new();
         }
-        out.extent = if bounds.0.x <= bounds.1.x {
-            (bounds.1 - bounds.0).max_element()
-        } else {
-            0.0
-        };
         out.light(scene)?;
         out.albedo_tables = crate::math::layers::albedo_tables_for(&out.materials);
         Ok(out)
@@ -274,13 +269,28 @@ impl GpuScene {
         Ok(Some((node_base, bounds)))
     }
 
-    /// The top-level BVH2 over the instances' world `boxes` (each as a flat triangle across its
-    /// box's diagonal, which the builder bounds by the box), with the instances in its leaf order.
-    fn build_instance_bvh(&mut self, boxes: &[(Vec3, Vec3)], quality: BvhQuality) -> Result<()> {
+    /// The top-level BVH2 over the instances' world boxes (each as a flat triangle across its
+    /// box's diagonal, which the builder bounds by the box), with the instances (and their meshes'
+    /// boxes) in its leaf order, and the scene's extent.
+    pub(crate) fn place_instances(&mut self, quality: BvhQuality) -> Result<()> {
+        let mut bounds = self.world_box;
+        let world: Vec<(Vec3, Vec3)> = (self.instances.iter().zip(&self.instance_mesh_boxes))
+            .map(|(instance, &(lo, hi))| instance.world_box(lo, hi))
+            .collect();
+        for &(lo, hi) in &world {
+            bounds = (bounds.0.min(lo), bounds.1.max(hi));
+        }
+        self.extent = if bounds.0.x <= bounds.1.x {
+            (bounds.1 - bounds.0).max_element()
+        } else {
+            0.0
+        };
+        self.features.instances = !self.instances.is_empty();
         if self.instances.is_empty() {
+            self.instance_nodes = Vec::new();
             return Ok(());
         }
-        let diagonals: Vec<_> = boxes
+        let diagonals: Vec<_> = world
             .iter()
             .map(|&(lo, hi)| obvhs::triangle::Triangle {
                 v0: lo.into(),
@@ -290,9 +300,10 @@ impl GpuScene {
             .collect();
         let bvh = build_bvh_over(&diagonals, quality).map_err(Error::Scene)?;
         self.instance_nodes = bvh.nodes;
-        let placed = std::mem::take(&mut self.instances);
-        self.instances = (bvh.triangle_order.iter())
-            .map(|&i| placed[i as usize])
+        let order = &bvh.triangle_order;
+        self.instances = order.iter().map(|&i| self.instances[i as usize]).collect();
+        self.instance_mesh_boxes = (order.iter())
+            .map(|&i| self.instance_mesh_boxes[i as usize])
             .collect();
         Ok(())
     }
@@ -360,8 +371,7 @@ impl GpuScene {
     /// from; `None` when an object gains or loses a normal map (its tangents are built with the
     /// geometry).
     pub fn restyle(&self, scene: &Scene) -> Result<Option<GpuScene>> {
-        // Which objects are instances follows their materials (emitters stay in world space).
-        if scene.objects.len() != self.materials.len() || !self.instances.is_empty() {
+        if scene.objects.len() != self.materials.len() {
             return Ok(None);
         }
         let mut texture_offsets = Vec::with_capacity(scene.textures.len());
@@ -383,6 +393,11 @@ impl GpuScene {
                 return Ok(None);
             }
             materials.push(material);
+        }
+        // Which objects are instances follows their materials (emitters and alpha-tested ones
+        // stay in world space): a change to that is a new build.
+        if crate::instances::shared_meshes(scene, &materials) != self.instance_groups() {
+            return Ok(None);
         }
         let mut out = GpuScene {
             albedo_tables: crate::math::layers::albedo_tables_for(&materials),

@@ -1,6 +1,7 @@
 //! What a change to the scene rebuilds: nothing for the camera (the renderer restarts on a new
 //! frame), the materials, emitters, lights and environment for edits that move nothing
-//! (`GpuScene::restyle`, no BVH build), everything for geometry.
+//! (`GpuScene::restyle`, no BVH build), the top level over instances when copies of shared meshes
+//! move (`GpuScene::with_moved_instances`, no mesh BVH), everything for other geometry.
 
 use std::sync::Arc;
 
@@ -13,6 +14,9 @@ pub enum Rebuild {
     Nothing,
     /// Materials, lights or environment: new GPU arrays for them, the BVH and triangles reused.
     Shading,
+    /// Copies of shared meshes moved, turned or scaled: the top level over the instances, the
+    /// meshes' BVHs and triangles reused.
+    Instances,
     /// Objects, meshes, transforms or textures: a new GPU scene and BVH.
     Geometry,
 }
@@ -22,6 +26,7 @@ impl Rebuild {
         match self {
             Rebuild::Nothing => "nothing",
             Rebuild::Shading => "materials and lights",
+            Rebuild::Instances => "instance placements",
             Rebuild::Geometry => "geometry and BVH",
         }
     }
@@ -47,6 +52,13 @@ impl SceneCache {
                     }
                 }
             }
+            Some((old, built)) if same_meshes(old, scene) && same_shading(old, scene) => {
+                let moved = |i: usize| old.objects[i].transform != scene.objects[i].transform;
+                match built.with_moved_instances(scene, moved)? {
+                    Some(placed) => (Arc::new(placed), Rebuild::Instances),
+                    None => (Arc::new(GpuScene::build(scene)?), Rebuild::Geometry),
+                }
+            }
             _ => (Arc::new(GpuScene::build(scene)?), Rebuild::Geometry),
         };
         self.last = Some((scene.clone(), built.clone()));
@@ -57,11 +69,18 @@ impl SceneCache {
 /// Same objects (meshes compared by identity: edits never change one in place), transforms and
 /// textures.
 fn same_geometry(a: &Scene, b: &Scene) -> bool {
-    a.objects.len() == b.objects.len()
-        && a.objects
-            .iter()
+    same_meshes(a, b)
+        && (a.objects.iter())
             .zip(&b.objects)
-            .all(|(x, y)| Arc::ptr_eq(&x.mesh, &y.mesh) && x.transform == y.transform)
+            .all(|(x, y)| x.transform == y.transform)
+}
+
+/// Same objects with the same meshes and textures, wherever they stand.
+fn same_meshes(a: &Scene, b: &Scene) -> bool {
+    a.objects.len() == b.objects.len()
+        && (a.objects.iter())
+            .zip(&b.objects)
+            .all(|(x, y)| Arc::ptr_eq(&x.mesh, &y.mesh))
         && a.textures.len() == b.textures.len()
         && a.textures.iter().zip(&b.textures).all(|(x, y)| {
             Arc::ptr_eq(&x.rgba8, &y.rgba8) && x.width == y.width && x.height == y.height
@@ -132,6 +151,47 @@ mod tests {
         let mut shifted = recoloured.clone();
         shifted.objects[0].transform.translation[0] += 0.1;
         let (_, how) = cache.get(&shifted).unwrap();
+        assert_eq!(how, Rebuild::Geometry);
+    }
+
+    #[test]
+    fn moving_a_copy_of_a_shared_mesh_rebuilds_only_the_top_level() {
+        let mut scene = rt_io::assets::cornell_box().unwrap();
+        let block = scene
+            .objects
+            .iter()
+            .position(|o| o.name == "tall_block")
+            .unwrap();
+        let mut copy = scene.objects[block].clone();
+        copy.name = "tall_block 2".into();
+        copy.transform.translation[2] += 50.0;
+        scene.objects.push(copy);
+        let mut cache = SceneCache::default();
+        let (first, _) = cache.get(&scene).unwrap();
+        assert_eq!(first.instances.len(), 2);
+
+        let mut moved = scene.clone();
+        let last = moved.objects.len() - 1;
+        moved.objects[last].transform.translation[0] -= 40.0;
+        moved.objects[last].transform.rotation_deg[1] += 30.0;
+        let (placed, how) = cache.get(&moved).unwrap();
+        assert_eq!(how, Rebuild::Instances);
+        // What a full build of the moved scene holds, but for the order the top level keeps.
+        let full = GpuScene::build(&moved).unwrap();
+        assert_eq!(placed.triangles, full.triangles);
+        assert_eq!(placed.wide_nodes, full.wide_nodes);
+        let sorted = |g: &GpuScene| {
+            let mut v = g.instances.clone();
+            v.sort_by_key(|i| i.material);
+            v
+        };
+        assert_eq!(sorted(&placed), sorted(&full));
+        assert_eq!(placed.extent, full.extent);
+
+        // A world-space object moved: a full build.
+        let mut floor_moved = moved.clone();
+        floor_moved.objects[0].transform.translation[1] -= 1.0;
+        let (_, how) = cache.get(&floor_moved).unwrap();
         assert_eq!(how, Rebuild::Geometry);
     }
 }
