@@ -135,7 +135,10 @@ impl GpuScene {
             .sum();
         crate::memory_budget::check_fits(
             unique,
-            crate::memory_budget::build_bytes(unique, texels),
+            crate::memory_budget::build_bytes(unique, texels).saturating_add(
+                (groups.iter().map(|g| g.len() as u64).sum::<u64>())
+                    .saturating_mul(crate::memory_budget::BUILD_BYTES_PER_INSTANCE),
+            ),
             crate::memory_budget::available_bytes(),
         )?;
         // The objects drawn in world space first, under the BVH at node 0.
