@@ -1,11 +1,13 @@
 //! The node hierarchy: each node's world transform, its mesh primitives as objects, the first
 //! perspective camera and its punctual light.
 
-use glam::{Mat4, Vec3};
+use std::sync::Arc;
+
+use glam::{Mat3, Mat4, Vec3};
 
 use super::Loader;
 use super::lights::light_of;
-use rt_core::scene::{Object, Transform};
+use rt_core::scene::{Mesh, Object, Transform};
 
 /// Node trees deeper than this are refused (real files nest a few dozen levels).
 const MAX_NODE_DEPTH: usize = 1024;
@@ -56,11 +58,12 @@ impl Loader<'_> {
                 } else {
                     name.clone()
                 };
+                let (mesh, transform) = placed(m, world);
                 self.objects.push(Object {
                     name: object_name,
-                    mesh: m,
+                    mesh,
                     material,
-                    transform: transform_of(world),
+                    transform,
                 });
             }
         }
@@ -112,7 +115,47 @@ impl Loader<'_> {
     }
 }
 
-/// rt's TRS of a node's world matrix (shear, which TRS cannot hold, is dropped).
+/// A node's mesh and rt's transform for its world matrix. A matrix with shear (a non-uniform scale
+/// above a turned node), which scale-rotate-translate cannot hold, is baked into a copy of the
+/// mesh placed unmoved (positions by the matrix, normals by its inverse transpose, the winding
+/// turned over where it mirrors): the right shape, at the cost of that copy not being shared.
+fn placed(mesh: Arc<Mesh>, world: Mat4) -> (Arc<Mesh>, Transform) {
+    let transform = transform_of(world);
+    let held = transform.matrix();
+    let size = world
+        .to_cols_array()
+        .iter()
+        .fold(0.0f32, |m, v| m.max(v.abs()));
+    let off = (held - world)
+        .to_cols_array()
+        .iter()
+        .fold(0.0f32, |m, v| m.max(v.abs()));
+    if off <= 1e-5 * size.max(1.0) || world.determinant() == 0.0 {
+        return (mesh, transform);
+    }
+    let normals = Mat3::from_mat4(world).inverse().transpose();
+    let mut baked = Mesh {
+        positions: mesh
+            .positions
+            .iter()
+            .map(|p| world.transform_point3(*p))
+            .collect(),
+        normals: (mesh.normals.as_ref()).map(|ns| {
+            ns.iter()
+                .map(|n| (normals * *n).normalize_or_zero())
+                .collect()
+        }),
+        ..(*mesh).clone()
+    };
+    if world.determinant() < 0.0 {
+        for t in &mut baked.indices {
+            t.swap(1, 2);
+        }
+    }
+    (Arc::new(baked), Transform::default())
+}
+
+/// rt's TRS of a node's world matrix.
 fn transform_of(world: Mat4) -> Transform {
     let (scale, rotation, translation) = world.to_scale_rotation_translation();
     let (x, y, z) = rotation.to_euler(glam::EulerRot::XYZ);

@@ -9,6 +9,7 @@
 
 mod broken_input;
 mod features;
+mod hierarchy;
 mod khronos_samples;
 mod textures;
 
