@@ -542,3 +542,46 @@ fn rebase(node: &BvhNode, node_base: u32, triangle_base: u32) -> BvhNode {
         ..*node
     }
 }
+
+impl GpuScene {
+    /// The objects that are instances, grouped by the mesh they share, as
+    /// `instances::shared_meshes` lists them.
+    pub fn instance_groups(&self) -> Vec<Vec<usize>> {
+        let mut by_root: std::collections::HashMap<u32, Vec<usize>> =
+            std::collections::HashMap::new();
+        for instance in &self.instances {
+            (by_root.entry(instance.root).or_default()).push(instance.material as usize);
+        }
+        let mut groups: Vec<Vec<usize>> = by_root.into_values().collect();
+        for group in &mut groups {
+            group.sort_unstable();
+        }
+        groups.sort_by_key(|g| g[0]);
+        groups
+    }
+
+    /// This scene with `scene`'s transforms for its instances: only the top level over them is
+    /// built again, no mesh's BVH (what the live viewport does when a copy of a shared mesh
+    /// moves, turns or scales). `moved(i)` tells whether object `i`'s transform changed; `None`
+    /// where one that moved is stored in world space (that needs a full build).
+    pub fn with_moved_instances(
+        &self,
+        scene: &Scene,
+        moved: impl Fn(usize) -> bool,
+    ) -> crate::Result<Option<crate::GpuScene>> {
+        let is_instance = |i: usize| self.instances.iter().any(|k| k.material as usize == i);
+        if scene.objects.len() != self.materials.len()
+            || (0..scene.objects.len()).any(|i| moved(i) && !is_instance(i))
+        {
+            return Ok(None);
+        }
+        let mut out = self.clone();
+        for instance in &mut out.instances {
+            let object = &scene.objects[instance.material as usize];
+            crate::object_frames::ObjectFrame::check_transform(object)?;
+            *instance = crate::instances::Instance::new(object, instance.material, instance.root);
+        }
+        out.place_instances(crate::bvh::BvhQuality::default())?;
+        Ok(Some(out))
+    }
+}

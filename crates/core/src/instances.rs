@@ -19,10 +19,19 @@ use std::sync::Arc;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
-use crate::estimator::instances::PlacedTriangle;
-use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, HAS_NORMALS, Material, TANGENTS};
+use crate::gpu_types::{
+    ALPHA_BLEND, ALPHA_MASK, HAS_NORMALS, Material, Shading, TANGENTS, Triangle,
+};
 use crate::math::sampling::luminance;
 use crate::scene::{Mesh, Object, Scene};
+
+/// A triangle of an instance's mesh placed in the world (`Instance::place`).
+#[derive(Clone, Copy, Debug)]
+pub struct PlacedTriangle {
+    pub tri: Triangle,
+    pub shading: Shading,
+    pub tangents: [[f32; 4]; 3],
+}
 
 /// One placed copy of a shared mesh, as the kernels read it (`Instance` in `instances.wgsl`).
 /// Rows of 3×4 affine matrices: a point p goes to (r·(p, 1)) per row r.
@@ -192,47 +201,5 @@ pub fn in_mesh_space(object: &Object) -> Object {
     Object {
         transform: crate::scene::Transform::default(),
         ..object.clone()
-    }
-}
-
-impl crate::GpuScene {
-    /// The objects that are instances, grouped by the mesh they share, as `shared_meshes` lists
-    /// them.
-    pub fn instance_groups(&self) -> Vec<Vec<usize>> {
-        let mut by_root: HashMap<u32, Vec<usize>> = HashMap::new();
-        for instance in &self.instances {
-            (by_root.entry(instance.root).or_default()).push(instance.material as usize);
-        }
-        let mut groups: Vec<Vec<usize>> = by_root.into_values().collect();
-        for group in &mut groups {
-            group.sort_unstable();
-        }
-        groups.sort_by_key(|g| g[0]);
-        groups
-    }
-
-    /// This scene with `scene`'s transforms for its instances: only the top level over them is
-    /// built again, no mesh's BVH (what the live viewport does when a copy of a shared mesh
-    /// moves, turns or scales). `moved(i)` tells whether object `i`'s transform changed; `None`
-    /// where one that moved is stored in world space (that needs a full build).
-    pub fn with_moved_instances(
-        &self,
-        scene: &Scene,
-        moved: impl Fn(usize) -> bool,
-    ) -> crate::Result<Option<crate::GpuScene>> {
-        let is_instance = |i: usize| self.instances.iter().any(|k| k.material as usize == i);
-        if scene.objects.len() != self.materials.len()
-            || (0..scene.objects.len()).any(|i| moved(i) && !is_instance(i))
-        {
-            return Ok(None);
-        }
-        let mut out = self.clone();
-        for instance in &mut out.instances {
-            let object = &scene.objects[instance.material as usize];
-            crate::object_frames::ObjectFrame::check_transform(object)?;
-            *instance = Instance::new(object, instance.material, instance.root);
-        }
-        out.place_instances(crate::bvh::BvhQuality::default())?;
-        Ok(Some(out))
     }
 }

@@ -9,6 +9,7 @@ pub const WGSL: &str = include_str!("instances.wgsl");
 
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Hit, NO_INSTANCE, Shading, Triangle};
+pub use crate::instances::PlacedTriangle;
 
 /// The triangle a hit found, as shading reads it: its corners, material and flags, its shading
 /// attributes (zero where the scene has none) and its three corner tangents (zero without).
@@ -19,14 +20,6 @@ pub struct HitTriangle<'a> {
     pub tri: &'a Triangle,
     pub shading: &'a Shading,
     pub tangents: &'a [[f32; 4]; 3],
-}
-
-/// A triangle of an instance's mesh placed in the world (`Instance::place`).
-#[derive(Clone, Copy, Debug)]
-pub struct PlacedTriangle {
-    pub tri: Triangle,
-    pub shading: Shading,
-    pub tangents: [[f32; 4]; 3],
 }
 
 const NO_SHADING: Shading = Shading {
