@@ -569,9 +569,13 @@ impl GpuScene {
         scene: &Scene,
         moved: impl Fn(usize) -> bool,
     ) -> crate::Result<Option<crate::GpuScene>> {
-        let is_instance = |i: usize| self.instances.iter().any(|k| k.material as usize == i);
+        // One flag per object: a crowd moved at once stays linear in its size.
+        let mut is_instance = vec![false; self.materials.len()];
+        for k in &self.instances {
+            is_instance[k.material as usize] = true;
+        }
         if scene.objects.len() != self.materials.len()
-            || (0..scene.objects.len()).any(|i| moved(i) && !is_instance(i))
+            || (0..scene.objects.len()).any(|i| moved(i) && !is_instance[i])
         {
             return Ok(None);
         }
