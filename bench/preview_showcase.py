@@ -5,13 +5,13 @@ plastic sphere, a brushed-aluminium can, two blue boxes, an emissive lamp and a 
 checkered floor under a point light and a sun (`--lights all|point|sun|lamp`), or a gold sphere
 alone under the sun (`--lights solo`). Then renders it with `rt-cli render --device cpu --aov
 object` (the path tracer, which also says which object each pixel shows) and `rt-cli preview`,
-and prints each object's mean preview / render per channel; `--max-depth 2` compares the preview
-with the path tracer's direct light alone.
+and prints each object's mean preview / render per channel; `--max-depth 2` compares the direct
+light alone (the preview leaves its bounce light out at that depth).
 
 Needs Python 3.13 with `pip install bpy==5.2.3`, numpy and OpenEXR, and a release rt-cli.
 
 Usage: python3.13 bench/preview_showcase.py [--lights all] [--rt target/release/rt-cli]
-       [--spp 256] [--max-depth 8]
+       [--spp 256] [--max-depth 8] [--terms] [--keep FOLDER]
 """
 
 import argparse
@@ -107,36 +107,57 @@ def read(path):
         return {k: numpy.asarray(v.pixels, dtype=numpy.float64) for k, v in f.channels().items()}
 
 
+def render_pair(rt, glb, folder, spp, depth):
+    """The path tracer's and the preview's images of `glb` at `depth`, and the object ids."""
+    size = ["--width", "320", "--height", "240"]
+    render, preview = folder / f"render-{depth}.exr", folder / f"preview-{depth}.exr"
+    subprocess.run([rt, "render", "--device", "cpu", str(glb), *size, "--spp", str(spp),
+                    "--max-depth", str(depth), "--aov", "object", "-o", str(render)],
+                   check=True, capture_output=True)
+    subprocess.run([rt, "preview", str(glb), *size, "--max-depth", str(depth), "-o", str(preview)],
+                   check=True, capture_output=True)
+    r, p = read(render), read(preview)
+    rgb = lambda image: image.get("RGB", image.get("RGBA"))[..., :3]
+    return rgb(r), rgb(p), r["object.ID"].astype(int)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lights", choices=["all", "point", "sun", "lamp", "solo"], default="all")
     parser.add_argument("--rt", default=str(ROOT / "target" / "release" / "rt-cli"))
     parser.add_argument("--spp", type=int, default=256)
     parser.add_argument("--max-depth", type=int, default=8)
+    parser.add_argument("--terms", action="store_true",
+                        help="also compare the direct light (depth 2) and the bounce light (the "
+                             "difference between --max-depth and 2) on their own")
+    parser.add_argument("--keep", type=Path, help="a folder to keep the scene and the images in")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         glb = build(args.lights, folder)
-        size = ["--width", "320", "--height", "240"]
-        subprocess.run([args.rt, "render", "--device", "cpu", str(glb), *size, "--spp", str(args.spp),
-                        "--max-depth", str(args.max_depth), "--aov", "object",
-                        "-o", str(folder / "render.exr")], check=True, capture_output=True)
-        subprocess.run([args.rt, "preview", str(glb), *size, "-o", str(folder / "preview.exr")],
-                       check=True, capture_output=True)
-        render, preview = read(folder / "render.exr"), read(folder / "preview.exr")
+        full = render_pair(args.rt, glb, folder, args.spp, args.max_depth)
+        direct = render_pair(args.rt, glb, folder, args.spp, 2) if args.terms else None
         info = subprocess.run([args.rt, "info", str(glb)], check=True, capture_output=True, text=True)
+        if args.keep:
+            args.keep.mkdir(parents=True, exist_ok=True)
+            for kept in folder.iterdir():
+                if kept.suffix in (".glb", ".exr"):
+                    (args.keep / kept.name).write_bytes(kept.read_bytes())
     names = [line.split()[0] for line in info.stdout.splitlines() if line.startswith("  ")]
-    rgb_r = render.get("RGB", render.get("RGBA"))[..., :3]
-    rgb_p = preview.get("RGB", preview.get("RGBA"))[..., :3]
-    ids = render["object.ID"].astype(int)
-    print(f"lights {args.lights}, max depth {args.max_depth}: preview / render per object (R, G, B)")
+    ids = full[2]
+    heading = f"lights {args.lights}, max depth {args.max_depth}: preview / render per object (R, G, B)"
+    print(heading + ("; then direct (depth 2) and bounce (the rest)" if direct else ""))
     for o in sorted(set(ids.flatten())):
         mask = ids == o
         if o == 0 or mask.sum() < 30:
             continue
-        ratio = rgb_p[mask].mean(axis=0) / numpy.maximum(rgb_r[mask].mean(axis=0), 1e-9)
+        ratio = lambda r, p: numpy.round(p[mask].mean(axis=0) / numpy.maximum(r[mask].mean(axis=0), 1e-9), 3)
         name = names[o - 1] if o - 1 < len(names) else str(o)
-        print(f"  {name:12} {mask.sum():6} px  {numpy.round(ratio, 3)}")
+        line = f"  {name:12} {mask.sum():6} px  {ratio(full[0], full[1])}"
+        if direct:
+            bounce_r, bounce_p = full[0] - direct[0], full[1] - direct[1]
+            line += f"  direct {ratio(direct[0], direct[1])}  bounce {ratio(bounce_r, bounce_p)}"
+        print(line)
 
 
 if __name__ == "__main__":

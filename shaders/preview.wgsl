@@ -82,6 +82,10 @@ struct PreviewObject {
     extra: vec4<f32>,
     // x: selected (outlined by outline.rs), y: its images (TEX_*), z: has vertex normals.
     flags: vec4<u32>,
+    // x: the clear coat's weight, y: its roughness; z: the sheen's roughness.
+    layers: vec4<f32>,
+    // rgb: the sheen's colour (black: none).
+    sheen: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> view: PreviewView;
@@ -127,6 +131,8 @@ struct MeshVarying {
     @location(6) @interpolate(flat) flags: vec4<u32>,
     @location(7) color: vec3<f32>,
     @location(8) @interpolate(flat) extra: vec4<f32>,
+    @location(9) @interpolate(flat) layers: vec4<f32>,
+    @location(10) @interpolate(flat) sheen: vec4<f32>,
 }
 
 @vertex
@@ -144,6 +150,8 @@ fn vs_mesh(v: MeshVertex, @builtin(instance_index) object: u32) -> MeshVarying {
     out.flags = o.flags;
     out.color = v.color;
     out.extra = o.extra;
+    out.layers = o.layers;
+    out.sheen = o.sheen;
     return out;
 }
 
@@ -227,9 +235,30 @@ fn brdf_scale_bias(mu: f32, roughness: f32) -> vec2<f32> {
     return textureSampleLevel(brdf_table, linear_sampler, uv, 0.0).rg;
 }
 
+// The directional albedo of a white sheen (rt-core's `math::sheen::sheen_table`, the table's
+// third channel) at (μ, sheen roughness).
+fn sheen_albedo(mu: f32, roughness: f32) -> f32 {
+    let n = f32(textureDimensions(brdf_table).x);
+    let uv = vec2<f32>(clamp(mu, 0.5 / n, 1.0 - 0.5 / n), (clamp(roughness, 0.0, 1.0) * (n - 1.0) + 0.5) / n);
+    return textureSampleLevel(brdf_table, linear_sampler, uv, 0.0).b;
+}
+
 fn ggx_d(n_h: f32, a2: f32) -> f32 {
     let k = n_h * n_h * (a2 - 1.0) + 1.0;
     return a2 / max(PI * k * k, 1e-12);
+}
+
+// D of a half vector h given in the frame of anisotropy (z the normal), widths w.x and w.y.
+fn ggx_d_anisotropic(h: vec3<f32>, w: Widths) -> f32 {
+    let k = h.x * h.x / (w.x * w.x) + h.y * h.y / (w.y * w.y) + h.z * h.z;
+    return 1.0 / max(PI * w.x * w.y * k * k, 1e-12);
+}
+
+// smith_visibility for directions given in the frame of anisotropy.
+fn smith_visibility_anisotropic(v: vec3<f32>, l: vec3<f32>, w: Widths) -> f32 {
+    let gv = max(l.z, 0.0) * length(vec3<f32>(w.x * v.x, w.y * v.y, v.z));
+    let gl = max(v.z, 0.0) * length(vec3<f32>(w.x * l.x, w.y * l.y, l.z));
+    return 0.5 / max(gv + gl, 1e-12);
 }
 
 // G₂ / (4 cosθo cosθi), height-correlated.
@@ -329,7 +358,102 @@ struct Shaded {
     through: f32,
 }
 
-fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>) -> Shaded {
+// GGX's width along a frame's x and y (the direction of anisotropy and across it), and the
+// roughness whose tables stand for the pair: that of the root-mean-square width
+// √((α_x² + α_y²)/2), whose directional albedo is within 6% of the stretched lobe's (at strength
+// 0.8, roughness 0.35, μ from 0.3 to 0.9; the mean width √(α_x α_y) is up to 25% above it, so
+// its multiple-scattering compensation fell short: a brushed can 18% too dark). The render reads
+// a table of its own (`math::anisotropic_energy`).
+struct Widths {
+    x: f32,
+    y: f32,
+    roughness: f32,
+}
+
+fn widths(roughness: f32, anisotropy: f32) -> Widths {
+    let a = max(roughness * roughness, 2e-3);
+    var w: Widths;
+    w.x = mix(a, 1.0, anisotropy * anisotropy);
+    w.y = a;
+    w.roughness = select(roughness, sqrt(sqrt(0.5 * (w.x * w.x + w.y * w.y))), anisotropy > 0.0);
+    return w;
+}
+
+// The environment an anisotropic reflector shows: GGX's slopes along the direction of
+// anisotropy x spread as p(s) ∝ (1 + s²/α_x²)^(−3/2), so the mirror directions of five normals
+// tilted along x at that distribution's quantiles 0.1, 0.3, …, 0.9 (s = 0, ±0.436 α_x,
+// ±1.333 α_x), each prefiltered at the narrow width, stand for the stretched lobe (a single
+// bent normal, as glTF's sample viewer reads, swung a brushed floor from 30% too dark to 36% too
+// bright under a sky with a sun).
+fn stretched_environment(v: vec3<f32>, n: vec3<f32>, x: vec3<f32>, w: Widths) -> vec3<f32> {
+    let narrow = sqrt(max(w.y, 0.3 * w.x));
+    var sum = vec3<f32>(0.0);
+    for (var k = 0; k < 5; k++) {
+        let slope = array<f32, 5>(-1.333, -0.436, 0.0, 0.436, 1.333)[k] * w.x;
+        let r = reflect(-v, normalize(n - x * slope));
+        // A mirror direction below the surface sees the surface itself: the horizon instead.
+        sum += environment(normalize(r - n * min(dot(r, n), 0.0)), narrow);
+    }
+    return sum * 0.2;
+}
+
+// The layers over the base (`KHR_materials_clearcoat` and `_sheen`, stacked as the render's
+// `math::layers`: coat over sheen over base). Each scales what lies below it by one minus its
+// directional albedo at the view and adds its own reflection; `below` is that product.
+struct Layers {
+    coat: f32,
+    coat_a2: f32,
+    coat_roughness: f32,
+    coat_albedo: f32,
+    sheen: vec3<f32>,
+    sheen_alpha: f32,
+    sheen_albedo: f32,
+    below: f32,
+}
+
+fn layers_of(o: MeshVarying, n_v: f32) -> Layers {
+    var l: Layers;
+    l.coat = clamp(o.layers.x, 0.0, 1.0);
+    l.coat_roughness = clamp(o.layers.y, 0.0, 1.0);
+    let a = max(l.coat_roughness * l.coat_roughness, 2e-3);
+    l.coat_a2 = a * a;
+    l.below = 1.0;
+    if l.coat > 0.0 {
+        // The coat is glass of IOR 1.5: F0 = 0.04.
+        let ab = brdf_scale_bias(n_v, l.coat_roughness);
+        l.coat_albedo = l.coat * (0.04 * ab.x + ab.y);
+        l.below = 1.0 - l.coat_albedo;
+    }
+    l.sheen = clamp(o.sheen.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    let sheen_roughness = clamp(o.layers.z, 0.07, 1.0);
+    l.sheen_alpha = sheen_roughness * sheen_roughness;
+    if any(l.sheen > vec3<f32>(0.0)) {
+        l.sheen_albedo = sheen_albedo(n_v, o.layers.z);
+        l.below *= 1.0 - max(l.sheen.r, max(l.sheen.g, l.sheen.b)) * l.sheen_albedo;
+    }
+    return l;
+}
+
+// f cosθ of the layers' own lobes towards a light l (h the half vector): the coat's GGX with
+// Schlick's Fresnel, and the sheen's Charlie distribution with Neubelt's visibility (the render
+// fits Estevez and Kulla's Λ instead) under the coat.
+fn layers_lobe(l: Layers, n: vec3<f32>, v: vec3<f32>, light: vec3<f32>, h: vec3<f32>, n_v: f32, n_l: f32) -> vec3<f32> {
+    var f = vec3<f32>(0.0);
+    let n_h = max(dot(n, h), 0.0);
+    if l.coat > 0.0 {
+        f += vec3<f32>(l.coat * ggx_d(n_h, l.coat_a2) * smith_visibility(n_v, n_l, l.coat_a2)
+            * fresnel_schlick(vec3<f32>(0.04), 1.0, dot(v, h)).x);
+    }
+    if l.sheen_albedo > 0.0 {
+        let sin2 = max(1.0 - n_h * n_h, 0.0);
+        let d = (2.0 + 1.0 / l.sheen_alpha) * pow(sin2, 0.5 / l.sheen_alpha) / (2.0 * PI);
+        let visibility = 1.0 / (4.0 * (n_l + n_v - n_l * n_v));
+        f += l.sheen * d * visibility * (1.0 - l.coat_albedo);
+    }
+    return f;
+}
+
+fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: vec3<f32>) -> Shaded {
     let v = normalize(view.eye.xyz - p);
     var n = n_in;
     // Two-sided: shade the side that faces the camera.
@@ -337,10 +461,18 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>) -> Shad
         n = -n;
     }
     let metallic = clamp(o.params.x, 0.0, 1.0);
-    let roughness = clamp(o.params.y, 0.0, 1.0);
     let transmission = clamp(o.params.z, 0.0, 1.0) * (1.0 - metallic);
-    let a = max(roughness * roughness, 2e-3);
-    let a2 = a * a;
+    // The frame of anisotropy: x along its direction, made orthogonal to the shading normal.
+    let along = aniso - n * dot(n, aniso);
+    let anisotropic = o.extra.z > 0.0 && dot(along, along) > 1e-12;
+    let w = widths(clamp(o.params.y, 0.0, 1.0), select(0.0, clamp(o.extra.z, 0.0, 1.0), anisotropic));
+    let roughness = w.roughness;
+    var frame = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), n);
+    if anisotropic {
+        let x = normalize(along);
+        frame = mat3x3<f32>(x, cross(n, x), n);
+    }
+    let a2 = w.y * w.y;
     // Schlick's Fresnel from F0 to F90: glTF's `specular` scales both for a dielectric; a metal's
     // F90 is 1; a material without a specular layer (Lambertian, emitter) has neither.
     let f0 = mix(vec3<f32>(o.params.w), base, metallic);
@@ -355,6 +487,8 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>) -> Shad
     let e_white = max(ab.x + ab.y, 1e-3);
     let compensation = vec3<f32>(1.0) + f0 * (1.0 / e_white - 1.0);
     let diffuse = (1.0 - metallic) * (1.0 - transmission) * (vec3<f32>(1.0) - e_spec) * base / PI;
+    let layers = layers_of(o, n_v);
+    let layered = layers.coat > 0.0 || layers.sheen_albedo > 0.0;
     var radiance = vec3<f32>(0.0);
     for (var i = 0u; i < min(view.light_count, MAX_PREVIEW_LIGHTS); i++) {
         let light = view.lights[i];
@@ -364,24 +498,48 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>) -> Shad
             continue;
         }
         var f = diffuse;
+        let h = normalize(inc.l + v);
         if specular {
-            let h = normalize(inc.l + v);
-            f += ggx_d(max(dot(n, h), 0.0), a2) * smith_visibility(n_v, n_l, a2)
-                * fresnel_schlick(f0, f90, dot(v, h)) * compensation;
+            var lobe = 0.0;
+            if anisotropic {
+                let to_frame = transpose(frame);
+                lobe = ggx_d_anisotropic(to_frame * h, w) * smith_visibility_anisotropic(to_frame * v, to_frame * inc.l, w);
+            } else {
+                lobe = ggx_d(max(dot(n, h), 0.0), a2) * smith_visibility(n_v, n_l, a2);
+            }
+            f += lobe * fresnel_schlick(f0, f90, dot(v, h)) * compensation;
+        }
+        if layered {
+            f = f * layers.below + layers_lobe(layers, n, v, inc.l, h, n_v, n_l);
         }
         radiance += f * inc.strength * n_l * shadow(light, p, n);
     }
     // Image-based light, dimmed by how much of the environment the volume's probes see, and the
-    // bounce light: along the mirror direction for the specular layer (a surface without one
-    // skips it), from the cosine convolution for the diffuse part.
+    // bounce light: along the mirror direction for the specular layers (a surface without one
+    // skips it), from the cosine convolution for the diffuse part and the sheen.
     let around = ambient_cube(p, n, n);
-    radiance += diffuse * PI * (irradiance_over_pi(n) * around.a + around.rgb);
+    let irradiance = irradiance_over_pi(n) * around.a + around.rgb;
+    var ambient = diffuse * PI * irradiance;
+    let r = reflect(-v, n);
+    // Read one cell out along the reflected ray: the light the reflection meets there, not the
+    // light about the surface itself (which, blurred over a coarse grid, included the object's
+    // own bounce: a metal sphere alone under the sun lit itself).
+    let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
+    let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
+    let ahead = ambient_cube(p + r * min(cell.x, min(cell.y, cell.z)), r, r);
     if specular {
-        let r = reflect(-v, n);
-        let ahead = ambient_cube(p, n, r);
-        radiance += (environment(r, roughness) * ahead.a + ahead.rgb) * e_spec * compensation;
+        var sky = environment(r, roughness);
+        if anisotropic {
+            sky = stretched_environment(v, n, frame[0], w);
+        }
+        ambient += (sky * ahead.a + ahead.rgb) * e_spec * compensation;
     }
-    radiance += o.emission.rgb;
+    if layered {
+        ambient = ambient * layers.below
+            + layers.sheen * layers.sheen_albedo * (1.0 - layers.coat_albedo) * irradiance
+            + (environment(r, layers.coat_roughness) * ahead.a + ahead.rgb) * layers.coat_albedo;
+    }
+    radiance += ambient + o.emission.rgb;
     var out: Shaded;
     out.radiance = radiance;
     let f = fresnel_schlick(f0, f90, n_v);
@@ -399,14 +557,36 @@ fn fogged(radiance: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
     return radiance * t + view.fog.rgb * (1.0 - t);
 }
 
+// ∂p/∂u and ∂p/∂v about n from the screen-space derivatives of p and the UVs (Schüler's cotangent
+// frame, unnormalised; zero where the UVs do not vary).
+fn uv_frame(n: vec3<f32>, dp: mat2x3<f32>, duv: mat2x2<f32>) -> mat2x3<f32> {
+    let dp2perp = cross(dp[1], n);
+    let dp1perp = cross(n, dp[0]);
+    return mat2x3<f32>(dp2perp * duv[0].x + dp1perp * duv[1].x, dp2perp * duv[0].y + dp1perp * duv[1].y);
+}
+
+// The direction of anisotropy about n (`KHR_materials_anisotropy`): the tangent turned by the
+// material's rotation towards the bitangent, in the frame of `normal_mapped` (the render's
+// MikkTSpace tangents point along ∂p/∂u too); zero where the UVs do not vary, which shades
+// isotropically.
+fn anisotropy_direction(n: vec3<f32>, rotation: f32, dp: mat2x3<f32>, duv: mat2x2<f32>) -> vec3<f32> {
+    let frame = uv_frame(n, dp, duv);
+    let t = frame[0] - n * dot(n, frame[0]);
+    let b = frame[1] - n * dot(n, frame[1]);
+    if dot(t, t) <= 0.0 || dot(b, b) <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let d = normalize(t) * cos(rotation) + normalize(b) * sin(rotation);
+    return select(vec3<f32>(0.0), normalize(d), dot(d, d) > 1e-12);
+}
+
 // A tangent-space normal map's normal (x, y scaled by `strength`) in the frame of the UVs'
 // screen-space derivatives about n (Schüler's cotangent frame: no tangents stored; v up, as the
 // render's MikkTSpace frame).
 fn normal_mapped(n: vec3<f32>, texel: vec3<f32>, strength: f32, dp: mat2x3<f32>, duv: mat2x2<f32>) -> vec3<f32> {
-    let dp2perp = cross(dp[1], n);
-    let dp1perp = cross(n, dp[0]);
-    let t = dp2perp * duv[0].x + dp1perp * duv[1].x;
-    let b = dp2perp * duv[0].y + dp1perp * duv[1].y;
+    let frame = uv_frame(n, dp, duv);
+    let t = frame[0];
+    let b = frame[1];
     let scale = max(dot(t, t), dot(b, b));
     if scale <= 0.0 {
         return n;
@@ -456,7 +636,11 @@ fn surface(in: MeshVarying) -> vec4<f32> {
     o.params.x *= metal_rough.b;
     o.params.y *= metal_rough.g;
     o.emission = vec4<f32>(o.emission.rgb * glow, o.emission.a);
-    let shaded = shade(o, base, in.world, n);
+    var aniso = vec3<f32>(0.0);
+    if o.extra.z > 0.0 {
+        aniso = anisotropy_direction(n, o.extra.w, dp, duv);
+    }
+    let shaded = shade(o, base, in.world, n, aniso);
     let radiance = fogged(shaded.radiance, in.world);
     // Premultiplied by the material's alpha; the blended pass keeps 1 − a of what lies behind.
     let alpha = o.emission.a * sampled.a;

@@ -25,6 +25,10 @@ pub struct PreviewArgs {
     /// Exposure, view transform and white balance for 8-bit outputs, as `render`'s.
     #[command(flatten)]
     display: ViewArgs,
+    /// Ray segments per path, as `render`'s: at most 2 leaves the bounce light out (light straight
+    /// from the lights and the environment, as a render of that depth).
+    #[arg(long)]
+    max_depth: Option<u32>,
     /// Draw the editor's floor grid too (left out by default: it is a viewport aid, not part of
     /// the scene).
     #[arg(long)]
@@ -42,6 +46,9 @@ pub fn run(args: PreviewArgs) -> Result<()> {
     }
     if let Some(height) = args.height {
         scene.settings.height = height;
+    }
+    if let Some(depth) = args.max_depth {
+        scene.settings.max_depth = depth;
     }
     let (width, height) = (scene.settings.width, scene.settings.height);
     anyhow::ensure!(

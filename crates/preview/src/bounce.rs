@@ -60,6 +60,16 @@ impl IrradianceVolume {
         ((z * ny + y) * 6 * nx + axis as u32 * nx + x) as usize
     }
 
+    /// This volume without its bounce light, keeping how much of the sky each probe sees: the
+    /// preview of a render whose paths end after their first surface (`max_depth` ≤ 2, light
+    /// straight from the lights and the environment).
+    pub fn direct_only(&self) -> Self {
+        IrradianceVolume {
+            texels: self.texels.iter().map(|t| [0.0, 0.0, 0.0, t[3]]).collect(),
+            ..self.clone()
+        }
+    }
+
     /// The probe at `cell`, side `axis`.
     pub fn at(&self, cell: [u32; 3], axis: usize) -> [f32; 4] {
         self.texels[self.index(cell, axis)]
@@ -73,13 +83,14 @@ fn mean_albedo(scene: &Scene, bounds: (Vec3, Vec3)) -> (Vec3, f32, f32) {
     let size = (bounds.1 - bounds.0).max(Vec3::splat((bounds.1 - bounds.0).max_element() * 1e-3));
     let box_area = 2.0 * (size.x * size.y + size.y * size.z + size.z * size.x);
     let (mut area, mut reflected) = (0.0f32, Vec3::ZERO);
+    let means = texture_means(scene);
     for object in &scene.objects {
         if matches!(object.material, Material::Emissive { .. }) {
             continue;
         }
         let a = emitter_shape(object).0;
         area += a;
-        reflected += diffuse_albedo(&object.material) * a;
+        reflected += diffuse_albedo(&object.material, &means) * a;
     }
     if area <= 0.0 || !area.is_finite() {
         return (Vec3::ZERO, 0.0, 0.0);
@@ -88,11 +99,46 @@ fn mean_albedo(scene: &Scene, bounds: (Vec3, Vec3)) -> (Vec3, f32, f32) {
     (reflected / area * enclosure, area, enclosure)
 }
 
-/// What a surface sends on of the light it gets, in all directions: its base colour unless it
-/// transmits (a metal's colour counts: it reflects as much, only not diffusely).
-fn diffuse_albedo(material: &Material) -> Vec3 {
-    let (base, _, params, _, _) = material_params(material);
-    Vec3::from(base) * (1.0 - params[2] * (1.0 - params[0]))
+/// What a surface sends on of the light it gets, in all directions: its base colour (times its
+/// image's mean, `texture_means`) unless it transmits (a metal's colour counts: it reflects as
+/// much, only not diffusely).
+fn diffuse_albedo(material: &Material, texture_means: &[Vec3]) -> Vec3 {
+    let (base, _, params, _, texture) = material_params(material);
+    let image = texture
+        .and_then(|t| texture_means.get(t).copied())
+        .unwrap_or(Vec3::ONE);
+    Vec3::from(base) * image * (1.0 - params[2] * (1.0 - params[0]))
+}
+
+/// Each texture's mean linear colour (over at most 2^16 texels, evenly strided): a checkered
+/// floor sends on its squares' mean, not white's.
+fn texture_means(scene: &Scene) -> Vec<Vec3> {
+    let to_linear: Vec<f32> = (0..=255u8)
+        .map(|v| rt_core::math::sampling::srgb_to_linear(f32::from(v) / 255.0))
+        .collect();
+    scene
+        .textures
+        .iter()
+        .map(|t| {
+            let texels = t.rgba8.len() / 4;
+            let stride = (texels / 65536).max(1);
+            let mut sum = Vec3::ZERO;
+            let mut count = 0u32;
+            for texel in t.rgba8.chunks_exact(4).step_by(stride) {
+                sum += Vec3::new(
+                    to_linear[texel[0] as usize],
+                    to_linear[texel[1] as usize],
+                    to_linear[texel[2] as usize],
+                );
+                count += 1;
+            }
+            if count == 0 {
+                Vec3::ONE
+            } else {
+                sum / count as f32
+            }
+        })
+        .collect()
 }
 
 /// The ambient term of progressive radiosity (Cohen et al. 1988), for scenes too large for a grid:
@@ -207,10 +253,11 @@ fn compute(
         .clamp(Vec3::ONE, Vec3::splat(8.0))
         .as_uvec3()
         .to_array();
+    let means = texture_means(scene);
     let albedo_of: Vec<Vec3> = scene
         .objects
         .iter()
-        .map(|o| diffuse_albedo(&o.material))
+        .map(|o| diffuse_albedo(&o.material, &means))
         .collect();
     let later_bounces = 1.0 / (1.0 - luminance(mean_albedo(scene, bounds).0).min(0.95));
     let rays = directions();
@@ -357,7 +404,7 @@ fn key_of(scene: &Scene, lights: &[PreviewLight], sky: Vec3) -> u64 {
             .to_cols_array()
             .map(f32::to_bits)
             .hash(&mut hasher);
-        diffuse_albedo(&object.material)
+        diffuse_albedo(&object.material, &[])
             .to_array()
             .map(f32::to_bits)
             .hash(&mut hasher);

@@ -263,7 +263,11 @@ fn frame_with(
 
     let mut lights = preview_lights(scene, radius);
     let shadows = plan_shadows(&mut lights, scene, center, radius);
-    let (volume, settling) = irradiance_volume(scene, &lights, bounds, sky_radiance(scene), wait);
+    let (mut volume, settling) =
+        irradiance_volume(scene, &lights, bounds, sky_radiance(scene), wait);
+    if scene.settings.max_depth <= 2 {
+        volume = Arc::new(volume.direct_only());
+    }
 
     let glow = fog_glow(scene, &lights, center, radius);
     let fog = &scene.fog;
@@ -404,6 +408,25 @@ fn preview_object(
         Material::Dielectric { .. } | Material::Metal { .. } => 1.0,
         Material::Lambertian { .. } | Material::Emissive { .. } => 0.0,
     };
+    // KHR_materials_anisotropy's strength and rotation (its image is not read: the preview
+    // stretches highlights by the factor alone).
+    let anisotropy = match &object.material {
+        Material::Pbr(p) => [p.anisotropy.clamp(0.0, 1.0), p.anisotropy_rotation],
+        _ => [0.0; 2],
+    };
+    // The layers over the base, by their factors (their images are not read).
+    let (layers, sheen) = match &object.material {
+        Material::Pbr(p) => (
+            [
+                p.clearcoat.clamp(0.0, 1.0),
+                p.clearcoat_roughness.clamp(0.0, 1.0),
+                p.sheen_roughness.clamp(0.0, 1.0),
+                0.0,
+            ],
+            Vec3::from(p.sheen_color).clamp(Vec3::ZERO, Vec3::ONE),
+        ),
+        _ => ([0.0; 4], Vec3::ZERO),
+    };
     let (maps, normal_scale) = match &object.material {
         Material::Pbr(p) => (
             [
@@ -430,13 +453,15 @@ fn preview_object(
         base_color: Vec3::from(base).extend(mask).to_array(),
         emission: emission.extend(alpha).to_array(),
         params,
-        extra: [normal_scale, f90, 0.0, 0.0],
+        extra: [normal_scale, f90, anisotropy[0], anisotropy[1]],
         flags: [
             u32::from(selected),
             images,
             u32::from(object.mesh.normals.is_some()),
             0,
         ],
+        layers,
+        sheen: sheen.extend(0.0).to_array(),
     };
     (record, MaterialTextures { slots: maps }, blended)
 }

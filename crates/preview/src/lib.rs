@@ -258,7 +258,8 @@ impl PreviewRenderer {
         let side = environment::BRDF_TABLE_SIDE as u32;
         let brdf_texels: Vec<[f32; 3]> = environment::brdf_table()
             .iter()
-            .map(|&[a, b]| [a, b, 0.0])
+            .zip(rt_core::math::sheen::sheen_table())
+            .map(|(&[a, b], &sheen)| [a, b, sheen])
             .collect();
         let brdf = texture_2d(device, queue, "preview brdf", [side, side, 1], &brdf_texels);
         PreviewRenderer {

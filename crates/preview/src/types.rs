@@ -100,10 +100,16 @@ pub struct PreviewObject {
     /// dielectric layer (0 for a plain Lambertian).
     pub params: [f32; 4],
     /// x: the normal map's strength; y: the dielectric layer's reflectance at grazing angles (F90:
-    /// glTF's `specular`, 0 for materials without a specular layer); zw: unused.
+    /// glTF's `specular`, 0 for materials without a specular layer); z: the strength of
+    /// anisotropy, w: its rotation in radians from the tangent (∂p/∂u).
     pub extra: [f32; 4],
     /// selected, its images (`image_slot` bits), has vertex normals, unused.
     pub flags: [u32; 4],
+    /// x: the clear coat's weight, y: its roughness (`KHR_materials_clearcoat`); z: the sheen's
+    /// roughness; w: unused.
+    pub layers: [f32; 4],
+    /// rgb: the sheen's colour (`KHR_materials_sheen`; black, none); a: unused.
+    pub sheen: [f32; 4],
 }
 
 /// Interleaved vertex: position, normal (zero when the mesh has none), UV, colour (white when the
@@ -242,7 +248,9 @@ mod tests {
                 emission,
                 params,
                 extra,
-                flags
+                flags,
+                layers,
+                sheen
             ]
         );
     }
