@@ -102,6 +102,11 @@ struct PreviewObject {
 // The irradiance volume: texel (axis · nx + x, y, z) holds probe (x, y, z)'s bounce irradiance/π
 // (rgb) and sky visibility (a) from side axis (+x, −x, +y, −y, +z, −z).
 @group(0) @binding(9) var probes: texture_3d<f32>;
+// Each probe's radiance by direction (bounce.rs `IrradianceVolume::radiance`): OCT × OCT bins of
+// an octahedral map, [radiance of the surfaces seen, share of the sky], probe (x, y, z)'s bin
+// (i, j) at texel (x · OCT + i, (z · ny + y) · OCT + j).
+@group(0) @binding(10) var probe_radiance: texture_2d<f32>;
+const OCT: u32 = 6u;
 // A material's images (white, or a flat normal, where it has none).
 @group(1) @binding(0) var albedo_texture: texture_2d<f32>;
 @group(1) @binding(1) var albedo_sampler: sampler;
@@ -204,6 +209,40 @@ fn probe(p: vec3<f32>, axis: u32) -> vec4<f32> {
     let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5));
     let uvw = vec3<f32>((f32(axis) * dims.x + c.x) / size.x, c.y / size.y, c.z / size.z);
     return textureSampleLevel(probes, linear_sampler, uvw, 0.0);
+}
+
+// The bin of direction d in a probe's octahedral map (bounce.rs `oct_bin`, bit for bit).
+fn oct_bin(d: vec3<f32>) -> vec2<u32> {
+    let n = d / max(abs(d.x) + abs(d.y) + abs(d.z), 1e-20);
+    var uv = n.xz;
+    if n.y < 0.0 {
+        uv = (vec2<f32>(1.0) - abs(n.zx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), n.xz >= vec2<f32>(0.0));
+    }
+    return min(vec2<u32>((uv * 0.5 + 0.5) * f32(OCT)), vec2<u32>(OCT - 1u));
+}
+
+// The radiance the probes about p see along d: [surfaces' radiance, share of the sky], the
+// eight nearest probes' bins of d weighed trilinearly (clamped to the outer probes, as `probe`).
+fn probe_radiance_along(p: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
+    let size = vec3<f32>(textureDimensions(probes));
+    let dims = vec3<f32>(size.x / 6.0, size.y, size.z);
+    let extent = max(view.probe_hi.xyz - view.probe_lo.xyz, vec3<f32>(1e-6));
+    let f = clamp((p - view.probe_lo.xyz) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * dims;
+    let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5)) - vec3<f32>(0.5);
+    let base = vec3<u32>(floor(c));
+    let t = c - floor(c);
+    let last = vec3<u32>(dims) - vec3<u32>(1u);
+    let bin = oct_bin(d);
+    let ny = u32(dims.y);
+    var sum = vec4<f32>(0.0);
+    for (var k = 0u; k < 8u; k++) {
+        let offset = vec3<u32>(k & 1u, (k >> 1u) & 1u, k >> 2u);
+        let at = min(base + offset, last);
+        let w = select(vec3<f32>(1.0) - t, t, offset == vec3<u32>(1u));
+        let texel = vec2<u32>(at.x * OCT + bin.x, (at.z * ny + at.y) * OCT + bin.y);
+        sum += textureLoad(probe_radiance, texel, 0) * (w.x * w.y * w.z);
+    }
+    return sum;
 }
 
 // Bounce irradiance/π (rgb) and sky visibility (a) towards direction d at a surface point p with
@@ -379,6 +418,12 @@ fn widths(roughness: f32, anisotropy: f32) -> Widths {
     return w;
 }
 
+// What a reflection shows: the environment where the probes see the sky, the surfaces they see
+// elsewhere (`ahead`: [surfaces' radiance, share of the sky]).
+fn reflected(sky: vec3<f32>, ahead: vec4<f32>) -> vec3<f32> {
+    return sky * ahead.a + ahead.rgb;
+}
+
 // The environment an anisotropic reflector shows: GGX's slopes along the direction of
 // anisotropy x spread as p(s) ∝ (1 + s²/α_x²)^(−3/2), so the mirror directions of five normals
 // tilted along x at that distribution's quantiles 0.1, 0.3, …, 0.9 (s = 0, ±0.436 α_x,
@@ -526,18 +571,24 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
     // own bounce: a metal sphere alone under the sun lit itself).
     let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
     let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
-    let ahead = ambient_cube(p + r * min(cell.x, min(cell.y, cell.z)), r, r);
+    let broad = ambient_cube(p + r * min(cell.x, min(cell.y, cell.z)), r, r);
+    // A sharp lobe meets what lies along r (the probes' radiance maps), a rough one the
+    // cosine-weighted average about it (the ambient cube): blended by the lobe's narrower width
+    // (a brushed lobe blurs along its direction of anisotropy alone; across it, the line
+    // between a lit floor and the sky stays sharp).
+    let sharp = probe_radiance_along(p + n * 0.5 * min(cell.x, min(cell.y, cell.z)), r);
+    let ahead = mix(sharp, broad, sqrt(w.y));
     if specular {
         var sky = environment(r, roughness);
         if anisotropic {
             sky = stretched_environment(v, n, frame[0], w);
         }
-        ambient += (sky * ahead.a + ahead.rgb) * e_spec * compensation;
+        ambient += reflected(sky, ahead) * e_spec * compensation;
     }
     if layered {
         ambient = ambient * layers.below
             + layers.sheen * layers.sheen_albedo * (1.0 - layers.coat_albedo) * irradiance
-            + (environment(r, layers.coat_roughness) * ahead.a + ahead.rgb) * layers.coat_albedo;
+            + reflected(environment(r, layers.coat_roughness), mix(sharp, broad, layers.coat_roughness)) * layers.coat_albedo;
     }
     radiance += ambient + o.emission.rgb;
     var out: Shaded;

@@ -20,28 +20,52 @@ use std::f32::consts::PI;
 use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
 
-use glam::Vec3;
+use glam::{UVec3, Vec3, Vec4};
+use rt_core::environment::{EnvironmentMap, env_texel_index, env_uv};
 use rt_core::math::sampling::luminance;
 use rt_core::{Material, Scene};
 
 use super::surfaces::{emitter_shape, material_params};
-use super::types::{CUBE_SIDES, PreviewLight, light_kind};
+use super::types::{PreviewLight, light_kind};
 
 /// Rays per probe.
 pub const PROBE_RAYS: usize = 128;
 /// Largest scene that gets a grid (its BVH and rays take tens of milliseconds at this size).
 pub const MAX_TRIANGLES: usize = 100_000;
 /// Probes along the scene's largest side.
-const PROBES_ACROSS: f32 = 4.0;
+pub(crate) const PROBES_ACROSS: f32 = 4.0;
+
+/// Directions of a probe's radiance map a side (an octahedral map, `OCT`² bins).
+pub const OCT: u32 = 6;
 
 /// The probes, laid out as the shader's 3D texture: texel (axis · nx + ix, iy, iz) holds
-/// [bounce irradiance/π (rgb), sky visibility] of probe (ix, iy, iz) from side `axis`.
+/// [bounce irradiance/π (rgb), sky visibility] of probe (ix, iy, iz) from side `axis`. Beside it,
+/// what glossy reflections read: each probe's radiance by direction, `OCT` × `OCT` bins of an
+/// octahedral map (`oct_bin`), [radiance of the surfaces seen (rgb, zero where the sky is seen),
+/// share of the sky], probe (ix, iy, iz)'s bin (i, j) at texel (ix · OCT + i, (iz · ny + iy) ·
+/// OCT + j) of a 2D texture. Six cosine-weighted sides cannot tell a floor just below the horizon
+/// from the sky above it: a brushed can whose reflections all looked down at a lit floor read
+/// half sky from its sideways cube faces (39% too dark).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IrradianceVolume {
     pub dims: [u32; 3],
     pub lo: Vec3,
     pub hi: Vec3,
     pub texels: Vec<[f32; 4]>,
+    pub radiance: Vec<[f32; 4]>,
+}
+
+/// The bin of direction `d` in a probe's octahedral map (the WGSL's `oct_bin` in preview.wgsl):
+/// d / (|x| + |y| + |z|) projected onto xz, the lower half folded over the diagonals.
+pub fn oct_bin(d: Vec3) -> [u32; 2] {
+    let n = d / (d.x.abs() + d.y.abs() + d.z.abs()).max(1e-20);
+    let (mut u, mut v) = (n.x, n.z);
+    if n.y < 0.0 {
+        let sign = |c: f32| if c >= 0.0 { 1.0 } else { -1.0 };
+        (u, v) = ((1.0 - n.z.abs()) * sign(n.x), (1.0 - n.x.abs()) * sign(n.z));
+    }
+    let bin = |c: f32| (((c * 0.5 + 0.5) * OCT as f32) as u32).min(OCT - 1);
+    [bin(u), bin(v)]
 }
 
 impl IrradianceVolume {
@@ -52,10 +76,17 @@ impl IrradianceVolume {
             lo: Vec3::ZERO,
             hi: Vec3::ONE,
             texels: vec![bounce.extend(1.0).to_array(); 6],
+            radiance: vec![bounce.extend(1.0).to_array(); (OCT * OCT) as usize],
         }
     }
 
-    fn index(&self, [x, y, z]: [u32; 3], axis: usize) -> usize {
+    /// The index of probe `cell`'s bin `[i, j]` in `radiance`.
+    pub(crate) fn radiance_index(&self, [x, y, z]: [u32; 3], [i, j]: [u32; 2]) -> usize {
+        let [nx, ny, _] = self.dims;
+        (((z * ny + y) * OCT + j) * nx * OCT + x * OCT + i) as usize
+    }
+
+    pub(crate) fn index(&self, [x, y, z]: [u32; 3], axis: usize) -> usize {
         let [nx, ny, _] = self.dims;
         ((z * ny + y) * 6 * nx + axis as u32 * nx + x) as usize
     }
@@ -66,8 +97,58 @@ impl IrradianceVolume {
     pub fn direct_only(&self) -> Self {
         IrradianceVolume {
             texels: self.texels.iter().map(|t| [0.0, 0.0, 0.0, t[3]]).collect(),
+            radiance: self
+                .radiance
+                .iter()
+                .map(|t| [0.0, 0.0, 0.0, t[3]])
+                .collect(),
             ..self.clone()
         }
+    }
+
+    /// The cell of the `i`th probe (x fastest).
+    pub(crate) fn cell_of(&self, i: usize) -> [u32; 3] {
+        let [nx, ny, _] = self.dims;
+        let i = i as u32;
+        [i % nx, (i / nx) % ny, i / (nx * ny)]
+    }
+
+    /// The probes interpolated trilinearly at `q`, side `axis`, clamped to the outer probes
+    /// (the shader's `probe`, whose texture sampler does the same).
+    fn probe(&self, q: Vec3, axis: usize) -> Vec4 {
+        let dims = Vec3::from(self.dims.map(|d| d as f32));
+        let extent = (self.hi - self.lo).max(Vec3::splat(1e-6));
+        let f = ((q - self.lo) / extent).clamp(Vec3::ZERO, Vec3::ONE) * dims;
+        let c = f.clamp(Vec3::splat(0.5), dims - 0.5) - 0.5;
+        let base = c.floor();
+        let t = c - base;
+        let mut sum = Vec4::ZERO;
+        for corner in 0..8u32 {
+            let offset = UVec3::new(corner & 1, (corner >> 1) & 1, corner >> 2);
+            let at = (base.as_uvec3() + offset).min(UVec3::from(self.dims) - 1);
+            let w = Vec3::select(offset.cmpeq(UVec3::ZERO), 1.0 - t, t);
+            sum += Vec4::from(self.at(at.to_array(), axis)) * w.x * w.y * w.z;
+        }
+        sum
+    }
+
+    /// Bounce irradiance/π (xyz) and sky visibility (w) towards `d` at a surface point `p` facing
+    /// `n`: the shader's `ambient_cube`, on the CPU (the second bounce reads the first with it).
+    pub(crate) fn ambient_cube(&self, p: Vec3, n: Vec3, d: Vec3) -> Vec4 {
+        let cell = (self.hi - self.lo) / Vec3::from(self.dims.map(|d| d as f32));
+        let q = p + n * 0.5 * cell.min_element();
+        let w = d * d;
+        let mut sum = Vec4::ZERO;
+        for (axis, weight, positive) in [
+            (0, w.x, d.x >= 0.0),
+            (2, w.y, d.y >= 0.0),
+            (4, w.z, d.z >= 0.0),
+        ] {
+            if weight > 1e-4 {
+                sum += self.probe(q, if positive { axis } else { axis + 1 }) * weight;
+            }
+        }
+        sum / (w.x + w.y + w.z).max(1e-6)
     }
 
     /// The probe at `cell`, side `axis`.
@@ -102,7 +183,7 @@ fn mean_albedo(scene: &Scene, bounds: (Vec3, Vec3)) -> (Vec3, f32, f32) {
 /// What a surface sends on of the light it gets, in all directions: its base colour (times its
 /// image's mean, `texture_means`) unless it transmits (a metal's colour counts: it reflects as
 /// much, only not diffusely).
-fn diffuse_albedo(material: &Material, texture_means: &[Vec3]) -> Vec3 {
+pub(crate) fn diffuse_albedo(material: &Material, texture_means: &[Vec3]) -> Vec3 {
     let (base, _, params, _, texture) = material_params(material);
     let image = texture
         .and_then(|t| texture_means.get(t).copied())
@@ -112,7 +193,7 @@ fn diffuse_albedo(material: &Material, texture_means: &[Vec3]) -> Vec3 {
 
 /// Each texture's mean linear colour (over at most 2^16 texels, evenly strided): a checkered
 /// floor sends on its squares' mean, not white's.
-fn texture_means(scene: &Scene) -> Vec<Vec3> {
+pub(crate) fn texture_means(scene: &Scene) -> Vec<Vec3> {
     let to_linear: Vec<f32> = (0..=255u8)
         .map(|v| rt_core::math::sampling::srgb_to_linear(f32::from(v) / 255.0))
         .collect();
@@ -171,215 +252,32 @@ pub fn uniform_bounce(scene: &Scene, lights: &[PreviewLight], bounds: (Vec3, Vec
     albedo / (1.0 - luminance(albedo).min(0.95)) * power / (PI * area)
 }
 
-/// Direct irradiance from `light` on a surface at `p` facing `n`, with a shadow ray.
-fn direct(gpu: &rt_core::GpuScene, light: &PreviewLight, p: Vec3, n: Vec3) -> Vec3 {
-    let color = Vec3::from_slice(&light.color[..3]);
-    let (l, strength, reach) = if light.shadow[0] == light_kind::DIRECTIONAL {
-        (-Vec3::from_slice(&light.direction[..3]), color, f32::MAX)
-    } else {
-        let d = Vec3::from_slice(&light.position[..3]) - p;
-        let d2 = d.length_squared().max(1e-12);
-        let l = d / d2.sqrt();
-        let mut intensity = color;
-        match light.shadow[0] {
-            light_kind::SPOT => {
-                let c = (-l).dot(Vec3::from_slice(&light.direction[..3]));
-                let (cos_outer, cos_inner) = (light.direction[3], light.cone[0]);
-                let t = ((c - cos_outer) / (cos_inner - cos_outer).max(1e-6)).clamp(0.0, 1.0);
-                intensity *= if light.cone[1] > 0.5 {
-                    t * t
-                } else {
-                    t * t * (3.0 - 2.0 * t)
-                };
-            }
-            light_kind::EMITTER => {
-                intensity *=
-                    Vec3::from_slice(&light.direction[..3]).dot(-l).max(0.0) + light.color[3];
-            }
-            _ => {}
-        }
-        (l, intensity / d2, d2.sqrt() * 0.999)
-    };
-    let cos = n.dot(l);
-    if cos <= 0.0 || strength.max_element() <= 0.0 {
-        return Vec3::ZERO;
-    }
-    let mut hit = rt_core::estimator::trace(gpu, p, l, reach);
-    // An emitter's light starts on its own surface: what the shadow ray meets there is the
-    // emitter itself, not an occluder.
-    let material = |hit: &mut rt_core::gpu_types::Hit| {
-        let mut placed = None;
-        rt_core::estimator::instances::hit_triangle(gpu, hit, &mut placed)
-            .tri
-            .material
-    };
-    let blocked = hit.triangle != u32::MAX
-        && (light.shadow[0] != light_kind::EMITTER || material(&mut hit) + 1 != light.shadow[3]);
-    if blocked { Vec3::ZERO } else { strength * cos }
+/// The environment as the volume sees it: its mean radiance (what surfaces reflect of it), and
+/// the map (turned by `turns`) whose luminance by direction weighs each probe's view of the sky.
+#[derive(Clone, Debug, Default)]
+pub struct Sky {
+    pub mean: Vec3,
+    pub map: Option<Arc<EnvironmentMap>>,
+    pub turns: f32,
 }
 
-/// Directions spread evenly over the sphere (a Fibonacci spiral).
-fn directions() -> Vec<Vec3> {
-    let golden = PI * (3.0 - 5f32.sqrt());
-    (0..PROBE_RAYS)
-        .map(|i| {
-            let z = 1.0 - (2.0 * i as f32 + 1.0) / PROBE_RAYS as f32;
-            let r = (1.0 - z * z).max(0.0).sqrt();
-            let phi = golden * i as f32;
-            Vec3::new(r * phi.cos(), z, r * phi.sin())
+impl Sky {
+    /// A constant environment (an ambient colour).
+    pub fn uniform(radiance: Vec3) -> Self {
+        Sky {
+            mean: radiance,
+            ..Default::default()
+        }
+    }
+
+    pub(crate) fn luminance(&self, d: Vec3) -> f32 {
+        self.map.as_ref().map_or(1.0, |map| {
+            let (u, v) = env_uv(d, self.turns);
+            let texel = env_texel_index(u, v, map.width.max(1), map.height.max(1)) as usize;
+            map.texels
+                .get(texel)
+                .map_or(0.0, |t| luminance(Vec3::from(*t)))
         })
-        .collect()
-}
-
-/// Computes the volume of `scene` under `lights`, the environment's mean radiance `sky`.
-fn compute(
-    scene: &Scene,
-    lights: &[PreviewLight],
-    bounds: (Vec3, Vec3),
-    sky: Vec3,
-) -> IrradianceVolume {
-    let fallback = || IrradianceVolume::uniform(uniform_bounce(scene, lights, bounds));
-    if scene.triangle_count() > MAX_TRIANGLES {
-        return fallback();
-    }
-    let Ok(gpu) = rt_core::GpuScene::build(scene) else {
-        return fallback();
-    };
-    let (lo, hi) = bounds;
-    let size = (hi - lo).max(Vec3::splat((hi - lo).max_element() * 1e-3));
-    let cell = size.max_element() / PROBES_ACROSS;
-    let dims = (size / cell)
-        .ceil()
-        .clamp(Vec3::ONE, Vec3::splat(8.0))
-        .as_uvec3()
-        .to_array();
-    let means = texture_means(scene);
-    let albedo_of: Vec<Vec3> = scene
-        .objects
-        .iter()
-        .map(|o| diffuse_albedo(&o.material, &means))
-        .collect();
-    let later_bounces = 1.0 / (1.0 - luminance(mean_albedo(scene, bounds).0).min(0.95));
-    let rays = directions();
-    let epsilon = size.max_element() * 1e-4;
-    let mut volume = IrradianceVolume {
-        dims,
-        lo,
-        hi,
-        texels: vec![[0.0; 4]; 6 * (dims[0] * dims[1] * dims[2]) as usize],
-    };
-    let mut valid = Vec::new();
-    for z in 0..dims[2] {
-        for y in 0..dims[1] {
-            for x in 0..dims[0] {
-                let c = lo
-                    + (Vec3::new(x as f32, y as f32, z as f32) + 0.5)
-                        / Vec3::from(dims.map(|d| d as f32))
-                        * size;
-                let mut bounce = [Vec3::ZERO; 6];
-                let mut sky_seen = [0.0f32; 6];
-                let mut weight = [0.0f32; 6];
-                let mut back = 0;
-                for &d in &rays {
-                    let mut hit = rt_core::estimator::trace(&gpu, c, d, f32::MAX);
-                    let cosines = CUBE_SIDES.map(|a| a.dot(d).max(0.0));
-                    for k in 0..6 {
-                        weight[k] += cosines[k];
-                    }
-                    if hit.triangle == u32::MAX {
-                        for k in 0..6 {
-                            sky_seen[k] += cosines[k];
-                        }
-                        continue;
-                    }
-                    let mut placed = None;
-                    let tri =
-                        rt_core::estimator::instances::hit_triangle(&gpu, &mut hit, &mut placed)
-                            .tri;
-                    let [v0, v1, v2] = [tri.v0, tri.v1, tri.v2].map(Vec3::from);
-                    let mut n = (v1 - v0).cross(v2 - v0).normalize_or_zero();
-                    if n.dot(d) > 0.0 {
-                        back += 1;
-                        n = -n;
-                    }
-                    let albedo = albedo_of
-                        .get(tri.material as usize)
-                        .copied()
-                        .unwrap_or(Vec3::ZERO);
-                    if albedo.max_element() <= 0.0 {
-                        continue;
-                    }
-                    let p = c + d * hit.t + n * epsilon;
-                    let irradiance: Vec3 = lights.iter().map(|l| direct(&gpu, l, p, n)).sum();
-                    let radiance = albedo / PI * irradiance + albedo * sky;
-                    for k in 0..6 {
-                        bounce[k] += radiance * cosines[k];
-                    }
-                }
-                valid.push(back * 2 < rays.len());
-                for k in 0..6 {
-                    let i = volume.index([x, y, z], k);
-                    // E/π = Σ L max(a·d, 0) · (4π/N) / π.
-                    let e = bounce[k] * (4.0 / rays.len() as f32) * later_bounces;
-                    volume.texels[i] = e.extend(sky_seen[k] / weight[k].max(1e-6)).to_array();
-                }
-            }
-        }
-    }
-    dilate(&mut volume, &valid);
-    volume
-}
-
-/// Gives probes inside closed objects their valid neighbours' mean (repeatedly), or the mean of
-/// all valid probes where none is near.
-fn dilate(volume: &mut IrradianceVolume, valid: &[bool]) {
-    let [nx, ny, nz] = volume.dims;
-    let cell = |i: usize| {
-        let i = i as u32;
-        [i % nx, (i / nx) % ny, i / (nx * ny)]
-    };
-    let mut valid = valid.to_vec();
-    for _ in 0..4 {
-        let mut next = valid.clone();
-        for i in 0..valid.len() {
-            if valid[i] {
-                continue;
-            }
-            let [x, y, z] = cell(i);
-            let mut sum = [[0.0f32; 4]; 6];
-            let mut count = 0.0;
-            for (dx, dy, dz) in [
-                (1, 0, 0),
-                (-1, 0, 0),
-                (0, 1, 0),
-                (0, -1, 0),
-                (0, 0, 1),
-                (0, 0, -1),
-            ] {
-                let (a, b, c) = (x as i32 + dx, y as i32 + dy, z as i32 + dz);
-                if a < 0 || b < 0 || c < 0 || a >= nx as i32 || b >= ny as i32 || c >= nz as i32 {
-                    continue;
-                }
-                let j = ((c as u32 * ny + b as u32) * nx + a as u32) as usize;
-                if valid[j] {
-                    for (k, s) in sum.iter_mut().enumerate() {
-                        let t = volume.at([a as u32, b as u32, c as u32], k);
-                        for (s, t) in s.iter_mut().zip(t) {
-                            *s += t;
-                        }
-                    }
-                    count += 1.0;
-                }
-            }
-            if count > 0.0 {
-                for (k, s) in sum.iter().enumerate() {
-                    let index = volume.index([x, y, z], k);
-                    volume.texels[index] = s.map(|v| v / count);
-                }
-                next[i] = true;
-            }
-        }
-        valid = next;
     }
 }
 
@@ -394,7 +292,7 @@ struct Cache {
     building: Option<(u64, std::thread::JoinHandle<IrradianceVolume>)>,
 }
 
-fn key_of(scene: &Scene, lights: &[PreviewLight], sky: Vec3) -> u64 {
+fn key_of(scene: &Scene, lights: &[PreviewLight], sky: &Sky) -> u64 {
     let mut hasher = std::collections::hash_map::DefaultHasher::new();
     for object in &scene.objects {
         (Arc::as_ptr(&object.mesh) as usize).hash(&mut hasher);
@@ -410,7 +308,13 @@ fn key_of(scene: &Scene, lights: &[PreviewLight], sky: Vec3) -> u64 {
             .hash(&mut hasher);
     }
     bytemuck::cast_slice::<PreviewLight, u32>(lights).hash(&mut hasher);
-    sky.to_array().map(f32::to_bits).hash(&mut hasher);
+    sky.mean.to_array().map(f32::to_bits).hash(&mut hasher);
+    sky.map
+        .as_ref()
+        .map(|m| Arc::as_ptr(m) as usize)
+        .hash(&mut hasher);
+    sky.turns.to_bits().hash(&mut hasher);
+    scene.settings.max_depth.hash(&mut hasher);
     hasher.finish()
 }
 
@@ -423,7 +327,7 @@ pub fn irradiance_volume(
     scene: &Scene,
     lights: &[PreviewLight],
     bounds: Option<(Vec3, Vec3)>,
-    sky: Vec3,
+    sky: &Sky,
     wait: bool,
 ) -> (Arc<IrradianceVolume>, bool) {
     static CACHE: Mutex<Option<Cache>> = Mutex::new(None);
@@ -450,7 +354,7 @@ pub fn irradiance_volume(
         return (cache.volume.clone(), false);
     }
     if wait || scene.triangle_count() <= SYNC_TRIANGLES {
-        let volume = Arc::new(compute(scene, lights, bounds, sky));
+        let volume = Arc::new(super::probes::compute(scene, lights, bounds, sky));
         let building = guard.take().and_then(|c| c.building);
         *guard = Some(Cache {
             key,
@@ -467,10 +371,10 @@ pub fn irradiance_volume(
         building: None,
     });
     if cache.building.is_none() {
-        let (scene, lights) = (scene.clone(), lights.to_vec());
+        let (scene, lights, sky) = (scene.clone(), lights.to_vec(), sky.clone());
         cache.building = Some((
             key,
-            std::thread::spawn(move || compute(&scene, &lights, bounds, sky)),
+            std::thread::spawn(move || super::probes::compute(&scene, &lights, bounds, &sky)),
         ));
     }
     (cache.volume.clone(), true)

@@ -13,9 +13,9 @@ use rt_core::material::AlphaMode;
 use rt_core::math::sampling::luminance;
 use rt_core::{Camera, LightKind, Material, Mesh, Scene};
 
-use super::bounce::{IrradianceVolume, irradiance_volume};
+use super::bounce::{IrradianceVolume, Sky, irradiance_volume};
 use super::shadows::{ShadowPlan, plan_shadows};
-use super::surfaces::{emitter_shape, material_params};
+use super::surfaces::{emitter_shape, layer_params, material_params};
 use super::types::{
     GridVertex, MAX_PREVIEW_LIGHTS, NO_SHADOW, PreviewLight, PreviewObject, PreviewView, light_kind,
 };
@@ -159,6 +159,30 @@ fn scene_light(light: &rt_core::Light, radius: f32) -> Ranked {
     }
 }
 
+/// The environment's sun as a directional light (`sun.rs`), if it has one.
+fn environment_sun(scene: &Scene, radius: f32) -> Option<Ranked> {
+    let env = scene.environment.as_ref()?;
+    let sun = crate::sun::of(&env.map)?;
+    let strength = env.strength.max(0.0);
+    let mut light = rt_core::Light::new(LightKind::Directional, "environment sun");
+    light.direction = (-sun.world_direction(env.rotation_deg)).to_array();
+    light.color = (sun.irradiance * strength).to_array();
+    light.intensity = 1.0;
+    Some(scene_light(&light, radius))
+}
+
+/// The environment as the irradiance volume sees it: without its sun (a light of its own), turned.
+fn sky(scene: &Scene) -> Sky {
+    let Some(env) = &scene.environment else {
+        return Sky::uniform(Vec3::from(scene.ambient));
+    };
+    Sky {
+        mean: sky_radiance(scene),
+        map: Some(crate::sun::of(&env.map).map_or_else(|| env.map.clone(), |sun| sun.sky.clone())),
+        turns: env.rotation_deg / 360.0,
+    }
+}
+
 /// The environment's mean radiance (what a surface open to all of it receives over π), or the
 /// ambient colour; an environment's is kept for the next frames (a large image takes milliseconds).
 fn sky_radiance(scene: &Scene) -> Vec3 {
@@ -168,12 +192,14 @@ fn sky_radiance(scene: &Scene) -> Vec3 {
     let Some(env) = &scene.environment else {
         return Vec3::from(scene.ambient);
     };
+    // The sun's light comes from its own light.
+    let map = crate::sun::of(&env.map).map_or_else(|| env.map.clone(), |sun| sun.sky.clone());
     let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
     let mean = match last.as_ref() {
-        Some((map, mean)) if Arc::ptr_eq(map, &env.map) => *mean,
+        Some((kept, mean)) if Arc::ptr_eq(kept, &map) => *mean,
         _ => {
-            let mean = mean_radiance(&env.map);
-            *last = Some((env.map.clone(), mean));
+            let mean = mean_radiance(&map);
+            *last = Some((map.clone(), mean));
             mean
         }
     };
@@ -203,8 +229,11 @@ fn environment(scene: &Scene) -> PreviewEnvironment {
         Some(env) => {
             (Arc::as_ptr(&env.map) as usize).hash(&mut hasher);
             env.strength.to_bits().hash(&mut hasher);
+            // Without its sun, which lights the preview as a light of its own (`sun.rs`).
+            let map =
+                crate::sun::of(&env.map).map_or_else(|| env.map.clone(), |sun| sun.sky.clone());
             PreviewEnvironment {
-                map: Some(env.map.clone()),
+                map: Some(map),
                 strength: env.strength,
                 ambient: [0.0; 3],
                 key: hasher.finish(),
@@ -263,8 +292,7 @@ fn frame_with(
 
     let mut lights = preview_lights(scene, radius);
     let shadows = plan_shadows(&mut lights, scene, center, radius);
-    let (mut volume, settling) =
-        irradiance_volume(scene, &lights, bounds, sky_radiance(scene), wait);
+    let (mut volume, settling) = irradiance_volume(scene, &lights, bounds, &sky(scene), wait);
     if scene.settings.max_depth <= 2 {
         volume = Arc::new(volume.direct_only());
     }
@@ -342,6 +370,7 @@ fn preview_lights(scene: &Scene, radius: f32) -> Vec<PreviewLight> {
         .enumerate()
         .filter_map(|(i, o)| emitter_light(i, o))
         .chain(scene.lights.iter().map(|l| scene_light(l, radius)))
+        .chain(environment_sun(scene, radius))
         .filter(|r| r.power.is_finite() && r.power > 0.0)
         .collect();
     ranked.sort_by(|a, b| b.power.total_cmp(&a.power));
@@ -408,25 +437,7 @@ fn preview_object(
         Material::Dielectric { .. } | Material::Metal { .. } => 1.0,
         Material::Lambertian { .. } | Material::Emissive { .. } => 0.0,
     };
-    // KHR_materials_anisotropy's strength and rotation (its image is not read: the preview
-    // stretches highlights by the factor alone).
-    let anisotropy = match &object.material {
-        Material::Pbr(p) => [p.anisotropy.clamp(0.0, 1.0), p.anisotropy_rotation],
-        _ => [0.0; 2],
-    };
-    // The layers over the base, by their factors (their images are not read).
-    let (layers, sheen) = match &object.material {
-        Material::Pbr(p) => (
-            [
-                p.clearcoat.clamp(0.0, 1.0),
-                p.clearcoat_roughness.clamp(0.0, 1.0),
-                p.sheen_roughness.clamp(0.0, 1.0),
-                0.0,
-            ],
-            Vec3::from(p.sheen_color).clamp(Vec3::ZERO, Vec3::ONE),
-        ),
-        _ => ([0.0; 4], Vec3::ZERO),
-    };
+    let (layers, sheen, anisotropy) = layer_params(&object.material, &scene.textures);
     let (maps, normal_scale) = match &object.material {
         Material::Pbr(p) => (
             [

@@ -16,7 +16,9 @@ mod frame;
 mod outline;
 pub use outline::image_layout;
 mod pipelines;
+mod probes;
 pub mod shadows;
+pub mod sun;
 mod surfaces;
 pub mod types;
 
@@ -59,6 +61,8 @@ struct ShadowMaps {
 struct ProbeTexture {
     volume: Arc<bounce::IrradianceVolume>,
     view: wgpu::TextureView,
+    /// The probes' radiance maps (`IrradianceVolume::radiance`).
+    radiance: wgpu::TextureView,
 }
 
 fn probe_texture(
@@ -92,9 +96,36 @@ fn probe_texture(
         wgpu::util::TextureDataOrder::LayerMajor,
         bytemuck::cast_slice(&data),
     );
+    let oct = bounce::OCT;
+    let radiance: Vec<half::f16> = volume
+        .radiance
+        .iter()
+        .flatten()
+        .map(|&c| half::f16::from_f32(c.clamp(0.0, 65000.0)))
+        .collect();
+    let radiance = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("preview probe radiance"),
+            size: wgpu::Extent3d {
+                width: oct * nx,
+                height: oct * ny * nz,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&radiance),
+    );
     ProbeTexture {
         volume: volume.clone(),
         view: texture.create_view(&Default::default()),
+        radiance: radiance.create_view(&Default::default()),
     }
 }
 
@@ -537,7 +568,13 @@ impl PreviewRenderer {
                         &self.matrices_buffer,
                     ],
                     &self.shadow_maps.array,
-                    [&env.sharp, &env.blur, &self.brdf, &probes.view],
+                    [
+                        &env.sharp,
+                        &env.blur,
+                        &self.brdf,
+                        &probes.view,
+                        &probes.radiance,
+                    ],
                 ));
             }
         }

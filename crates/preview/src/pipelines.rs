@@ -132,7 +132,7 @@ impl Pipelines {
         device: &wgpu::Device,
         [view, objects, matrices]: [&wgpu::Buffer; 3],
         shadow_maps: &wgpu::TextureView,
-        [sharp, blur, brdf, probes]: [&wgpu::TextureView; 4],
+        [sharp, blur, brdf, probes, radiance]: [&wgpu::TextureView; 5],
     ) -> wgpu::BindGroup {
         let texture = |binding, view| wgpu::BindGroupEntry {
             binding,
@@ -167,6 +167,7 @@ impl Pipelines {
                     resource: wgpu::BindingResource::Sampler(&self.clamped),
                 },
                 texture(9, probes),
+                texture(10, radiance),
             ],
         })
     }
@@ -259,6 +260,7 @@ fn bind_group_layouts(device: &wgpu::Device) -> [wgpu::BindGroupLayout; 3] {
             texture_entry(7, float, d2),
             sampler_entry(8, wgpu::SamplerBindingType::Filtering),
             texture_entry(9, float, wgpu::TextureViewDimension::D3),
+            texture_entry(10, float, d2),
         ],
     });
     // The shadow pass binds only what its vertex stage reads: the maps it draws into cannot

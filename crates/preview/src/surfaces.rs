@@ -84,3 +84,64 @@ pub fn material_params(material: &Material) -> ([f32; 3], Vec3, [f32; 4], f32, O
         }
     }
 }
+
+/// The mean of channel `channel` (0–3) of `texture` in [0, 1], decoded from sRGB when `srgb`, over
+/// at most 4096 texels evenly strided (a factor's image stands in by its mean where the preview
+/// does not sample it); 1 without an image.
+fn image_mean(
+    textures: &[rt_core::Texture],
+    texture: Option<usize>,
+    channel: usize,
+    srgb: bool,
+) -> f32 {
+    let Some(t) = texture.and_then(|t| textures.get(t)) else {
+        return 1.0;
+    };
+    let texels = t.rgba8.len() / 4;
+    let stride = (texels / 4096).max(1);
+    let (mut sum, mut count) = (0.0f32, 0u32);
+    for texel in t.rgba8.chunks_exact(4).step_by(stride) {
+        let v = f32::from(texel[channel]) / 255.0;
+        sum += if srgb {
+            rt_core::math::sampling::srgb_to_linear(v)
+        } else {
+            v
+        };
+        count += 1;
+    }
+    if count == 0 { 1.0 } else { sum / count as f32 }
+}
+
+/// The layers over a material's base as the preview draws them (`PreviewObject::layers`, its
+/// sheen colour, and its anisotropy's strength and rotation): glTF's factors times their images'
+/// means (the coat's red, its roughness's green, the sheen colour's sRGB, the sheen roughness's
+/// alpha, the anisotropy's blue; the preview samples only the base colour, metallic-roughness,
+/// normal and emission images per pixel).
+pub fn layer_params(
+    material: &Material,
+    textures: &[rt_core::Texture],
+) -> ([f32; 4], Vec3, [f32; 2]) {
+    let Material::Pbr(p) = material else {
+        return ([0.0; 4], Vec3::ZERO, [0.0; 2]);
+    };
+    let mean = |texture, channel, srgb| image_mean(textures, texture, channel, srgb);
+    let sheen = Vec3::from(p.sheen_color)
+        * Vec3::new(
+            mean(p.sheen_color_texture, 0, true),
+            mean(p.sheen_color_texture, 1, true),
+            mean(p.sheen_color_texture, 2, true),
+        );
+    (
+        [
+            (p.clearcoat * mean(p.clearcoat_texture, 0, false)).clamp(0.0, 1.0),
+            (p.clearcoat_roughness * mean(p.clearcoat_roughness_texture, 1, false)).clamp(0.0, 1.0),
+            (p.sheen_roughness * mean(p.sheen_roughness_texture, 3, false)).clamp(0.0, 1.0),
+            0.0,
+        ],
+        sheen.clamp(Vec3::ZERO, Vec3::ONE),
+        [
+            (p.anisotropy * mean(p.anisotropy_texture, 2, false)).clamp(0.0, 1.0),
+            p.anisotropy_rotation,
+        ],
+    )
+}

@@ -5,10 +5,14 @@
 //! dark where a box blocks the sun; in the Cornell box, lit as much by bounce light as by its lamp,
 //! every object within 25%; under an environment map, every object but the glass within 25%.
 
+#[path = "../common/mod.rs"]
 mod common;
+mod pair;
+mod terms;
 
 use common::{camera, object, pbr, pixel_hits, scene, settings};
 use glam::Vec3;
+use pair::{luminance, preview_and_render};
 use rt_core::material::Pbr;
 use rt_core::shapes::{cuboid, quad, uv_sphere};
 use rt_core::{Light, LightKind, Material, Object, Scene};
@@ -95,90 +99,6 @@ fn showroom() -> Scene {
     point.intensity = 3.0;
     s.lights = vec![sun, point];
     s
-}
-
-fn luminance(c: [f32; 3]) -> f64 {
-    f64::from(0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2])
-}
-
-/// The preview and the path-traced render of `scene` (saved as `name`-preview.png and
-/// `name`-render.png for a failing test to point at), and which object each pixel shows.
-struct Pair {
-    preview: Vec<[f32; 3]>,
-    render: Vec<[f32; 3]>,
-    hits: Vec<Option<(usize, Vec3)>>,
-}
-
-fn preview_and_render(ctx: &rt_gpu::GpuContext, scene: &Scene, name: &str) -> Pair {
-    let (width, height) = (scene.settings.width, scene.settings.height);
-    let frame =
-        rt_preview::build_frame(scene, &scene.camera, scene.bounds(), None, [width, height]);
-    let preview = rt_preview::render_image(ctx, &frame).expect("the preview renders");
-    let render: Vec<[f32; 3]> = common::render(ctx, scene)
-        .pixels
-        .iter()
-        .map(|p| [p[0], p[1], p[2]])
-        .collect();
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
-    for (kind, image) in [("preview", &preview), ("render", &render)] {
-        let path = dir.join(format!("{name}-{kind}.png"));
-        rt_core::output::save_image(&path, width, height, image, 0.0).expect("saved");
-        eprintln!("{kind}: {}", path.display());
-    }
-    assert!(preview.iter().flatten().all(|c| c.is_finite() && *c >= 0.0));
-    Pair {
-        preview,
-        render,
-        hits: pixel_hits(scene, width, height),
-    }
-}
-
-impl Pair {
-    /// The mean colour of `image` over the pixels whose hit `keep` takes.
-    fn mean(&self, image: &[[f32; 3]], keep: &dyn Fn(usize, Vec3) -> bool) -> [f32; 3] {
-        let (mut sum, mut n) = ([0.0f64; 3], 0usize);
-        for (pixel, hit) in image.iter().zip(&self.hits) {
-            if let Some((object, p)) = *hit
-                && keep(object, p)
-            {
-                for c in 0..3 {
-                    sum[c] += f64::from(pixel[c]);
-                }
-                n += 1;
-            }
-        }
-        assert!(n > 20, "{n} pixels");
-        sum.map(|s| (s / n as f64) as f32)
-    }
-
-    /// Each object's mean luminance in the preview over the render's (objects with few pixels in
-    /// view left out), printed.
-    fn object_ratios(&self, scene: &Scene) -> Vec<(String, f64)> {
-        let mut ratios = Vec::new();
-        for (i, o) in scene.objects.iter().enumerate() {
-            if self
-                .hits
-                .iter()
-                .filter(|h| h.is_some_and(|(k, _)| k == i))
-                .count()
-                <= 20
-            {
-                continue;
-            }
-            let ours = self.mean(&self.preview, &|object, _| object == i);
-            let theirs = self.mean(&self.render, &|object, _| object == i);
-            let ratio = luminance(ours) / luminance(theirs);
-            eprintln!(
-                "{:12} preview {:.3?} render {:.3?}: {:+.1}%",
-                o.name,
-                ours,
-                theirs,
-                100.0 * (ratio - 1.0)
-            );
-            ratios.push((o.name.clone(), ratio));
-        }
-        ratios
-    }
 }
 
 #[test]
