@@ -123,6 +123,7 @@ pub const SHADER_WAVEFRONT: WgslFile = shader_file!("wavefront.wgsl");
 pub const SHADER_TRACE_RAYS: WgslFile = shader_file!("trace_rays.wgsl");
 pub const SHADER_TRACE_RAYS_BVH: WgslFile = shader_file!("trace_rays_bvh.wgsl");
 pub const SHADER_PREVIEW: WgslFile = shader_file!("preview.wgsl");
+pub const SHADER_PREVIEW_SHADING: WgslFile = shader_file!("preview_shading.wgsl");
 pub const SHADER_PREVIEW_BLIT: WgslFile = shader_file!("preview_blit.wgsl");
 
 /// Every WGSL file of the kernels and the preview, each named once above. The estimator's files
@@ -165,6 +166,7 @@ pub const FILES: &[WgslFile] = &[
     SHADER_TRACE_RAYS,
     SHADER_TRACE_RAYS_BVH,
     SHADER_PREVIEW,
+    SHADER_PREVIEW_SHADING,
     SHADER_PREVIEW_BLIT,
 ];
 
@@ -290,7 +292,7 @@ pub const TRACE_RAYS_HW: ShaderModule = ShaderModule {
 /// The raster preview (`crate::preview`: the editor's first view and `rt-cli preview`).
 pub const PREVIEW: ShaderModule = ShaderModule {
     name: "preview",
-    files: &[SHADER_PREVIEW],
+    files: &[SHADER_PREVIEW, SHADER_PREVIEW_SHADING],
 };
 
 pub const PREVIEW_BLIT: ShaderModule = ShaderModule {

@@ -16,6 +16,7 @@ mod frame;
 mod outline;
 pub use outline::image_layout;
 mod pipelines;
+mod probe_textures;
 mod probes;
 pub mod shadows;
 pub mod sun;
@@ -33,6 +34,7 @@ pub use frame::{
     build_interactive_frame, grid_lines, grid_step, view_projection,
 };
 use pipelines::Pipelines;
+use probe_textures::{ProbeTexture, probe_texture};
 use rt_gpu::GpuContext;
 use rt_gpu::{GpuError, Result};
 
@@ -55,78 +57,6 @@ struct ShadowMaps {
     array: wgpu::TextureView,
     layer_views: Vec<wgpu::TextureView>,
     key: Option<u64>,
-}
-
-/// The irradiance volume's texture and the volume it holds (compared by address).
-struct ProbeTexture {
-    volume: Arc<bounce::IrradianceVolume>,
-    view: wgpu::TextureView,
-    /// The probes' radiance maps (`IrradianceVolume::radiance`).
-    radiance: wgpu::TextureView,
-}
-
-fn probe_texture(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    volume: &Arc<bounce::IrradianceVolume>,
-) -> ProbeTexture {
-    let [nx, ny, nz] = volume.dims;
-    let data: Vec<half::f16> = volume
-        .texels
-        .iter()
-        .flatten()
-        .map(|&c| half::f16::from_f32(c.clamp(0.0, 65000.0)))
-        .collect();
-    let texture = device.create_texture_with_data(
-        queue,
-        &wgpu::TextureDescriptor {
-            label: Some("preview irradiance volume"),
-            size: wgpu::Extent3d {
-                width: 6 * nx,
-                height: ny,
-                depth_or_array_layers: nz,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: wgpu::TextureFormat::Rgba16Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&data),
-    );
-    let oct = bounce::OCT;
-    let radiance: Vec<half::f16> = volume
-        .radiance
-        .iter()
-        .flatten()
-        .map(|&c| half::f16::from_f32(c.clamp(0.0, 65000.0)))
-        .collect();
-    let radiance = device.create_texture_with_data(
-        queue,
-        &wgpu::TextureDescriptor {
-            label: Some("preview probe radiance"),
-            size: wgpu::Extent3d {
-                width: oct * nx,
-                height: oct * ny * nz,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba16Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&radiance),
-    );
-    ProbeTexture {
-        volume: volume.clone(),
-        view: texture.create_view(&Default::default()),
-        radiance: radiance.create_view(&Default::default()),
-    }
 }
 
 struct EnvironmentTextures {

@@ -1,0 +1,434 @@
+// The preview's light (composed after preview.wgsl, whose bindings and structs it reads): the
+// prefiltered environment, the irradiance volume's ambient cubes and radiance maps, the shadow
+// maps, the lights, and `shade`, the metallic-roughness model with its anisotropy, coat and
+// sheen (the model is described at the head of preview.wgsl).
+
+// Radiance arriving from direction d, from the environment prefiltered for `roughness`.
+fn environment(d: vec3<f32>, roughness: f32) -> vec3<f32> {
+    if view.ambient.a > 0.5 {
+        return view.ambient.rgb;
+    }
+    var u = atan2(d.x, -d.z) * (0.5 / PI) - view.eye.w;
+    u = u - floor(u);
+    let uv = vec2<f32>(u, acos(clamp(d.y, -1.0, 1.0)) / PI);
+    let sharp = textureSampleLevel(env_sharp, linear_sampler, uv, 0.0).rgb;
+    let level = clamp(roughness, 0.0, 1.0) * ENV_ROUGH_LAYERS;
+    if level < 1.0 {
+        let blur = textureSampleLevel(env_blur, linear_sampler, uv, 0u, 0.0).rgb;
+        return mix(sharp, blur, level);
+    }
+    let lo = u32(min(floor(level), ENV_ROUGH_LAYERS)) - 1u;
+    let hi = min(lo + 1u, u32(ENV_ROUGH_LAYERS) - 1u);
+    let a = textureSampleLevel(env_blur, linear_sampler, uv, lo, 0.0).rgb;
+    let b = textureSampleLevel(env_blur, linear_sampler, uv, hi, 0.0).rgb;
+    return mix(a, b, level - floor(level));
+}
+
+fn irradiance_over_pi(n: vec3<f32>) -> vec3<f32> {
+    if view.ambient.a > 0.5 {
+        return view.ambient.rgb;
+    }
+    var u = atan2(n.x, -n.z) * (0.5 / PI) - view.eye.w;
+    u = u - floor(u);
+    let uv = vec2<f32>(u, acos(clamp(n.y, -1.0, 1.0)) / PI);
+    return textureSampleLevel(env_blur, linear_sampler, uv, ENV_DIFFUSE_LAYER, 0.0).rgb;
+}
+
+// The volume's probes interpolated at p, side `axis` (kept inside that side's block of texels).
+fn probe(p: vec3<f32>, axis: u32) -> vec4<f32> {
+    let size = vec3<f32>(textureDimensions(probes));
+    let dims = vec3<f32>(size.x / 6.0, size.y, size.z);
+    let extent = max(view.probe_hi.xyz - view.probe_lo.xyz, vec3<f32>(1e-6));
+    let f = clamp((p - view.probe_lo.xyz) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * dims;
+    let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5));
+    let uvw = vec3<f32>((f32(axis) * dims.x + c.x) / size.x, c.y / size.y, c.z / size.z);
+    return textureSampleLevel(probes, linear_sampler, uvw, 0.0);
+}
+
+// The bin of direction d in a probe's octahedral map (bounce.rs `oct_bin`, bit for bit).
+fn oct_bin(d: vec3<f32>) -> vec2<u32> {
+    let n = d / max(abs(d.x) + abs(d.y) + abs(d.z), 1e-20);
+    var uv = n.xz;
+    if n.y < 0.0 {
+        uv = (vec2<f32>(1.0) - abs(n.zx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), n.xz >= vec2<f32>(0.0));
+    }
+    return min(vec2<u32>((uv * 0.5 + 0.5) * f32(OCT)), vec2<u32>(OCT - 1u));
+}
+
+// The radiance the probes about p see along d: [surfaces' radiance, share of the sky], the
+// eight nearest probes' bins of d weighed trilinearly (clamped to the outer probes, as `probe`).
+fn probe_radiance_along(p: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
+    let size = vec3<f32>(textureDimensions(probes));
+    let dims = vec3<f32>(size.x / 6.0, size.y, size.z);
+    let extent = max(view.probe_hi.xyz - view.probe_lo.xyz, vec3<f32>(1e-6));
+    let f = clamp((p - view.probe_lo.xyz) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * dims;
+    let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5)) - vec3<f32>(0.5);
+    let base = vec3<u32>(floor(c));
+    let t = c - floor(c);
+    let last = vec3<u32>(dims) - vec3<u32>(1u);
+    let bin = oct_bin(d);
+    let ny = u32(dims.y);
+    var sum = vec4<f32>(0.0);
+    for (var k = 0u; k < 8u; k++) {
+        let offset = vec3<u32>(k & 1u, (k >> 1u) & 1u, k >> 2u);
+        let at = min(base + offset, last);
+        let w = select(vec3<f32>(1.0) - t, t, offset == vec3<u32>(1u));
+        let texel = vec2<u32>(at.x * OCT + bin.x, (at.z * ny + at.y) * OCT + bin.y);
+        sum += textureLoad(probe_radiance, texel, 0) * (w.x * w.y * w.z);
+    }
+    return sum;
+}
+
+// Bounce irradiance/π (rgb) and sky visibility (a) towards direction d at a surface point p with
+// normal n: the ambient cube's three sides facing d, weighted by d's squared components, looked up
+// half a cell off the surface (so a wall's probes behind it, inside an object, weigh less).
+fn ambient_cube(p: vec3<f32>, n: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
+    let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
+    let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
+    let q = p + n * 0.5 * min(cell.x, min(cell.y, cell.z));
+    let w = d * d;
+    // Sides with no weight are not read (a wall facing along an axis reads one).
+    var sum = vec4<f32>(0.0);
+    if w.x > 1e-4 {
+        sum += w.x * probe(q, select(1u, 0u, d.x >= 0.0));
+    }
+    if w.y > 1e-4 {
+        sum += w.y * probe(q, select(3u, 2u, d.y >= 0.0));
+    }
+    if w.z > 1e-4 {
+        sum += w.z * probe(q, select(5u, 4u, d.z >= 0.0));
+    }
+    return sum / max(w.x + w.y + w.z, 1e-6);
+}
+
+// The split-sum scale and bias (A, B) of a GGX reflector at (μ, roughness): E = F0 A + B.
+fn brdf_scale_bias(mu: f32, roughness: f32) -> vec2<f32> {
+    let n = f32(textureDimensions(brdf_table).x);
+    let uv = vec2<f32>(clamp(mu, 0.5 / n, 1.0 - 0.5 / n), (clamp(roughness, 0.0, 1.0) * (n - 1.0) + 0.5) / n);
+    return textureSampleLevel(brdf_table, linear_sampler, uv, 0.0).rg;
+}
+
+// The directional albedo of a white sheen (rt-core's `math::sheen::sheen_table`, the table's
+// third channel) at (μ, sheen roughness).
+fn sheen_albedo(mu: f32, roughness: f32) -> f32 {
+    let n = f32(textureDimensions(brdf_table).x);
+    let uv = vec2<f32>(clamp(mu, 0.5 / n, 1.0 - 0.5 / n), (clamp(roughness, 0.0, 1.0) * (n - 1.0) + 0.5) / n);
+    return textureSampleLevel(brdf_table, linear_sampler, uv, 0.0).b;
+}
+
+fn ggx_d(n_h: f32, a2: f32) -> f32 {
+    let k = n_h * n_h * (a2 - 1.0) + 1.0;
+    return a2 / max(PI * k * k, 1e-12);
+}
+
+// D of a half vector h given in the frame of anisotropy (z the normal), widths w.x and w.y.
+fn ggx_d_anisotropic(h: vec3<f32>, w: Widths) -> f32 {
+    let k = h.x * h.x / (w.x * w.x) + h.y * h.y / (w.y * w.y) + h.z * h.z;
+    return 1.0 / max(PI * w.x * w.y * k * k, 1e-12);
+}
+
+// smith_visibility for directions given in the frame of anisotropy.
+fn smith_visibility_anisotropic(v: vec3<f32>, l: vec3<f32>, w: Widths) -> f32 {
+    let gv = max(l.z, 0.0) * length(vec3<f32>(w.x * v.x, w.y * v.y, v.z));
+    let gl = max(v.z, 0.0) * length(vec3<f32>(w.x * l.x, w.y * l.y, l.z));
+    return 0.5 / max(gv + gl, 1e-12);
+}
+
+// G₂ / (4 cosθo cosθi), height-correlated.
+fn smith_visibility(n_v: f32, n_l: f32, a2: f32) -> f32 {
+    let gv = n_l * sqrt(n_v * n_v * (1.0 - a2) + a2);
+    let gl = n_v * sqrt(n_l * n_l * (1.0 - a2) + a2);
+    return 0.5 / max(gv + gl, 1e-12);
+}
+
+fn fresnel_schlick(f0: vec3<f32>, f90: f32, c: f32) -> vec3<f32> {
+    let x = 1.0 - clamp(c, 0.0, 1.0);
+    let x2 = x * x;
+    return f0 + (vec3<f32>(f90) - f0) * (x2 * x2 * x);
+}
+
+// Which layer of a light's shadow map holds point p: a point light's cube face by the major axis.
+fn shadow_layer(light: PreviewLight, p: vec3<f32>) -> u32 {
+    if light.shadow.z < 6u {
+        return light.shadow.y;
+    }
+    let d = p - light.position.xyz;
+    let a = abs(d);
+    if a.x >= a.y && a.x >= a.z {
+        return light.shadow.y + select(1u, 0u, d.x > 0.0);
+    }
+    if a.y >= a.z {
+        return light.shadow.y + select(3u, 2u, d.y > 0.0);
+    }
+    return light.shadow.y + select(5u, 4u, d.z > 0.0);
+}
+
+// The fraction of the light's shadow map that sees p (1: lit), pushed along the normal by about a
+// texel so that a surface does not shadow itself.
+fn shadow(light: PreviewLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    if light.shadow.y == NO_SHADOW {
+        return 1.0;
+    }
+    var texel = light.cone.z;
+    if light.shadow.x != LIGHT_DIRECTIONAL {
+        texel *= length(p - light.position.xyz);
+    }
+    let q = p + n * (2.0 * texel);
+    let layer = shadow_layer(light, q);
+    let clip = shadow_matrices[layer] * vec4<f32>(q, 1.0);
+    if clip.w <= 0.0 {
+        return 1.0;
+    }
+    let ndc = clip.xyz / clip.w;
+    if abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0 || ndc.z > 1.0 {
+        return 1.0;
+    }
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    // Four bilinear comparisons a texel apart: a 3 × 3-texel tent, at a quarter of nine taps' cost.
+    let step = 0.5 / f32(textureDimensions(shadow_map).x);
+    var lit = 0.0;
+    for (var k = 0u; k < 4u; k++) {
+        let at = uv + vec2<f32>(select(-step, step, (k & 1u) != 0u), select(-step, step, k >= 2u));
+        lit += textureSampleCompareLevel(shadow_map, shadow_sampler, at, layer, ndc.z);
+    }
+    return lit * 0.25;
+}
+
+// Irradiance-like factor of a light at p: what multiplies (f cosθ) in L (E / cosθ), and the
+// direction towards it.
+struct Incoming {
+    strength: vec3<f32>,
+    l: vec3<f32>,
+}
+
+fn incoming(light: PreviewLight, p: vec3<f32>) -> Incoming {
+    var out: Incoming;
+    if light.shadow.x == LIGHT_DIRECTIONAL {
+        out.l = -light.direction.xyz;
+        out.strength = light.color.rgb;
+        return out;
+    }
+    let d = light.position.xyz - p;
+    let d2 = max(dot(d, d), 1e-12);
+    out.l = d * inverseSqrt(d2);
+    var intensity = light.color.rgb;
+    if light.shadow.x == LIGHT_SPOT {
+        let c = dot(-out.l, light.direction.xyz);
+        let t = clamp((c - light.direction.w) / max(light.cone.x - light.direction.w, 1e-6), 0.0, 1.0);
+        intensity *= select(t * t * (3.0 - 2.0 * t), t * t, light.cone.y > 0.5);
+    } else if light.shadow.x == LIGHT_EMITTER {
+        // Radiance × projected area towards p: the area-weighted normal's part plus an isotropic
+        // part (exact for a flat emitter and for a sphere).
+        intensity *= max(dot(light.direction.xyz, -out.l), 0.0) + light.color.a;
+    }
+    out.strength = intensity / d2;
+    return out;
+}
+
+struct Shaded {
+    radiance: vec3<f32>,
+    // How much of what lies behind shows through (transmission).
+    through: f32,
+}
+
+// GGX's width along a frame's x and y (the direction of anisotropy and across it), and the
+// roughness whose tables stand for the pair: that of the root-mean-square width
+// √((α_x² + α_y²)/2), whose directional albedo is within 6% of the stretched lobe's (at strength
+// 0.8, roughness 0.35, μ from 0.3 to 0.9; the mean width √(α_x α_y) is up to 25% above it, so
+// its multiple-scattering compensation fell short: a brushed can 18% too dark). The render reads
+// a table of its own (`math::anisotropic_energy`).
+struct Widths {
+    x: f32,
+    y: f32,
+    roughness: f32,
+}
+
+fn widths(roughness: f32, anisotropy: f32) -> Widths {
+    let a = max(roughness * roughness, 2e-3);
+    var w: Widths;
+    w.x = mix(a, 1.0, anisotropy * anisotropy);
+    w.y = a;
+    w.roughness = select(roughness, sqrt(sqrt(0.5 * (w.x * w.x + w.y * w.y))), anisotropy > 0.0);
+    return w;
+}
+
+// What a reflection shows: the environment where the probes see the sky, the surfaces they see
+// elsewhere (`ahead`: [surfaces' radiance, share of the sky]).
+fn reflected(sky: vec3<f32>, ahead: vec4<f32>) -> vec3<f32> {
+    return sky * ahead.a + ahead.rgb;
+}
+
+// The environment an anisotropic reflector shows: GGX's slopes along the direction of
+// anisotropy x spread as p(s) ∝ (1 + s²/α_x²)^(−3/2), so the mirror directions of five normals
+// tilted along x at that distribution's quantiles 0.1, 0.3, …, 0.9 (s = 0, ±0.436 α_x,
+// ±1.333 α_x), each prefiltered at the narrow width, stand for the stretched lobe (a single
+// bent normal, as glTF's sample viewer reads, swung a brushed floor from 30% too dark to 36% too
+// bright under a sky with a sun).
+fn stretched_environment(v: vec3<f32>, n: vec3<f32>, x: vec3<f32>, w: Widths) -> vec3<f32> {
+    let narrow = sqrt(max(w.y, 0.3 * w.x));
+    var sum = vec3<f32>(0.0);
+    for (var k = 0; k < 5; k++) {
+        let slope = array<f32, 5>(-1.333, -0.436, 0.0, 0.436, 1.333)[k] * w.x;
+        let r = reflect(-v, normalize(n - x * slope));
+        // A mirror direction below the surface sees the surface itself: the horizon instead.
+        sum += environment(normalize(r - n * min(dot(r, n), 0.0)), narrow);
+    }
+    return sum * 0.2;
+}
+
+// The layers over the base (`KHR_materials_clearcoat` and `_sheen`, stacked as the render's
+// `math::layers`: coat over sheen over base). Each scales what lies below it by one minus its
+// directional albedo at the view and adds its own reflection; `below` is that product.
+struct Layers {
+    coat: f32,
+    coat_a2: f32,
+    coat_roughness: f32,
+    coat_albedo: f32,
+    sheen: vec3<f32>,
+    sheen_alpha: f32,
+    sheen_albedo: f32,
+    below: f32,
+}
+
+fn layers_of(o: MeshVarying, n_v: f32) -> Layers {
+    var l: Layers;
+    l.coat = clamp(o.layers.x, 0.0, 1.0);
+    l.coat_roughness = clamp(o.layers.y, 0.0, 1.0);
+    let a = max(l.coat_roughness * l.coat_roughness, 2e-3);
+    l.coat_a2 = a * a;
+    l.below = 1.0;
+    if l.coat > 0.0 {
+        // The coat is glass of IOR 1.5: F0 = 0.04.
+        let ab = brdf_scale_bias(n_v, l.coat_roughness);
+        l.coat_albedo = l.coat * (0.04 * ab.x + ab.y);
+        l.below = 1.0 - l.coat_albedo;
+    }
+    l.sheen = clamp(o.sheen.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    let sheen_roughness = clamp(o.layers.z, 0.07, 1.0);
+    l.sheen_alpha = sheen_roughness * sheen_roughness;
+    if any(l.sheen > vec3<f32>(0.0)) {
+        l.sheen_albedo = sheen_albedo(n_v, o.layers.z);
+        l.below *= 1.0 - max(l.sheen.r, max(l.sheen.g, l.sheen.b)) * l.sheen_albedo;
+    }
+    return l;
+}
+
+// f cosθ of the layers' own lobes towards a light l (h the half vector): the coat's GGX with
+// Schlick's Fresnel, and the sheen's Charlie distribution with Neubelt's visibility (the render
+// fits Estevez and Kulla's Λ instead) under the coat.
+fn layers_lobe(l: Layers, n: vec3<f32>, v: vec3<f32>, light: vec3<f32>, h: vec3<f32>, n_v: f32, n_l: f32) -> vec3<f32> {
+    var f = vec3<f32>(0.0);
+    let n_h = max(dot(n, h), 0.0);
+    if l.coat > 0.0 {
+        f += vec3<f32>(l.coat * ggx_d(n_h, l.coat_a2) * smith_visibility(n_v, n_l, l.coat_a2)
+            * fresnel_schlick(vec3<f32>(0.04), 1.0, dot(v, h)).x);
+    }
+    if l.sheen_albedo > 0.0 {
+        let sin2 = max(1.0 - n_h * n_h, 0.0);
+        let d = (2.0 + 1.0 / l.sheen_alpha) * pow(sin2, 0.5 / l.sheen_alpha) / (2.0 * PI);
+        let visibility = 1.0 / (4.0 * (n_l + n_v - n_l * n_v));
+        f += l.sheen * d * visibility * (1.0 - l.coat_albedo);
+    }
+    return f;
+}
+
+fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: vec3<f32>) -> Shaded {
+    let v = normalize(view.eye.xyz - p);
+    var n = n_in;
+    // Two-sided: shade the side that faces the camera.
+    if dot(n, v) < 0.0 {
+        n = -n;
+    }
+    let metallic = clamp(o.params.x, 0.0, 1.0);
+    let transmission = clamp(o.params.z, 0.0, 1.0) * (1.0 - metallic);
+    // The frame of anisotropy: x along its direction, made orthogonal to the shading normal.
+    let along = aniso - n * dot(n, aniso);
+    let anisotropic = o.extra.z > 0.0 && dot(along, along) > 1e-12;
+    let w = widths(clamp(o.params.y, 0.0, 1.0), select(0.0, clamp(o.extra.z, 0.0, 1.0), anisotropic));
+    let roughness = w.roughness;
+    var frame = mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), n);
+    if anisotropic {
+        let x = normalize(along);
+        frame = mat3x3<f32>(x, cross(n, x), n);
+    }
+    let a2 = w.y * w.y;
+    // Schlick's Fresnel from F0 to F90: glTF's `specular` scales both for a dielectric; a metal's
+    // F90 is 1; a material without a specular layer (Lambertian, emitter) has neither.
+    let f0 = mix(vec3<f32>(o.params.w), base, metallic);
+    let f90 = mix(o.extra.y, 1.0, metallic);
+    let specular = f90 > 0.0 || any(f0 > vec3<f32>(0.0));
+    let n_v = max(dot(n, v), 1e-4);
+    var ab = vec2<f32>(1.0, 0.0);
+    if specular {
+        ab = brdf_scale_bias(n_v, roughness);
+    }
+    let e_spec = f0 * ab.x + vec3<f32>(f90 * ab.y);
+    let e_white = max(ab.x + ab.y, 1e-3);
+    let compensation = vec3<f32>(1.0) + f0 * (1.0 / e_white - 1.0);
+    let diffuse = (1.0 - metallic) * (1.0 - transmission) * (vec3<f32>(1.0) - e_spec) * base / PI;
+    let layers = layers_of(o, n_v);
+    let layered = layers.coat > 0.0 || layers.sheen_albedo > 0.0;
+    var radiance = vec3<f32>(0.0);
+    for (var i = 0u; i < min(view.light_count, MAX_PREVIEW_LIGHTS); i++) {
+        let light = view.lights[i];
+        let inc = incoming(light, p);
+        let n_l = dot(n, inc.l);
+        if n_l <= 0.0 || all(inc.strength <= vec3<f32>(0.0)) {
+            continue;
+        }
+        var f = diffuse;
+        let h = normalize(inc.l + v);
+        if specular {
+            var lobe = 0.0;
+            if anisotropic {
+                let to_frame = transpose(frame);
+                lobe = ggx_d_anisotropic(to_frame * h, w) * smith_visibility_anisotropic(to_frame * v, to_frame * inc.l, w);
+            } else {
+                lobe = ggx_d(max(dot(n, h), 0.0), a2) * smith_visibility(n_v, n_l, a2);
+            }
+            f += lobe * fresnel_schlick(f0, f90, dot(v, h)) * compensation;
+        }
+        if layered {
+            f = f * layers.below + layers_lobe(layers, n, v, inc.l, h, n_v, n_l);
+        }
+        radiance += f * inc.strength * n_l * shadow(light, p, n);
+    }
+    // Image-based light, dimmed by how much of the environment the volume's probes see, and the
+    // bounce light: along the mirror direction for the specular layers (a surface without one
+    // skips it), from the cosine convolution for the diffuse part and the sheen.
+    let around = ambient_cube(p, n, n);
+    let irradiance = irradiance_over_pi(n) * around.a + around.rgb;
+    var ambient = diffuse * PI * irradiance;
+    let r = reflect(-v, n);
+    // Read one cell out along the reflected ray: the light the reflection meets there, not the
+    // light about the surface itself (which, blurred over a coarse grid, included the object's
+    // own bounce: a metal sphere alone under the sun lit itself).
+    let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
+    let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
+    let broad = ambient_cube(p + r * min(cell.x, min(cell.y, cell.z)), r, r);
+    // A sharp lobe meets what lies along r (the probes' radiance maps), a rough one the
+    // cosine-weighted average about it (the ambient cube): blended by the lobe's narrower width
+    // (a brushed lobe blurs along its direction of anisotropy alone; across it, the line
+    // between a lit floor and the sky stays sharp).
+    let sharp = probe_radiance_along(p + n * 0.5 * min(cell.x, min(cell.y, cell.z)), r);
+    let ahead = mix(sharp, broad, sqrt(w.y));
+    if specular {
+        var sky = environment(r, roughness);
+        if anisotropic {
+            sky = stretched_environment(v, n, frame[0], w);
+        }
+        ambient += reflected(sky, ahead) * e_spec * compensation;
+    }
+    if layered {
+        ambient = ambient * layers.below
+            + layers.sheen * layers.sheen_albedo * (1.0 - layers.coat_albedo) * irradiance
+            + reflected(environment(r, layers.coat_roughness), mix(sharp, broad, layers.coat_roughness)) * layers.coat_albedo;
+    }
+    radiance += ambient + o.emission.rgb;
+    var out: Shaded;
+    out.radiance = radiance;
+    let f = fresnel_schlick(f0, f90, n_v);
+    out.through = transmission * (1.0 - dot(f, vec3<f32>(1.0 / 3.0))) * dot(base, vec3<f32>(1.0 / 3.0));
+    return out;
+}
+
