@@ -103,9 +103,9 @@ struct PreviewObject {
 // (rgb) and sky visibility (a) from side axis (+x, −x, +y, −y, +z, −z).
 @group(0) @binding(9) var probes: texture_3d<f32>;
 // Each probe's radiance by direction (bounce.rs `IrradianceVolume::radiance`): OCT × OCT bins of
-// an octahedral map, [radiance of the surfaces seen, share of the sky], probe (x, y, z)'s bin
-// (i, j) at texel (x · OCT + i, (z · ny + y) · OCT + j).
-@group(0) @binding(10) var probe_radiance: texture_2d<f32>;
+// an octahedral map, [radiance of the surfaces seen, share of the sky], bin b = j · OCT + i of
+// probe (x, y, z) at texel (b · nx + x, y, z).
+@group(0) @binding(10) var probe_radiance: texture_3d<f32>;
 const OCT: u32 = 6u;
 // A material's images (white, or a flat normal, where it has none).
 @group(1) @binding(0) var albedo_texture: texture_2d<f32>;

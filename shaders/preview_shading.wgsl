@@ -55,28 +55,19 @@ fn oct_bin(d: vec3<f32>) -> vec2<u32> {
     return min(vec2<u32>((uv * 0.5 + 0.5) * f32(OCT)), vec2<u32>(OCT - 1u));
 }
 
-// The radiance the probes about p see along d: [surfaces' radiance, share of the sky], the
-// eight nearest probes' bins of d weighed trilinearly (clamped to the outer probes, as `probe`).
+// The radiance the probes about p see along d: [surfaces' radiance, share of the sky], d's bin
+// of the probes interpolated trilinearly (by the sampler, within the bin's block, clamped to the
+// outer probes as `probe`).
 fn probe_radiance_along(p: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
-    let size = vec3<f32>(textureDimensions(probes));
-    let dims = vec3<f32>(size.x / 6.0, size.y, size.z);
+    let size = vec3<f32>(textureDimensions(probe_radiance));
+    let dims = vec3<f32>(size.x / f32(OCT * OCT), size.y, size.z);
     let extent = max(view.probe_hi.xyz - view.probe_lo.xyz, vec3<f32>(1e-6));
     let f = clamp((p - view.probe_lo.xyz) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * dims;
-    let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5)) - vec3<f32>(0.5);
-    let base = vec3<u32>(floor(c));
-    let t = c - floor(c);
-    let last = vec3<u32>(dims) - vec3<u32>(1u);
+    let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5));
     let bin = oct_bin(d);
-    let ny = u32(dims.y);
-    var sum = vec4<f32>(0.0);
-    for (var k = 0u; k < 8u; k++) {
-        let offset = vec3<u32>(k & 1u, (k >> 1u) & 1u, k >> 2u);
-        let at = min(base + offset, last);
-        let w = select(vec3<f32>(1.0) - t, t, offset == vec3<u32>(1u));
-        let texel = vec2<u32>(at.x * OCT + bin.x, (at.z * ny + at.y) * OCT + bin.y);
-        sum += textureLoad(probe_radiance, texel, 0) * (w.x * w.y * w.z);
-    }
-    return sum;
+    let block = f32(bin.y * OCT + bin.x);
+    let uvw = vec3<f32>((block * dims.x + c.x) / size.x, c.y / size.y, c.z / size.z);
+    return textureSampleLevel(probe_radiance, linear_sampler, uvw, 0.0);
 }
 
 // Bounce irradiance/π (rgb) and sky visibility (a) towards direction d at a surface point p with
@@ -399,30 +390,37 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
     let around = ambient_cube(p, n, n);
     let irradiance = irradiance_over_pi(n) * around.a + around.rgb;
     var ambient = diffuse * PI * irradiance;
-    let r = reflect(-v, n);
-    // Read one cell out along the reflected ray: the light the reflection meets there, not the
-    // light about the surface itself (which, blurred over a coarse grid, included the object's
-    // own bounce: a metal sphere alone under the sun lit itself).
-    let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
-    let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
-    let broad = ambient_cube(p + r * min(cell.x, min(cell.y, cell.z)), r, r);
-    // A sharp lobe meets what lies along r (the probes' radiance maps), a rough one the
-    // cosine-weighted average about it (the ambient cube): blended by the lobe's narrower width
-    // (a brushed lobe blurs along its direction of anisotropy alone; across it, the line
-    // between a lit floor and the sky stays sharp).
-    let sharp = probe_radiance_along(p + n * 0.5 * min(cell.x, min(cell.y, cell.z)), r);
-    let ahead = mix(sharp, broad, sqrt(w.y));
-    if specular {
-        var sky = environment(r, roughness);
-        if anisotropic {
-            sky = stretched_environment(v, n, frame[0], w);
+    // What the specular layers reflect: the environment and the light the probes see.
+    var coat_reflection = vec3<f32>(0.0);
+    if specular || layers.coat > 0.0 {
+        let r = reflect(-v, n);
+        // Read one cell out along the reflected ray: the light the reflection meets there, not
+        // the light about the surface itself (which, blurred over a coarse grid, included the
+        // object's own bounce: a metal sphere alone under the sun lit itself).
+        let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
+        let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
+        let broad = ambient_cube(p + r * min(cell.x, min(cell.y, cell.z)), r, r);
+        // A sharp lobe meets what lies along r (the probes' radiance maps), a rough one the
+        // cosine-weighted average about it (the ambient cube): blended by the lobe's narrower
+        // width (a brushed lobe blurs along its direction of anisotropy alone; across it, the
+        // line between a lit floor and the sky stays sharp).
+        let sharp = probe_radiance_along(p + n * 0.5 * min(cell.x, min(cell.y, cell.z)), r);
+        if specular {
+            var sky = environment(r, roughness);
+            if anisotropic {
+                sky = stretched_environment(v, n, frame[0], w);
+            }
+            ambient += reflected(sky, mix(sharp, broad, sqrt(w.y))) * e_spec * compensation;
         }
-        ambient += reflected(sky, ahead) * e_spec * compensation;
+        if layers.coat > 0.0 {
+            let ahead = mix(sharp, broad, layers.coat_roughness);
+            coat_reflection = reflected(environment(r, layers.coat_roughness), ahead) * layers.coat_albedo;
+        }
     }
     if layered {
         ambient = ambient * layers.below
             + layers.sheen * layers.sheen_albedo * (1.0 - layers.coat_albedo) * irradiance
-            + reflected(environment(r, layers.coat_roughness), mix(sharp, broad, layers.coat_roughness)) * layers.coat_albedo;
+            + coat_reflection;
     }
     radiance += ambient + o.emission.rgb;
     var out: Shaded;

@@ -42,10 +42,11 @@ pub const OCT: u32 = 6;
 /// [bounce irradiance/π (rgb), sky visibility] of probe (ix, iy, iz) from side `axis`. Beside it,
 /// what glossy reflections read: each probe's radiance by direction, `OCT` × `OCT` bins of an
 /// octahedral map (`oct_bin`), [radiance of the surfaces seen (rgb, zero where the sky is seen),
-/// share of the sky], probe (ix, iy, iz)'s bin (i, j) at texel (ix · OCT + i, (iz · ny + iy) ·
-/// OCT + j) of a 2D texture. Six cosine-weighted sides cannot tell a floor just below the horizon
-/// from the sky above it: a brushed can whose reflections all looked down at a lit floor read
-/// half sky from its sideways cube faces (39% too dark).
+/// share of the sky], bin b = j · OCT + i of probe (ix, iy, iz) at texel (b · nx + ix, iy, iz) of
+/// a second 3D texture (laid out as the first, so one filtered lookup interpolates the probes).
+/// Six cosine-weighted sides cannot tell a floor just below the horizon from the sky above it: a
+/// brushed can whose reflections all looked down at a lit floor read half sky from its sideways
+/// cube faces (39% too dark).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IrradianceVolume {
     pub dims: [u32; 3],
@@ -83,7 +84,7 @@ impl IrradianceVolume {
     /// The index of probe `cell`'s bin `[i, j]` in `radiance`.
     pub(crate) fn radiance_index(&self, [x, y, z]: [u32; 3], [i, j]: [u32; 2]) -> usize {
         let [nx, ny, _] = self.dims;
-        (((z * ny + y) * OCT + j) * nx * OCT + x * OCT + i) as usize
+        ((z * ny + y) * OCT * OCT * nx + (j * OCT + i) * nx + x) as usize
     }
 
     pub(crate) fn index(&self, [x, y, z]: [u32; 3], axis: usize) -> usize {

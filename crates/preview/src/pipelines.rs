@@ -260,7 +260,7 @@ fn bind_group_layouts(device: &wgpu::Device) -> [wgpu::BindGroupLayout; 3] {
             texture_entry(7, float, d2),
             sampler_entry(8, wgpu::SamplerBindingType::Filtering),
             texture_entry(9, float, wgpu::TextureViewDimension::D3),
-            texture_entry(10, float, d2),
+            texture_entry(10, float, wgpu::TextureViewDimension::D3),
         ],
     });
     // The shadow pass binds only what its vertex stage reads: the maps it draws into cannot

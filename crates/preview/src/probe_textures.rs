@@ -58,13 +58,13 @@ pub(crate) fn probe_texture(
         &wgpu::TextureDescriptor {
             label: Some("preview probe radiance"),
             size: wgpu::Extent3d {
-                width: oct * nx,
-                height: oct * ny * nz,
-                depth_or_array_layers: 1,
+                width: oct * oct * nx,
+                height: ny,
+                depth_or_array_layers: nz,
             },
             mip_level_count: 1,
             sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
+            dimension: wgpu::TextureDimension::D3,
             format: wgpu::TextureFormat::Rgba16Float,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
@@ -78,4 +78,3 @@ pub(crate) fn probe_texture(
         radiance: radiance.create_view(&Default::default()),
     }
 }
-
