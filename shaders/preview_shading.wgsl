@@ -185,34 +185,65 @@ fn shadow(light: PreviewLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
     return lit * 0.25;
 }
 
-// Irradiance-like factor of a light at p: what multiplies (f cosθ) in L (E / cosθ), and the
-// direction towards it.
+// A light at p on a surface facing n: `strength` times `cosine` is the irradiance it brings, `l`
+// the direction towards it. For point, spot and sun lights `cosine` is n·l; for an emitter,
+// E / L of a disc of its flat part's area facing its area-weighted normal and of a sphere of its
+// isotropic part's cross-section (`strength` its radiance), with the horizon clipped as Frostbite
+// does (Lagarde and de Rousiers 2014): a surface nearly in the plane of a lamp sees the part in
+// front of it (the Cornell box's tall block, whose front face passes by the lamp's centre, got
+// its direct light 36% too dim from the lamp as a point at its centre).
 struct Incoming {
     strength: vec3<f32>,
+    cosine: f32,
     l: vec3<f32>,
 }
 
-fn incoming(light: PreviewLight, p: vec3<f32>) -> Incoming {
+// E / L of a sphere or disc of angular radius σ (sin²σ given) whose centre lies at cos θ from
+// the normal, the part below the horizon clipped (Frostbite's listing 7).
+fn illuminance_sphere_or_disc(cos_theta: f32, sin_sigma2: f32) -> f32 {
+    let s2 = clamp(sin_sigma2, 1e-12, 1.0);
+    if cos_theta * cos_theta > s2 {
+        return PI * s2 * max(cos_theta, 0.0);
+    }
+    let sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 1e-12));
+    let x = sqrt(max(1.0 / s2 - 1.0, 1e-12));
+    let y = clamp(-x * cos_theta / sin_theta, -1.0, 1.0);
+    let sin_theta_sqrt_y = sin_theta * sqrt(max(1.0 - y * y, 0.0));
+    return max((cos_theta * acos(y) - x * sin_theta_sqrt_y) * s2 + atan(sin_theta_sqrt_y / x), 0.0);
+}
+
+fn incoming(light: PreviewLight, p: vec3<f32>, n: vec3<f32>) -> Incoming {
     var out: Incoming;
     if light.shadow.x == LIGHT_DIRECTIONAL {
         out.l = -light.direction.xyz;
         out.strength = light.color.rgb;
+        out.cosine = dot(n, out.l);
         return out;
     }
     let d = light.position.xyz - p;
     let d2 = max(dot(d, d), 1e-12);
     out.l = d * inverseSqrt(d2);
+    let cos_theta = dot(n, out.l);
+    if light.shadow.x == LIGHT_EMITTER {
+        // The flat part: a disc of area |N| facing N; the rest: a sphere of cross-section
+        // (A − |N|)/4 (exact far off for a flat emitter and for a sphere).
+        let flat_area = length(light.direction.xyz);
+        let facing = max(dot(light.direction.xyz, -out.l), 0.0) / max(flat_area, 1e-12);
+        let disc = flat_area / PI;
+        let sphere = light.color.a / PI;
+        out.strength = light.color.rgb;
+        out.cosine = illuminance_sphere_or_disc(cos_theta, disc / (disc + d2)) * facing
+            + select(0.0, illuminance_sphere_or_disc(cos_theta, min(sphere / d2, 1.0)), sphere > 0.0);
+        return out;
+    }
     var intensity = light.color.rgb;
     if light.shadow.x == LIGHT_SPOT {
         let c = dot(-out.l, light.direction.xyz);
         let t = clamp((c - light.direction.w) / max(light.cone.x - light.direction.w, 1e-6), 0.0, 1.0);
         intensity *= select(t * t * (3.0 - 2.0 * t), t * t, light.cone.y > 0.5);
-    } else if light.shadow.x == LIGHT_EMITTER {
-        // Radiance × projected area towards p: the area-weighted normal's part plus an isotropic
-        // part (exact for a flat emitter and for a sphere).
-        intensity *= max(dot(light.direction.xyz, -out.l), 0.0) + light.color.a;
     }
     out.strength = intensity / d2;
+    out.cosine = cos_theta;
     return out;
 }
 
@@ -362,11 +393,13 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
     var radiance = vec3<f32>(0.0);
     for (var i = 0u; i < min(view.light_count, MAX_PREVIEW_LIGHTS); i++) {
         let light = view.lights[i];
-        let inc = incoming(light, p);
-        let n_l = dot(n, inc.l);
-        if n_l <= 0.0 || all(inc.strength <= vec3<f32>(0.0)) {
+        let inc = incoming(light, p, n);
+        if inc.cosine <= 0.0 || all(inc.strength <= vec3<f32>(0.0)) {
             continue;
         }
+        // A lamp's centre may lie just below the horizon of a surface that sees part of it: its
+        // glossy lobes take the light from just above.
+        let n_l = max(dot(n, inc.l), 1e-3);
         var f = diffuse;
         let h = normalize(inc.l + v);
         if specular {
@@ -382,7 +415,7 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
         if layered {
             f = f * layers.below + layers_lobe(layers, n, v, inc.l, h, n_v, n_l);
         }
-        radiance += f * inc.strength * n_l * shadow(light, p, n);
+        radiance += f * inc.strength * inc.cosine * shadow(light, p, n);
     }
     // Image-based light, dimmed by how much of the environment the volume's probes see, and the
     // bounce light: along the mirror direction for the specular layers (a surface without one

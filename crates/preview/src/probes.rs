@@ -15,37 +15,61 @@ use super::bounce::{
 use super::surfaces::emitter_shape;
 use super::types::{CUBE_SIDES, PreviewLight, light_kind};
 
-/// Direct irradiance from `light` on a surface at `p` facing `n`, with a shadow ray.
+/// E / L of a sphere or disc of angular radius σ (sin²σ given) whose centre lies at cos θ from the
+/// normal, the part below the horizon clipped (Frostbite's listing 7; `illuminance_sphere_or_disc`
+/// in preview_shading.wgsl).
+fn illuminance_sphere_or_disc(cos_theta: f32, sin_sigma2: f32) -> f32 {
+    let s2 = sin_sigma2.clamp(1e-12, 1.0);
+    if cos_theta * cos_theta > s2 {
+        return PI * s2 * cos_theta.max(0.0);
+    }
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(1e-12).sqrt();
+    let x = (1.0 / s2 - 1.0).max(1e-12).sqrt();
+    let y = (-x * cos_theta / sin_theta).clamp(-1.0, 1.0);
+    let sin_theta_sqrt_y = sin_theta * (1.0 - y * y).max(0.0).sqrt();
+    ((cos_theta * y.acos() - x * sin_theta_sqrt_y) * s2 + (sin_theta_sqrt_y / x).atan()).max(0.0)
+}
+
+/// Direct irradiance from `light` on a surface at `p` facing `n`, with a shadow ray: the
+/// shader's `incoming` (an emitter as a disc and a sphere, the horizon clipped).
 fn direct(gpu: &rt_core::GpuScene, light: &PreviewLight, p: Vec3, n: Vec3) -> Vec3 {
     let color = Vec3::from_slice(&light.color[..3]);
-    let (l, strength, reach) = if light.shadow[0] == light_kind::DIRECTIONAL {
-        (-Vec3::from_slice(&light.direction[..3]), color, f32::MAX)
+    let (l, irradiance, reach) = if light.shadow[0] == light_kind::DIRECTIONAL {
+        let l = -Vec3::from_slice(&light.direction[..3]);
+        (l, color * n.dot(l), f32::MAX)
     } else {
         let d = Vec3::from_slice(&light.position[..3]) - p;
         let d2 = d.length_squared().max(1e-12);
         let l = d / d2.sqrt();
-        let mut intensity = color;
-        match light.shadow[0] {
+        let cos = n.dot(l);
+        let irradiance = match light.shadow[0] {
             light_kind::SPOT => {
                 let c = (-l).dot(Vec3::from_slice(&light.direction[..3]));
                 let (cos_outer, cos_inner) = (light.direction[3], light.cone[0]);
                 let t = ((c - cos_outer) / (cos_inner - cos_outer).max(1e-6)).clamp(0.0, 1.0);
-                intensity *= if light.cone[1] > 0.5 {
+                let falloff = if light.cone[1] > 0.5 {
                     t * t
                 } else {
                     t * t * (3.0 - 2.0 * t)
                 };
+                color * falloff / d2 * cos
             }
             light_kind::EMITTER => {
-                intensity *=
-                    Vec3::from_slice(&light.direction[..3]).dot(-l).max(0.0) + light.color[3];
+                let normal = Vec3::from_slice(&light.direction[..3]);
+                let flat_area = normal.length();
+                let facing = normal.dot(-l).max(0.0) / flat_area.max(1e-12);
+                let (disc, sphere) = (flat_area / PI, light.color[3] / PI);
+                let mut scale = illuminance_sphere_or_disc(cos, disc / (disc + d2)) * facing;
+                if sphere > 0.0 {
+                    scale += illuminance_sphere_or_disc(cos, (sphere / d2).min(1.0));
+                }
+                color * scale
             }
-            _ => {}
-        }
-        (l, intensity / d2, d2.sqrt() * 0.999)
+            _ => color / d2 * cos,
+        };
+        (l, irradiance, d2.sqrt() * 0.999)
     };
-    let cos = n.dot(l);
-    if cos <= 0.0 || strength.max_element() <= 0.0 {
+    if irradiance.max_element() <= 0.0 {
         return Vec3::ZERO;
     }
     let mut hit = rt_core::estimator::trace(gpu, p, l, reach);
@@ -59,7 +83,7 @@ fn direct(gpu: &rt_core::GpuScene, light: &PreviewLight, p: Vec3, n: Vec3) -> Ve
     };
     let blocked = hit.triangle != u32::MAX
         && (light.shadow[0] != light_kind::EMITTER || material(&mut hit) + 1 != light.shadow[3]);
-    if blocked { Vec3::ZERO } else { strength * cos }
+    if blocked { Vec3::ZERO } else { irradiance }
 }
 
 /// Directions spread evenly over the sphere (a Fibonacci spiral).
@@ -138,11 +162,9 @@ fn probe_centres(lo: Vec3, size: Vec3, dims: [u32; 3]) -> Vec<Vec3> {
         .collect()
 }
 
-/// Computes the volume of `scene` under `lights` and `sky`: the first bounce traced, the second
-/// gathered from the first, the later ones as a geometric series of the ratio the second bears to
-/// the first (measured over all probes, at most 0.9: a closed room keeps more of its light than
-/// one open to the sky, which a guess from the albedo alone overstated: the Cornell box's ceiling,
-/// lit by bounce alone, came out 89% too bright).
+/// Computes the volume of `scene` under `lights` and `sky`: the first bounce traced
+/// (`first_bounce`), the later ones gathered from it (`later_bounces`), then the probes' radiance
+/// maps.
 pub(crate) fn compute(
     scene: &Scene,
     lights: &[PreviewLight],
@@ -171,16 +193,6 @@ pub(crate) fn compute(
     .clamp(Vec3::ONE, Vec3::splat(8.0))
     .as_uvec3()
     .to_array();
-    let means = texture_means(scene);
-    let albedo_of: Vec<Vec3> = scene
-        .objects
-        .iter()
-        .map(|o| diffuse_albedo(&o.material, &means))
-        .collect();
-    let rays = directions();
-    // E/π = Σ L max(a·d, 0) · (4π/N) / π.
-    let per_ray = 4.0 / rays.len() as f32;
-    let epsilon = size.max_element() * 1e-4;
     let mut volume = IrradianceVolume {
         dims,
         lo,
@@ -188,7 +200,40 @@ pub(crate) fn compute(
         texels: vec![[0.0; 4]; 6 * (dims[0] * dims[1] * dims[2]) as usize],
         radiance: vec![[0.0; 4]; (OCT * OCT * dims[0] * dims[1] * dims[2]) as usize],
     };
+    let rays = directions();
     let centres = probe_centres(lo, size, dims);
+    let (valid, hits) = first_bounce(&mut volume, &gpu, scene, lights, sky, &centres, &rays);
+    dilate(&mut volume, &valid);
+    let bounces = scene.settings.max_depth.saturating_sub(2);
+    later_bounces(&mut volume, &hits, &rays, &valid, bounces);
+    dilate(&mut volume, &valid);
+    volume.radiance = radiance_maps(&volume, &hits, &rays, &valid, bounces);
+    volume
+}
+
+/// E/π = Σ L max(a·d, 0) · (4π/N) / π: the weight of one of N rays.
+fn per_ray(rays: &[Vec3]) -> f32 {
+    4.0 / rays.len() as f32
+}
+
+/// Traces `rays` from each probe at `centres` and fills the volume's ambient cubes with the first
+/// bounce and the sky's visibility; returns which probes lie outside objects and every ray's hit.
+fn first_bounce(
+    volume: &mut IrradianceVolume,
+    gpu: &rt_core::GpuScene,
+    scene: &Scene,
+    lights: &[PreviewLight],
+    sky: &Sky,
+    centres: &[Vec3],
+    rays: &[Vec3],
+) -> (Vec<bool>, Vec<Option<RayHit>>) {
+    let means = texture_means(scene);
+    let albedo_of: Vec<Vec3> = scene
+        .objects
+        .iter()
+        .map(|o| diffuse_albedo(&o.material, &means))
+        .collect();
+    let epsilon = (volume.hi - volume.lo).max_element() * 1e-4;
     let mut valid = Vec::with_capacity(centres.len());
     let mut hits: Vec<Option<RayHit>> = Vec::with_capacity(centres.len() * rays.len());
     for (probe, &c) in centres.iter().enumerate() {
@@ -199,8 +244,8 @@ pub(crate) fn compute(
         let mut sky_seen = [0.0f32; 6];
         let mut sky_all = [0.0f32; 6];
         let mut back = 0;
-        for &d in &rays {
-            let mut hit = rt_core::estimator::trace(&gpu, c, d, f32::MAX);
+        for &d in rays {
+            let mut hit = rt_core::estimator::trace(gpu, c, d, f32::MAX);
             let cosines = CUBE_SIDES.map(|a| a.dot(d).max(0.0));
             let light = sky.luminance(d);
             for k in 0..6 {
@@ -214,7 +259,7 @@ pub(crate) fn compute(
                 continue;
             }
             let mut placed = None;
-            let tri = rt_core::estimator::instances::hit_triangle(&gpu, &mut hit, &mut placed).tri;
+            let tri = rt_core::estimator::instances::hit_triangle(gpu, &mut hit, &mut placed).tri;
             let [v0, v1, v2] = [tri.v0, tri.v1, tri.v2].map(Vec3::from);
             let mut n = (v1 - v0).cross(v2 - v0).normalize_or_zero();
             if n.dot(d) > 0.0 {
@@ -226,18 +271,14 @@ pub(crate) fn compute(
                 .copied()
                 .unwrap_or(Vec3::ZERO);
             let p = c + d * hit.t + n * epsilon;
-            if albedo.max_element() <= 0.0 {
-                // Black (or an emitter, which lights the preview as a light): it hides the sky.
-                hits.push(Some(RayHit {
-                    p,
-                    n,
-                    albedo,
-                    first: Vec3::ZERO,
-                }));
-                continue;
-            }
-            let irradiance: Vec3 = lights.iter().map(|l| direct(&gpu, l, p, n)).sum();
-            let radiance = albedo / PI * irradiance + albedo * sky.mean;
+            // Black (or an emitter, which lights the preview as a light) sends nothing on but
+            // hides the sky.
+            let radiance = if albedo.max_element() > 0.0 {
+                let irradiance: Vec3 = lights.iter().map(|l| direct(gpu, l, p, n)).sum();
+                albedo / PI * irradiance + albedo * sky.mean
+            } else {
+                Vec3::ZERO
+            };
             for k in 0..6 {
                 bounce[k] += radiance * cosines[k];
             }
@@ -256,21 +297,34 @@ pub(crate) fn compute(
                 0.0
             };
             let index = volume.index(volume.cell_of(probe), k);
-            volume.texels[index] = (bounce[k] * per_ray).extend(seen).to_array();
+            volume.texels[index] = (bounce[k] * per_ray(rays)).extend(seen).to_array();
         }
     }
-    dilate(&mut volume, &valid);
-    // The second bounce: each hit lit by the first bounce about it.
+    (valid, hits)
+}
+
+/// Adds the later bounces to a volume that holds the first: the second gathered at the first's
+/// hits from the first, the rest as a geometric series of the ratio the second bears to the first
+/// (measured at the hits, at most 0.9), as many times as the render's paths bounce (`bounces`;
+/// none leaves no bounce light at all). A guess from the mean albedo alone overstated the later
+/// bounces: the Cornell box's ceiling, lit by bounce alone, came out 89% too bright.
+fn later_bounces(
+    volume: &mut IrradianceVolume,
+    hits: &[Option<RayHit>],
+    rays: &[Vec3],
+    valid: &[bool],
+    bounces: u32,
+) {
     let first = volume.clone();
     let (mut first_total, mut second_total) = (0.0f32, 0.0f32);
     for (probe, hits) in hits.chunks(rays.len()).enumerate() {
         // A probe inside an object (its rays meet the inside, lit by nothing) takes its
-        // neighbours' values below; its hits would read them back as light.
+        // neighbours' values; its hits would read them back as light.
         if !valid[probe] {
             continue;
         }
         let mut second = [Vec3::ZERO; 6];
-        for (hit, &d) in hits.iter().zip(&rays) {
+        for (hit, &d) in hits.iter().zip(rays) {
             let Some(hit) = hit else { continue };
             let radiance = hit.albedo * first.ambient_cube(hit.p, hit.n, hit.n).truncate();
             first_total += luminance(hit.first);
@@ -282,19 +336,18 @@ pub(crate) fn compute(
         let cell = volume.cell_of(probe);
         for (k, s) in second.into_iter().enumerate() {
             let index = volume.index(cell, k);
-            let [r, g, b, a] = first.texels[index];
-            let later = s * per_ray;
-            volume.texels[index] = [r + later.x, g + later.y, b + later.z, a];
+            let later = s * per_ray(rays);
+            for c in 0..3 {
+                volume.texels[index][c] += later[c];
+            }
         }
     }
-    // The later bounces: the second's ratio to the first, again and again, as many times as
-    // the render's paths bounce (`max_depth` − 2 bounces; the first two are traced).
     let ratio = if first_total > 0.0 {
         (second_total / first_total).clamp(0.0, 0.9)
     } else {
         0.0
     };
-    let bounces = scene.settings.max_depth.saturating_sub(2);
+    // 1 + r + … + r^(bounces − 2): the second bounce and those after it.
     let series: f32 = (0..bounces.saturating_sub(1).min(64))
         .map(|j| ratio.powi(j as i32))
         .sum();
@@ -308,9 +361,6 @@ pub(crate) fn compute(
             };
         }
     }
-    dilate(&mut volume, &valid);
-    volume.radiance = radiance_maps(&volume, &hits, &rays, &valid, bounces);
-    volume
 }
 
 /// Each probe's radiance by direction (`IrradianceVolume::radiance`): per bin, the mean over its
@@ -459,5 +509,30 @@ fn dilate(volume: &mut IrradianceVolume, valid: &[bool]) {
             }
         }
         valid = next;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Far off, a disc's E / L is its solid angle times cos θ; facing the normal with the disc
+    /// above the horizon, Lambert's exact sin²σ; half below the horizon (cos θ = 0), a disc still
+    /// lights the surface with what stands above it (a positive share, below the whole disc's).
+    #[test]
+    fn a_disc_lights_a_surface_beyond_its_horizon() {
+        let s2 = 1e-4;
+        for cos in [0.2f32, 0.5, 1.0] {
+            let e = illuminance_sphere_or_disc(cos, s2);
+            assert!(
+                (e - PI * s2 * cos).abs() <= 1e-6 * e.max(1e-12),
+                "{cos}: {e}"
+            );
+        }
+        let s2 = 0.25;
+        assert!((illuminance_sphere_or_disc(1.0, s2) - PI * s2).abs() < 1e-5);
+        let edge = illuminance_sphere_or_disc(0.0, s2);
+        assert!(edge > 0.0 && edge < PI * s2 * 0.5, "{edge}");
+        assert_eq!(illuminance_sphere_or_disc(-0.9, s2), 0.0);
     }
 }
