@@ -102,11 +102,12 @@ struct PreviewObject {
 // The irradiance volume: texel (axis · nx + x, y, z) holds probe (x, y, z)'s bounce irradiance/π
 // (rgb) and sky visibility (a) from side axis (+x, −x, +y, −y, +z, −z).
 @group(0) @binding(9) var probes: texture_3d<f32>;
-// Each probe's radiance by direction (bounce.rs `IrradianceVolume::radiance`): OCT × OCT bins of
-// an octahedral map, [radiance of the surfaces seen, share of the sky], bin b = j · OCT + i of
-// probe (x, y, z) at texel (b · nx + x, y, z).
+// Each probe's radiance by direction (bounce.rs `IrradianceVolume::radiance`): BANDS × AZIMUTHS
+// bins (`direction_bin`), [radiance of the surfaces seen, share of the sky], bin b of probe
+// (x, y, z) at texel (b · nx + x, y, z).
 @group(0) @binding(10) var probe_radiance: texture_3d<f32>;
-const OCT: u32 = 6u;
+const BANDS: u32 = 6u;
+const AZIMUTHS: u32 = 8u;
 // A material's images (white, or a flat normal, where it has none).
 @group(1) @binding(0) var albedo_texture: texture_2d<f32>;
 @group(1) @binding(1) var albedo_sampler: sampler;

@@ -45,14 +45,13 @@ fn probe(p: vec3<f32>, axis: u32) -> vec4<f32> {
     return textureSampleLevel(probes, linear_sampler, uvw, 0.0);
 }
 
-// The bin of direction d in a probe's octahedral map (bounce.rs `oct_bin`, bit for bit).
-fn oct_bin(d: vec3<f32>) -> vec2<u32> {
-    let n = d / max(abs(d.x) + abs(d.y) + abs(d.z), 1e-20);
-    var uv = n.xz;
-    if n.y < 0.0 {
-        uv = (vec2<f32>(1.0) - abs(n.zx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), n.xz >= vec2<f32>(0.0));
-    }
-    return min(vec2<u32>((uv * 0.5 + 0.5) * f32(OCT)), vec2<u32>(OCT - 1u));
+// The bin of unit direction d in a probe's radiance map (bounce.rs `direction_bin`): its band of
+// equal solid angle by height, then its sector around the vertical.
+fn direction_bin(d: vec3<f32>) -> u32 {
+    let band = min(u32(max((d.y + 1.0) * 0.5 * f32(BANDS), 0.0)), BANDS - 1u);
+    let turn = atan2(d.z, d.x) / (2.0 * PI) + 0.5;
+    let around = min(u32(max(turn * f32(AZIMUTHS), 0.0)), AZIMUTHS - 1u);
+    return band * AZIMUTHS + around;
 }
 
 // The radiance the probes about p see along d: [surfaces' radiance, share of the sky], d's bin
@@ -60,12 +59,11 @@ fn oct_bin(d: vec3<f32>) -> vec2<u32> {
 // outer probes as `probe`).
 fn probe_radiance_along(p: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     let size = vec3<f32>(textureDimensions(probe_radiance));
-    let dims = vec3<f32>(size.x / f32(OCT * OCT), size.y, size.z);
+    let dims = vec3<f32>(size.x / f32(BANDS * AZIMUTHS), size.y, size.z);
     let extent = max(view.probe_hi.xyz - view.probe_lo.xyz, vec3<f32>(1e-6));
     let f = clamp((p - view.probe_lo.xyz) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * dims;
     let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5));
-    let bin = oct_bin(d);
-    let block = f32(bin.y * OCT + bin.x);
+    let block = f32(direction_bin(d));
     let uvw = vec3<f32>((block * dims.x + c.x) / size.x, c.y / size.y, c.z / size.z);
     return textureSampleLevel(probe_radiance, linear_sampler, uvw, 0.0);
 }

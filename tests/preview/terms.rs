@@ -321,8 +321,8 @@ fn terms(scene: &Scene, name: &str) -> Vec<(String, f64, f64, f64, f64)> {
 /// (scene, total, direct). Direct light is held where it is at least half of an object's light;
 /// bounce light, where it is at least a quarter, within 70%. Measured: direct within 6% but a
 /// sphere's shaded side under the sky (−10%); bounce within 37% but a brushed can's reflections of
-/// a sunlit floor (−25%: the probes see the floor from above the can, and farther off), whose
-/// total is −23%; the Cornell box within 9.4% (its blocks −3.3% and −9.4%).
+/// a sunlit floor (−22%: the probes see the floor from above the can, and farther off), whose
+/// total is −20%; the Cornell box within 9.4% (its blocks −3.3% and −9.4%).
 const BOUNDS: [(&str, f64, f64); 5] = [
     ("studio", 0.10, 0.10),
     ("cornell", 0.12, 0.10),

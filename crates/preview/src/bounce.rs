@@ -35,18 +35,21 @@ pub const MAX_TRIANGLES: usize = 100_000;
 /// Probes along the scene's largest side.
 pub(crate) const PROBES_ACROSS: f32 = 4.0;
 
-/// Directions of a probe's radiance map a side (an octahedral map, `OCT`² bins).
-pub const OCT: u32 = 6;
+/// A probe's radiance map: `BANDS` bands of equal solid angle by height (the horizon a boundary
+/// between two) times `AZIMUTHS` sectors around the vertical, `BINS` bins (`direction_bin`).
+pub const BANDS: u32 = 6;
+pub const AZIMUTHS: u32 = 8;
+pub const BINS: u32 = BANDS * AZIMUTHS;
 
 /// The probes, laid out as the shader's 3D texture: texel (axis · nx + ix, iy, iz) holds
 /// [bounce irradiance/π (rgb), sky visibility] of probe (ix, iy, iz) from side `axis`. Beside it,
-/// what glossy reflections read: each probe's radiance by direction, `OCT` × `OCT` bins of an
-/// octahedral map (`oct_bin`), [radiance of the surfaces seen (rgb, zero where the sky is seen),
-/// share of the sky], bin b = j · OCT + i of probe (ix, iy, iz) at texel (b · nx + ix, iy, iz) of
-/// a second 3D texture (laid out as the first, so one filtered lookup interpolates the probes).
-/// Six cosine-weighted sides cannot tell a floor just below the horizon from the sky above it: a
-/// brushed can whose reflections all looked down at a lit floor read half sky from its sideways
-/// cube faces (39% too dark).
+/// what glossy reflections read: each probe's radiance by direction in `BINS` bins
+/// (`direction_bin`), [radiance of the surfaces seen (rgb, zero where the sky is seen), share of
+/// the sky], bin b of probe (ix, iy, iz) at texel (b · nx + ix, iy, iz) of a second 3D texture
+/// (laid out as the first, so one filtered lookup interpolates the probes). Six cosine-weighted
+/// sides cannot tell a floor just below the horizon from the sky above it: a brushed can whose
+/// reflections all looked down at a lit floor read half sky from its sideways cube faces (39% too
+/// dark); nor can bins that straddle the horizon (an octahedral map's do).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IrradianceVolume {
     pub dims: [u32; 3],
@@ -56,17 +59,22 @@ pub struct IrradianceVolume {
     pub radiance: Vec<[f32; 4]>,
 }
 
-/// The bin of direction `d` in a probe's octahedral map (the WGSL's `oct_bin` in preview.wgsl):
-/// d / (|x| + |y| + |z|) projected onto xz, the lower half folded over the diagonals.
-pub fn oct_bin(d: Vec3) -> [u32; 2] {
-    let n = d / (d.x.abs() + d.y.abs() + d.z.abs()).max(1e-20);
-    let (mut u, mut v) = (n.x, n.z);
-    if n.y < 0.0 {
-        let sign = |c: f32| if c >= 0.0 { 1.0 } else { -1.0 };
-        (u, v) = ((1.0 - n.z.abs()) * sign(n.x), (1.0 - n.x.abs()) * sign(n.z));
-    }
-    let bin = |c: f32| (((c * 0.5 + 0.5) * OCT as f32) as u32).min(OCT - 1);
-    [bin(u), bin(v)]
+/// The bin of unit direction `d` in a probe's radiance map (the WGSL's `direction_bin` in
+/// preview_shading.wgsl): its band by height, then its sector around the vertical.
+pub fn direction_bin(d: Vec3) -> u32 {
+    let band = (((d.y + 1.0) * 0.5 * BANDS as f32).max(0.0) as u32).min(BANDS - 1);
+    let turn = d.z.atan2(d.x) / std::f32::consts::TAU + 0.5;
+    let around = ((turn * AZIMUTHS as f32).max(0.0) as u32).min(AZIMUTHS - 1);
+    band * AZIMUTHS + around
+}
+
+/// The direction at the middle of bin `b`.
+pub fn bin_centre(b: u32) -> Vec3 {
+    let (band, around) = (b / AZIMUTHS, b % AZIMUTHS);
+    let y = -1.0 + (band as f32 + 0.5) * 2.0 / BANDS as f32;
+    let phi = ((around as f32 + 0.5) / AZIMUTHS as f32 - 0.5) * std::f32::consts::TAU;
+    let r = (1.0 - y * y).max(0.0).sqrt();
+    Vec3::new(r * phi.cos(), y, r * phi.sin())
 }
 
 impl IrradianceVolume {
@@ -77,14 +85,14 @@ impl IrradianceVolume {
             lo: Vec3::ZERO,
             hi: Vec3::ONE,
             texels: vec![bounce.extend(1.0).to_array(); 6],
-            radiance: vec![bounce.extend(1.0).to_array(); (OCT * OCT) as usize],
+            radiance: vec![bounce.extend(1.0).to_array(); BINS as usize],
         }
     }
 
-    /// The index of probe `cell`'s bin `[i, j]` in `radiance`.
-    pub(crate) fn radiance_index(&self, [x, y, z]: [u32; 3], [i, j]: [u32; 2]) -> usize {
+    /// The index of probe `cell`'s bin `bin` in `radiance`.
+    pub(crate) fn radiance_index(&self, [x, y, z]: [u32; 3], bin: u32) -> usize {
         let [nx, ny, _] = self.dims;
-        ((z * ny + y) * OCT * OCT * nx + (j * OCT + i) * nx + x) as usize
+        ((z * ny + y) * BINS * nx + bin * nx + x) as usize
     }
 
     pub(crate) fn index(&self, [x, y, z]: [u32; 3], axis: usize) -> usize {

@@ -74,7 +74,7 @@ pub(crate) fn probe_texture(
             queue,
             "preview probe radiance",
             dims,
-            bounce::OCT * bounce::OCT,
+            bounce::BINS,
             &volume.radiance,
         ),
     }

@@ -9,8 +9,8 @@ use rt_core::Scene;
 use rt_core::math::sampling::luminance;
 
 use super::bounce::{
-    IrradianceVolume, MAX_TRIANGLES, OCT, PROBE_RAYS, PROBES_ACROSS, Sky, diffuse_albedo, oct_bin,
-    texture_means, uniform_bounce,
+    BINS, IrradianceVolume, MAX_TRIANGLES, PROBE_RAYS, PROBES_ACROSS, Sky, bin_centre,
+    diffuse_albedo, direction_bin, texture_means, uniform_bounce,
 };
 use super::surfaces::emitter_shape;
 use super::types::{CUBE_SIDES, PreviewLight, light_kind};
@@ -198,7 +198,7 @@ pub(crate) fn compute(
         lo,
         hi,
         texels: vec![[0.0; 4]; 6 * (dims[0] * dims[1] * dims[2]) as usize],
-        radiance: vec![[0.0; 4]; (OCT * OCT * dims[0] * dims[1] * dims[2]) as usize],
+        radiance: vec![[0.0; 4]; (BINS * dims[0] * dims[1] * dims[2]) as usize],
     };
     let rays = directions();
     let centres = probe_centres(lo, size, dims);
@@ -375,14 +375,8 @@ fn radiance_maps(
     valid: &[bool],
     bounces: u32,
 ) -> Vec<[f32; 4]> {
-    let bins = (OCT * OCT) as usize;
-    let bin_of: Vec<usize> = rays
-        .iter()
-        .map(|&d| {
-            let [i, j] = oct_bin(d);
-            (j * OCT + i) as usize
-        })
-        .collect();
+    let bins = BINS as usize;
+    let bin_of: Vec<usize> = rays.iter().map(|&d| direction_bin(d) as usize).collect();
     let mut maps: Vec<Vec<[f32; 4]>> = Vec::with_capacity(valid.len());
     for hits in hits.chunks(rays.len()) {
         let mut sum = vec![[0.0f32; 4]; bins];
@@ -404,16 +398,6 @@ fn radiance_maps(
             texel[3] += sky;
             count[bin] += 1;
         }
-        let centre = |b: usize| {
-            let (i, j) = ((b as u32 % OCT) as usize, (b as u32 / OCT) as usize);
-            rays.iter()
-                .zip(&bin_of)
-                .filter(|(_, k)| **k == b)
-                .map(|(d, _)| *d)
-                .sum::<Vec3>()
-                .try_normalize()
-                .unwrap_or(Vec3::new(i as f32, 0.0, j as f32))
-        };
         let filled: Vec<usize> = (0..bins).filter(|&b| count[b] > 0).collect();
         let mean: Vec<[f32; 4]> = (0..bins)
             .map(|b| sum[b].map(|v| v / count[b].max(1) as f32))
@@ -423,11 +407,12 @@ fn radiance_maps(
                 if count[b] > 0 || filled.is_empty() {
                     return mean[b];
                 }
-                // The nearest bin with rays, by the directions of the rays in it.
-                let here = centre(b);
+                // The nearest bin with rays.
+                let here = bin_centre(b as u32);
+                let towards = |x: usize| here.dot(bin_centre(x as u32));
                 let nearest = filled
                     .iter()
-                    .max_by(|&&x, &&y| here.dot(centre(x)).total_cmp(&here.dot(centre(y))))
+                    .max_by(|&&x, &&y| towards(x).total_cmp(&towards(y)))
                     .copied()
                     .unwrap_or(b);
                 mean[nearest]
@@ -451,8 +436,7 @@ fn radiance_maps(
     for (probe, map) in maps.iter().enumerate() {
         let cell = volume.cell_of(probe);
         for b in 0..bins {
-            let bin = [b as u32 % OCT, b as u32 / OCT];
-            radiance[volume.radiance_index(cell, bin)] =
+            radiance[volume.radiance_index(cell, b as u32)] =
                 if valid[probe] { map[b] } else { valid_mean[b] };
         }
     }
