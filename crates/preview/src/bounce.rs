@@ -1,24 +1,28 @@
 //! Light that bounces, for the preview: an irradiance volume (as Blender's Eevee bakes one) built on
-//! the CPU with rt-core's BVH and traversal, once per change of the geometry, materials or lights.
+//! the CPU with rt-core's BVH and traversal, once per change of the geometry, materials or lights
+//! (`probes.rs` lights the probes, `volume_cache.rs` keeps the volume, `probe_textures.rs` uploads
+//! it).
 //!
-//! A grid of probes over the scene's bounds (about four cells across its largest side); from each,
+//! A grid of probes over the scene (about four cells across, at least two along each axis it
+//! spans; over the objects where a flat backdrop holds most of its surface); from each,
 //! `PROBE_RAYS` rays in a Fibonacci spiral. A ray that meets a surface takes that surface's
 //! outgoing radiance lit once: its diffuse albedo/π times the preview lights' irradiance there (each
-//! with a shadow ray), plus its albedo times the environment's mean radiance; a ray that leaves the
-//! scene counts towards the probe's view of the sky. Per probe and per axis (+x, −x, +y, −y, +z, −z,
-//! an "ambient cube") the volume keeps the bounce irradiance over π from that side,
-//! Σ L_i max(a·d_i, 0) · 4/N, times 1/(1 − ρ̄) for the later bounces (ρ̄ the scene's mean albedo
-//! times how enclosed it is), and the cosine-weighted share of rays that escape, which dims the
-//! image-based light where the scene hides the sky. Probes inside closed objects (most of their
-//! rays meet back faces) take their valid neighbours' values.
+//! with a shadow ray), plus its albedo times the sky's mean radiance; a ray that leaves the scene
+//! counts towards the probe's view of the sky, weighed by the sky's light that way. The second
+//! bounce is gathered at the same hits from the first, the later ones follow as a series (as many
+//! as the render's `max_depth` allows). Per probe and per axis (+x, −x, +y, −y, +z, −z, an
+//! "ambient cube") the volume keeps the bounce irradiance over π from that side,
+//! Σ L_i max(a·d_i, 0) · 4/N, and the share of the sky's light that side sees, which dims the
+//! image-based light where the scene hides the sky; and per probe its radiance by direction, for
+//! glossy reflections. Probes inside closed objects (most of their rays meet back faces) take their
+//! valid neighbours' values.
 //!
 //! Emission is left out: emitters light the preview directly, as lights. Scenes of more than
 //! `MAX_TRIANGLES` triangles get one probe, the uniform ambient term of progressive radiosity
 //! (`uniform_bounce`), which costs nothing to build.
 
 use std::f32::consts::PI;
-use std::hash::{Hash, Hasher};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use glam::{UVec3, Vec3, Vec4};
 use rt_core::environment::{EnvironmentMap, env_texel_index, env_uv};
@@ -288,103 +292,4 @@ impl Sky {
                 .map_or(0.0, |t| luminance(Vec3::from(*t)))
         })
     }
-}
-
-/// Scenes up to this many triangles have their volume built at once even in the editor (a few
-/// milliseconds); larger ones on a thread while the last volume stands in.
-pub const SYNC_TRIANGLES: usize = 20_000;
-
-/// The last volume built, and the one being built on a thread (for its key).
-struct Cache {
-    key: u64,
-    volume: Arc<IrradianceVolume>,
-    building: Option<(u64, std::thread::JoinHandle<IrradianceVolume>)>,
-}
-
-fn key_of(scene: &Scene, lights: &[PreviewLight], sky: &Sky) -> u64 {
-    let mut hasher = std::collections::hash_map::DefaultHasher::new();
-    for object in &scene.objects {
-        (Arc::as_ptr(&object.mesh) as usize).hash(&mut hasher);
-        object
-            .transform
-            .matrix()
-            .to_cols_array()
-            .map(f32::to_bits)
-            .hash(&mut hasher);
-        diffuse_albedo(&object.material, &[])
-            .to_array()
-            .map(f32::to_bits)
-            .hash(&mut hasher);
-    }
-    bytemuck::cast_slice::<PreviewLight, u32>(lights).hash(&mut hasher);
-    sky.mean.to_array().map(f32::to_bits).hash(&mut hasher);
-    sky.map
-        .as_ref()
-        .map(|m| Arc::as_ptr(m) as usize)
-        .hash(&mut hasher);
-    sky.turns.to_bits().hash(&mut hasher);
-    scene.settings.max_depth.hash(&mut hasher);
-    hasher.finish()
-}
-
-/// The volume of the frame's scene, rebuilt when its geometry, materials, lights or sky changed
-/// and kept otherwise (one scene at a time: the editor's). With `wait`, or for a scene of at most
-/// `SYNC_TRIANGLES` triangles, it is built before this returns; otherwise on a thread, and until it
-/// is ready the last volume (or radiosity's uniform term) stands in and the second value is true:
-/// the caller draws again soon.
-pub fn irradiance_volume(
-    scene: &Scene,
-    lights: &[PreviewLight],
-    bounds: Option<(Vec3, Vec3)>,
-    sky: &Sky,
-    wait: bool,
-) -> (Arc<IrradianceVolume>, bool) {
-    static CACHE: Mutex<Option<Cache>> = Mutex::new(None);
-    let Some(bounds) = bounds else {
-        return (Arc::new(IrradianceVolume::uniform(Vec3::ZERO)), false);
-    };
-    let key = key_of(scene, lights, sky);
-    let mut guard = CACHE.lock().unwrap_or_else(|e| e.into_inner());
-    // A finished build becomes the current volume.
-    if let Some(cache) = guard.as_mut()
-        && cache
-            .building
-            .as_ref()
-            .is_some_and(|(_, job)| job.is_finished())
-        && let Some((built, job)) = cache.building.take()
-        && let Ok(volume) = job.join()
-    {
-        cache.key = built;
-        cache.volume = Arc::new(volume);
-    }
-    if let Some(cache) = guard.as_ref()
-        && cache.key == key
-    {
-        return (cache.volume.clone(), false);
-    }
-    if wait || scene.triangle_count() <= SYNC_TRIANGLES {
-        let volume = Arc::new(super::probes::compute(scene, lights, bounds, sky));
-        let building = guard.take().and_then(|c| c.building);
-        *guard = Some(Cache {
-            key,
-            volume: volume.clone(),
-            building,
-        });
-        return (volume, false);
-    }
-    let cache = guard.get_or_insert_with(|| Cache {
-        key: 0,
-        volume: Arc::new(IrradianceVolume::uniform(uniform_bounce(
-            scene, lights, bounds,
-        ))),
-        building: None,
-    });
-    if cache.building.is_none() {
-        let (scene, lights, sky) = (scene.clone(), lights.to_vec(), sky.clone());
-        cache.building = Some((
-            key,
-            std::thread::spawn(move || super::probes::compute(&scene, &lights, bounds, &sky)),
-        ));
-    }
-    (cache.volume.clone(), true)
 }

@@ -13,12 +13,13 @@ use rt_core::material::AlphaMode;
 use rt_core::math::sampling::luminance;
 use rt_core::{Camera, LightKind, Material, Mesh, Scene};
 
-use super::bounce::{IrradianceVolume, Sky, irradiance_volume};
+use super::bounce::{IrradianceVolume, Sky};
 use super::shadows::{ShadowPlan, plan_shadows};
 use super::surfaces::{emitter_shape, layer_params, material_params};
 use super::types::{
     GridVertex, MAX_PREVIEW_LIGHTS, NO_SHADOW, PreviewLight, PreviewObject, PreviewView, light_kind,
 };
+use super::volume_cache::irradiance_volume;
 
 /// A texture's texels, shared with the scene.
 #[derive(Clone)]

@@ -22,6 +22,7 @@ pub mod shadows;
 pub mod sun;
 mod surfaces;
 pub mod types;
+mod volume_cache;
 
 use std::collections::HashMap;
 use std::sync::Arc;

@@ -130,7 +130,7 @@ fn a_large_scenes_bounce_light_is_built_on_a_thread() {
     ball.mesh = rt_core::shapes::uv_sphere(80.0, 120, 200).into();
     ball.transform.translation = [280.0, 300.0, 280.0];
     scene.objects.push(ball);
-    assert!(scene.triangle_count() > crate::bounce::SYNC_TRIANGLES);
+    assert!(scene.triangle_count() > crate::volume_cache::SYNC_TRIANGLES);
     let frame = |scene: &Scene| {
         build_interactive_frame(scene, &scene.camera, scene.bounds(), None, [64, 64])
     };
