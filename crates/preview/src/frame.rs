@@ -179,7 +179,7 @@ fn sky(scene: &Scene) -> Sky {
     };
     Sky {
         mean: sky_radiance(scene),
-        map: Some(crate::sun::of(&env.map).map_or_else(|| env.map.clone(), |sun| sun.sky.clone())),
+        map: Some(crate::sun::sky_of(&env.map)),
         turns: env.rotation_deg / 360.0,
     }
 }
@@ -194,7 +194,7 @@ fn sky_radiance(scene: &Scene) -> Vec3 {
         return Vec3::from(scene.ambient);
     };
     // The sun's light comes from its own light.
-    let map = crate::sun::of(&env.map).map_or_else(|| env.map.clone(), |sun| sun.sky.clone());
+    let map = crate::sun::sky_of(&env.map);
     let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
     let mean = match last.as_ref() {
         Some((kept, mean)) if Arc::ptr_eq(kept, &map) => *mean,
@@ -231,8 +231,7 @@ fn environment(scene: &Scene) -> PreviewEnvironment {
             (Arc::as_ptr(&env.map) as usize).hash(&mut hasher);
             env.strength.to_bits().hash(&mut hasher);
             // Without its sun, which lights the preview as a light of its own (`sun.rs`).
-            let map =
-                crate::sun::of(&env.map).map_or_else(|| env.map.clone(), |sun| sun.sky.clone());
+            let map = crate::sun::sky_of(&env.map);
             PreviewEnvironment {
                 map: Some(map),
                 strength: env.strength,

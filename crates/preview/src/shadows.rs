@@ -107,15 +107,7 @@ pub fn plan_shadows(
         m.map(|c| c.map(f32::to_bits)).hash(&mut hasher);
     }
     plan.skip.hash(&mut hasher);
-    for object in &scene.objects {
-        (std::sync::Arc::as_ptr(&object.mesh) as usize).hash(&mut hasher);
-        object
-            .transform
-            .matrix()
-            .to_cols_array()
-            .map(f32::to_bits)
-            .hash(&mut hasher);
-    }
+    super::surfaces::hash_placements(scene, &mut hasher);
     plan.key = hasher.finish();
     plan
 }

@@ -137,6 +137,12 @@ pub fn of(map: &Arc<EnvironmentMap>) -> Option<Arc<Sun>> {
     sun
 }
 
+/// The map the environment lights the preview with: `map` without its sun where it has one (the
+/// sun lights it as a light of its own).
+pub fn sky_of(map: &Arc<EnvironmentMap>) -> Arc<EnvironmentMap> {
+    of(map).map_or_else(|| map.clone(), |sun| sun.sky.clone())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -85,6 +85,21 @@ pub fn material_params(material: &Material) -> ([f32; 3], Vec3, [f32; 4], f32, O
     }
 }
 
+/// Hashes where each object of `scene` stands: its mesh (by address) and its transform (the
+/// irradiance volume's and the shadow maps' keys).
+pub fn hash_placements(scene: &rt_core::Scene, hasher: &mut impl std::hash::Hasher) {
+    use std::hash::Hash;
+    for object in &scene.objects {
+        (std::sync::Arc::as_ptr(&object.mesh) as usize).hash(hasher);
+        object
+            .transform
+            .matrix()
+            .to_cols_array()
+            .map(f32::to_bits)
+            .hash(hasher);
+    }
+}
+
 /// The mean of channel `channel` (0–3) of `texture` in [0, 1], decoded from sRGB when `srgb`, over
 /// at most 4096 texels evenly strided (a factor's image stands in by its mean where the preview
 /// does not sample it); 1 without an image.

@@ -24,14 +24,8 @@ struct Cache {
 
 fn key_of(scene: &Scene, lights: &[PreviewLight], sky: &Sky) -> u64 {
     let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    super::surfaces::hash_placements(scene, &mut hasher);
     for object in &scene.objects {
-        (Arc::as_ptr(&object.mesh) as usize).hash(&mut hasher);
-        object
-            .transform
-            .matrix()
-            .to_cols_array()
-            .map(f32::to_bits)
-            .hash(&mut hasher);
         diffuse_albedo(&object.material, &[])
             .to_array()
             .map(f32::to_bits)
