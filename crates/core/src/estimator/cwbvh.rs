@@ -73,12 +73,13 @@ fn child_hits(node: &WideBvhNode, ray: &PreparedRay, oct_inv4: u32, neg: BVec3, 
     hits
 }
 
-/// Nearest hit through the wide BVH in `scene.wide_nodes` whose root is node `root`, or with `any_hit` the first found. Compiled twice, for
-/// the baseline x86-64 and for CPUs with AVX2, FMA, BMI and LZCNT (`multiversion` picks one at run
-/// time): the same operations either way, so the same hits bit for bit (the tests compare both over
-/// 10⁶ rays); the newer instructions (bit counts and scans, three-operand vector forms) make it
-/// ~18% faster on the CPU backend (docs/performance-log.md).
+/// Nearest hit through the wide BVH in `scene.wide_nodes` whose root is node `root`, or with
+/// `any_hit` the first found. Compiled twice, for the baseline x86-64 and for CPUs with AVX2, FMA, BMI and LZCNT (`multiversion` picks one at run
+/// time), the latter testing a node's eight children in one register (`avx2::child_hits`): the
+/// same operations either way, so the same hits bit for bit (the tests compare both over 10⁶
+/// rays); docs/performance-log.md has what each step gained.
 #[multiversion::multiversion(targets("x86_64+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
+#[allow(unsafe_code)] // calling the AVX2 node test; see SAFETY below
 pub(super) fn trace_wide(
     scene: &GpuScene,
     root: u32,
@@ -87,7 +88,26 @@ pub(super) fn trace_wide(
     t_max: f32,
     any_hit: bool,
 ) -> Hit {
-    traverse(scene, root, origin, direction, t_max, any_hit)
+    let (o, d) = (origin, direction);
+    multiversion::target::match_target! {
+        // SAFETY: this version of the function runs only on CPUs with AVX2.
+        "x86_64+avx2" => traverse(scene, root, o, d, t_max, any_hit, |node, ray, oct, neg, t| {
+            unsafe { avx2::child_hits(node, ray, oct, neg, t) }
+        }),
+        _ => traverse(scene, root, o, d, t_max, any_hit, portable_child_hits),
+    }
+}
+
+/// `child_hits` with the octant code in one byte, as `traverse` passes it.
+#[inline(always)]
+fn portable_child_hits(
+    node: &WideBvhNode,
+    ray: &PreparedRay,
+    oct_inv: u32,
+    neg: BVec3,
+    t_max: f32,
+) -> u32 {
+    child_hits(node, ray, oct_inv * 0x0101_0101, neg, t_max)
 }
 
 /// `trace_wide` as the baseline x86-64 runs it, for the tests.
@@ -100,11 +120,20 @@ fn trace_wide_baseline(
     t_max: f32,
     any_hit: bool,
 ) -> Hit {
-    traverse(scene, root, origin, direction, t_max, any_hit)
+    traverse(
+        scene,
+        root,
+        origin,
+        direction,
+        t_max,
+        any_hit,
+        portable_child_hits,
+    )
 }
 
 /// The traversal itself, inlined into each of `trace_wide`'s versions with the node and leaf
-/// tests (so that they too are compiled for its instructions).
+/// tests (so that they too are compiled for its instructions). `child_hits` is a node's test
+/// (`child_hits`' arguments, the octant code in one byte).
 #[inline(always)]
 fn traverse(
     scene: &GpuScene,
@@ -113,6 +142,7 @@ fn traverse(
     direction: Vec3,
     t_max: f32,
     any_hit: bool,
+    child_hits: impl Fn(&WideBvhNode, &PreparedRay, u32, BVec3, f32) -> u32,
 ) -> Hit {
     let ray = PreparedRay::new(origin, direction);
     let permuted = permuted_origin(&ray);
@@ -120,7 +150,6 @@ fn traverse(
     let oct_inv = (u32::from(direction.x >= 0.0) << 2)
         | (u32::from(direction.y >= 0.0) << 1)
         | u32::from(direction.z >= 0.0);
-    let oct_inv4 = oct_inv * 0x0101_0101;
     let neg = direction.cmplt(Vec3::ZERO);
     // A fixed stack, as the kernel's (the builder keeps the BVH within it; a push past it is
     // dropped in both twins): no allocation per ray.
@@ -150,7 +179,7 @@ fn traverse(
             sp += 1;
         }
         let node = &scene.wide_nodes[child as usize];
-        let hits = child_hits(node, &ray, oct_inv4, neg, hit.t);
+        let hits = child_hits(node, &ray, oct_inv, neg, hit.t);
         group = (
             node.child_base,
             (hits & INNER_BITS) | (node.exponents_imask >> 24),
@@ -160,5 +189,7 @@ fn traverse(
     hit
 }
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
 #[cfg(test)]
 mod tests;

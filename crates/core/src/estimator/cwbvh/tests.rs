@@ -64,11 +64,13 @@ impl Random {
     }
 }
 
-/// The masked node test equals the branching one bit for bit over 10⁶ random nodes and rays:
-/// directions with zero components, huge and tiny coordinates and cell sizes, children inner,
-/// leaf and empty, random distances.
+/// The masked node test, and on CPUs with AVX2 the eight-lane one (`avx2::child_hits`), equal the
+/// branching one bit for bit over 10⁶ random nodes and rays: directions with zero components,
+/// huge and tiny coordinates and cell sizes (infinite ones too, whose slabs make NaNs), children
+/// inner, leaf and empty, random distances.
 #[test]
-fn the_masked_test_equals_the_branching_one_over_random_nodes() {
+#[allow(unsafe_code)] // calling the AVX2 test where the CPU has AVX2
+fn the_masked_and_wide_tests_equal_the_branching_one_over_random_nodes() {
     let mut random = Random(0xb0c5);
     let mut entered = 0;
     for _ in 0..1_000_000 {
@@ -145,6 +147,15 @@ fn the_masked_test_equals_the_branching_one_over_random_nodes() {
             masked, reference,
             "node {node:?}, ray {ray:?}, t_max {t_max}"
         );
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2.
+            let wide = unsafe { super::avx2::child_hits(&node, &ray, oct_inv, neg, t_max) };
+            assert_eq!(
+                wide, reference,
+                "AVX2: node {node:?}, ray {ray:?}, t_max {t_max}"
+            );
+        }
         entered += usize::from(reference != 0);
     }
     assert!(
