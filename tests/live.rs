@@ -87,8 +87,10 @@ fn a_change_starts_coarse_refines_by_itself_and_restarts_exactly() {
     };
     let scene = cornell(96, 64);
     request(&mut view, &scene);
-    let shown = tick_until(&mut view, "full resolution with 3 samples", |v| {
-        v.raw().is_some_and(|r| r.pixel_size == 1 && r.samples >= 3)
+    // The GPU's own images: the CPU backend shows the first ones while its kernel compiles.
+    let shown = tick_until(&mut view, "full resolution with 3 GPU samples", |v| {
+        v.raw()
+            .is_some_and(|r| r.pixel_size == 1 && r.samples >= 3 && !r.while_compiling)
     });
     assert_eq!(
         shown[0].0, 8,
@@ -124,6 +126,70 @@ fn a_change_starts_coarse_refines_by_itself_and_restarts_exactly() {
         "the restarted renderer's image differs from a fresh render's"
     );
     assert!(view.shut_down(Duration::from_secs(30)), "the threads end");
+}
+
+/// A view on a GPU whose kernel is not yet compiled shows the CPU backend's images at once (the
+/// CPU backend's exact samples) while the kernel compiles on another thread; the GPU then takes
+/// over without showing fewer samples than the CPU had; a later change finds the kernel compiled
+/// and starts on the GPU.
+#[test]
+fn the_cpu_backend_stands_in_while_the_gpu_kernel_compiles() {
+    // A new context: no kernel compiled on it yet.
+    let Some(mut view) = start(raw_settings()) else {
+        return;
+    };
+    let scene = cornell(48, 32);
+    request(&mut view, &scene);
+    tick_until(&mut view, "the first image", |v| v.raw().is_some());
+    let first = view.raw().unwrap().clone();
+    assert!(
+        first.while_compiling,
+        "the first image waited for the kernel"
+    );
+    let mut full_resolution = Vec::new();
+    let mut stand_in = None;
+    tick_until(&mut view, "the GPU's full-resolution image", |v| {
+        if let Some(r) = v.raw().filter(|r| r.pixel_size == 1) {
+            full_resolution.push((r.samples, r.while_compiling));
+            if r.while_compiling && stand_in.is_none() {
+                stand_in = Some(r.clone());
+            }
+        }
+        v.raw()
+            .is_some_and(|r| r.pixel_size == 1 && !r.while_compiling)
+    });
+    assert!(
+        full_resolution.windows(2).all(|w| w[1].0 >= w[0].0),
+        "the GPU took over without showing fewer samples: {full_resolution:?}"
+    );
+    // The stand-in's image is the CPU backend's, exactly (when the compile outlasted the coarse
+    // steps, as it does on lavapipe).
+    if let Some(r) = stand_in {
+        let gpu_scene = rt_core::GpuScene::build(&scene).unwrap();
+        let frame = rt_core::frame::frame_for(&scene, &gpu_scene).unwrap();
+        let mut cpu = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
+        let go = std::sync::atomic::AtomicBool::new(false);
+        assert!(cpu.add_batch(&gpu_scene, &frame, r.samples, &go));
+        let expected: Vec<[f32; 3]> = cpu.pixels().iter().map(|p| [p[0], p[1], p[2]]).collect();
+        assert!(
+            expected == r.pixels,
+            "the stand-in's image at {} spp",
+            r.samples
+        );
+    }
+
+    let mut moved = scene.clone();
+    moved.camera.vfov_deg += 5.0;
+    request(&mut view, &moved);
+    let generation = view.generation();
+    tick_until(&mut view, "an image of the change", |v| {
+        v.raw().is_some_and(|r| r.generation == generation)
+    });
+    assert!(
+        !view.raw().unwrap().while_compiling,
+        "the compiled kernel serves the next change"
+    );
+    assert!(view.shut_down(Duration::from_secs(30)));
 }
 
 /// A camera move reuses the GPU scene, a material edit restyles it (no BVH build), a transform

@@ -249,6 +249,9 @@ fn live_overlay(frame: Option<&rt_gpu::live::LiveFrame>) -> String {
         Some(d) => line += &format!(", denoised ({})", d.name()),
         None => line += ", raw",
     }
+    if f.while_compiling {
+        line += ", on the CPU while the GPU kernel compiles";
+    }
     line
 }
 

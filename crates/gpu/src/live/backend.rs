@@ -75,6 +75,11 @@ impl<'a> LiveRenderer<'a> {
         }
     }
 
+    /// Whether the CPU backend renders (the device, or standing in while the GPU's kernel compiles).
+    pub(super) fn on_cpu(&self) -> bool {
+        matches!(self, LiveRenderer::Cpu(_))
+    }
+
     pub(super) fn samples_done(&self) -> u32 {
         match self {
             LiveRenderer::Gpu(r) => r.samples_done(),

@@ -102,6 +102,8 @@ pub struct LiveFrame {
     pub fallback: Option<String>,
     /// What the change rebuilt.
     pub rebuild: Rebuild,
+    /// Made by the CPU backend standing in while the GPU's kernel for the scene compiles.
+    pub while_compiling: bool,
 }
 
 impl LiveFrame {
@@ -128,6 +130,7 @@ impl LiveFrame {
             denoiser: None,
             fallback: None,
             rebuild,
+            while_compiling: false,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! The viewport's render thread and denoise thread.
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{Receiver, Sender, TryRecvError};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, TryRecvError};
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -23,7 +23,11 @@ struct DenoiseJob {
     aovs: Aovs,
     elapsed: Duration,
     rebuild: Rebuild,
+    while_compiling: bool,
 }
+
+/// How often an idle view looks whether the GPU's kernel it waits for has compiled.
+const COMPILE_POLL: Duration = Duration::from_millis(50);
 
 /// The one-slot queue between the render and the denoise thread: a newer job replaces one not yet
 /// started, so the denoiser never falls behind.
@@ -93,6 +97,8 @@ pub(super) fn spawn(
             let result = open().and_then(|ctx| {
                 let mut thread = RenderThread {
                     ctx: ctx.as_deref(),
+                    gpu: ctx.clone(),
+                    compiling: None,
                     settings,
                     shared: &shared,
                     outbox: &outbox,
@@ -155,6 +161,7 @@ fn denoise_loop(
                 frame.noise = noise_of(&job.image);
                 frame.denoiser = Some(denoised.denoiser);
                 frame.fallback = denoised.fallback;
+                frame.while_compiling = job.while_compiling;
                 if outbox.send(Event::Denoised(frame)).is_err() {
                     return;
                 }
@@ -192,11 +199,18 @@ struct Job {
     show_cost: Duration,
     /// No slice has run yet.
     fresh: bool,
+    /// Images of this step are not shown below this many samples: the GPU took the step over
+    /// from the CPU backend, which had shown that many.
+    hold_below: u32,
 }
 
 struct RenderThread<'a> {
     /// The GPU; `None`: the CPU backend renders.
     ctx: Option<&'a GpuContext>,
+    /// The same, for the thread that compiles its kernels.
+    gpu: Option<Arc<GpuContext>>,
+    /// A GPU kernel being compiled (`Renderer`s wait for none: the CPU backend stands in).
+    compiling: Option<JoinHandle<Result<(), String>>>,
     settings: super::LiveSettings,
     shared: &'a Shared,
     outbox: &'a Sender<Event>,
@@ -215,9 +229,9 @@ impl<'a> RenderThread<'a> {
             let mut newest = None;
             let idle = job.as_ref().is_none_or(|j| j.done);
             let mut first = if idle {
-                match inbox.recv() {
-                    Ok(m) => Some(m),
-                    Err(_) => return Ok(()),
+                match self.next_message(inbox) {
+                    Ok(m) => m,
+                    Err(()) => return Ok(()),
                 }
             } else {
                 None
@@ -258,6 +272,21 @@ impl<'a> RenderThread<'a> {
                 }
             }
             let Some(j) = job.as_mut() else { continue };
+            if self.compiled()?
+                && let Some((r, _)) = renderer.as_ref()
+                && r.on_cpu()
+            {
+                let (_, full, options) = self.step(j)?;
+                if self.kernel_ready(&full, &j.gpu_scene, options)? {
+                    // The GPU takes the step over, shown once it has the samples the CPU had.
+                    j.hold_below = r.samples_done();
+                    j.done = false;
+                    self.prepare(j, &mut renderer)?;
+                } else {
+                    // That compile was another scene's: this one's starts now.
+                    self.compile(&full, &j.gpu_scene, options)?;
+                }
+            }
             if j.done || !self.shared.current(j.generation) {
                 continue;
             }
@@ -274,6 +303,7 @@ impl<'a> RenderThread<'a> {
                 continue;
             }
             if self.slice(j, r, interacting)? {
+                j.hold_below = 0;
                 self.prepare(j, &mut renderer)?;
             }
             j.fresh = false;
@@ -305,30 +335,20 @@ impl<'a> RenderThread<'a> {
             spent: [Duration::ZERO; 3],
             show_cost: Duration::ZERO,
             fresh: true,
+            hold_below: 0,
         })
     }
 
-    /// Points the renderer at the job's current ladder step: a restart on a new frame where the
-    /// pipeline and buffers allow, else a new renderer.
-    fn prepare(
-        &self,
-        job: &mut Job,
-        renderer: &mut Option<(LiveRenderer<'a>, Arc<GpuScene>)>,
-    ) -> Result<(), String> {
+    /// The job's current ladder step: its frame, the scene at the whole view's size (what a
+    /// renderer is built for) and the renderer's options.
+    fn step(&self, job: &Job) -> Result<(rt_core::gpu_types::Frame, Scene, RenderOptions), String> {
         let [w, h] = job.ladder.resolution(job.size);
         let mut step_scene = job.scene.clone();
         step_scene.settings.width = w;
         step_scene.settings.height = h;
         let frame =
             rt_core::frame::frame_for(&step_scene, &job.gpu_scene).map_err(|e| e.to_string())?;
-        job.last_shown = None;
-        if let Some((r, built)) = renderer.as_mut()
-            && Arc::ptr_eq(built, &job.gpu_scene)
-            && r.restart(&job.gpu_scene, frame)
-        {
-            return Ok(());
-        }
-        // A new one holds the whole view's pixels, so every later step restarts it.
+        // A new renderer holds the whole view's pixels, so every later step restarts it.
         let mut full = step_scene;
         full.settings.width = job.size[0];
         full.settings.height = job.size[1];
@@ -338,10 +358,105 @@ impl<'a> RenderThread<'a> {
             target_dispatch: dispatch_target(self.settings.budget),
             ..Default::default()
         };
+        Ok((frame, full, options))
+    }
+
+    /// Whether the GPU's kernel for a step (`step`'s scene and options) is compiled (false on
+    /// the CPU backend).
+    fn kernel_ready(
+        &self,
+        full: &Scene,
+        gpu_scene: &GpuScene,
+        options: RenderOptions,
+    ) -> Result<bool, String> {
+        let Some(ctx) = self.ctx else {
+            return Ok(false);
+        };
+        crate::pipelines::kernel_compiled(ctx, full, gpu_scene, options).map_err(|e| e.to_string())
+    }
+
+    /// Points the renderer at the job's current ladder step: a restart on a new frame where the
+    /// pipeline and buffers allow, else a new renderer. A GPU renderer whose kernel is not yet
+    /// compiled is not waited for: its kernel compiles on another thread while the CPU backend
+    /// renders (the same samples), and the GPU takes over once it is ready.
+    fn prepare(
+        &mut self,
+        job: &mut Job,
+        renderer: &mut Option<(LiveRenderer<'a>, Arc<GpuScene>)>,
+    ) -> Result<(), String> {
+        let (frame, full, options) = self.step(job)?;
+        job.last_shown = None;
+        let gpu_ready = self.kernel_ready(&full, &job.gpu_scene, options)?;
+        if let Some((r, built)) = renderer.as_mut()
+            && Arc::ptr_eq(built, &job.gpu_scene)
+            && !(r.on_cpu() && gpu_ready)
+            && r.restart(&job.gpu_scene, frame)
+        {
+            return Ok(());
+        }
         *renderer = None;
-        let r = LiveRenderer::new(self.ctx, &full, &job.gpu_scene, frame, options)?;
+        let ctx = if gpu_ready {
+            self.ctx
+        } else {
+            self.compile(&full, &job.gpu_scene, options)?;
+            None
+        };
+        let r = LiveRenderer::new(ctx, &full, &job.gpu_scene, frame, options)?;
         *renderer = Some((r, job.gpu_scene.clone()));
         Ok(())
+    }
+
+    /// Starts compiling the GPU's kernel for `full` on its own thread, unless one is compiling
+    /// (its end brings the next `prepare`, which starts this one if still needed) or the view
+    /// renders on the CPU backend.
+    fn compile(
+        &mut self,
+        full: &Scene,
+        gpu_scene: &Arc<GpuScene>,
+        options: RenderOptions,
+    ) -> Result<(), String> {
+        let Some(ctx) = self.gpu.clone() else {
+            return Ok(());
+        };
+        if self.compiling.is_some() {
+            return Ok(());
+        }
+        let (full, gpu_scene) = (full.clone(), gpu_scene.clone());
+        let compile = move || {
+            crate::pipelines::compile_kernel(&ctx, &full, &gpu_scene, options)
+                .map_err(|e| e.to_string())
+        };
+        let thread = std::thread::Builder::new()
+            .name("rt-live-compile".into())
+            .spawn(compile)
+            .map_err(|e| format!("could not start the kernel's compile thread: {e}"))?;
+        self.compiling = Some(thread);
+        Ok(())
+    }
+
+    /// Whether a kernel compile has just ended; its error fails the view, as a renderer's would.
+    fn compiled(&mut self) -> Result<bool, String> {
+        if !self.compiling.as_ref().is_some_and(|t| t.is_finished()) {
+            return Ok(false);
+        }
+        match self.compiling.take().map(JoinHandle::join) {
+            Some(Ok(result)) => result.map(|()| true),
+            Some(Err(_)) => Err("the GPU kernel's compile thread panicked".into()),
+            None => Ok(false),
+        }
+    }
+
+    /// The next message while there is nothing to render: waits for one, but while a kernel
+    /// compiles only briefly (the view then moves to the GPU). `Err` once the UI has gone.
+    fn next_message(&self, inbox: &Receiver<Message>) -> Result<Option<Message>, ()> {
+        if self.compiling.is_none() {
+            return inbox.recv().map(Some).map_err(|_| ());
+        }
+        match inbox.recv_timeout(COMPILE_POLL) {
+            Ok(m) => Ok(Some(m)),
+            Err(RecvTimeoutError::Timeout) => Ok(None),
+            Err(RecvTimeoutError::Disconnected) => Err(()),
+        }
     }
 
     /// One UI frame's work; returns true when the ladder moved to a finer step.
@@ -397,7 +512,7 @@ impl<'a> RenderThread<'a> {
             // Reading back costs 64 bytes a pixel: at most a fifth of the time goes to it.
             let every = self.settings.show_every.max(job.show_cost * 4);
             let due = job.last_shown.is_none_or(|(at, _)| at.elapsed() >= every);
-            if step_first || due {
+            if (step_first || due) && samples >= job.hold_below {
                 let shown = Instant::now();
                 self.show(job, renderer, step_first, interacting)?;
                 job.show_cost = shown.elapsed();
@@ -455,6 +570,8 @@ impl<'a> RenderThread<'a> {
             job.rebuild,
         );
         frame.noise = noise_of(&image);
+        let while_compiling = renderer.on_cpu() && self.ctx.is_some();
+        frame.while_compiling = while_compiling;
         job.last_shown = Some((Instant::now(), image.samples_per_pixel));
         let _ = self.outbox.send(Event::Raw(frame));
         self.shared.wake(self.wake);
@@ -478,6 +595,7 @@ impl<'a> RenderThread<'a> {
                 aovs,
                 elapsed,
                 rebuild: job.rebuild,
+                while_compiling,
             });
             job.last_denoise = Some((Instant::now(), samples));
         }
