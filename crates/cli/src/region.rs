@@ -1,6 +1,7 @@
 //! `render --region X0,Y0,X1,Y1`: only a window of the image is rendered and written (its pixels
 //! take the samples the whole image takes there: `RenderSettings::film_window`), or with
-//! `--into FILE` pasted into an earlier render of the whole image.
+//! `--into FILE` pasted into an earlier render of the whole image (with its alpha, when the render
+//! is transparent).
 
 use std::path::Path;
 
@@ -69,21 +70,8 @@ pub fn compose_into(
     view: View,
 ) -> Result<()> {
     let format = ImageFormat::from_path(output)?;
-    let base = image::open(into).with_context(|| format!("--into {}", into.display()))?;
-    if (base.width(), base.height()) != (window.film_width, window.film_height) {
-        anyhow::bail!(
-            "--into {}: it is {}x{}, the image the region belongs to is {}x{}",
-            into.display(),
-            base.width(),
-            base.height(),
-            window.film_width,
-            window.film_height
-        );
-    }
-    let place = |i: usize| {
-        let (x, y) = (i as u32 % size[0], i as u32 / size[0]);
-        (window.x + x, window.y + y)
-    };
+    let base = open_whole(into, window)?;
+    let place = placement(window, size);
     let bytes = if format == ImageFormat::Exr {
         let mut whole = base.to_rgb32f();
         for (i, p) in pixels.iter().enumerate() {
@@ -108,6 +96,74 @@ pub fn compose_into(
     };
     rt_core::output::write_atomically(output, &bytes)?;
     Ok(())
+}
+
+/// `compose_into` for a transparent render (`--transparent`): the window's colour and alpha
+/// (`coverage`) pasted over the whole image's, which gains an alpha where it had none (opaque).
+/// EXR keeps linear colour premultiplied by alpha, PNG straight alpha through `view`, as
+/// `rt_core::output::encode_with_alpha` writes them.
+pub fn compose_into_with_alpha(
+    into: &Path,
+    output: &Path,
+    window: FilmWindow,
+    size: [u32; 2],
+    (pixels, coverage): (&[[f32; 4]], &[f32]),
+    view: View,
+) -> Result<()> {
+    let format = ImageFormat::from_path(output)?;
+    let base = open_whole(into, window)?;
+    let place = placement(window, size);
+    let mut out = std::io::Cursor::new(Vec::new());
+    let encoded = match format {
+        ImageFormat::Exr => {
+            let mut whole = base.to_rgba32f();
+            for (i, (p, &alpha)) in pixels.iter().zip(coverage).enumerate() {
+                let (x, y) = place(i);
+                whole.put_pixel(x, y, image::Rgba([p[0], p[1], p[2], alpha]));
+            }
+            whole.write_to(&mut out, image::ImageFormat::OpenExr)
+        }
+        ImageFormat::Png => {
+            let mut whole = base.to_rgba8();
+            for (i, (p, &alpha)) in pixels.iter().zip(coverage).enumerate() {
+                let (x, y) = place(i);
+                whole.put_pixel(
+                    x,
+                    y,
+                    image::Rgba(view.straight_rgba8([p[0], p[1], p[2]], alpha)),
+                );
+            }
+            whole.write_to(&mut out, image::ImageFormat::Png)
+        }
+        _ => anyhow::bail!("--transparent needs an output with alpha: .png or .exr"),
+    };
+    encoded.with_context(|| format!("encoding {}", output.display()))?;
+    rt_core::output::write_atomically(output, &out.into_inner())?;
+    Ok(())
+}
+
+/// The image `--into` names, checked to be the whole film the region belongs to.
+fn open_whole(into: &Path, window: FilmWindow) -> Result<image::DynamicImage> {
+    let base = image::open(into).with_context(|| format!("--into {}", into.display()))?;
+    if (base.width(), base.height()) != (window.film_width, window.film_height) {
+        anyhow::bail!(
+            "--into {}: it is {}x{}, the image the region belongs to is {}x{}",
+            into.display(),
+            base.width(),
+            base.height(),
+            window.film_width,
+            window.film_height
+        );
+    }
+    Ok(base)
+}
+
+/// Where the window's pixel `i` (row-major in a `size` window) lies in the whole film.
+fn placement(window: FilmWindow, size: [u32; 2]) -> impl Fn(usize) -> (u32, u32) {
+    move |i| {
+        let (x, y) = (i as u32 % size[0], i as u32 / size[0]);
+        (window.x + x, window.y + y)
+    }
 }
 
 #[cfg(test)]

@@ -56,7 +56,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = crate::region::parse_region)]
     region: Option<[u32; 4]>,
     /// With --region: paste the window into this render of the whole image and save the result
-    /// as the output (which may be this file).
+    /// as the output (which may be this file); with --transparent its alpha too.
     #[arg(
         long,
         value_name = "FILE",
@@ -147,9 +147,10 @@ impl RenderArgs {
         self.aov.as_ref().map(|list| list.0.as_slice())
     }
 
-    /// Alpha or passes asked for: the render keeps its first hits.
-    fn wants_layers(&self) -> bool {
-        self.transparent || self.aov.is_some()
+    /// Alpha or passes asked for, here or by the scene's settings (a project saved transparent):
+    /// the render keeps its first hits.
+    fn wants_layers(&self, settings: &rt_core::RenderSettings) -> bool {
+        self.transparent || settings.transparent || self.aov.is_some()
     }
 
     fn open_ended(&self) -> bool {
@@ -185,7 +186,7 @@ fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
         false => Some(open_device(&args.engine.adapter)?),
     };
     let gpu_scene = GpuScene::build(&scene)?;
-    let guides = args.denoise.is_some() || range.is_some() || args.wants_layers();
+    let guides = args.denoise.is_some() || range.is_some() || args.wants_layers(&scene.settings);
     let mut run = match &ctx {
         None => {
             let first = range.map_or(0, |r| r[0]);
@@ -193,7 +194,7 @@ fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
         }
         Some(ctx) => {
             let max_buffer = max_accumulation_bytes(ctx);
-            let options = shard_options(&args, range);
+            let options = shard_options(&args, &scene.settings, range);
             let (width, height) = (scene.settings.width, scene.settings.height);
             let bytes = rt_gpu::whole_image_binding_bytes(width, height, &options);
             if bytes > max_buffer {
@@ -294,8 +295,20 @@ fn save_output(
             let note = format!("samples {first}..{end}: {rendered_by}");
             crate::shard::save(&args.output, [first, end], scenes, image, aovs, note)
         }
-        None if args.wants_layers() => {
+        None if args.wants_layers(&scenes.0.settings) => {
             let aovs = aovs.context("the render kept no first hits")?;
+            if let (Some(into), Some(window)) = (&args.into, scenes.0.settings.film_window) {
+                let size = [image.width, image.height];
+                let layers = (&image.pixels[..], &aovs.hits.coverage[..]);
+                return crate::region::compose_into_with_alpha(
+                    into,
+                    &args.output,
+                    window,
+                    size,
+                    layers,
+                    args.view(),
+                );
+            }
             let passes = args.passes();
             crate::layers::save(&args.output, image, aovs, scenes, passes, args.view())
         }
@@ -339,13 +352,13 @@ fn prepare_scene(args: &RenderArgs) -> Result<(Scene, Option<[u32; 2]>)> {
         crate::region::apply(settings, region)?;
     }
     let range = args.shard.range(settings.samples_per_pixel)?;
-    if range.is_some() && args.wants_layers() {
+    if range.is_some() && args.wants_layers(settings) {
         anyhow::bail!(
             "--transparent and --aov are not kept in render parts yet: render the frame whole"
         );
     }
-    if args.wants_layers() && args.into.is_some() {
-        anyhow::bail!("--into pastes colour only: leave out --transparent and --aov");
+    if args.passes().is_some() && args.into.is_some() {
+        anyhow::bail!("--into pastes colour and alpha only: leave out --aov");
     }
     if range.is_some() && args.into.is_some() {
         anyhow::bail!("--into pastes a finished image: render the shards, merge them, then paste");
@@ -394,7 +407,7 @@ fn render_in_tiles(
     range: Option<[u32; 2]>,
 ) -> Result<()> {
     let settings = &scene.settings;
-    let options = shard_options(args, range).with_scene_settings(settings);
+    let options = shard_options(args, settings, range).with_scene_settings(settings);
     let pixel_bytes = rt_gpu::pixel_binding_bytes(&options);
     let rows = rt_gpu::tile_rows(settings.width, settings.height, pixel_bytes, max_buffer);
     let tiles = settings.height.div_ceil(rows);
@@ -444,12 +457,15 @@ fn render_in_tiles(
 }
 
 /// The render options, with a shard's first sample, and the denoiser's guides a part keeps.
-fn shard_options(args: &RenderArgs, range: Option<[u32; 2]>) -> rt_gpu::RenderOptions {
+fn shard_options(
+    args: &RenderArgs,
+    settings: &rt_core::RenderSettings,
+    range: Option<[u32; 2]>,
+) -> rt_gpu::RenderOptions {
+    let guides = args.denoise.is_some() || range.is_some() || args.wants_layers(settings);
     rt_gpu::RenderOptions {
         first_sample: range.map_or(0, |r| r[0]),
-        ..args
-            .engine
-            .render_options(args.denoise.is_some() || range.is_some() || args.wants_layers())
+        ..args.engine.render_options(guides)
     }
 }
 

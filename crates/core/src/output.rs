@@ -148,6 +148,18 @@ impl View {
             .and_then(crate::display::white_balance_matrix)
     }
 
+    /// 8-bit sRGB with straight alpha (PNG's) of a pixel whose linear colour is premultiplied by
+    /// its alpha `alpha` (a transparent render's: the background adds nothing).
+    pub fn straight_rgba8(&self, premultiplied: [f32; 3], alpha: f32) -> [u8; 4] {
+        let straight = if alpha > 0.0 {
+            premultiplied.map(|v| v / alpha)
+        } else {
+            [0.0; 3]
+        };
+        let [r, g, b] = self.to_srgb8(straight);
+        [r, g, b, (alpha.clamp(0.0, 1.0) * 255.0 + 0.5) as u8]
+    }
+
     /// 8-bit sRGB of one linear RGB pixel (NaN and negative values show black).
     pub fn to_srgb8(&self, rgb: [f32; 3]) -> [u8; 3] {
         self.balanced_to_srgb8(rgb, self.balance())
@@ -351,16 +363,9 @@ pub fn encode_with_alpha(
         }
         ImageFormat::Png => {
             let view = view.into();
-            let balance = view.balance();
             let mut rgba = Vec::with_capacity(pixels.len() * 4);
             for (p, &alpha) in pixels.iter().zip(coverage) {
-                let straight = if alpha > 0.0 {
-                    [p[0] / alpha, p[1] / alpha, p[2] / alpha]
-                } else {
-                    [0.0; 3]
-                };
-                rgba.extend(view.balanced_to_srgb8(straight, balance));
-                rgba.push((alpha.clamp(0.0, 1.0) * 255.0 + 0.5) as u8);
+                rgba.extend(view.straight_rgba8([p[0], p[1], p[2]], alpha));
             }
             let buffer = image::RgbaImage::from_raw(width, height, rgba)
                 .ok_or_else(|| Error::Scene("image size does not match its pixels".into()))?;

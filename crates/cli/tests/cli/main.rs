@@ -2,7 +2,7 @@
 //!
 //! `renders.rs` holds renders, `info` and bad input, `convergence.rs` noise targets, time limits
 //! and `converge`, `tiles_and_kernels.rs` tiles, kernels and ray queries, `faults_and_denoising.rs`
-//! device faults and denoising.
+//! device faults and denoising, `transparent_regions.rs` a transparent region pasted back.
 #![expect(
     clippy::unwrap_used,
     reason = "test helpers fail the test on unexpected errors"
@@ -14,5 +14,6 @@ mod convergence;
 mod faults_and_denoising;
 mod renders;
 mod tiles_and_kernels;
+mod transparent_regions;
 
 use common::{has_gpu, render_cornell, render_cornell_with_env, rt_cli, temp_dir};

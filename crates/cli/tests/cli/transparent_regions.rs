@@ -1,0 +1,72 @@
+//! `--region` with `--transparent` and `--into`: the window's colour and alpha pasted back into a
+//! transparent render of the whole image give that image back (EXR and PNG); `--aov` is refused
+//! there with the way out.
+
+use super::{rt_cli, temp_dir};
+
+#[test]
+fn a_transparent_region_pastes_back_with_its_alpha() {
+    let dir = temp_dir("transparent-region");
+    let camera = dir.join("outside.json");
+    // Outside the Cornell box, looking at it: the window below straddles the box's edge, so it
+    // holds background (alpha 0), box (1) and edge pixels.
+    std::fs::write(
+        &camera,
+        r#"{"from": [278, 273, -1600], "to": [278, 273, 0], "vfov": 40}"#,
+    )
+    .unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render", "--device", "cpu", "--width", "32", "--height", "24",
+        ];
+        args.extend(["--spp", "3", "--transparent", "--ambient", "1,1,1"]);
+        args.extend([
+            "--camera",
+            camera.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        out
+    };
+    for ext in ["exr", "png"] {
+        let whole = render(&format!("whole.{ext}"), &[]);
+        let pasted = render(
+            &format!("pasted.{ext}"),
+            &["--region", "0,4,20,20", "--into", whole.to_str().unwrap()],
+        );
+        let whole = image::open(&whole).unwrap().to_rgba32f();
+        let pasted = image::open(&pasted).unwrap().to_rgba32f();
+        let alphas: Vec<f32> = (4..20)
+            .flat_map(|y| (0..20).map(move |x| (x, y)))
+            .map(|(x, y)| whole.get_pixel(x, y).0[3])
+            .collect();
+        assert!(
+            alphas.contains(&0.0) && alphas.contains(&1.0),
+            "{ext}: the window holds background and box: {alphas:?}"
+        );
+        assert!(
+            pasted == whole,
+            "{ext}: the window pasted back with its alpha changes nothing"
+        );
+    }
+    let whole = dir.join("whole.exr");
+    let out = dir.join("x.exr");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "--region",
+        "0,0,8,8",
+        "--into",
+        whole.to_str().unwrap(),
+        "--aov",
+        "depth",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("leave out --aov"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
