@@ -11,8 +11,9 @@
 // built on the CPU by `environment.rs`) times F0 A + B from the BRDF table (A + B = rt-core's GGX
 // albedo table), and the cosine-convolved environment times the diffuse albedo, both dimmed by the
 // share of the sky an irradiance volume's probes see; bounce light from the same probes (an
-// ambient cube per probe, bounce.rs). Transmission shows what lies behind through a blended pass
-// (grey, unrefracted); emitters show their emission.
+// ambient cube per probe, bounce.rs). A thin transmitting sheet shows what lies behind through a
+// blended pass (grey, unrefracted); solid glass the probes and environment along its refracted
+// view (`refracted`); emitters show their emission.
 // An approximation for placing things: the path tracer is the truth.
 
 const MAX_PREVIEW_LIGHTS: u32 = 8u;
@@ -86,6 +87,8 @@ struct PreviewObject {
     layers: vec4<f32>,
     // rgb: the sheen's colour (black: none).
     sheen: vec4<f32>,
+    // Solid glass: rgb, its volume's attenuation per unit length; a: its bounding radius.
+    volume: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> view: PreviewView;
@@ -139,6 +142,7 @@ struct MeshVarying {
     @location(8) @interpolate(flat) extra: vec4<f32>,
     @location(9) @interpolate(flat) layers: vec4<f32>,
     @location(10) @interpolate(flat) sheen: vec4<f32>,
+    @location(11) @interpolate(flat) volume: vec4<f32>,
 }
 
 @vertex
@@ -158,6 +162,7 @@ fn vs_mesh(v: MeshVertex, @builtin(instance_index) object: u32) -> MeshVarying {
     out.extra = o.extra;
     out.layers = o.layers;
     out.sheen = o.sheen;
+    out.volume = o.volume;
     return out;
 }
 

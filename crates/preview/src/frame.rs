@@ -150,7 +150,7 @@ fn scene_light(light: &rt_core::Light, radius: f32) -> Ranked {
     let gltf = f32::from(u8::from(light.falloff == SpotFalloff::Gltf));
     Ranked {
         light: PreviewLight {
-            position: Vec3::from(light.position).extend(1.0).to_array(),
+            position: Vec3::from(light.position).extend(0.0).to_array(),
             color: strength.extend(0.0).to_array(),
             direction: axis.extend(cos_outer).to_array(),
             cone: [cos_inner, gltf, 0.0, 0.0],
@@ -169,7 +169,10 @@ fn environment_sun(scene: &Scene, radius: f32) -> Option<Ranked> {
     light.direction = (-sun.world_direction(env.rotation_deg)).to_array();
     light.color = (sun.irradiance * strength).to_array();
     light.intensity = 1.0;
-    Some(scene_light(&light, radius))
+    let mut ranked = scene_light(&light, radius);
+    // Glass sees the sun's disc through it (`refracted` in the shader): its size.
+    ranked.light.position[3] = sun.solid_angle;
+    Some(ranked)
 }
 
 /// The environment as the irradiance volume sees it: without its sun (a light of its own), turned.
@@ -406,6 +409,25 @@ fn fog_glow(scene: &Scene, lights: &[PreviewLight], center: Vec3, radius: f32) -
     }
 }
 
+/// Solid glass's attenuation per unit length, σ = −ln(colour) / distance (Beer–Lambert, as the
+/// render's medium behind the surface); zero where the material has no such volume.
+fn glass_attenuation(material: &Material) -> Vec3 {
+    match material {
+        Material::Pbr(p) if p.transmission > 0.0 && !p.thin_walled => {
+            match p.attenuation_distance {
+                Some(d) if d > 0.0 => {
+                    Vec3::from(p.attenuation_color)
+                        .max(Vec3::splat(1e-6))
+                        .map(f32::ln)
+                        * (-1.0 / d)
+                }
+                _ => Vec3::ZERO,
+            }
+        }
+        _ => Vec3::ZERO,
+    }
+}
+
 /// An object's record, its material's images, and whether it is drawn blended (transmission or
 /// alpha).
 fn preview_object(
@@ -438,6 +460,28 @@ fn preview_object(
         Material::Lambertian { .. } | Material::Emissive { .. } => 0.0,
     };
     let (layers, sheen, anisotropy) = layer_params(&object.material, &scene.textures);
+    // Solid glass refracts what lies beyond it (the shader bends the view through it); a thin
+    // sheet, as alpha, shows what lies behind unbent.
+    let refracting_ior = match &object.material {
+        Material::Dielectric { ior, .. } => *ior,
+        Material::Pbr(p) if p.transmission > 0.0 && !p.thin_walled => p.ior,
+        _ => 0.0,
+    };
+    // How far a refracted view travels through it: the radius of its bounding sphere.
+    let glass_radius = if refracting_ior > 0.0 {
+        let linear = Mat3::from_mat4(model);
+        let (lo, hi) = object.mesh.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(linear * *p), hi.max(linear * *p)),
+        );
+        if lo.x <= hi.x {
+            0.5 * (hi - lo).length()
+        } else {
+            0.0
+        }
+    } else {
+        0.0
+    };
     let (maps, normal_scale) = match &object.material {
         Material::Pbr(p) => (
             [
@@ -457,7 +501,9 @@ fn preview_object(
         .enumerate()
         .filter(|(slot, map)| map.is_some() && (*slot != 2 || object.mesh.normals.is_some()))
         .fold(0, |bits, (slot, _)| bits | 1 << slot);
-    let blended = alpha < 1.0 || (params[2] > 0.0 && params[0] < 1.0);
+    // Solid glass draws as opaque: what it shows is bent through it (the shader's `refracted`),
+    // and the depth test keeps its far side from drawing over its near one.
+    let blended = alpha < 1.0 || (params[2] > 0.0 && params[0] < 1.0 && refracting_ior == 0.0);
     let record = PreviewObject {
         model: model.to_cols_array_2d(),
         normal_matrix: normal_matrix.to_cols_array_2d(),
@@ -469,10 +515,13 @@ fn preview_object(
             u32::from(selected),
             images,
             u32::from(object.mesh.normals.is_some()),
-            0,
+            refracting_ior.max(0.0).to_bits(),
         ],
         layers,
         sheen: sheen.extend(0.0).to_array(),
+        volume: glass_attenuation(&object.material)
+            .extend(glass_radius)
+            .to_array(),
     };
     (record, MaterialTextures { slots: maps }, blended)
 }

@@ -32,6 +32,9 @@ pub struct Sun {
     pub direction: Vec3,
     /// ∫ L dω over the sun's texels, at strength 1.
     pub irradiance: Vec3,
+    /// The solid angle its texels cover (sr): what a view refracted or reflected towards it sees
+    /// is its irradiance over this.
+    pub solid_angle: f32,
     /// The map without the sun.
     pub sky: Arc<EnvironmentMap>,
 }
@@ -78,11 +81,13 @@ pub fn find(map: &EnvironmentMap) -> Option<Sun> {
     let in_cone = |d: Vec3| d.dot(center) >= cos_cone;
     let in_sun = |&(d, _, l): &(Vec3, f32, f32)| l > threshold && in_cone(d);
     let (mut irradiance, mut weighted, mut power) = (Vec3::ZERO, Vec3::ZERO, 0.0);
+    let mut solid_angle = 0.0;
     let (mut around, mut around_weight) = (Vec3::ZERO, 0.0);
     for (texel, radiance) in texels.iter().zip(&map.texels) {
         let (d, omega, l) = *texel;
         if in_sun(texel) {
             irradiance += Vec3::from(*radiance) * omega;
+            solid_angle += omega;
             weighted += d * l * omega;
             power += l * omega;
         } else if in_cone(d) {
@@ -116,6 +121,7 @@ pub fn find(map: &EnvironmentMap) -> Option<Sun> {
     Some(Sun {
         direction: weighted.normalize_or(center),
         irradiance,
+        solid_angle,
         sky: Arc::new(sky),
     })
 }

@@ -44,7 +44,8 @@ pub mod light_kind {
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PreviewLight {
-    /// xyz: where the light is (a sun's is unused); w: unused.
+    /// xyz: where the light is (a sun's is unused); w: an environment's sun's solid angle (sr;
+    /// 0 for every other light, which glass does not show).
     pub position: [f32; 4],
     /// rgb: radiant intensity in W/sr (point, spot), irradiance in W/m² (sun) or an emitter's
     /// radiance; a: an emitter's isotropic part of its projected area, (A − |N|)/4.
@@ -103,13 +104,18 @@ pub struct PreviewObject {
     /// glTF's `specular`, 0 for materials without a specular layer); z: the strength of
     /// anisotropy, w: its rotation in radians from the tangent (∂p/∂u).
     pub extra: [f32; 4],
-    /// selected, its images (`image_slot` bits), has vertex normals, unused.
+    /// selected, its images (`image_slot` bits), has vertex normals, and the IOR (f32 bits) of
+    /// solid glass, which the shader refracts through (0: none, or a thin sheet).
     pub flags: [u32; 4],
     /// x: the clear coat's weight, y: its roughness (`KHR_materials_clearcoat`); z: the sheen's
     /// roughness; w: unused.
     pub layers: [f32; 4],
     /// rgb: the sheen's colour (`KHR_materials_sheen`; black, none); a: unused.
     pub sheen: [f32; 4],
+    /// Solid glass: rgb, its volume's attenuation per unit length (σ = −ln(attenuation colour) /
+    /// distance, `KHR_materials_volume`; 0: clear); a: the radius of the object's bounding sphere
+    /// (how far a view refracted into it travels). Zero for everything else.
+    pub volume: [f32; 4],
 }
 
 /// Interleaved vertex: position, normal (zero when the mesh has none), UV, colour (white when the
@@ -250,7 +256,8 @@ mod tests {
                 extra,
                 flags,
                 layers,
-                sheen
+                sheen,
+                volume
             ]
         );
     }
