@@ -17,3 +17,15 @@ mod tiles_and_kernels;
 mod transparent_regions;
 
 use common::{has_gpu, render_cornell, render_cornell_with_env, rt_cli, temp_dir};
+
+/// Writes a camera file into `dir` that looks at the Cornell box from outside it: the box fills
+/// the middle of the image, the background the rest (for alpha).
+fn outside_camera(dir: &std::path::Path) -> std::path::PathBuf {
+    let camera = dir.join("outside.json");
+    std::fs::write(
+        &camera,
+        r#"{"from": [278, 273, -1600], "to": [278, 273, 0], "vfov": 40}"#,
+    )
+    .unwrap();
+    camera
+}

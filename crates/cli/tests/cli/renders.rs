@@ -673,13 +673,7 @@ fn a_region_is_the_same_window_of_the_whole_render() {
 #[test]
 fn transparent_backgrounds_and_render_passes_are_written() {
     let dir = temp_dir("layers");
-    let camera = dir.join("outside.json");
-    // Outside the Cornell box, looking at it: the box fills the middle, the background the rest.
-    std::fs::write(
-        &camera,
-        r#"{"from": [278, 273, -1600], "to": [278, 273, 0], "vfov": 40}"#,
-    )
-    .unwrap();
+    let camera = super::outside_camera(&dir);
     let render = |name: &str, extra: &[&str]| {
         let out = dir.join(name);
         let mut args = vec![

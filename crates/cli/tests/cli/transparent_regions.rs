@@ -7,14 +7,9 @@ use super::{rt_cli, temp_dir};
 #[test]
 fn a_transparent_region_pastes_back_with_its_alpha() {
     let dir = temp_dir("transparent-region");
-    let camera = dir.join("outside.json");
-    // Outside the Cornell box, looking at it: the window below straddles the box's edge, so it
-    // holds background (alpha 0), box (1) and edge pixels.
-    std::fs::write(
-        &camera,
-        r#"{"from": [278, 273, -1600], "to": [278, 273, 0], "vfov": 40}"#,
-    )
-    .unwrap();
+    // The window below straddles the box's edge: it holds background (alpha 0), box (1) and edge
+    // pixels.
+    let camera = super::outside_camera(&dir);
     let render = |name: &str, extra: &[&str]| {
         let out = dir.join(name);
         let mut args = vec![
