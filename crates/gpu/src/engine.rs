@@ -6,13 +6,13 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use rt_core::gpu_types::Frame;
-use rt_core::{GpuScene, SceneFeatures};
+use rt_core::{GpuScene, Scene, SceneFeatures};
 
 use crate::accel::SceneAccel;
 use crate::bindings::{self, Binding};
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
-use crate::options::{Kernel, RenderOptions};
+use crate::options::{Kernel, RenderOptions, Trace};
 use crate::pipeline_cache::{KernelPipelines, PipelineKey};
 use crate::pipelines::{forget, kernel_pipelines};
 use crate::wavefront::{MAX_WAVE_PATHS, Wavefront};
@@ -174,6 +174,47 @@ pub(crate) fn megakernel_pipelines(
         Kernel::Megakernel => Ok(Some(kernel_pipelines(ctx, key)?)),
         Kernel::Wavefront => Ok(None),
     }
+}
+
+/// The kernel `Renderer::for_scene(ctx, scene, gpu_scene, options)` runs.
+fn key_for_scene(
+    ctx: &GpuContext,
+    scene: &Scene,
+    gpu_scene: &GpuScene,
+    options: RenderOptions,
+) -> Result<PipelineKey> {
+    let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+    let options = options.with_scene_settings(&scene.settings);
+    let ray_query = ctx.resolve_trace(options.trace, gpu_scene) == Trace::Hardware;
+    Ok(pipeline_key(gpu_scene, &frame, &options, ray_query))
+}
+
+/// Whether the kernel `Renderer::for_scene` would run with these arguments is compiled on `ctx`
+/// already. Compiling one can take seconds (tens of seconds for a rich scene on a cold driver
+/// cache): the viewport renders on the CPU backend until it is (`compile_kernel`).
+pub(crate) fn kernel_compiled(
+    ctx: &GpuContext,
+    scene: &Scene,
+    gpu_scene: &GpuScene,
+    options: RenderOptions,
+) -> Result<bool> {
+    let key = key_for_scene(ctx, scene, gpu_scene, options)?.normalised();
+    Ok(ctx
+        .pipelines
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .contains_key(&key))
+}
+
+/// Compiles that kernel into `ctx`'s cache (on any thread), so that the renderer then built finds
+/// it.
+pub(crate) fn compile_kernel(
+    ctx: &GpuContext,
+    scene: &Scene,
+    gpu_scene: &GpuScene,
+    options: RenderOptions,
+) -> Result<()> {
+    kernel_pipelines(ctx, key_for_scene(ctx, scene, gpu_scene, options)?).map(|_| ())
 }
 
 /// A wave's capacity: room for the whole tile (`pixels`) at the most samples a wave may take

@@ -7,13 +7,10 @@ use std::sync::Arc;
 #[cfg(feature = "testing")]
 use rt_core::bvh::BvhLayout;
 
-use rt_core::{GpuScene, Scene};
-
 use crate::bindings;
 use crate::context::GpuContext;
-use crate::engine;
 use crate::error::Result;
-use crate::options::{Kernel, RenderOptions, Trace};
+use crate::options::Kernel;
 use crate::pipeline_cache::{KernelPipelines, PipelineKey};
 use crate::shaders;
 
@@ -97,47 +94,6 @@ pub(crate) fn kernel_pipelines(ctx: &GpuContext, key: PipelineKey) -> Result<Arc
         .unwrap_or_else(|e| e.into_inner())
         .insert(key, pipelines.clone());
     Ok(pipelines)
-}
-
-/// The kernel `Renderer::for_scene(ctx, scene, gpu_scene, options)` runs.
-fn key_for_scene(
-    ctx: &GpuContext,
-    scene: &Scene,
-    gpu_scene: &GpuScene,
-    options: RenderOptions,
-) -> Result<PipelineKey> {
-    let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
-    let options = options.with_scene_settings(&scene.settings);
-    let ray_query = ctx.resolve_trace(options.trace, gpu_scene) == Trace::Hardware;
-    Ok(engine::pipeline_key(gpu_scene, &frame, &options, ray_query))
-}
-
-/// Whether the kernel `Renderer::for_scene` would run with these arguments is compiled on `ctx`
-/// already. Compiling one can take seconds (tens of seconds for a rich scene on a cold driver
-/// cache): the viewport renders on the CPU backend until it is (`compile_kernel`).
-pub fn kernel_compiled(
-    ctx: &GpuContext,
-    scene: &Scene,
-    gpu_scene: &GpuScene,
-    options: RenderOptions,
-) -> Result<bool> {
-    let key = key_for_scene(ctx, scene, gpu_scene, options)?.normalised();
-    Ok(ctx
-        .pipelines
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .contains_key(&key))
-}
-
-/// Compiles that kernel into `ctx`'s cache (on any thread), so that the renderer then built finds
-/// it.
-pub fn compile_kernel(
-    ctx: &GpuContext,
-    scene: &Scene,
-    gpu_scene: &GpuScene,
-    options: RenderOptions,
-) -> Result<()> {
-    kernel_pipelines(ctx, key_for_scene(ctx, scene, gpu_scene, options)?).map(|_| ())
 }
 
 /// Drops the context's handle to `pipelines`, so the next `kernel_pipelines` builds them afresh

@@ -372,7 +372,7 @@ impl<'a> RenderThread<'a> {
         let Some(ctx) = self.ctx else {
             return Ok(false);
         };
-        crate::pipelines::kernel_compiled(ctx, full, gpu_scene, options).map_err(|e| e.to_string())
+        crate::engine::kernel_compiled(ctx, full, gpu_scene, options).map_err(|e| e.to_string())
     }
 
     /// Points the renderer at the job's current ladder step: a restart on a new frame where the
@@ -423,7 +423,7 @@ impl<'a> RenderThread<'a> {
         }
         let (full, gpu_scene) = (full.clone(), gpu_scene.clone());
         let compile = move || {
-            crate::pipelines::compile_kernel(&ctx, &full, &gpu_scene, options)
+            crate::engine::compile_kernel(&ctx, &full, &gpu_scene, options)
                 .map_err(|e| e.to_string())
         };
         let thread = std::thread::Builder::new()
