@@ -1,6 +1,6 @@
 //! `--region` with `--transparent` and `--into`: the window's colour and alpha pasted back into a
 //! transparent render of the whole image give that image back (EXR and PNG); `--aov` is refused
-//! there with the way out.
+//! there with the way out. A project saved transparent writes alpha without the flag.
 
 use super::{rt_cli, temp_dir};
 
@@ -63,5 +63,39 @@ fn a_transparent_region_pastes_back_with_its_alpha() {
     ]);
     assert_ne!(code, 0);
     assert!(stderr.contains("leave out --aov"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A project saved transparent renders with alpha without `--transparent`: the scene's setting
+/// alone keeps the first hits the alpha is made of (it once wrote an opaque PNG with a black
+/// background).
+#[test]
+fn a_project_saved_transparent_writes_alpha() {
+    let dir = temp_dir("transparent-project");
+    let mut scene = rt_io::assets::cornell_box().unwrap();
+    scene.settings.width = 24;
+    scene.settings.height = 24;
+    scene.settings.samples_per_pixel = 2;
+    scene.settings.transparent = true;
+    // Outside the box, looking at it (as `outside_camera`).
+    scene.camera.from = [278.0, 273.0, -1600.0];
+    scene.camera.to = [278.0, 273.0, 0.0];
+    scene.camera.vfov_deg = 40.0;
+    let project = dir.join("t.rtproj");
+    rt_io::project::save_project(&scene, &project).unwrap();
+    let out = dir.join("t.png");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        project.to_str().unwrap(),
+        "--device",
+        "cpu",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let png = image::open(&out).unwrap();
+    let png = png.as_rgba8().expect("an RGBA PNG");
+    assert_eq!(png.get_pixel(0, 0).0[3], 0, "background");
+    assert_eq!(png.get_pixel(12, 12).0[3], 255, "the box");
     std::fs::remove_dir_all(&dir).unwrap();
 }
