@@ -321,11 +321,20 @@ impl LiveView {
     /// Once per UI frame: takes in what the threads sent and lets the next slice start. Returns
     /// whether the image to show changed.
     pub fn tick(&mut self) -> bool {
+        let changed = self.take_events();
+        // Only then may the next slice start: an image it sends at once (a small view on the CPU
+        // backend takes a millisecond) waits for the next frame instead of replacing, unseen, the
+        // one just sent.
         if let Ok(mut frames) = self.shared.ui_frames.lock() {
             *frames = (frames.0 + 1, [frames.1[1], Some(Instant::now())]);
             self.shared.repaint_pending.store(false, Ordering::Release);
         }
         self.shared.ui_frame.notify_all();
+        changed
+    }
+
+    /// Takes in what the threads sent; whether the image to show changed.
+    fn take_events(&mut self) -> bool {
         let mut changed = false;
         loop {
             match self.events.try_recv() {
