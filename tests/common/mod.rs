@@ -68,6 +68,7 @@ pub fn settings(width: u32, height: u32, spp: u32, max_depth: u32) -> RenderSett
         light_sampler: Default::default(),
         film_window: None,
         transparent: false,
+        integrator: Default::default(),
     }
 }
 

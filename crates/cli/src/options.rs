@@ -46,6 +46,27 @@ pub struct EstimatorArgs {
     /// default: the tree from 16 lights on).
     #[arg(long, value_enum)]
     pub light_sampler: Option<LightSamplerArg>,
+    /// How light is gathered: path (path tracing, the default) or bdpt (bidirectional path
+    /// tracing: paths from the lights as well, for caustics such as light focused through glass;
+    /// the CPU backend only, so `--device auto` renders it there).
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorArg>,
+}
+
+/// `--integrator` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum IntegratorArg {
+    Path,
+    Bdpt,
+}
+
+impl From<IntegratorArg> for rt_core::Integrator {
+    fn from(i: IntegratorArg) -> Self {
+        match i {
+            IntegratorArg::Path => Self::Path,
+            IntegratorArg::Bdpt => Self::Bdpt,
+        }
+    }
 }
 
 impl EstimatorArgs {
@@ -64,6 +85,9 @@ impl EstimatorArgs {
         settings.adaptive_threshold = self.adaptive.or(settings.adaptive_threshold);
         if let Some(sampler) = self.light_sampler {
             settings.light_sampler = sampler.into();
+        }
+        if let Some(integrator) = self.integrator {
+            settings.integrator = integrator.into();
         }
     }
 }

@@ -176,9 +176,23 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
 
 fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
     let (scene, range) = prepare_scene(&args)?;
-    let both = args.engine.device == crate::options::DeviceArg::All;
+    use crate::options::DeviceArg;
+    let both = args.engine.device == DeviceArg::All;
+    let bidirectional = scene.settings.integrator == rt_core::Integrator::Bdpt;
+    let device = args.engine.device;
+    if bidirectional && matches!(device, DeviceArg::All | DeviceArg::Gpu) {
+        anyhow::bail!(
+            "bidirectional path tracing (--integrator bdpt) renders on the CPU backend only, not \
+             with --device {}: render with --device cpu, or with --integrator path",
+            if both { "all" } else { "gpu" }
+        );
+    }
     let (on_cpu, why) = match both {
         true => (false, "--device all".to_string()),
+        false if bidirectional && args.engine.device == crate::options::DeviceArg::Auto => (
+            true,
+            "auto: --integrator bdpt renders on the CPU backend".to_string(),
+        ),
         false => args.engine.on_cpu()?,
     };
     let ctx = match on_cpu {

@@ -83,6 +83,19 @@ pub fn add_sample(sums: &mut PixelSums, rgb: [f32; 3]) -> bool {
     true
 }
 
+/// Adds light that lands in a pixel from elsewhere (bidirectional path tracing's light tracing) to
+/// its radiance sums, not to its squared luminance: it is no sample of its own. A value that is
+/// not finite or absurdly large is dropped, as `add_sample` drops it.
+pub fn add_splat(sums: &mut PixelSums, rgb: [f32; 3]) -> bool {
+    if !rgb.iter().all(|c| c.is_finite() && c.abs() < MAX_SAMPLE) {
+        return false;
+    }
+    for (sum, v) in sums.iter_mut().zip(rgb) {
+        *sum = add(*sum, to_fixed(v));
+    }
+    true
+}
+
 /// Adds two pixels' sums (the merge of two disjoint sets of samples).
 pub fn add_pixels(a: &PixelSums, b: &PixelSums) -> PixelSums {
     [0, 1, 2, 3].map(|c| add(a[c], b[c]))

@@ -12,7 +12,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
-use crate::accumulation::{PixelSums, add_pixels, add_sample, pixel_mean};
+use crate::accumulation::{PixelSums, add_pixels, add_sample, add_splat, pixel_mean};
 use crate::adaptive::{Adaptive, AdaptiveStreams, sums_f64};
 use crate::estimator::trace_path;
 use crate::first_hits::FirstHits;
@@ -64,6 +64,8 @@ pub struct CpuAccumulation {
     hits: Option<FirstHits>,
     /// What the batch in progress adds, per pixel (empty between renders' first batches).
     scratch: Vec<PixelBatch>,
+    /// With bidirectional path tracing, how its light subpaths choose lights.
+    bidirectional: Option<crate::bdpt::LightChoice>,
 }
 
 impl CpuAccumulation {
@@ -87,7 +89,38 @@ impl CpuAccumulation {
             }),
             hits: guides.then(|| FirstHits::new(n)),
             scratch: Vec::new(),
+            bidirectional: None,
         }
+    }
+
+    /// Renders with `integrator`: bidirectional path tracing (`crate::bdpt`) takes every pixel's
+    /// samples and splats its light tracing into the sums. An error names what of the scene or
+    /// the render it does not do.
+    pub fn with_integrator(
+        mut self,
+        integrator: crate::Integrator,
+        scene: &GpuScene,
+        frame: &Frame,
+    ) -> Result<Self, String> {
+        if integrator == crate::Integrator::Path {
+            self.bidirectional = None;
+            return Ok(self);
+        }
+        let refused = crate::bdpt::refusal(scene, frame)
+            .or(self.adaptive.is_some().then_some("adaptive sampling"))
+            .or(self
+                .guides
+                .is_some()
+                .then_some("the denoiser's guides and AOVs"))
+            .or((frame.clamp_max > 0.0).then_some("the firefly clamp"));
+        if let Some(what) = refused {
+            return Err(format!(
+                "bidirectional path tracing (integrator bdpt) does not do {what} yet: render it \
+                 with the path integrator"
+            ));
+        }
+        self.bidirectional = Some(crate::bdpt::LightChoice::new(scene, frame));
+        Ok(self)
     }
 
     /// Takes the next `count` samples of every pixel still sampling, then applies adaptive
@@ -127,6 +160,11 @@ impl CpuAccumulation {
         count: u32,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> bool {
+        if let Some(choice) = self.bidirectional.take() {
+            let done = self.add_bidirectional(scene, frame, &choice, first, count, stop);
+            self.bidirectional = Some(choice);
+            return done;
+        }
         let width = self.width as usize;
         let stopped = self.adaptive.as_ref().map(|a| a.stopped());
         let keep_guides = self.guides.is_some();
@@ -222,6 +260,62 @@ impl CpuAccumulation {
             streams.add([count - odd, odd], |i| added[i]);
             streams.settle();
         }
+        true
+    }
+
+    /// `add_samples` by bidirectional path tracing: each row's samples in parallel, their splats
+    /// added after (fixed-point sums: the order does not matter).
+    fn add_bidirectional(
+        &mut self,
+        scene: &GpuScene,
+        frame: &Frame,
+        choice: &crate::bdpt::LightChoice,
+        first: u32,
+        count: u32,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> bool {
+        let walks = crate::bdpt::Walks {
+            scene,
+            frame,
+            choice,
+        };
+        let width = self.width as usize;
+        let mut batch = vec![PixelSums::default(); self.sums.len()];
+        type Splats = Vec<((u32, u32), glam::Vec3)>;
+        let rows: Option<Vec<(u64, Splats)>> = batch
+            .par_chunks_mut(width.max(1))
+            .enumerate()
+            .map_init(crate::bdpt::Scratch::default, |scratch, (y, row)| {
+                if stop() {
+                    return None;
+                }
+                let (mut rays, mut splats) = (0, Vec::new());
+                for (x, pixel) in row.iter_mut().enumerate() {
+                    for s in first..first + count {
+                        let sample = walks.sample(x as u32, y as u32, s, scratch, &mut splats);
+                        rays += u64::from(sample.rays);
+                        add_sample(pixel, sample.radiance.to_array());
+                    }
+                }
+                Some((rays, splats))
+            })
+            .collect();
+        let Some(rows) = rows else {
+            return false;
+        };
+        for (rays, splats) in rows {
+            self.rays += rays;
+            for ((x, y), value) in splats {
+                let i = y as usize * width + x as usize;
+                if let Some(pixel) = batch.get_mut(i) {
+                    add_splat(pixel, value.to_array());
+                }
+            }
+        }
+        for (sum, add) in self.sums.iter_mut().zip(&batch) {
+            *sum = add_pixels(sum, add);
+        }
+        self.samples += count;
         true
     }
 

@@ -5,6 +5,7 @@
 
 pub mod accumulation;
 pub mod adaptive;
+pub mod bdpt;
 pub mod bvh;
 pub mod camera;
 pub mod cpu_render;
@@ -53,6 +54,6 @@ pub use light_kind::{LightKind, LightTag};
 pub use material::Material;
 pub use material_kind::MaterialKind;
 pub use scene::{
-    Filter, LightSampler, Mesh, Object, RenderSettings, Scene, Texture, TextureSampler, Transform,
-    Wrap,
+    Filter, Integrator, LightSampler, Mesh, Object, RenderSettings, Scene, Texture, TextureSampler,
+    Transform, Wrap,
 };

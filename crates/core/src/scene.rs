@@ -190,6 +190,28 @@ pub struct RenderSettings {
     /// counts as met). The background still lights the scene.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub transparent: bool,
+    /// How light is gathered: path tracing (every backend) or bidirectional path tracing (the CPU
+    /// backend).
+    #[serde(default, skip_serializing_if = "Integrator::is_path")]
+    pub integrator: Integrator,
+}
+
+/// How a frame's light is gathered (`RenderSettings::integrator`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Path tracing from the camera with next-event estimation and MIS.
+    #[default]
+    Path,
+    /// Bidirectional path tracing (`crate::bdpt`): paths from the camera and from the lights,
+    /// joined every way; caustics that camera paths miss. The CPU backend only.
+    Bdpt,
+}
+
+impl Integrator {
+    pub fn is_path(&self) -> bool {
+        *self == Integrator::Path
+    }
 }
 
 /// Where an image sits in the film it is a window of (`RenderSettings::film_window`).
@@ -266,6 +288,7 @@ impl Default for RenderSettings {
             light_sampler: LightSampler::default(),
             film_window: None,
             transparent: false,
+            integrator: Integrator::Path,
         }
     }
 }

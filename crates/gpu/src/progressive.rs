@@ -84,9 +84,12 @@ impl<'a> Progressive<'a> {
         let frame = rt_core::frame::frame_for(scene, gpu_scene)
             .map_err(|e| crate::GpuError::Options(e.to_string()))?;
         let adaptive = rt_core::adaptive::Adaptive::of_settings(&scene.settings);
+        let accumulation = CpuAccumulation::new(&frame, first_sample, adaptive, guides)
+            .with_integrator(scene.settings.integrator, gpu_scene, &frame)
+            .map_err(crate::GpuError::Options)?;
         Ok(Progressive::Cpu(Box::new(CpuRun {
             scene: gpu_scene,
-            accumulation: CpuAccumulation::new(&frame, first_sample, adaptive, guides),
+            accumulation,
             frame,
             batch: 1,
         })))

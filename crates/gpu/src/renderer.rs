@@ -102,6 +102,13 @@ impl<'a> Renderer<'a> {
         gpu_scene: &GpuScene,
         options: RenderOptions,
     ) -> Result<Self> {
+        if scene.settings.integrator == rt_core::Integrator::Bdpt {
+            return Err(crate::GpuError::Options(
+                "bidirectional path tracing (integrator bdpt) renders on the CPU backend only: \
+                 render with --device cpu, or with the path integrator on a GPU"
+                    .into(),
+            ));
+        }
         let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
         Self::new(
             ctx,

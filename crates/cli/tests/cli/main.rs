@@ -12,6 +12,7 @@
 mod common;
 mod convergence;
 mod faults_and_denoising;
+mod integrators;
 mod renders;
 mod tiles_and_kernels;
 mod transparent_regions;

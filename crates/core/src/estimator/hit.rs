@@ -10,7 +10,7 @@ use crate::math::intersect::{PreparedRay, intersect_triangle};
 use crate::math::intersect_lanes::{LANES, intersect_triangles};
 
 /// The `triangle` of a hit that found none.
-pub(super) const MISS: u32 = u32::MAX;
+pub(crate) const MISS: u32 = u32::MAX;
 
 /// No hit closer than `t_max` (yet).
 pub(super) fn miss(t_max: f32) -> Hit {

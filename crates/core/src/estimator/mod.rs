@@ -36,7 +36,7 @@
 pub mod bvh;
 pub mod camera;
 pub mod cwbvh;
-mod hit;
+pub(crate) mod hit;
 pub mod instance_bvh;
 pub mod instances;
 pub mod light;

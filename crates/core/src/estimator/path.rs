@@ -365,7 +365,7 @@ fn add_emission(
 /// (`ns`, the shading normal, follows the base's), the channel a dispersive volume keeps, and the
 /// tangent its anisotropy turns about.
 #[allow(clippy::too_many_arguments)]
-fn pbr_inputs_at(
+pub(crate) fn pbr_inputs_at(
     scene: &GpuScene,
     material: &crate::gpu_types::Material,
     surface_triangle: &super::instances::HitTriangle<'_>,

@@ -1,0 +1,176 @@
+//! A subpath's vertex on a surface: what the path tracer's `shade_vertex` works out at a hit
+//! (position, normals, colour, the PBR inputs) kept so that the BSDF can be rebuilt for light
+//! arriving from another side, as the MIS weights of other strategies need.
+
+use glam::{Vec2, Vec3};
+
+use crate::estimator::instances::hit_triangle;
+use crate::estimator::path::{PathState, pbr_inputs_at};
+use crate::estimator::shading::vertex_color;
+use crate::estimator::surface::{PbrInputs, Surface};
+use crate::estimator::texture::{base_color_texture, surface_emission};
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::{HAS_COLORS, HAS_NORMALS, Hit, SLOT_BASE, THIN_WALLED, Triangle};
+use crate::material_kind::MaterialKind;
+
+/// A hit surface point and what its BSDF is made from.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    pub p: Vec3,
+    /// The triangle's unit geometric normal (its front side, by winding).
+    pub ng: Vec3,
+    /// The shading normal on the side the subpath arrived from.
+    ns: Vec3,
+    /// Whether the subpath arrived on the front side.
+    front: bool,
+    pub material: u32,
+    color: Vec3,
+    inputs: PbrInputs,
+    /// The triangle as shading reads it (placed in world space for an instance), the hit's
+    /// index and barycentrics: for the emission seen there.
+    pub triangle: Triangle,
+    pub index: u32,
+    pub barycentrics: (f32, f32),
+    /// The BSDF for the direction the subpath arrived along (`arrival`).
+    pub surface: Surface,
+    pub arrival: Vec3,
+}
+
+impl SurfacePoint {
+    /// The surface point `hit` found on a ray travelling along `path.direction` (which draws a
+    /// dispersive surface's channel, as `shade_vertex` does).
+    pub fn at(scene: &GpuScene, path: &mut PathState, hit: Hit) -> SurfacePoint {
+        let mut hit = hit;
+        let mut placed = None;
+        let found = hit_triangle(scene, &mut hit, &mut placed);
+        let tri = *found.tri;
+        let material = &scene.materials[tri.material as usize];
+        let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
+        let ng_raw = (v1 - v0).cross(v2 - v0).normalize();
+        let front = path.direction.dot(ng_raw) < 0.0;
+        let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+        let p = v0 * b[0] + v1 * b[1] + v2 * b[2];
+        let ng = if front { ng_raw } else { -ng_raw };
+        let shading = found.shading;
+        let mut ns = ng;
+        let mut n_interpolated = ng;
+        if tri.has_normals & HAS_NORMALS != 0 {
+            let n = Vec3::from(shading.n0) * b[0]
+                + Vec3::from(shading.n1) * b[1]
+                + Vec3::from(shading.n2) * b[2];
+            n_interpolated = n.normalize();
+            ns = if n_interpolated.dot(ng) < 0.0 {
+                -n_interpolated
+            } else {
+                n_interpolated
+            };
+        }
+        let uv = (tri.has_uvs != 0).then(|| {
+            Vec2::from(shading.uv0) * b[0]
+                + Vec2::from(shading.uv1) * b[1]
+                + Vec2::from(shading.uv2) * b[2]
+        });
+        let mut color = match uv {
+            Some(uv) if !material.texture(SLOT_BASE).is_empty() => {
+                base_color_texture(scene, material, uv)
+            }
+            _ => Vec3::from(material.color),
+        };
+        if tri.has_normals & HAS_COLORS != 0 {
+            color *= vertex_color(shading, b);
+        }
+        let mut inputs = PbrInputs::default();
+        if material.kind == MaterialKind::Pbr.tag() {
+            inputs = pbr_inputs_at(
+                scene,
+                material,
+                &found,
+                hit,
+                uv,
+                n_interpolated,
+                ng,
+                &mut ns,
+                path,
+            );
+        }
+        let surface = Surface::of_material(
+            scene,
+            material,
+            color,
+            &inputs,
+            path.direction,
+            ng,
+            ns,
+            front,
+        );
+        SurfacePoint {
+            p,
+            ng: ng_raw,
+            ns,
+            front,
+            material: tri.material,
+            color,
+            inputs,
+            triangle: tri,
+            index: hit.triangle,
+            barycentrics: (hit.b1, hit.b2),
+            surface,
+            arrival: path.direction,
+        }
+    }
+
+    /// The BSDF for light arriving along `arrival` (a unit direction towards this point): the
+    /// normals turned to face it.
+    pub fn facing(&self, scene: &GpuScene, arrival: Vec3) -> Surface {
+        let front = arrival.dot(self.ng) < 0.0;
+        if front == self.front {
+            return self.surface;
+        }
+        let mut inputs = self.inputs;
+        inputs.coat_normal = -inputs.coat_normal;
+        let material = &scene.materials[self.material as usize];
+        let ng = if front { self.ng } else { -self.ng };
+        Surface::of_material(
+            scene, material, self.color, &inputs, arrival, ng, -self.ns, front,
+        )
+    }
+
+    /// The shading normal facing direction `w`.
+    pub fn shading_normal(&self, w: Vec3) -> Vec3 {
+        if w.dot(self.ns) < 0.0 {
+            -self.ns
+        } else {
+            self.ns
+        }
+    }
+
+    /// Whether the surface only emits (no BSDF: a path ends there).
+    pub fn emits_only(&self, scene: &GpuScene) -> bool {
+        scene.materials[self.material as usize].kind == MaterialKind::Emissive.tag()
+    }
+
+    /// Whether the surface is a thin sheet (no refraction scaling across it).
+    pub fn thin(&self, scene: &GpuScene) -> bool {
+        scene.materials[self.material as usize].flags & THIN_WALLED != 0
+    }
+
+    /// The radiance the surface emits towards unit direction `w` (zero from its back).
+    pub fn emitted(&self, scene: &GpuScene, w: Vec3) -> Vec3 {
+        let cos = w.dot(self.ng);
+        if cos <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let material = &scene.materials[self.material as usize];
+        if material.emission == [0.0; 3] {
+            return Vec3::ZERO;
+        }
+        surface_emission(
+            scene,
+            material,
+            &self.triangle,
+            self.index,
+            self.barycentrics,
+            cos,
+        )
+    }
+}
