@@ -12,7 +12,6 @@ use glam::Vec3;
 use super::importance::{importance_over_pdf, lens_point, raster};
 use super::lights::{Picked, emitter_point, intensity, is_sun};
 use super::mis;
-use super::point::SurfacePoint;
 use super::subpath::Walks;
 use super::vertex::{Point, Vertex};
 use crate::estimator::occluded;
@@ -23,18 +22,6 @@ use crate::math::rng::Rng;
 pub enum Contribution {
     Pixel(Vec3),
     Splat { pixel: (u32, u32), value: Vec3 },
-}
-
-/// The shading-normal correction of an adjoint BSDF (Veach's thesis, §5.3): a light subpath at
-/// `sp`, arriving from `wo`, leaving along `wi`, carries f · |wo·n_s| |wi·n_g| / (|wo·n_g| |wi·n_s|)
-/// where a camera subpath carries f, so that both transport the same measurement.
-pub fn shading_correction(sp: &SurfacePoint, wo: Vec3, wi: Vec3) -> f32 {
-    let ns = sp.shading_normal(wo);
-    let denominator = wo.dot(sp.ng).abs() * wi.dot(ns).abs();
-    if denominator <= 0.0 {
-        return 0.0;
-    }
-    wo.dot(ns).abs() * wi.dot(sp.ng).abs() / denominator
 }
 
 impl Walks<'_> {
@@ -53,7 +40,7 @@ impl Walks<'_> {
                 }
                 let mut f = sp.surface.eval(w).0;
                 if importance {
-                    f *= shading_correction(sp, wo, w);
+                    f *= sp.shading_correction(wo, w);
                     if crosses && !sp.thin(scene) {
                         let eta = sp.surface.relative_eta();
                         f *= eta * eta;

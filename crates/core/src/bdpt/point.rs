@@ -144,6 +144,18 @@ impl SurfacePoint {
         }
     }
 
+    /// The shading-normal correction of an adjoint BSDF (Veach's thesis, §5.3): a light subpath
+    /// here, arriving from `wo`, leaving along `wi`, carries f · |wo·n_s| |wi·n_g| / (|wo·n_g|
+    /// |wi·n_s|) where a camera subpath carries f, so that both transport the same measurement.
+    pub fn shading_correction(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let ns = self.shading_normal(wo);
+        let denominator = wo.dot(self.ng).abs() * wi.dot(ns).abs();
+        if denominator <= 0.0 {
+            return 0.0;
+        }
+        wo.dot(ns).abs() * wi.dot(self.ng).abs() / denominator
+    }
+
     /// Whether the surface only emits (no BSDF: a path ends there).
     pub fn emits_only(&self, scene: &GpuScene) -> bool {
         scene.materials[self.material as usize].kind == MaterialKind::Emissive.tag()

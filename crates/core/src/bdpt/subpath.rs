@@ -237,7 +237,7 @@ impl Walks<'_> {
         let refracts = transmitted && !sp.thin(scene);
         let eta = sp.surface.relative_eta();
         if importance {
-            weight *= super::connect::shading_correction(sp, wo, wi);
+            weight *= sp.shading_correction(wo, wi);
             if refracts {
                 weight *= eta * eta;
             }
