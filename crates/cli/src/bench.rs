@@ -28,6 +28,9 @@ pub struct BenchArgs {
     /// setting when left out).
     #[arg(long, value_enum)]
     light_sampler: Option<crate::options::LightSamplerArg>,
+    /// How light is gathered (as `render --integrator`): bdpt measures the CPU backend.
+    #[arg(long, value_enum)]
+    integrator: Option<crate::options::IntegratorArg>,
     /// Use the generic kernel (every feature compiled in) instead of one specialised per scene.
     #[arg(long)]
     generic: bool,
@@ -208,7 +211,19 @@ fn mesh_scene(path: &Path) -> Result<Scene> {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    let on_cpu = args.engine.on_cpu()?.0;
+    let integrator = args
+        .integrator
+        .map_or(rt_core::Integrator::Path, Into::into);
+    let settings = rt_core::RenderSettings {
+        integrator,
+        ..Default::default()
+    };
+    let on_cpu = args.engine.on_cpu_for(&settings)?.0;
+    if integrator == rt_core::Integrator::Bdpt && (args.interactive || args.preview) {
+        anyhow::bail!(
+            "--interactive and --preview measure the live views, which path trace: drop --integrator bdpt"
+        );
+    }
     if args.interactive || args.preview {
         return run_views(&args, on_cpu);
     }
@@ -419,7 +434,15 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
         };
         let gpu_scene = build(args, &scene)?;
         let frame = rt_core::frame::frame_for(&scene, &gpu_scene)?;
-        let mut accumulation = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
+        let accumulation = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false)
+            .with_integrator(scene.settings.integrator, &gpu_scene, &frame);
+        let mut accumulation = match accumulation {
+            Ok(accumulation) => accumulation,
+            Err(e) => {
+                eprintln!("{name}: skipped: {e}");
+                continue;
+            }
+        };
         let never = std::sync::atomic::AtomicBool::new(false);
         let started = Instant::now();
         accumulation.add_batch(&gpu_scene, &frame, args.spp, &never);
@@ -469,6 +492,9 @@ fn selected(args: &BenchArgs, name: &str, scene: SceneLoader) -> Result<Option<S
     scene.settings.next_event_estimation = !args.no_nee;
     if let Some(sampler) = args.light_sampler {
         scene.settings.light_sampler = sampler.into();
+    }
+    if let Some(integrator) = args.integrator {
+        scene.settings.integrator = integrator.into();
     }
     Ok(Some(scene))
 }

@@ -59,7 +59,9 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     let label = args.label.clone().unwrap_or_else(|| {
         format!(
             "{}{}{}depth {} {:?}",
-            if args.estimator.no_nee {
+            if scene.settings.integrator == rt_core::Integrator::Bdpt {
+                "BDPT, "
+            } else if args.estimator.no_nee {
                 "BSDF only, "
             } else if args.estimator.nee_only {
                 "NEE only, "
@@ -93,7 +95,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         )
     });
 
-    let ctx = match args.engine.on_cpu()?.0 {
+    let ctx = match args.engine.on_cpu_for(&scene.settings)?.0 {
         true => None,
         false => Some(open_device(&args.engine.adapter)?),
     };

@@ -180,6 +180,37 @@ impl EngineArgs {
         Ok(device.on_cpu(!gpu_flags.is_empty()))
     }
 
+    /// `on_cpu` for a render with `settings`: bidirectional path tracing renders on the CPU
+    /// backend only, so `auto` puts it there and `gpu` or `all` is an error.
+    pub fn on_cpu_for(&self, settings: &RenderSettings) -> anyhow::Result<(bool, String)> {
+        if settings.integrator != rt_core::Integrator::Bdpt {
+            return self.on_cpu();
+        }
+        match self.device {
+            DeviceArg::Cpu => self.on_cpu(),
+            DeviceArg::Auto => {
+                let on_cpu = EngineArgs {
+                    device: DeviceArg::Cpu,
+                    ..self.clone()
+                };
+                on_cpu.on_cpu()?;
+                Ok((
+                    true,
+                    "auto: --integrator bdpt renders on the CPU backend".into(),
+                ))
+            }
+            DeviceArg::Gpu | DeviceArg::All => anyhow::bail!(
+                "bidirectional path tracing (--integrator bdpt) renders on the CPU backend only, \
+                 not with --device {}: render with --device cpu, or with --integrator path",
+                if self.device == DeviceArg::All {
+                    "all"
+                } else {
+                    "gpu"
+                }
+            ),
+        }
+    }
+
     pub fn kernel(&self) -> Kernel {
         self.kernel.map(Into::into).unwrap_or_default()
     }

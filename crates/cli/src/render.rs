@@ -176,24 +176,13 @@ pub fn run(args: RenderArgs, verbose: bool) -> Result<()> {
 
 fn render_image(args: RenderArgs, verbose: bool) -> Result<()> {
     let (scene, range) = prepare_scene(&args)?;
-    use crate::options::DeviceArg;
-    let both = args.engine.device == DeviceArg::All;
-    let bidirectional = scene.settings.integrator == rt_core::Integrator::Bdpt;
-    let device = args.engine.device;
-    if bidirectional && matches!(device, DeviceArg::All | DeviceArg::Gpu) {
-        anyhow::bail!(
-            "bidirectional path tracing (--integrator bdpt) renders on the CPU backend only, not \
-             with --device {}: render with --device cpu, or with --integrator path",
-            if both { "all" } else { "gpu" }
-        );
-    }
+    let both = args.engine.device == crate::options::DeviceArg::All;
     let (on_cpu, why) = match both {
+        true if scene.settings.integrator == rt_core::Integrator::Bdpt => {
+            args.engine.on_cpu_for(&scene.settings)?
+        }
         true => (false, "--device all".to_string()),
-        false if bidirectional && args.engine.device == crate::options::DeviceArg::Auto => (
-            true,
-            "auto: --integrator bdpt renders on the CPU backend".to_string(),
-        ),
-        false => args.engine.on_cpu()?,
+        false => args.engine.on_cpu_for(&scene.settings)?,
     };
     let ctx = match on_cpu {
         true => None,

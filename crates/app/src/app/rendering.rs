@@ -13,14 +13,16 @@ impl RtApp {
             self.show_error(format!("Cannot render: {e}"));
             return None;
         }
+        let bidirectional = self.doc.scene.settings.integrator == rt_core::Integrator::Bdpt;
         let job = RenderJob::start(
             self.device.clone(),
             self.doc.scene.clone(),
             None,
             JobOptions {
                 preview_every: Some(Duration::from_millis(500)),
-                keep_aovs: true,
-                on_cpu: self.ui.render_device.on_cpu(false).0,
+                // Bidirectional path tracing keeps no guides, and renders on the CPU backend.
+                keep_aovs: !bidirectional,
+                on_cpu: bidirectional || self.ui.render_device.on_cpu(false).0,
             },
             self.waker(),
         );

@@ -38,6 +38,11 @@ impl Walks<'_> {
                 if crosses && !sp.surface.transmits() {
                     return Vec3::ZERO;
                 }
+                if importance && !sp.reciprocal() {
+                    // f(w, wo): the BSDF seen from the connection (see `Walks::scatter`).
+                    let f = sp.facing(scene, -w).eval(wo).0;
+                    return f * (w.dot(sp.ng).abs() / wo.dot(sp.ng).abs());
+                }
                 let mut f = sp.surface.eval(w).0;
                 if importance {
                     f *= sp.shading_correction(wo, w);

@@ -121,18 +121,22 @@ impl SurfacePoint {
 
     /// The BSDF for light arriving along `arrival` (a unit direction towards this point): the
     /// normals turned to face it.
+    /// (The PBR BSDF holds the direction it is seen from, so it is built anew for another.)
     pub fn facing(&self, scene: &GpuScene, arrival: Vec3) -> Surface {
         let front = arrival.dot(self.ng) < 0.0;
-        if front == self.front {
+        let same_side = front == self.front;
+        if same_side && (self.reciprocal() || arrival == self.arrival) {
             return self.surface;
         }
         let mut inputs = self.inputs;
-        inputs.coat_normal = -inputs.coat_normal;
+        let mut ns = self.ns;
+        if !same_side {
+            inputs.coat_normal = -inputs.coat_normal;
+            ns = -ns;
+        }
         let material = &scene.materials[self.material as usize];
         let ng = if front { self.ng } else { -self.ng };
-        Surface::of_material(
-            scene, material, self.color, &inputs, arrival, ng, -self.ns, front,
-        )
+        Surface::of_material(scene, material, self.color, &inputs, arrival, ng, ns, front)
     }
 
     /// The shading normal facing direction `w`.
@@ -154,6 +158,13 @@ impl SurfacePoint {
             return 0.0;
         }
         wo.dot(ns).abs() * wi.dot(self.ng).abs() / denominator
+    }
+
+    /// Whether f(wo, wi) = f(wi, wo) up to refraction's η² (Lambert, metal, smooth glass), so that
+    /// light subpaths may use the BSDF as sampled; the PBR BSDF's energy compensation depends on
+    /// ωo alone, so light subpaths evaluate it from the other side.
+    pub fn reciprocal(&self) -> bool {
+        !matches!(self.surface, Surface::Pbr { .. })
     }
 
     /// Whether the surface only emits (no BSDF: a path ends there).

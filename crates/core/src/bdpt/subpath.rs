@@ -223,24 +223,28 @@ impl Walks<'_> {
             return None;
         }
         let delta = sp.surface.is_delta();
-        let (pdf_fwd, pdf_rev) = if delta {
-            (0.0, 0.0)
+        // The BSDF seen from the next vertex: f(wi, wo) |cos| and the reverse density.
+        let (back, pdf_fwd) = if delta {
+            ((Vec3::ZERO, 0.0), 0.0)
         } else {
             let fwd = if sample.pdf > 0.0 {
                 sample.pdf
             } else {
                 sp.surface.eval(wi).1
             };
-            (fwd, sp.facing(scene, -wi).eval(wo).1)
+            (sp.facing(scene, -wi).eval(wo), fwd)
         };
         let mut weight = sample.weight;
         let refracts = transmitted && !sp.thin(scene);
         let eta = sp.surface.relative_eta();
         if importance {
-            weight *= sp.shading_correction(wo, wi);
-            if refracts {
-                weight *= eta * eta;
-            }
+            weight = if sp.reciprocal() {
+                weight * sp.shading_correction(wo, wi) * if refracts { eta * eta } else { 1.0 }
+            } else {
+                // Light carried from wo out along wi is what f(wi, wo) scatters (the PBR BSDF's
+                // energy compensation makes f(wo, wi) differ).
+                back.0 * (wi.dot(sp.ng).abs() / (wo.dot(sp.ng).abs() * pdf_fwd))
+            };
         } else if refracts {
             state.eta_scale *= eta * eta;
         }
@@ -262,7 +266,7 @@ impl Walks<'_> {
         state.direction = wi;
         Some(Scattered {
             pdf_fwd,
-            pdf_rev,
+            pdf_rev: back.1,
             delta,
         })
     }

@@ -34,12 +34,22 @@ fn lambert(albedo: [f32; 3]) -> crate::Material {
 }
 
 /// A closed room with a lamp in its ceiling, a box on its floor, `extra` objects and `lights`.
-fn room(extra: Vec<Object>, lights: Vec<Light>, (width, height): (u32, u32)) -> (GpuScene, Frame) {
+fn room(extra: Vec<Object>, lights: Vec<Light>, size: (u32, u32)) -> (GpuScene, Frame) {
+    room_of(lambert([0.7, 0.6, 0.5]), extra, lights, size)
+}
+
+/// `room` with walls of `walls`.
+fn room_of(
+    walls: crate::Material,
+    extra: Vec<Object>,
+    lights: Vec<Light>,
+    (width, height): (u32, u32),
+) -> (GpuScene, Frame) {
     let mut objects = vec![
         object(
             "room",
             cuboid(Vec3::splat(-1.0), Vec3::ONE, true),
-            lambert([0.7, 0.6, 0.5]),
+            walls,
             [0.0; 3],
         ),
         object(
@@ -210,9 +220,28 @@ fn assert_agree(a: &[Vec<f64>], b: &[Vec<f64>], what: &str) {
     assert!(ma > 0.01, "{what}: the image is black");
 }
 
+/// A glossy plastic block (the PBR BSDF, whose energy compensation makes it non-reciprocal).
+fn plastic() -> Object {
+    let plastic = crate::material::Pbr {
+        base_color: [0.8, 0.3, 0.2],
+        roughness: 0.4,
+        ..Default::default()
+    };
+    object(
+        "plastic",
+        cuboid(
+            Vec3::new(0.1, -1.0, -0.9),
+            Vec3::new(0.7, -0.4, -0.5),
+            false,
+        ),
+        crate::Material::Pbr(Box::new(plastic)),
+        [0.0; 3],
+    )
+}
+
 #[test]
 fn bdpt_agrees_with_path_tracing_on_diffuse_and_delta_lights() {
-    let (scene, frame) = room(Vec::new(), point_and_spot(), (16, 12));
+    let (scene, frame) = room(vec![plastic()], point_and_spot(), (16, 12));
     let path = blocks(&scene, &frame, Integrator::Path, 16, 64);
     let bdpt = blocks(&scene, &frame, Integrator::Bdpt, 16, 32);
     assert_agree(&path, &bdpt, "diffuse room");
@@ -227,19 +256,41 @@ fn bdpt_agrees_with_path_tracing_through_glass_and_metal() {
 }
 
 /// Light tracing alone (every t = 1 strategy, unweighted), splatted: an unbiased image of its
-/// own on a scene without delta surfaces.
+/// own on a scene without delta surfaces; with glossy PBR walls it checks that light subpaths see
+/// the PBR BSDF from the side they leave towards (a BSDF kept for the wrong ωo fails it).
 #[test]
 fn light_tracing_alone_agrees_with_path_tracing() {
-    let (scene, frame) = room(Vec::new(), point_and_spot(), (16, 12));
-    let choice = LightChoice::new(&scene, &frame);
+    let glossy = crate::material::Pbr {
+        base_color: [0.7, 0.6, 0.5],
+        roughness: 0.5,
+        ..Default::default()
+    };
+    for (walls, blocks_of) in [
+        (lambert([0.7, 0.6, 0.5]), 16),
+        (crate::Material::Pbr(Box::new(glossy)), 48),
+    ] {
+        let (scene, frame) = room_of(walls, Vec::new(), point_and_spot(), (16, 12));
+        let light_tracing = light_tracing_blocks(&scene, &frame, blocks_of, 32);
+        let path = blocks(&scene, &frame, Integrator::Path, blocks_of, 64);
+        assert_agree(&path, &light_tracing, "light tracing");
+    }
+}
+
+/// Images of light tracing alone: `count` blocks of `per_block` light subpaths per pixel.
+fn light_tracing_blocks(
+    scene: &GpuScene,
+    frame: &Frame,
+    count: u32,
+    per_block: u32,
+) -> Vec<Vec<f64>> {
+    let choice = LightChoice::new(scene, frame);
     let walks = Walks {
-        scene: &scene,
-        frame: &frame,
+        scene,
+        frame,
         choice: &choice,
     };
     let (w, h) = (frame.width, frame.height);
-    let per_block = 32;
-    let light_tracing: Vec<Vec<f64>> = (0..16u32)
+    (0..count)
         .map(|b| {
             let mut image = vec![Vec3::ZERO; (w * h) as usize];
             let mut light = Vec::new();
@@ -258,18 +309,12 @@ fn light_tracing_alone_agrees_with_path_tracing() {
                 }
             }
             // Each pixel's value: what all light subpaths splat there, over the samples per pixel.
-            let area_light = |v: Vec3| f64::from(crate::math::sampling::luminance(v));
             image
                 .iter()
-                .map(|&v| area_light(v) / f64::from(per_block))
+                .map(|&v| f64::from(crate::math::sampling::luminance(v)) / f64::from(per_block))
                 .collect()
         })
-        .collect();
-    // Light tracing cannot see the lamp itself (s + t = 2 is the camera's): leave out the
-    // path tracer's emission seen directly by comparing depth-1 light only where the lamp is not
-    // seen — the camera here looks down, below the ceiling.
-    let path = blocks(&scene, &frame, Integrator::Path, 16, 64);
-    assert_agree(&path, &light_tracing, "light tracing");
+        .collect()
 }
 
 /// For paths made by connecting random subpaths, every way of splitting the same path into a

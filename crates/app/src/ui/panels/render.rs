@@ -58,6 +58,7 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
     if app.doc.has_metal_or_glass() && settings.max_depth < 10 {
         ui.weak("Metal or glass in the scene: a max depth of 10 is recommended.");
     }
+    integrator_choice(ui, &mut settings.integrator);
     ui.checkbox(&mut settings.next_event_estimation, "Light sampling (NEE)")
         .on_hover_text("Sample lights directly: far less noise with small lights");
     ui.checkbox(&mut settings.russian_roulette, "Russian roulette")
@@ -144,6 +145,24 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
         )))
         .on_hover_text("Samples per pixel done, estimated time left and relative noise");
     }
+}
+
+/// How the render windows gather light: path tracing, or bidirectional path tracing for caustics.
+fn integrator_choice(ui: &mut Ui, integrator: &mut rt_core::Integrator) {
+    use rt_core::Integrator;
+    ui.horizontal(|ui| {
+        ui.label("Light paths")
+            .on_hover_text("How light is found: from the camera, or from the camera and the lights");
+        ui.selectable_value(integrator, Integrator::Path, "Path tracing")
+            .on_hover_text("Paths from the camera, lights sampled at each bounce: fast, the default");
+        ui.selectable_value(integrator, Integrator::Bdpt, "Bidirectional")
+            .on_hover_text(
+                "Paths from the lights too, joined to the camera's: caustics (light focused through \
+                 glass or off mirrors onto surfaces) that path tracing finds slowly or not at all. \
+                 Renders on the CPU whatever the device; no fog, adaptive sampling, firefly clamp \
+                 or render passes",
+            );
+    });
 }
 
 /// Which backend renders the render windows: the GPU, rt's native CPU backend, or Auto (a
