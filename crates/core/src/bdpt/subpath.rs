@@ -176,10 +176,13 @@ impl Walks<'_> {
                         escaped(scene, frame, state.direction, 0.0)
                     };
                     let p = path[last].p + state.direction;
-                    let mut v =
-                        Vertex::new(Point::Escaped { le }, p, Vec3::ZERO, state.beta, pdf_fwd);
-                    v.pdf_fwd = pdf_fwd;
-                    path.push(v);
+                    path.push(Vertex::new(
+                        Point::Escaped { le },
+                        p,
+                        Vec3::ZERO,
+                        state.beta,
+                        pdf_fwd,
+                    ));
                 }
                 return;
             }
