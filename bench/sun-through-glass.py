@@ -8,8 +8,17 @@ centre, so the sun's caustic lands on the floor. The sun shines straight down wi
 W/m² (683 lux in glTF); the floor is diffuse with albedo 0.8. Both renderers read the same
 triangles (the glTF rt opens and the OBJ files Mitsuba opens are written from one list).
 
+With --sky the sun is part of an environment map instead (rt's light subpaths then start from the
+environment): a 512 × 256 equirectangular sky of radiance 0.2 with a sun at the zenith whose
+radiance falls off as a Gaussian of 3° (smooth, so Mitsuba's bilinear look-ups and rt's nearest
+texel see the same light), read by rt as `--environment` and by Mitsuba as an `envmap`. The two
+read an image's rows at different angles: rt's row r covers θ from r·π/H to (r+1)·π/H (its value
+is the radiance at the row's centre), Mitsuba's row r is the radiance at θ = r·π/(H−1) (the
+first and last rows at the poles). Each gets the same continuous sky sampled its way (written
+alike, a sun this near the pole would differ by 13% in irradiance).
+
 Run: python3 bench/sun-through-glass.py OUT_DIR --cli target/release/rt-cli [--spp 256]
-      [--mitsuba-spp 256] [--size 256]
+      [--mitsuba-spp 256] [--size 256] [--sky]
 Needs: pip install mitsuba==3.9.1 numpy (and Debian's libllvm19 for the llvm variant).
 """
 import argparse
@@ -87,7 +96,32 @@ def look_at_quaternion(eye, target):
     return [x, y, z, w]
 
 
-def write_gltf(path, meshes, size):
+SKY = 0.2
+SUN_PEAK = 2000.0
+SUN_SIGMA_DEG = 3.0
+
+
+def sky_texels(mitsuba, width=512, height=256):
+    """The --sky environment, rows from +y (the zenith) down, as float32 RGB: sampled at rt's row
+    centres, or at Mitsuba's rows (`mitsuba`)."""
+    rows = np.arange(height)
+    theta = rows / (height - 1) * 180.0 if mitsuba else (rows + 0.5) / height * 180.0
+    row = sky_radiance(theta)
+    return np.repeat(np.repeat(row[:, None, None], width, axis=1), 3, axis=2).astype(np.float32)
+
+
+def sky_radiance(theta_deg):
+    return SKY + SUN_PEAK * np.exp(-0.5 * (theta_deg / SUN_SIGMA_DEG) ** 2)
+
+
+def sky_irradiance():
+    """E = ∫ L(θ) cosθ dω over the upper hemisphere, of the continuous sky."""
+    t = np.linspace(0.0, math.pi / 2, 200001)
+    f = sky_radiance(np.degrees(t)) * np.cos(t) * np.sin(t)
+    return 2 * math.pi * float(np.sum((f[1:] + f[:-1]) * 0.5 * np.diff(t)))
+
+
+def write_gltf(path, meshes, size, sun=True):
     blob = b""
     accessors, views, gl_meshes = [], [], []
     for k, (verts, normals, tris) in enumerate(meshes):
@@ -115,7 +149,7 @@ def write_gltf(path, meshes, size):
         "extensions": {"KHR_lights_punctual": {"lights": [
             {"type": "directional", "intensity": 683.0, "color": [1, 1, 1]}]}},
         "scene": 0,
-        "scenes": [{"nodes": [0, 1, 2, 3]}],
+        "scenes": [{"nodes": [0, 1, 2, 3] if sun else [0, 1, 3]}],
         "nodes": [
             {"mesh": 0, "name": "floor"},
             {"mesh": 1, "name": "ball"},
@@ -148,7 +182,7 @@ def write_gltf(path, meshes, size):
         json.dump(doc, out)
 
 
-def mitsuba_render(out_dir, size, spp):
+def mitsuba_render(out_dir, size, spp, sky):
     import mitsuba as mi
     try:
         mi.set_variant("llvm_ad_rgb")
@@ -163,8 +197,9 @@ def mitsuba_render(out_dir, size, spp):
                    "film": {"type": "hdrfilm", "width": size, "height": size,
                             "rfilter": {"type": "box"}, "pixel_format": "rgb"},
                    "sampler": {"type": "independent", "sample_count": spp}},
-        "sun": {"type": "directional", "direction": [0, -1, 0],
-                "irradiance": {"type": "rgb", "value": [1, 1, 1]}},
+        "sun": {"type": "envmap", "filename": sky} if sky else {
+            "type": "directional", "direction": [0, -1, 0],
+            "irradiance": {"type": "rgb", "value": [1, 1, 1]}},
         "floor": {"type": "obj", "filename": os.path.join(out_dir, "floor.obj"),
                   "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [ALBEDO] * 3}}},
         "ball": {"type": "obj", "filename": os.path.join(out_dir, "ball.obj"),
@@ -201,18 +236,27 @@ def main():
     p.add_argument("--size", type=int, default=256)
     p.add_argument("--spp", type=int, default=256)
     p.add_argument("--mitsuba-spp", type=int, default=256)
+    p.add_argument("--sky", action="store_true", help="the sun in an environment map")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     ball, ground = sphere(), floor()
     write_obj(os.path.join(a.out, "ball.obj"), ball)
     write_obj(os.path.join(a.out, "floor.obj"), ground)
     gltf = os.path.join(a.out, "sun-glass.gltf")
-    write_gltf(gltf, [ground, ball], a.size)
-    ref = mitsuba_render(a.out, a.size, a.mitsuba_spp)
+    write_gltf(gltf, [ground, ball], a.size, sun=not a.sky)
+    sky = None
+    if a.sky:
+        import mitsuba as mi
+        mi.set_variant("scalar_rgb")
+        sky = os.path.join(a.out, "sky.exr")
+        mi.Bitmap(sky_texels(mitsuba=False)).write(sky)
+        mi.Bitmap(sky_texels(mitsuba=True)).write(os.path.join(a.out, "sky-mitsuba.exr"))
+    ref = mitsuba_render(a.out, a.size, a.mitsuba_spp,
+                         sky and os.path.join(a.out, "sky-mitsuba.exr"))
     def render_rt(integrator):
         out = os.path.join(a.out, f"rt-{integrator}.exr")
         subprocess.run([a.cli, "render", gltf, "--integrator", integrator, "--device", "cpu",
-                        "--environment", "none", "--width", str(a.size), "--height",
+                        "--environment", sky or "none", "--width", str(a.size), "--height",
                         str(a.size), "--max-depth", "8", "--spp", str(a.spp), "-o", out],
                        check=True)
         return read_exr(out)
@@ -237,7 +281,9 @@ def main():
         print(f"{name:<24} {mine:10.5f} {theirs:10.5f} {mine / theirs:8.4f} "
               f"{path[window].mean():10.5f}")
     print(f"{'whole image':<24} {rt.mean():10.5f} {ref.mean():10.5f} {rt.mean() / ref.mean():8.4f}")
-    print(f"lit floor closed form E·ρ/π = {ALBEDO / math.pi:.5f}")
+    irradiance = sky_irradiance() if a.sky else 1.0
+    print(f"lit floor closed form E·ρ/π = {ALBEDO * irradiance / math.pi:.5f} (without the light "
+          "the ball reflects onto it)")
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@
 use glam::Vec3;
 
 use super::importance::{importance_over_pdf, lens_point, raster};
-use super::lights::{Picked, emitter_point, intensity, is_sun};
+use super::lights::{Picked, emitter_point, intensity, is_sun, sample_environment};
 use super::mis;
 use super::subpath::Walks;
 use super::vertex::{Point, Vertex};
@@ -27,7 +27,7 @@ pub enum Contribution {
 impl Walks<'_> {
     /// f̂ at `v` towards unit `w`: the BSDF times |cosθ| there, in the light subpath's adjoint form
     /// when `importance`; an emitter's L_e cosθ, a point or spot light's intensity, a sun's
-    /// irradiance.
+    /// irradiance, the environment's radiance.
     fn scatter_toward(&self, v: &Vertex, w: Vec3, importance: bool) -> Vec3 {
         let scene = self.scene;
         match &v.point {
@@ -65,7 +65,8 @@ impl Walks<'_> {
                     intensity(light, w)
                 }
             }
-            Point::Camera | Point::Escaped { .. } => Vec3::ZERO,
+            Point::Environment { le, .. } => *le,
+            Point::Camera => Vec3::ZERO,
         }
     }
 
@@ -109,13 +110,13 @@ impl Walks<'_> {
         rays: &mut u32,
     ) -> Option<(Contribution, f32)> {
         let scene = self.scene;
-        if t > 1 && s != 0 && matches!(camera[t - 1].point, Point::Escaped { .. }) {
+        if t > 1 && s != 0 && matches!(camera[t - 1].point, Point::Environment { .. }) {
             return None;
         }
         let (value, sampled) = if s == 0 {
             let pt = &camera[t - 1];
             let le = match &pt.point {
-                Point::Escaped { le } => *le,
+                Point::Environment { le, .. } => *le,
                 Point::Surface(sp) => sp.emitted(scene, -sp.arrival),
                 _ => Vec3::ZERO,
             };
@@ -216,6 +217,24 @@ impl Walks<'_> {
                 let mut v =
                     Vertex::new(Point::Emitter { index, b }, y, n, Vec3::ONE / per_area, 0.0);
                 v.pdf_fwd = per_area;
+                Some(v)
+            }
+            Picked::Environment { u, pick } => {
+                let (toward, le, pdf_dir) = sample_environment(scene, frame, u);
+                if pdf_dir.is_nan() || pdf_dir <= 0.0 || le == Vec3::ZERO {
+                    return None;
+                }
+                // Far along the direction, as a sun's.
+                let p = pt.p + toward * (self.choice.radius * 1.0e4);
+                let per_solid_angle = pick * pdf_dir;
+                let mut v = Vertex::new(
+                    Point::Environment { le, toward },
+                    p,
+                    Vec3::ZERO,
+                    Vec3::ONE / per_solid_angle,
+                    0.0,
+                );
+                v.pdf_fwd = per_solid_angle;
                 Some(v)
             }
             Picked::Delta { index, pick } => {

@@ -1,23 +1,26 @@
 //! Where light subpaths start, and the lights that strategy s = 1 connects to: an emitter
 //! triangle (picked by power, as the path tracer's power table picks it, then a uniform point on
-//! it), or a point, spot or sun light, each group chosen in proportion to its flux. The
-//! environment and ambient light are left to camera paths that escape (strategy s = 0).
+//! it), the environment (a direction by the map's importance table, or uniform for the ambient
+//! light; a subpath starts from a disk across the scene's bounding sphere, as a sun's), or a point,
+//! spot or sun light, each chosen in proportion to its flux (an environment's: π r² ∫ L dω).
 
 use glam::Vec3;
 
 use crate::emitters::pick_emitter;
+use crate::environment::{env_lookup, sample_env};
 use crate::estimator::texture::{coverage, surface_emission};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{ALPHA_BLEND, ALPHA_MASK, DeltaLight, Frame};
 use crate::light_kind::LightTag;
 use crate::math::rng::Rng;
-use crate::math::sampling::{luminance, onb, sample_triangle};
+use crate::math::sampling::{luminance, onb, sample_disk, sample_triangle};
 
-/// How a light is chosen: the emitter table with probability `area`, else delta light `i` with
-/// probability `delta[i]`.
+/// How a light is chosen: the emitter table with probability `area`, the environment with
+/// probability `environment`, else delta light `i` with probability `delta[i]`.
 #[derive(Clone, Debug)]
 pub struct LightChoice {
     pub area: f32,
+    pub environment: f32,
     pub delta: Vec<f32>,
     /// The sphere bounding the scene, which a sun's light subpaths start from.
     pub centre: Vec3,
@@ -34,6 +37,9 @@ pub enum Picked {
         b: (f32, f32),
         per_area: f32,
     },
+    /// The environment, picked with probability `pick`; `u` the four numbers its direction is
+    /// drawn with.
+    Environment { u: [f32; 4], pick: f32 },
     /// Delta light `index`, picked with probability `pick`.
     Delta { index: usize, pick: f32 },
 }
@@ -48,15 +54,18 @@ impl LightChoice {
         } else {
             0.0
         };
+        let environment_flux =
+            std::f32::consts::PI * radius * radius * environment_integral(scene, frame);
         let flux: Vec<f32> = scene
             .delta_lights
             .iter()
             .map(|l| delta_flux(l, radius))
             .collect();
-        let total = area_flux + flux.iter().sum::<f32>();
+        let total = area_flux + environment_flux + flux.iter().sum::<f32>();
         if !(total > 0.0 && total.is_finite()) {
             return LightChoice {
                 area: 0.0,
+                environment: 0.0,
                 delta: vec![0.0; flux.len()],
                 centre,
                 radius,
@@ -64,6 +73,7 @@ impl LightChoice {
         }
         LightChoice {
             area: area_flux / total,
+            environment: environment_flux / total,
             delta: flux.iter().map(|f| f / total).collect(),
             centre,
             radius,
@@ -72,7 +82,7 @@ impl LightChoice {
 
     /// Whether there is any light to start from.
     pub fn any(&self) -> bool {
-        self.area > 0.0 || self.delta.iter().any(|&p| p > 0.0)
+        self.area > 0.0 || self.environment > 0.0 || self.delta.iter().any(|&p| p > 0.0)
     }
 
     /// Picks a light and, on an emitter, a point: four random numbers.
@@ -94,6 +104,19 @@ impl LightChoice {
             });
         }
         let mut rest = u - self.area;
+        let environment = Picked::Environment {
+            u: [
+                (rest / self.environment).min(1.0 - f32::EPSILON),
+                u_alias,
+                u_a,
+                u_b,
+            ],
+            pick: self.environment,
+        };
+        if rest < self.environment {
+            return Some(environment);
+        }
+        rest -= self.environment;
         for (index, &pick) in self.delta.iter().enumerate() {
             if rest < pick {
                 return Some(Picked::Delta { index, pick });
@@ -101,11 +124,13 @@ impl LightChoice {
             rest -= pick;
         }
         // Rounding past the last: the last light with any flux.
-        let index = self.delta.iter().rposition(|&p| p > 0.0)?;
-        Some(Picked::Delta {
-            index,
-            pick: self.delta[index],
-        })
+        match self.delta.iter().rposition(|&p| p > 0.0) {
+            Some(index) => Some(Picked::Delta {
+                index,
+                pick: self.delta[index],
+            }),
+            None => (self.environment > 0.0).then_some(environment),
+        }
     }
 
     /// The density per unit area with which `pick` chooses a point on emitter triangle `index`.
@@ -113,6 +138,65 @@ impl LightChoice {
         let material = &scene.materials[scene.triangles[index as usize].material as usize];
         self.area * luminance(Vec3::from(material.emission)) * frame.emitter_power_inv
     }
+}
+
+/// ∫ luminance(L(ω)) dω over the sphere: of the environment map, or of the ambient light where
+/// there is none. A texel's sampling density is its luminance times sinθ over the map's sum of
+/// those, times w·h / 2π² (`environment::build_texels`), so any texel with a density gives the
+/// sum, and ∫ L dω is that sum times each texel's solid angle per sinθ, 2π² / (w·h).
+fn environment_integral(scene: &GpuScene, frame: &Frame) -> f32 {
+    if frame.env_width == 0 {
+        return 4.0 * std::f32::consts::PI * luminance(Vec3::from(frame.ambient)).max(0.0);
+    }
+    let (w, h) = (frame.env_width, frame.env_height);
+    scene
+        .env_texels
+        .iter()
+        .enumerate()
+        .find(|(_, t)| t.pdf > 0.0)
+        .map(|(i, t)| {
+            let row = i as u32 / w;
+            let sin_theta = (std::f32::consts::PI * (row as f32 + 0.5) / h as f32).sin();
+            luminance(Vec3::from(t.radiance)) * sin_theta / t.pdf
+        })
+        .unwrap_or(0.0)
+}
+
+/// A direction towards the environment for four uniform numbers (by the map's importance, or
+/// uniform over the sphere for the ambient light): (direction, radiance arriving along it,
+/// density per solid angle).
+pub fn sample_environment(scene: &GpuScene, frame: &Frame, u: [f32; 4]) -> (Vec3, Vec3, f32) {
+    if frame.env_width == 0 {
+        let z = 1.0 - 2.0 * u[2];
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = std::f32::consts::TAU * u[3];
+        let d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+        return (d, Vec3::from(frame.ambient), UNIFORM_SPHERE_PDF);
+    }
+    let (w, h, rotation) = (frame.env_width, frame.env_height, frame.env_rotation);
+    sample_env(&scene.env_texels, w, h, rotation, u)
+}
+
+/// The density per solid angle of `sample_environment` drawing unit `toward`.
+pub fn environment_pdf(scene: &GpuScene, frame: &Frame, toward: Vec3) -> f32 {
+    if frame.env_width == 0 {
+        return UNIFORM_SPHERE_PDF;
+    }
+    let (w, h, rotation) = (frame.env_width, frame.env_height, frame.env_rotation);
+    env_lookup(&scene.env_texels, w, h, rotation, toward).1
+}
+
+const UNIFORM_SPHERE_PDF: f32 = 0.25 * std::f32::consts::FRAC_1_PI;
+
+/// A point on the disk of radius r across the scene's bounding sphere, facing `dir` (the way the
+/// light travels) from its far side, where light from infinitely far along −`dir` starts, and
+/// the density per unit area of drawing it.
+pub fn disk_origin(choice: &LightChoice, dir: Vec3, rng: &mut Rng) -> (Vec3, f32) {
+    let (t, b) = onb(dir);
+    let (dx, dy) = sample_disk(rng);
+    let r = choice.radius;
+    let origin = choice.centre - dir * r + r * (dx * t + dy * b);
+    (origin, 1.0 / (std::f32::consts::PI * r * r))
 }
 
 /// A delta light's flux (its luminance), by which it is picked.

@@ -28,44 +28,41 @@ pub fn weight(
         return 1.0;
     }
     let (scene, frame, choice) = (walks.scene, walks.frame, walks.choice);
-    // Light that only a camera subpath finds (the environment) has no other strategy.
-    if s == 0 && matches!(camera[t - 1].point, Point::Escaped { .. }) {
+    // Light that only a camera subpath finds (an environment no light subpath starts from, as
+    // when its light does not add up to a finite flux) has no other strategy.
+    if s == 0
+        && matches!(camera[t - 1].point, Point::Environment { .. })
+        && choice.environment <= 0.0
+    {
         return 1.0;
     }
-    // The connection's ends and their neighbours, as the connection changes them.
-    let mut qs = (s > 0).then(|| match sampled {
-        Some(v) if s == 1 => *v,
-        _ => light[s - 1],
+    // The connection's ends and their neighbours, read in place (a vertex is a few hundred
+    // bytes); what the connection changes about them (the ends' reverse densities, their neighbours'
+    // and the ends no longer delta) is kept beside them.
+    let qs = (s > 0).then(|| match sampled {
+        Some(v) if s == 1 => v,
+        _ => &light[s - 1],
     });
-    let mut pt = match sampled {
-        Some(v) if t == 1 => *v,
-        _ => camera[t - 1],
+    let pt = match sampled {
+        Some(v) if t == 1 => v,
+        _ => &camera[t - 1],
     };
-    let qs_minus = (s > 1).then(|| light[s - 2]);
-    let pt_minus = (t > 1).then(|| camera[t - 2]);
-    pt.delta = false;
-    if let Some(q) = qs.as_mut() {
-        q.delta = false;
-    }
-    pt.pdf_rev = match &qs {
-        Some(q) => q.pdf(scene, frame, choice, qs_minus.as_ref(), &pt),
+    let qs_minus = (s > 1).then(|| &light[s - 2]);
+    let pt_minus = (t > 1).then(|| &camera[t - 2]);
+    let pt_rev = match qs {
+        Some(q) => q.pdf(scene, frame, choice, qs_minus, pt),
         None => pt.pdf_light_origin(scene, frame, choice),
     };
-    let pt_minus_rev = pt_minus.as_ref().map(|m| match &qs {
+    let pt_minus_rev = pt_minus.map(|m| match qs {
         Some(q) => pt.pdf(scene, frame, choice, Some(q), m),
         None => pt.pdf_light(scene, choice, m),
     });
-    if let Some(q) = qs.as_mut() {
-        q.pdf_rev = pt.pdf(scene, frame, choice, pt_minus.as_ref(), q);
-    }
-    let qs_minus_rev = qs_minus.as_ref().and_then(|m| {
-        qs.as_ref()
-            .map(|q| q.pdf(scene, frame, choice, Some(&pt), m))
-    });
+    let qs_rev = qs.map(|q| pt.pdf(scene, frame, choice, pt_minus, q));
+    let qs_minus_rev = qs_minus.and_then(|m| qs.map(|q| q.pdf(scene, frame, choice, Some(pt), m)));
 
     let camera_vertex = |i: usize| -> (f32, f32, bool) {
         if i == t - 1 {
-            (pt.pdf_rev, pt.pdf_fwd, pt.delta)
+            (pt_rev, pt.pdf_fwd, false)
         } else if t >= 2 && i == t - 2 {
             let v = &camera[i];
             (pt_minus_rev.unwrap_or(v.pdf_rev), v.pdf_fwd, v.delta)
@@ -75,11 +72,12 @@ pub fn weight(
         }
     };
     let light_vertex = |i: usize| -> (f32, f32, bool, bool) {
-        let v = if i == s - 1 {
-            qs.expect("s > 0")
-        } else {
-            light[i]
-        };
+        if i == s - 1 {
+            let q = qs.expect("s > 0");
+            let rev = qs_rev.expect("s > 0");
+            return (rev, q.pdf_fwd, false, q.is_delta_light());
+        }
+        let v = &light[i];
         let rev = if s >= 2 && i == s - 2 {
             qs_minus_rev.unwrap_or(v.pdf_rev)
         } else {

@@ -1,7 +1,7 @@
 //! Bidirectional path tracing (Veach 1997, ch. 10; pbrt-v4's `BDPTIntegrator` is the model read):
 //! per pixel sample, a camera subpath z_0 … z_{t−1} from the lens and a light subpath
-//! y_0 … y_{s−1} from a light (an emitter point, a point, spot or sun light, chosen by flux), and
-//! every way of joining their prefixes:
+//! y_0 … y_{s−1} from a light (an emitter point, the environment, a point, spot or sun light,
+//! chosen by flux), and every way of joining their prefixes:
 //!   I ≈ Σ_{s,t} w_{s,t} C*_{s,t},  s + t − 1 ≤ max_depth segments,
 //! where C*_{s,t} is the strategy's unweighted contribution (`connect`) and w_{s,t} its
 //! power-heuristic MIS weight (`mis`). Light tracing (t = 1) lands anywhere on the film: those
@@ -10,12 +10,12 @@
 //!
 //! Caustics, light that reaches the camera only through specular surfaces from a small or delta
 //! light, come from strategies t = 1 and t = 2 that the path tracer lacks: a sun through a glass
-//! sphere focuses onto the floor here, where camera paths alone find nothing.
+//! sphere focuses onto the floor here, where camera paths alone find nothing; so does the sun of
+//! an environment map, from which light subpaths start as from any light.
 //!
 //! This is the CPU backend's (`cpu_render`); the GPU kernels have no twin yet, and `refusal` names
 //! what it does not do (media, dispersion, projections other than perspective, render regions).
-//! The environment and ambient light count only where camera subpaths escape to them (no light
-//! subpath starts there). Russian roulette plays as in the path tracer (`frame.roulette_from_depth`).
+//! Russian roulette plays as in the path tracer (`frame.roulette_from_depth`).
 
 mod connect;
 mod importance;

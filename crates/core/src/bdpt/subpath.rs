@@ -5,7 +5,10 @@
 use glam::Vec3;
 
 use super::importance::direction_pdf;
-use super::lights::{LightChoice, Picked, delta_direction, emitter_point, intensity, is_sun};
+use super::lights::{
+    LightChoice, Picked, delta_direction, disk_origin, emitter_point, intensity, is_sun,
+    sample_environment,
+};
 use super::point::SurfacePoint;
 use super::vertex::{Point, Vertex};
 use crate::estimator::hit::MISS;
@@ -16,7 +19,7 @@ use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
 use crate::math::intersect::offset_ray_origin;
 use crate::math::rng::Rng;
-use crate::math::sampling::{onb, sample_cosine_hemisphere, sample_disk};
+use crate::math::sampling::sample_cosine_hemisphere;
 
 /// The scene and the light choice the walks share.
 pub struct Walks<'a> {
@@ -100,15 +103,24 @@ impl Walks<'_> {
                     path,
                 );
             }
+            Picked::Environment { u, pick } => {
+                let (toward, le, pdf_dir) = sample_environment(scene, frame, u);
+                if pdf_dir.is_nan() || pdf_dir <= 0.0 || le == Vec3::ZERO {
+                    return state;
+                }
+                let (origin, pdf_pos) = disk_origin(choice, -toward, &mut state.rng);
+                let per_solid_angle = pick * pdf_dir;
+                let point = Point::Environment { le, toward };
+                path.push(Vertex::new(point, origin, Vec3::ZERO, le, per_solid_angle));
+                // β = L_e / (p_pick p_ω p_disk)
+                state.beta = le / (per_solid_angle * pdf_pos);
+                self.walk_from_infinity(&mut state, origin, -toward, pdf_pos, max, path);
+            }
             Picked::Delta { index, pick } => {
                 let light = &scene.delta_lights[index];
                 if is_sun(light) {
                     let dir = Vec3::from(light.direction);
-                    let (t, b) = onb(dir);
-                    let (dx, dy) = sample_disk(&mut state.rng);
-                    let r = choice.radius;
-                    let origin = choice.centre - dir * r + r * (dx * t + dy * b);
-                    let pdf_pos = 1.0 / (std::f32::consts::PI * r * r);
+                    let (origin, pdf_pos) = disk_origin(choice, dir, &mut state.rng);
                     let e = Vec3::from(light.power);
                     path.push(Vertex::new(
                         Point::Delta { index },
@@ -118,13 +130,7 @@ impl Walks<'_> {
                         0.0,
                     ));
                     state.beta = e / (pick * pdf_pos);
-                    state.origin = origin;
-                    state.direction = dir;
-                    self.walk(&mut state, 0.0, true, max, path);
-                    // The first hit's density is the disk's, projected (no distance falloff).
-                    if let Some(v) = path.get_mut(1) {
-                        v.pdf_fwd = pdf_pos * v.n.dot(dir).abs();
-                    }
+                    self.walk_from_infinity(&mut state, origin, dir, pdf_pos, max, path);
                 } else {
                     let (w, pdf_dir) = delta_direction(light, &mut state.rng);
                     let i = intensity(light, w);
@@ -147,6 +153,26 @@ impl Walks<'_> {
             }
         }
         state
+    }
+
+    /// Extends a light subpath that starts at infinity (a sun, the environment) from `origin` on
+    /// the disk that `disk_origin` drew with density `pdf_pos`, along `dir`.
+    fn walk_from_infinity(
+        &self,
+        state: &mut PathState,
+        origin: Vec3,
+        dir: Vec3,
+        pdf_pos: f32,
+        max: usize,
+        path: &mut Vec<Vertex>,
+    ) {
+        state.origin = origin;
+        state.direction = dir;
+        self.walk(state, 0.0, true, max, path);
+        // The first hit's density is the disk's, projected (no distance falloff).
+        if let Some(v) = path.get_mut(1) {
+            v.pdf_fwd = pdf_pos * v.n.dot(dir).abs();
+        }
     }
 
     /// Extends `path` from `state`'s ray, whose direction was drawn with density `pdf` per solid
@@ -177,7 +203,10 @@ impl Walks<'_> {
                     };
                     let p = path[last].p + state.direction;
                     path.push(Vertex::new(
-                        Point::Escaped { le },
+                        Point::Environment {
+                            le,
+                            toward: state.direction,
+                        },
                         p,
                         Vec3::ZERO,
                         state.beta,

@@ -1,5 +1,6 @@
 //! Bidirectional path tracing against the path tracer, per pixel, on scenes both render without
-//! bias; light tracing alone against the path tracer on a diffuse scene; and the MIS weights of
+//! bias (lit by emitters, point and spot lights, an environment map or the ambient light); light
+//! tracing alone against the path tracer on a diffuse scene; and the MIS weights of
 //! every strategy that makes one path summing to 1.
 
 use std::sync::atomic::AtomicBool;
@@ -255,6 +256,106 @@ fn bdpt_agrees_with_path_tracing_through_glass_and_metal() {
     assert_agree(&path, &bdpt, "glass room");
 }
 
+/// A glass ball, a plastic block and a diffuse block on a floor under open sky: `environment`,
+/// else the ambient light `ambient`.
+fn outdoors(
+    environment: Option<crate::environment::Environment>,
+    ambient: [f32; 3],
+) -> (GpuScene, Frame) {
+    let (mut glass, plastic) = (glass_things().remove(0), plastic());
+    glass.transform.translation = [0.0, -0.7, -0.3];
+    let scene = Scene {
+        objects: vec![
+            object(
+                "floor",
+                quad(Vec3::new(0.0, -1.0, 0.0), Vec3::Y, 4.0),
+                lambert([0.7, 0.6, 0.5]),
+                [0.0; 3],
+            ),
+            glass,
+            plastic,
+            object(
+                "block",
+                cuboid(
+                    Vec3::new(-0.8, -1.0, -0.8),
+                    Vec3::new(-0.4, -0.4, -0.4),
+                    false,
+                ),
+                lambert([0.3, 0.6, 0.3]),
+                [0.0; 3],
+            ),
+        ],
+        textures: Vec::new(),
+        camera: crate::Camera {
+            from: [0.0, 0.4, 1.4],
+            to: [0.0, -0.8, -0.4],
+            ..Default::default()
+        },
+        ambient,
+        settings: RenderSettings {
+            width: 16,
+            height: 12,
+            max_depth: 5,
+            ..Default::default()
+        },
+        lights: Vec::new(),
+        environment,
+        fog: Default::default(),
+    };
+    let gpu = GpuScene::build(&scene).unwrap();
+    let frame = crate::frame::frame_for(&scene, &gpu).unwrap();
+    (gpu, frame)
+}
+
+/// A 16 × 8 sky, blue above the horizon and dark below, with a small bright sun.
+fn sky() -> crate::environment::Environment {
+    let (w, h) = (16u32, 8u32);
+    let texels = (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            if (x, y) == (5, 1) {
+                [60.0, 50.0, 40.0]
+            } else if y < h / 2 {
+                [0.3, 0.45, 0.8]
+            } else {
+                [0.05, 0.04, 0.03]
+            }
+        })
+        .collect();
+    crate::environment::Environment {
+        source: "test sky".into(),
+        rotation_deg: 30.0,
+        strength: 1.0,
+        map: std::sync::Arc::new(crate::environment::EnvironmentMap {
+            width: w,
+            height: h,
+            texels,
+        }),
+    }
+}
+
+/// Light subpaths start from the environment (an importance-sampled map, or the uniform ambient
+/// light) and strategy s = 1 connects to it: the images still equal the path tracer's, and the
+/// environment is chosen as a light at all.
+#[test]
+fn bdpt_agrees_with_path_tracing_under_an_environment() {
+    for (environment, ambient, what) in [
+        (Some(sky()), [0.0; 3], "sky map"),
+        (None, [0.5, 0.6, 0.8], "ambient light"),
+    ] {
+        let (scene, frame) = outdoors(environment, ambient);
+        let choice = LightChoice::new(&scene, &frame);
+        assert!(
+            (choice.environment - 1.0).abs() < 1e-6,
+            "{what}: the environment is the only light, picked with {}",
+            choice.environment
+        );
+        let path = blocks(&scene, &frame, Integrator::Path, 16, 128);
+        let bdpt = blocks(&scene, &frame, Integrator::Bdpt, 16, 32);
+        assert_agree(&path, &bdpt, what);
+    }
+}
+
 /// Light tracing alone (every t = 1 strategy, unweighted), splatted: an unbiased image of its
 /// own on a scene without delta surfaces; with glossy PBR walls it checks that light subpaths see
 /// the PBR BSDF from the side they leave towards (a BSDF kept for the wrong ωo fails it).
@@ -322,37 +423,42 @@ fn light_tracing_blocks(
 /// weights sum to 1.
 #[test]
 fn mis_weights_of_one_path_sum_to_one() {
-    let (scene, frame) = room(glass_things(), point_and_spot(), (16, 12));
-    let choice = LightChoice::new(&scene, &frame);
-    let walks = Walks {
-        scene: &scene,
-        frame: &frame,
-        choice: &choice,
-    };
-    let (mut camera, mut light) = (Vec::new(), Vec::new());
-    let mut checked = 0;
-    for sample in 0..4000u32 {
-        let (x, y) = (sample % 16, (sample / 16) % 12);
-        walks.camera_subpath(x, y, sample, &mut camera);
-        let rng = crate::math::rng::Rng::new(sample, sample, 5);
-        walks.light_subpath(rng, &mut light);
-        for t in 2..=camera.len() {
-            for s in 2..=light.len() {
-                if s + t - 1 > frame.max_depth as usize
-                    || !(light[s - 1].connectible(&scene) && camera[t - 1].connectible(&scene))
-                {
-                    continue;
+    let room = room(glass_things(), point_and_spot(), (16, 12));
+    for (what, (scene, frame)) in [
+        ("room", room),
+        ("outdoors", outdoors(Some(sky()), [0.0; 3])),
+    ] {
+        let choice = LightChoice::new(&scene, &frame);
+        let walks = Walks {
+            scene: &scene,
+            frame: &frame,
+            choice: &choice,
+        };
+        let (mut camera, mut light) = (Vec::new(), Vec::new());
+        let mut checked = 0;
+        for sample in 0..4000u32 {
+            let (x, y) = (sample % 16, (sample / 16) % 12);
+            walks.camera_subpath(x, y, sample, &mut camera);
+            let rng = crate::math::rng::Rng::new(sample, sample, 5);
+            walks.light_subpath(rng, &mut light);
+            for t in 2..=camera.len() {
+                for s in 2..=light.len() {
+                    if s + t - 1 > frame.max_depth as usize
+                        || !(light[s - 1].connectible(&scene) && camera[t - 1].connectible(&scene))
+                    {
+                        continue;
+                    }
+                    let sum = split_weights(&walks, &light[..s], &camera[..t]);
+                    assert!(
+                        (sum - 1.0).abs() < 1e-4,
+                        "{what}, sample {sample}, s = {s}, t = {t}: the weights sum to {sum}"
+                    );
+                    checked += 1;
                 }
-                let sum = split_weights(&walks, &light[..s], &camera[..t]);
-                assert!(
-                    (sum - 1.0).abs() < 1e-4,
-                    "sample {sample}, s = {s}, t = {t}: the weights sum to {sum}"
-                );
-                checked += 1;
             }
         }
+        assert!(checked > 500, "{what}: only {checked} paths checked");
     }
-    assert!(checked > 500, "only {checked} paths checked");
 }
 
 /// The full path y_0 … y_{s−1} z_{t−1} … z_0 split every way (s', t'), each split's vertices
@@ -399,9 +505,14 @@ fn split_weights(walks: &Walks, light: &[Vertex], camera: &[Vertex]) -> f32 {
             })
             .collect();
         // The ends the split connects must be able to connect (s' = 0: the camera subpath ends
-        // on the light itself).
+        // on the light itself; s' = 1: the light is sampled anew for the camera vertex).
         let ends = if s2 == 0 {
-            matches!(full[0].point, vertex::Point::Emitter { .. })
+            matches!(
+                full[0].point,
+                vertex::Point::Emitter { .. } | vertex::Point::Environment { .. }
+            )
+        } else if s2 == 1 {
+            full[1].connectible(scene)
         } else {
             full[s2 - 1].connectible(scene) && full[s2].connectible(scene)
         };

@@ -6,7 +6,7 @@
 use glam::Vec3;
 
 use super::importance;
-use super::lights::{LightChoice, delta_direction_pdf, is_sun};
+use super::lights::{LightChoice, delta_direction_pdf, environment_pdf, is_sun};
 use super::point::SurfacePoint;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
@@ -27,8 +27,10 @@ pub enum Point {
     Emitter { index: u32, b: (f32, f32) },
     /// Delta light `index` (point, spot or sun).
     Delta { index: usize },
-    /// Where a camera subpath left the scene, with the radiance it found there.
-    Escaped { le: Vec3 },
+    /// The environment (or ambient light) in unit direction `toward` from the scene, with the
+    /// radiance `le` arriving from there: where a camera subpath left the scene, a light subpath's
+    /// start, or the light strategy s = 1 connects to.
+    Environment { le: Vec3, toward: Vec3 },
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -69,7 +71,7 @@ impl Vertex {
     pub fn connectible(&self, scene: &GpuScene) -> bool {
         match &self.point {
             Point::Surface(s) => !s.surface.is_delta() && !s.emits_only(scene),
-            Point::Escaped { .. } => false,
+            Point::Environment { .. } => false,
             Point::Delta { index } => !is_sun(&scene.delta_lights[*index]),
             Point::Camera | Point::Emitter { .. } => true,
         }
@@ -80,10 +82,10 @@ impl Vertex {
         matches!(self.point, Point::Delta { .. })
     }
 
-    /// Whether this is at infinity (a sun; where a camera path escaped).
+    /// Whether this is at infinity (a sun, the environment).
     pub fn at_infinity(&self, scene: &GpuScene) -> bool {
         match self.point {
-            Point::Escaped { .. } => true,
+            Point::Environment { .. } => true,
             Point::Delta { index } => is_sun(&scene.delta_lights[index]),
             _ => false,
         }
@@ -131,6 +133,16 @@ impl Vertex {
     /// The density per unit area with which a light subpath starting at this light (an emitter
     /// point, a delta light, or a surface that emits) reaches `next` with its first segment.
     pub fn pdf_light(&self, scene: &GpuScene, choice: &LightChoice, next: &Vertex) -> f32 {
+        if let Point::Environment { toward, .. } = self.point {
+            // From the disk across the scene's bounding sphere, as a sun's.
+            let disk = 1.0 / (std::f32::consts::PI * choice.radius * choice.radius);
+            let cos = if next.n == Vec3::ZERO {
+                1.0
+            } else {
+                next.n.dot(toward).abs()
+            };
+            return disk * cos;
+        }
         if let Point::Delta { index } = self.point {
             let light = &scene.delta_lights[index];
             if is_sun(light) {
@@ -154,7 +166,7 @@ impl Vertex {
     }
 
     /// The density per unit area with which a light subpath starts here (zero for a delta light,
-    /// which no other strategy reaches).
+    /// which no other strategy reaches; per solid angle for the environment).
     pub fn pdf_light_origin(&self, scene: &GpuScene, frame: &Frame, choice: &LightChoice) -> f32 {
         match &self.point {
             Point::Emitter { index, .. } => choice.per_area(scene, frame, *index),
@@ -164,6 +176,9 @@ impl Vertex {
                 } else {
                     choice.per_area(scene, frame, s.index)
                 }
+            }
+            Point::Environment { toward, .. } => {
+                choice.environment * environment_pdf(scene, frame, *toward)
             }
             _ => 0.0,
         }

@@ -16,12 +16,14 @@
 pub const WGSL: &str = include_str!("rng.wgsl");
 
 /// PCG-RXS-M-XS hash of one 32-bit word (Jarzynski & Olano 2020).
+#[inline(always)]
 pub fn pcg_hash(input: u32) -> u32 {
     let state = input.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
     let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
     (word >> 22) ^ word
 }
 
+#[inline(always)]
 fn laine_karras_permutation(v: u32, seed: u32) -> u32 {
     let mut x = v.wrapping_add(seed);
     x ^= x.wrapping_mul(0x6c50_b47c);
@@ -47,10 +49,12 @@ pub fn sobol_dim1(i: u32) -> u32 {
 
 /// `sobol_dim1(i).reverse_bits()`, by tables of reversed direction numbers (a bit reversal is a
 /// permutation of bits, so it distributes over XOR): the scramble reverses the value first.
+#[inline(always)]
 fn sobol_dim1_reversed(i: u32) -> u32 {
     xor_of_bytes(&SOBOL_DIM1_REVERSED_BYTES, i)
 }
 
+#[inline(always)]
 fn xor_of_bytes(t: &[[u32; 256]; 4], i: u32) -> u32 {
     t[0][(i & 0xff) as usize]
         ^ t[1][((i >> 8) & 0xff) as usize]
@@ -127,11 +131,15 @@ pub struct Rng {
     dim: u32,
     key: u32,
     sobol: bool,
-    /// The current pair's key and shuffled point index, computed at its first dimension and
-    /// reused at its second (dimensions are drawn in order).
-    pair_key: u32,
-    pair_index: u32,
+    /// Sobol values of dimensions `block_start .. block_start + SOBOL_BLOCK`, computed together:
+    /// each value is a chain of dependent multiplies, so one at a time the CPU waits on each;
+    /// a block's independent chains overlap (the same values the WGSL draws one by one).
+    block_start: u32,
+    block: [u32; SOBOL_BLOCK],
 }
+
+/// Sobol dimensions computed at once (an even number: a block holds whole pairs).
+const SOBOL_BLOCK: usize = 8;
 
 impl Rng {
     /// The independent sampler.
@@ -146,8 +154,9 @@ impl Rng {
             dim: 0,
             key: pcg_hash(pixel ^ pcg_hash(seed ^ 0x5bd1_e995)),
             sobol: kind == SamplerKind::Sobol,
-            pair_key: 0,
-            pair_index: 0,
+            // No block yet: `dim - block_start` is at least SOBOL_BLOCK for dimension 0.
+            block_start: SOBOL_BLOCK as u32,
+            block: [0; SOBOL_BLOCK],
         }
     }
 
@@ -156,19 +165,12 @@ impl Rng {
         let bits = if self.sobol {
             let d = self.dim;
             self.dim += 1;
-            if d & 1 == 0 {
-                self.pair_key = pcg_hash(self.key ^ pcg_hash(d / 2 + 1));
-                // nested_uniform_scramble(index, pair_key), its first reversal done once.
-                self.pair_index =
-                    laine_karras_permutation(self.reversed_index, self.pair_key).reverse_bits();
-            }
-            let (pair_key, i) = (self.pair_key, self.pair_index);
-            let value_key = pcg_hash(pair_key.wrapping_add(1 + (d & 1)));
-            if d & 1 == 0 {
-                // nested_uniform_scramble(i.reverse_bits(), k), its first reversal undone.
-                laine_karras_permutation(i, value_key).reverse_bits()
+            let offset = d.wrapping_sub(self.block_start);
+            if offset as usize >= SOBOL_BLOCK {
+                self.fill_block(d);
+                self.block[0]
             } else {
-                laine_karras_permutation(sobol_dim1_reversed(i), value_key).reverse_bits()
+                self.block[offset as usize]
             }
         } else {
             self.state = self
@@ -181,6 +183,49 @@ impl Rng {
         };
         (bits >> 8) as f32 * (1.0 / 16_777_216.0)
     }
+
+    /// Fills the block with dimensions `first ..` (`first` even; dimensions are drawn in order).
+    fn fill_block(&mut self, first: u32) {
+        self.block = sobol_block(self.key, self.reversed_index, first / 2);
+        self.block_start = first;
+    }
+}
+
+/// The Sobol values of pairs `first_pair ..` of the sample whose index is `reversed_index`
+/// reversed, in dimension order. Pair p shuffles the point index by
+/// `nested_uniform_scramble(index, pair_key)` and scrambles its two values by their own keys.
+/// Each step runs over all lanes at once (so AVX2 takes eight in a register where the CPU has it;
+/// integer arithmetic, so the same bits either way).
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn sobol_block(key: u32, reversed_index: u32, first_pair: u32) -> [u32; SOBOL_BLOCK] {
+    const PAIRS: usize = SOBOL_BLOCK / 2;
+    let mut pair_key = [0u32; PAIRS];
+    for (p, k) in pair_key.iter_mut().enumerate() {
+        *k = pcg_hash(key ^ pcg_hash(first_pair + p as u32 + 1));
+    }
+    // Lane p holds pair p's first value and lane PAIRS + p its second, each before its scramble
+    // (bit-reversed: Sobol's dimension 0 of index i is i reversed) beside its key.
+    let mut value = [0u32; SOBOL_BLOCK];
+    let mut value_key = [0u32; SOBOL_BLOCK];
+    for p in 0..PAIRS {
+        // nested_uniform_scramble(index, pair_key), its first reversal done once.
+        value[p] = laine_karras_permutation(reversed_index, pair_key[p]).reverse_bits();
+        value_key[p] = pcg_hash(pair_key[p].wrapping_add(1));
+        value_key[PAIRS + p] = pcg_hash(pair_key[p].wrapping_add(2));
+    }
+    for p in 0..PAIRS {
+        value[PAIRS + p] = sobol_dim1_reversed(value[p]);
+    }
+    // nested_uniform_scramble(v.reverse_bits(), k), its first reversal undone.
+    for (v, k) in value.iter_mut().zip(value_key) {
+        *v = laine_karras_permutation(*v, k).reverse_bits();
+    }
+    let mut block = [0u32; SOBOL_BLOCK];
+    for p in 0..PAIRS {
+        block[2 * p] = value[p];
+        block[2 * p + 1] = value[PAIRS + p];
+    }
+    block
 }
 
 #[cfg(test)]
@@ -211,6 +256,37 @@ mod tests {
             assert_eq!(sobol_dim1(r), by_bits(r), "{r}");
             assert_eq!(sobol_dim1_reversed(r), by_bits(r).reverse_bits(), "{r}");
             assert_eq!(sobol_dim1_reversed(i), by_bits(i).reverse_bits(), "{i}");
+        }
+    }
+
+    /// The CPU's blocks of Sobol values equal the definition the WGSL draws one value at a time:
+    /// pair p's point index is `nested_uniform_scramble(sample, k)` with k = hash(key, p), its
+    /// two values Sobol's dimensions 0 and 1 of that index, each scrambled by its own key.
+    #[test]
+    fn sobol_blocks_equal_values_drawn_one_at_a_time() {
+        for (pixel, sample, seed) in [
+            (0, 0, 0),
+            (7, 3, 1),
+            (123_456, 255, 9),
+            (u32::MAX, u32::MAX, 4),
+        ] {
+            let key = pcg_hash(pixel ^ pcg_hash(seed ^ 0x5bd1_e995));
+            let mut rng = Rng::with_sampler(pixel, sample, seed, SamplerKind::Sobol);
+            for d in 0..61u32 {
+                let k = pcg_hash(key ^ pcg_hash(d / 2 + 1));
+                let i = nested_uniform_scramble(sample, k);
+                let bits = if d % 2 == 0 {
+                    nested_uniform_scramble(i.reverse_bits(), pcg_hash(k.wrapping_add(1)))
+                } else {
+                    nested_uniform_scramble(sobol_dim1(i), pcg_hash(k.wrapping_add(2)))
+                };
+                let expected = (bits >> 8) as f32 * (1.0 / 16_777_216.0);
+                assert_eq!(
+                    rng.next_f32().to_bits(),
+                    expected.to_bits(),
+                    "dimension {d}"
+                );
+            }
         }
     }
 
