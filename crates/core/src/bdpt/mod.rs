@@ -15,7 +15,8 @@
 //!
 //! This is the CPU backend's (`cpu_render`); the GPU kernels have no twin yet, and `refusal` names
 //! what it does not do (media, dispersion, projections other than perspective, render regions).
-//! Russian roulette plays as in the path tracer (`frame.roulette_from_depth`).
+//! Russian roulette plays as in the path tracer (`frame.roulette_from_depth`), on a light subpath
+//! with its throughput taken relative to its start.
 
 mod connect;
 mod importance;

@@ -189,6 +189,12 @@ impl Walks<'_> {
     ) {
         let (scene, frame) = (self.scene, self.frame);
         let mut pdf_fwd = pdf;
+        if importance {
+            // Russian roulette weighs a light subpath's throughput against its start (its β is in
+            // units of the light's power, which would otherwise keep every subpath to full depth),
+            // as a camera path's starts at 1: `eta_scale` is the factor roulette sees β by.
+            state.eta_scale = 1.0 / state.beta.max_element().max(f32::MIN_POSITIVE);
+        }
         while path.len() < max {
             let hit = trace(scene, state.origin, state.direction, f32::MAX);
             state.rays += 1;
@@ -283,8 +289,7 @@ impl Walks<'_> {
         state.beta *= weight;
         state.depth += 1;
         if frame.roulette_from_depth > 0 && state.depth >= frame.roulette_from_depth {
-            let scale = if importance { 1.0 } else { state.eta_scale };
-            let survive = (state.beta * scale).max_element().min(1.0);
+            let survive = (state.beta * state.eta_scale).max_element().min(1.0);
             if state.rng.next_f32() >= survive || survive.is_nan() {
                 return None;
             }
