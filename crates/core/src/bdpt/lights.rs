@@ -1,8 +1,9 @@
 //! Where light subpaths start, and the lights that strategy s = 1 connects to: an emitter
 //! triangle (picked by power, as the path tracer's power table picks it, then a uniform point on
-//! it), the environment (a direction by the map's importance table, or uniform for the ambient
-//! light; a subpath starts from a disk across the scene's bounding sphere, as a sun's), or a point,
-//! spot or sun light, each chosen in proportion to its flux (an environment's: π r² ∫ L dω).
+//! it), the environment map (a direction by its importance table; a subpath starts from a disk
+//! across the scene's bounding sphere, as a sun's), or a point, spot or sun light, each chosen in
+//! proportion to its flux (an environment's: that of its light above its mean,
+//! `environment_excess`; a uniform ambient light starts none).
 
 use glam::Vec3;
 
@@ -55,7 +56,7 @@ impl LightChoice {
             0.0
         };
         let environment_flux =
-            std::f32::consts::PI * radius * radius * environment_integral(scene, frame);
+            std::f32::consts::PI * radius * radius * environment_excess(scene, frame);
         let flux: Vec<f32> = scene
             .delta_lights
             .iter()
@@ -140,53 +141,64 @@ impl LightChoice {
     }
 }
 
-/// ∫ luminance(L(ω)) dω over the sphere: of the environment map, or of the ambient light where
-/// there is none. A texel's sampling density is its luminance times sinθ over the map's sum of
-/// those, times w·h / 2π² (`environment::build_texels`), so any texel with a density gives the
-/// sum, and ∫ L dω is that sum times each texel's solid angle per sinθ, 2π² / (w·h).
-fn environment_integral(scene: &GpuScene, frame: &Frame) -> f32 {
-    if frame.env_width == 0 {
-        return 4.0 * std::f32::consts::PI * luminance(Vec3::from(frame.ambient)).max(0.0);
+/// How much of the environment map's light light subpaths should carry: ∫ max(0, L(ω) − L̄) dω
+/// in luminance, L̄ the map's mean. The uniform part of an environment lights every direction
+/// alike, and camera paths find it as readily by their own sampling (through glass too); what they
+/// miss is light concentrated in a small solid angle, a sun. So a sky's sun starts light subpaths,
+/// a uniform ambient light none (camera paths that escape to it are then its only strategy).
+/// Texel (x, y) spans 2π²/(w·h) · sinθ of solid angle (θ at its row's centre).
+pub(super) fn environment_excess(scene: &GpuScene, frame: &Frame) -> f32 {
+    let (w, h) = (frame.env_width as usize, frame.env_height as usize);
+    if w == 0 || h == 0 || scene.env_texels.len() < w * h {
+        return 0.0;
     }
-    let (w, h) = (frame.env_width, frame.env_height);
-    scene
-        .env_texels
-        .iter()
-        .enumerate()
-        .find(|(_, t)| t.pdf > 0.0)
-        .map(|(i, t)| {
-            let row = i as u32 / w;
-            let sin_theta = (std::f32::consts::PI * (row as f32 + 0.5) / h as f32).sin();
-            luminance(Vec3::from(t.radiance)) * sin_theta / t.pdf
-        })
-        .unwrap_or(0.0)
+    let texel = 2.0 * std::f64::consts::PI.powi(2) / (w * h) as f64;
+    let rows = || {
+        scene
+            .env_texels
+            .chunks_exact(w)
+            .take(h)
+            .enumerate()
+            .map(|(y, row)| {
+                let sin_theta = (std::f64::consts::PI * (y as f64 + 0.5) / h as f64).sin();
+                let lum = row
+                    .iter()
+                    .map(|t| f64::from(luminance(Vec3::from(t.radiance)).max(0.0)));
+                (sin_theta * texel, lum)
+            })
+    };
+    let (mut integral, mut solid_angle) = (0.0, 0.0);
+    for (d_omega, lum) in rows() {
+        for l in lum {
+            integral += l * d_omega;
+            solid_angle += d_omega;
+        }
+    }
+    let mean = integral / solid_angle.max(f64::MIN_POSITIVE);
+    let excess: f64 = rows()
+        .map(|(d_omega, lum)| lum.map(|l| (l - mean).max(0.0)).sum::<f64>() * d_omega)
+        .sum();
+    excess as f32
 }
 
-/// A direction towards the environment for four uniform numbers (by the map's importance, or
-/// uniform over the sphere for the ambient light): (direction, radiance arriving along it,
-/// density per solid angle).
+/// A direction towards the environment map for four uniform numbers, by its importance table:
+/// (direction, radiance arriving along it, density per solid angle); a zero density without a map.
 pub fn sample_environment(scene: &GpuScene, frame: &Frame, u: [f32; 4]) -> (Vec3, Vec3, f32) {
-    if frame.env_width == 0 {
-        let z = 1.0 - 2.0 * u[2];
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let phi = std::f32::consts::TAU * u[3];
-        let d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-        return (d, Vec3::from(frame.ambient), UNIFORM_SPHERE_PDF);
-    }
     let (w, h, rotation) = (frame.env_width, frame.env_height, frame.env_rotation);
+    if w == 0 {
+        return (Vec3::Y, Vec3::ZERO, 0.0);
+    }
     sample_env(&scene.env_texels, w, h, rotation, u)
 }
 
 /// The density per solid angle of `sample_environment` drawing unit `toward`.
 pub fn environment_pdf(scene: &GpuScene, frame: &Frame, toward: Vec3) -> f32 {
-    if frame.env_width == 0 {
-        return UNIFORM_SPHERE_PDF;
-    }
     let (w, h, rotation) = (frame.env_width, frame.env_height, frame.env_rotation);
+    if w == 0 {
+        return 0.0;
+    }
     env_lookup(&scene.env_texels, w, h, rotation, toward).1
 }
-
-const UNIFORM_SPHERE_PDF: f32 = 0.25 * std::f32::consts::FRAC_1_PI;
 
 /// A point on the disk of radius r across the scene's bounding sphere, facing `dir` (the way the
 /// light travels) from its far side, where light from infinitely far along −`dir` starts, and

@@ -334,20 +334,53 @@ fn sky() -> crate::environment::Environment {
     }
 }
 
-/// Light subpaths start from the environment (an importance-sampled map, or the uniform ambient
-/// light) and strategy s = 1 connects to it: the images still equal the path tracer's, and the
-/// environment is chosen as a light at all.
+/// An environment's share of light subpaths is its light above its mean: a map of radiance a
+/// over the upper hemisphere and b below (mean (a + b)/2) has ∫ max(0, L − L̄) dω = (a − b)π; a
+/// uniform one none.
+#[test]
+fn an_environment_starts_light_subpaths_with_its_light_above_its_mean() {
+    let map = |upper: f32, lower: f32| {
+        let (w, h) = (32u32, 64u32);
+        let texels = (0..w * h)
+            .map(|i| [if i / w < h / 2 { upper } else { lower }; 3])
+            .collect();
+        crate::environment::Environment {
+            source: "two tones".into(),
+            rotation_deg: 0.0,
+            strength: 1.0,
+            map: std::sync::Arc::new(crate::environment::EnvironmentMap {
+                width: w,
+                height: h,
+                texels,
+            }),
+        }
+    };
+    let (scene, frame) = outdoors(Some(map(3.0, 1.0)), [0.0; 3]);
+    let excess = lights::environment_excess(&scene, &frame);
+    let expected = 2.0 * std::f32::consts::PI;
+    assert!(
+        (excess / expected - 1.0).abs() < 1e-3,
+        "two tones: {excess}, expected {expected}"
+    );
+    let (scene, frame) = outdoors(Some(map(2.0, 2.0)), [0.0; 3]);
+    let excess = lights::environment_excess(&scene, &frame);
+    assert!(excess.abs() < 1e-5, "uniform: {excess}");
+}
+
+/// Light subpaths start from an environment map with a sun and strategy s = 1 connects to it;
+/// a uniform ambient light starts none (camera paths that escape are its only strategy): either
+/// way the images equal the path tracer's.
 #[test]
 fn bdpt_agrees_with_path_tracing_under_an_environment() {
-    for (environment, ambient, what) in [
-        (Some(sky()), [0.0; 3], "sky map"),
-        (None, [0.5, 0.6, 0.8], "ambient light"),
+    for (environment, ambient, picked, what) in [
+        (Some(sky()), [0.0; 3], 1.0, "sky map"),
+        (None, [0.5, 0.6, 0.8], 0.0, "ambient light"),
     ] {
         let (scene, frame) = outdoors(environment, ambient);
         let choice = LightChoice::new(&scene, &frame);
         assert!(
-            (choice.environment - 1.0).abs() < 1e-6,
-            "{what}: the environment is the only light, picked with {}",
+            (choice.environment - picked).abs() < 1e-6,
+            "{what}: the environment is picked with {}, not {picked}",
             choice.environment
         );
         let path = blocks(&scene, &frame, Integrator::Path, 16, 128);
