@@ -74,15 +74,28 @@ fn room_of(
         ),
     ];
     objects.extend(extra);
+    let camera = ([0.0, 0.0, 0.95], [0.0, -0.3, -1.0]);
+    build(objects, camera, (width, height), lights, [0.0; 3], None)
+}
+
+/// The scene of `objects` seen from `camera` (from, to) at `size`, depth 5, built.
+fn build(
+    objects: Vec<Object>,
+    (from, to): ([f32; 3], [f32; 3]),
+    (width, height): (u32, u32),
+    lights: Vec<Light>,
+    ambient: [f32; 3],
+    environment: Option<crate::environment::Environment>,
+) -> (GpuScene, Frame) {
     let scene = Scene {
         objects,
         textures: Vec::new(),
         camera: crate::Camera {
-            from: [0.0, 0.0, 0.95],
-            to: [0.0, -0.3, -1.0],
+            from,
+            to,
             ..Default::default()
         },
-        ambient: [0.0; 3],
+        ambient,
         settings: RenderSettings {
             width,
             height,
@@ -90,7 +103,7 @@ fn room_of(
             ..Default::default()
         },
         lights,
-        environment: None,
+        environment,
         fog: Default::default(),
     };
     let gpu = GpuScene::build(&scene).unwrap();
@@ -264,47 +277,28 @@ fn outdoors(
 ) -> (GpuScene, Frame) {
     let (mut glass, plastic) = (glass_things().remove(0), plastic());
     glass.transform.translation = [0.0, -0.7, -0.3];
-    let scene = Scene {
-        objects: vec![
-            object(
-                "floor",
-                quad(Vec3::new(0.0, -1.0, 0.0), Vec3::Y, 4.0),
-                lambert([0.7, 0.6, 0.5]),
-                [0.0; 3],
+    let objects = vec![
+        object(
+            "floor",
+            quad(Vec3::new(0.0, -1.0, 0.0), Vec3::Y, 4.0),
+            lambert([0.7, 0.6, 0.5]),
+            [0.0; 3],
+        ),
+        glass,
+        plastic,
+        object(
+            "block",
+            cuboid(
+                Vec3::new(-0.8, -1.0, -0.8),
+                Vec3::new(-0.4, -0.4, -0.4),
+                false,
             ),
-            glass,
-            plastic,
-            object(
-                "block",
-                cuboid(
-                    Vec3::new(-0.8, -1.0, -0.8),
-                    Vec3::new(-0.4, -0.4, -0.4),
-                    false,
-                ),
-                lambert([0.3, 0.6, 0.3]),
-                [0.0; 3],
-            ),
-        ],
-        textures: Vec::new(),
-        camera: crate::Camera {
-            from: [0.0, 0.4, 1.4],
-            to: [0.0, -0.8, -0.4],
-            ..Default::default()
-        },
-        ambient,
-        settings: RenderSettings {
-            width: 16,
-            height: 12,
-            max_depth: 5,
-            ..Default::default()
-        },
-        lights: Vec::new(),
-        environment,
-        fog: Default::default(),
-    };
-    let gpu = GpuScene::build(&scene).unwrap();
-    let frame = crate::frame::frame_for(&scene, &gpu).unwrap();
-    (gpu, frame)
+            lambert([0.3, 0.6, 0.3]),
+            [0.0; 3],
+        ),
+    ];
+    let camera = ([0.0, 0.4, 1.4], [0.0, -0.8, -0.4]);
+    build(objects, camera, (16, 12), Vec::new(), ambient, environment)
 }
 
 /// A 16 × 8 sky, blue above the horizon and dark below, with a small bright sun.
