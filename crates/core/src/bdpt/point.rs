@@ -2,15 +2,14 @@
 //! (position, normals, colour, the PBR inputs) kept so that the BSDF can be rebuilt for light
 //! arriving from another side, as the MIS weights of other strategies need.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use crate::estimator::instances::hit_triangle;
-use crate::estimator::path::{PathState, pbr_inputs_at};
-use crate::estimator::shading::vertex_color;
+use crate::estimator::path::{PathState, Shading, shading_at};
 use crate::estimator::surface::{PbrInputs, Surface};
-use crate::estimator::texture::{base_color_texture, surface_emission};
+use crate::estimator::texture::surface_emission;
 use crate::gpu_scene::GpuScene;
-use crate::gpu_types::{HAS_COLORS, HAS_NORMALS, Hit, SLOT_BASE, THIN_WALLED, Triangle};
+use crate::gpu_types::{Hit, THIN_WALLED, Triangle};
 use crate::material_kind::MaterialKind;
 
 /// A hit surface point and what its BSDF is made from.
@@ -46,53 +45,16 @@ impl SurfacePoint {
         let tri = *found.tri;
         let material = &scene.materials[tri.material as usize];
         let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
-        let ng_raw = (v1 - v0).cross(v2 - v0).normalize();
-        let front = path.direction.dot(ng_raw) < 0.0;
-        let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
-        let p = v0 * b[0] + v1 * b[1] + v2 * b[2];
-        let ng = if front { ng_raw } else { -ng_raw };
-        let shading = found.shading;
-        let mut ns = ng;
-        let mut n_interpolated = ng;
-        if tri.has_normals & HAS_NORMALS != 0 {
-            let n = Vec3::from(shading.n0) * b[0]
-                + Vec3::from(shading.n1) * b[1]
-                + Vec3::from(shading.n2) * b[2];
-            n_interpolated = n.normalize();
-            ns = if n_interpolated.dot(ng) < 0.0 {
-                -n_interpolated
-            } else {
-                n_interpolated
-            };
-        }
-        let uv = (tri.has_uvs != 0).then(|| {
-            Vec2::from(shading.uv0) * b[0]
-                + Vec2::from(shading.uv1) * b[1]
-                + Vec2::from(shading.uv2) * b[2]
-        });
-        let mut color = match uv {
-            Some(uv) if !material.texture(SLOT_BASE).is_empty() => {
-                base_color_texture(scene, material, uv)
-            }
-            _ => Vec3::from(material.color),
-        };
-        if tri.has_normals & HAS_COLORS != 0 {
-            color *= vertex_color(shading, b);
-        }
-        let mut inputs = PbrInputs::default();
-        if material.kind == MaterialKind::Pbr.tag() {
-            inputs = pbr_inputs_at(
-                scene,
-                material,
-                &found,
-                hit,
-                uv,
-                n_interpolated,
-                ng,
-                &mut ns,
-                path,
-            );
-        }
+        let winding = (v1 - v0).cross(v2 - v0);
+        let ng_raw = winding.normalize();
+        let front = path.direction.dot(winding) < 0.0;
+        let Shading {
+            p,
+            ng,
+            ns,
+            color,
+            inputs,
+        } = shading_at(scene, &found, hit, winding, front, path);
         let surface = Surface::of_material(
             scene,
             material,

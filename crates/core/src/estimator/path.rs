@@ -8,6 +8,9 @@ pub const WGSL: &str = include_str!("path.wgsl");
 
 use glam::{Vec2, Vec3};
 
+mod hit_shading;
+pub(crate) use hit_shading::{Shading, shading_at};
+
 use super::camera::{camera_ray, film_pixel};
 use super::hit::MISS;
 use super::light::{
@@ -216,58 +219,13 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     if material.kind == MaterialKind::Emissive.tag() || path.depth + 1 >= frame.max_depth {
         return false;
     }
-    let b0 = 1.0 - hit.b1 - hit.b2;
-    let p = v0 * b0 + v1 * hit.b1 + v2 * hit.b2;
-    let ng = if front {
-        ng_raw.normalize()
-    } else {
-        -ng_raw.normalize()
-    };
-    let mut ns = ng;
-    let mut n_interpolated = ng;
-    if tri.has_normals & crate::gpu_types::HAS_NORMALS != 0 {
-        let shading = surface_triangle.shading;
-        let n = Vec3::from(shading.n0) * b0
-            + Vec3::from(shading.n1) * hit.b1
-            + Vec3::from(shading.n2) * hit.b2;
-        n_interpolated = n.normalize();
-        ns = if n_interpolated.dot(ng) < 0.0 {
-            -n_interpolated
-        } else {
-            n_interpolated
-        };
-    }
-    let uv = (tri.has_uvs != 0).then(|| {
-        let shading = surface_triangle.shading;
-        Vec2::from(shading.uv0) * b0
-            + Vec2::from(shading.uv1) * hit.b1
-            + Vec2::from(shading.uv2) * hit.b2
-    });
-    let color = match uv {
-        Some(uv) if !material.texture(SLOT_BASE).is_empty() => {
-            base_color_texture(scene, material, uv)
-        }
-        _ => Vec3::from(material.color),
-    };
-    let color = if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
-        color * vertex_color(surface_triangle.shading, [b0, hit.b1, hit.b2])
-    } else {
-        color
-    };
-    let mut inputs = PbrInputs::default();
-    if material.kind == MaterialKind::Pbr.tag() {
-        inputs = pbr_inputs_at(
-            scene,
-            material,
-            &surface_triangle,
-            hit,
-            uv,
-            n_interpolated,
-            ng,
-            &mut ns,
-            path,
-        );
-    }
+    let Shading {
+        p,
+        ng,
+        ns,
+        color,
+        inputs,
+    } = shading_at(scene, &surface_triangle, hit, ng_raw, front, path);
     let surface = Surface::of_material(
         scene,
         material,
@@ -365,7 +323,7 @@ fn add_emission(
 /// (`ns`, the shading normal, follows the base's), the channel a dispersive volume keeps, and the
 /// tangent its anisotropy turns about.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn pbr_inputs_at(
+fn pbr_inputs_at(
     scene: &GpuScene,
     material: &crate::gpu_types::Material,
     surface_triangle: &super::instances::HitTriangle<'_>,
