@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use crate::accumulation::{PixelSums, add_pixels, add_sample, add_splat, pixel_mean};
 use crate::adaptive::{Adaptive, AdaptiveStreams, sums_f64};
+use crate::estimator::path::FirstHit;
 use crate::estimator::trace_path;
 use crate::first_hits::FirstHits;
 use crate::gpu_scene::GpuScene;
@@ -41,6 +42,21 @@ struct PixelBatch {
     hits: [f32; 2],
     /// The object (+1) the render's first sample met, when this batch took that sample.
     first_object: Option<u32>,
+}
+
+impl PixelBatch {
+    /// Adds a sample's first hit: its guides, coverage and distance, and (from the render's first
+    /// sample) the object it met.
+    fn add_first_hit(&mut self, f: &FirstHit, first_of_render: bool) {
+        for (sum, v) in self.guides.iter_mut().zip([f.albedo, f.normal, f.emission]) {
+            *sum += v;
+        }
+        self.hits[0] += f.coverage;
+        self.hits[1] += f.depth * f.coverage;
+        if first_of_render {
+            self.first_object = Some(f.object);
+        }
+    }
 }
 
 /// A frame's samples accumulated on the CPU.
@@ -108,10 +124,6 @@ impl CpuAccumulation {
         }
         let refused = crate::bdpt::refusal(scene, frame)
             .or(self.adaptive.is_some().then_some("adaptive sampling"))
-            .or(self
-                .guides
-                .is_some()
-                .then_some("the denoiser's guides and AOVs"))
             .or((frame.clamp_max > 0.0).then_some("the firefly clamp"));
         if let Some(what) = refused {
             return Err(format!(
@@ -190,20 +202,8 @@ impl CpuAccumulation {
                         // A sample that is not finite (or absurdly large) is dropped, as the
                         // kernels drop it: it adds zero and still counts.
                         add_sample(&mut pixel.sums[(s & 1) as usize], path.radiance.to_array());
-                        let Some(f) = path.first_hit else {
-                            continue;
-                        };
-                        for (sum, v) in pixel
-                            .guides
-                            .iter_mut()
-                            .zip([f.albedo, f.normal, f.emission])
-                        {
-                            *sum += v;
-                        }
-                        pixel.hits[0] += f.coverage;
-                        pixel.hits[1] += f.depth * f.coverage;
-                        if s == first_of_render {
-                            pixel.first_object = Some(f.object);
+                        if let Some(f) = path.first_hit {
+                            pixel.add_first_hit(&f, s == first_of_render);
                         }
                     }
                 }
@@ -228,29 +228,8 @@ impl CpuAccumulation {
             if let Some(streams_added) = &mut streams_added {
                 streams_added.push(add.sums.map(|s| sums_f64(&s)));
             }
-            let sampled = before[i] == self.samples || self.adaptive.is_none();
-            if let Some(g) = self.guides.as_mut().filter(|_| sampled) {
-                // Running means over the pixel's own samples.
-                let n = before[i] as f32;
-                for (plane, sum) in [&mut g.albedo, &mut g.normal, &mut g.emission]
-                    .into_iter()
-                    .zip(add.guides)
-                {
-                    let mean = glam::Vec3::from(plane[i]);
-                    plane[i] = ((mean * n + sum) / (n + count as f32)).to_array();
-                }
-            }
-            if let Some(h) = self.hits.as_mut().filter(|_| sampled) {
-                let n = before[i] as f32;
-                for (plane, sum) in [&mut h.coverage, &mut h.depth_weighted]
-                    .into_iter()
-                    .zip(add.hits)
-                {
-                    plane[i] = (plane[i] * n + sum) / (n + count as f32);
-                }
-                if let Some(object) = add.first_object {
-                    h.object[i] = object;
-                }
+            if before[i] == self.samples || self.adaptive.is_none() {
+                self.fold_first_hits(i, &add, before[i], count);
             }
         }
         self.scratch = scratch;
@@ -280,7 +259,9 @@ impl CpuAccumulation {
             choice,
         };
         let width = self.width as usize;
-        let mut batch = vec![PixelSums::default(); self.sums.len()];
+        let guides = self.guides.is_some();
+        let first_of_render = self.first_sample;
+        let mut batch = vec![PixelBatch::default(); self.sums.len()];
         type Splats = Vec<((u32, u32), glam::Vec3)>;
         let rows: Option<Vec<(u64, Splats)>> = batch
             .par_chunks_mut(width.max(1))
@@ -292,9 +273,13 @@ impl CpuAccumulation {
                 let (mut rays, mut splats) = (0, Vec::new());
                 for (x, pixel) in row.iter_mut().enumerate() {
                     for s in first..first + count {
-                        let sample = walks.sample(x as u32, y as u32, s, scratch, &mut splats);
+                        let (x, y) = (x as u32, y as u32);
+                        let sample = walks.sample(x, y, s, guides, scratch, &mut splats);
                         rays += u64::from(sample.rays);
-                        add_sample(pixel, sample.radiance.to_array());
+                        add_sample(&mut pixel.sums[0], sample.radiance.to_array());
+                        if let Some(f) = sample.first_hit {
+                            pixel.add_first_hit(&f, s == first_of_render);
+                        }
                     }
                 }
                 Some((rays, splats))
@@ -308,15 +293,43 @@ impl CpuAccumulation {
             for ((x, y), value) in splats {
                 let i = y as usize * width + x as usize;
                 if let Some(pixel) = batch.get_mut(i) {
-                    add_splat(pixel, value.to_array());
+                    add_splat(&mut pixel.sums[0], value.to_array());
                 }
             }
         }
-        for (sum, add) in self.sums.iter_mut().zip(&batch) {
-            *sum = add_pixels(sum, add);
+        for (i, add) in batch.iter().enumerate() {
+            self.sums[i] = add_pixels(&self.sums[i], &add.sums[0]);
+            self.fold_first_hits(i, add, self.samples, count);
         }
         self.samples += count;
         true
+    }
+
+    /// Folds a batch's sums of guides and first hits at pixel `i` into their running means over
+    /// the pixel's own samples: `before` so far, `count` in the batch.
+    fn fold_first_hits(&mut self, i: usize, add: &PixelBatch, before: u32, count: u32) {
+        let n = before as f32;
+        let total = n + count as f32;
+        if let Some(g) = self.guides.as_mut() {
+            for (plane, sum) in [&mut g.albedo, &mut g.normal, &mut g.emission]
+                .into_iter()
+                .zip(add.guides)
+            {
+                let mean = glam::Vec3::from(plane[i]);
+                plane[i] = ((mean * n + sum) / total).to_array();
+            }
+        }
+        if let Some(h) = self.hits.as_mut() {
+            for (plane, sum) in [&mut h.coverage, &mut h.depth_weighted]
+                .into_iter()
+                .zip(add.hits)
+            {
+                plane[i] = (plane[i] * n + sum) / total;
+            }
+            if let Some(object) = add.first_object {
+                h.object[i] = object;
+            }
+        }
     }
 
     /// Each pixel's sample count: with adaptive sampling, the count its value's variance

@@ -20,8 +20,8 @@ impl RtApp {
             None,
             JobOptions {
                 preview_every: Some(Duration::from_millis(500)),
-                // Bidirectional path tracing keeps no guides, and renders on the CPU backend.
-                keep_aovs: !bidirectional,
+                // Bidirectional path tracing renders on the CPU backend.
+                keep_aovs: true,
                 on_cpu: bidirectional || self.ui.render_device.on_cpu(false).0,
             },
             self.waker(),

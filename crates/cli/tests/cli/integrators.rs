@@ -1,6 +1,6 @@
 //! `--integrator bdpt`: renders the built-in scene on the CPU backend (where `--device auto` puts
-//! it) to the path tracer's image within noise, and is refused, naming what, with a GPU and with
-//! what it does not do.
+//! it) to the path tracer's image within noise, writes alpha and passes, and is refused, naming
+//! what, with a GPU and with what it does not do.
 
 use super::{rt_cli, temp_dir};
 
@@ -54,10 +54,6 @@ fn bdpt_is_refused_with_what_it_does_not_do() {
         ),
         (&["--device", "cpu", "--clamp", "4"][..], "firefly clamp"),
         (
-            &["--device", "cpu", "--aov", "depth"][..],
-            "guides and AOVs",
-        ),
-        (
             &["--device", "cpu", "--projection", "fisheye"][..],
             "projection",
         ),
@@ -70,4 +66,36 @@ fn bdpt_is_refused_with_what_it_does_not_do() {
         assert!(stderr.contains(named), "{extra:?}: {stderr}");
         assert!(!out.exists(), "{extra:?} wrote an image");
     }
+}
+
+/// Its alpha and passes come from the camera rays' first hits, as the path tracer's.
+#[test]
+fn bdpt_writes_alpha_and_passes() {
+    let dir = temp_dir("integrators-passes");
+    for (extra, name) in [
+        (&["--transparent"][..], "alpha.exr"),
+        (&["--aov", "depth,normal,albedo"][..], "passes.exr"),
+        (&["--transparent"][..], "alpha.png"),
+    ] {
+        let mut args = vec!["--integrator", "bdpt", "--spp", "2"];
+        args.extend_from_slice(extra);
+        let (code, stderr, out) = render(&dir, name, &args);
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        assert!(out.exists(), "{extra:?} wrote no image");
+    }
+    let (code, stderr, path) = render(
+        &dir,
+        "path-alpha.png",
+        &["--device", "cpu", "--spp", "2", "--transparent"],
+    );
+    assert_eq!(code, 0, "{stderr}");
+    let alpha = |file: &std::path::Path| -> Vec<u8> {
+        let image = image::open(file).unwrap().to_rgba8();
+        image.pixels().map(|p| p.0[3]).collect()
+    };
+    assert_eq!(
+        alpha(&dir.join("alpha.png")),
+        alpha(&path),
+        "bdpt's alpha is not the path tracer's (the same camera rays)"
+    );
 }

@@ -36,6 +36,7 @@ pub use subpath::Walks;
 use vertex::Vertex;
 
 use crate::estimator::camera::film_pixel;
+use crate::estimator::path::FirstHit;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{Frame, PbrLobe};
 use crate::material_kind::MaterialKind;
@@ -45,12 +46,14 @@ use crate::math::rng::Rng;
 /// A stream number the light subpaths' random numbers are drawn with, apart from the camera's.
 const LIGHT_STREAM: u32 = 0x6c69_6768;
 
-/// One pixel sample's result: what it adds to its own pixel, and the light-tracing splats it
-/// adds anywhere (pixel, value).
+/// One pixel sample's result: what it adds to its own pixel (the light-tracing splats it adds
+/// anywhere go elsewhere), and what its camera ray met first when asked (the denoiser's guides,
+/// alpha, depth and object: the same camera ray, so the same values, as the path tracer's).
 #[derive(Clone, Debug, Default)]
 pub struct BdptSample {
     pub radiance: Vec3,
     pub rays: u32,
+    pub first_hit: Option<FirstHit>,
 }
 
 /// The subpaths a thread reuses from sample to sample.
@@ -62,18 +65,19 @@ pub struct Scratch {
 
 impl Walks<'_> {
     /// Pixel (x, y)'s sample `sample`: its own radiance (all strategies with t ≥ 2), with the
-    /// light-tracing splats pushed onto `splats`.
+    /// light-tracing splats pushed onto `splats`; with `guides`, its first hit.
     pub fn sample(
         &self,
         x: u32,
         y: u32,
         sample: u32,
+        guides: bool,
         scratch: &mut Scratch,
         splats: &mut Vec<((u32, u32), Vec3)>,
     ) -> BdptSample {
         let mut camera_path = std::mem::take(&mut scratch.camera);
         let mut light_path = std::mem::take(&mut scratch.light);
-        let camera_state = self.camera_subpath(x, y, sample, &mut camera_path);
+        let camera_state = self.camera_subpath(x, y, sample, guides, &mut camera_path);
         let mut rng = camera_state.rng;
         let light_rng = Rng::new(
             film_pixel(self.frame, x, y),
@@ -100,7 +104,11 @@ impl Walks<'_> {
         }
         scratch.camera = camera_path;
         scratch.light = light_path;
-        BdptSample { radiance, rays }
+        BdptSample {
+            radiance,
+            rays,
+            first_hit: camera_state.first_hit,
+        }
     }
 }
 

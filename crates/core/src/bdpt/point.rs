@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use crate::estimator::instances::hit_triangle;
-use crate::estimator::path::{PathState, Shading, shading_at};
+use crate::estimator::path::{PathState, Shading, first_hit_albedo, shading_at};
 use crate::estimator::surface::{PbrInputs, Surface};
 use crate::estimator::texture::surface_emission;
 use crate::gpu_scene::GpuScene;
@@ -65,7 +65,7 @@ impl SurfacePoint {
             ns,
             front,
         );
-        SurfacePoint {
+        let point = SurfacePoint {
             p,
             ng: ng_raw,
             ns,
@@ -78,7 +78,17 @@ impl SurfacePoint {
             barycentrics: (hit.b1, hit.b2),
             surface,
             arrival: path.direction,
+        };
+        // A camera subpath's first hit, recorded as the path tracer's `shade_vertex` does.
+        if path.depth == 0
+            && let Some(f) = path.first_hit.as_mut()
+        {
+            f.albedo = first_hit_albedo(scene, material, &found, hit);
+            f.normal = ng;
+            (f.coverage, f.depth, f.object) = (1.0, hit.t, tri.material + 1);
+            f.emission = point.emitted(scene, -path.direction);
         }
+        point
     }
 
     /// The BSDF for light arriving along `arrival` (a unit direction towards this point): the

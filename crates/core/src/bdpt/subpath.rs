@@ -13,7 +13,7 @@ use super::point::SurfacePoint;
 use super::vertex::{Point, Vertex};
 use crate::estimator::hit::MISS;
 use crate::estimator::light::escaped;
-use crate::estimator::path::{PathState, start_path};
+use crate::estimator::path::{FirstHit, PathState, start_path};
 use crate::estimator::trace;
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::Frame;
@@ -31,10 +31,18 @@ pub struct Walks<'a> {
 impl Walks<'_> {
     /// Pixel (x, y)'s camera subpath of sample `sample` into `path` (at most `max_depth` + 1
     /// vertices: the lens and what the segments meet). Returns the path's state (its random
-    /// numbers and rays traced).
-    pub fn camera_subpath(&self, x: u32, y: u32, sample: u32, path: &mut Vec<Vertex>) -> PathState {
+    /// numbers, rays traced and, with `guides`, its first hit as the path tracer records it).
+    pub fn camera_subpath(
+        &self,
+        x: u32,
+        y: u32,
+        sample: u32,
+        guides: bool,
+        path: &mut Vec<Vertex>,
+    ) -> PathState {
         path.clear();
         let mut state = start_path(self.frame, x, y, sample);
+        state.first_hit = guides.then(FirstHit::default);
         if state.beta == Vec3::ZERO {
             return state;
         }
@@ -207,6 +215,9 @@ impl Walks<'_> {
                     } else {
                         escaped(scene, frame, state.direction, 0.0)
                     };
+                    if let Some(f) = state.first_hit.as_mut().filter(|_| path.len() == 1) {
+                        f.emission = le;
+                    }
                     let p = path[last].p + state.direction;
                     path.push(Vertex::new(
                         Point::Environment {

@@ -404,6 +404,43 @@ fn light_tracing_alone_agrees_with_path_tracing() {
     }
 }
 
+/// With the denoiser's guides asked for, bdpt records each sample's first hit as the path tracer
+/// does, from the same camera rays: guides, alpha, depth and object ids equal the path tracer's
+/// bit for bit (in a room with glass and metal, and outdoors where camera rays escape to a sky
+/// map).
+#[test]
+fn bdpt_records_the_path_tracers_first_hits() {
+    let room = room(glass_things(), point_and_spot(), (16, 12));
+    for (what, (scene, frame)) in [
+        ("room", room),
+        ("outdoors", outdoors(Some(sky()), [0.0; 3])),
+    ] {
+        let go = AtomicBool::new(false);
+        let run = |integrator| {
+            let accumulation = CpuAccumulation::new(&frame, 0, None, true);
+            let mut accumulation = accumulation
+                .with_integrator(integrator, &scene, &frame)
+                .unwrap();
+            assert!(accumulation.add_batch(&scene, &frame, 3, &go));
+            assert!(accumulation.add_batch(&scene, &frame, 2, &go));
+            accumulation
+        };
+        let (path, bdpt) = (run(Integrator::Path), run(Integrator::Bdpt));
+        let (a, b) = (path.guides().unwrap(), bdpt.guides().unwrap());
+        assert_eq!(a.albedo, b.albedo, "{what}: albedo");
+        assert_eq!(a.normal, b.normal, "{what}: normal");
+        assert_eq!(a.emission, b.emission, "{what}: emission");
+        let (a, b) = (path.first_hits().unwrap(), bdpt.first_hits().unwrap());
+        assert_eq!(a.coverage, b.coverage, "{what}: coverage");
+        assert_eq!(a.depth_weighted, b.depth_weighted, "{what}: depth");
+        assert_eq!(a.object, b.object, "{what}: objects");
+        assert!(b.coverage.contains(&1.0), "{what}: nothing met");
+        // Outdoors some camera rays see the sky: the escaped rays' emission is compared too.
+        let emitting = bdpt.guides().unwrap().emission.iter().any(|e| e[0] > 0.0);
+        assert!(emitting || what == "room", "{what}: no light seen directly");
+    }
+}
+
 /// Images of light tracing alone: `count` blocks of `per_block` light subpaths per pixel.
 fn light_tracing_blocks(
     scene: &GpuScene,
@@ -465,7 +502,7 @@ fn mis_weights_of_one_path_sum_to_one() {
         let mut checked = 0;
         for sample in 0..4000u32 {
             let (x, y) = (sample % 16, (sample / 16) % 12);
-            walks.camera_subpath(x, y, sample, &mut camera);
+            walks.camera_subpath(x, y, sample, false, &mut camera);
             let rng = crate::math::rng::Rng::new(sample, sample, 5);
             walks.light_subpath(rng, &mut light);
             for t in 2..=camera.len() {

@@ -557,7 +557,7 @@ fn scatter_in_medium(
 
 /// The denoiser's albedo guide at a first hit: an emitter's colour scaled to a peak of 1, else the
 /// surface's colour with its base colour image and vertex colours.
-fn first_hit_albedo(
+pub(crate) fn first_hit_albedo(
     scene: &GpuScene,
     material: &crate::gpu_types::Material,
     surface_triangle: &super::instances::HitTriangle<'_>,

@@ -159,8 +159,8 @@ fn integrator_choice(ui: &mut Ui, integrator: &mut rt_core::Integrator) {
             .on_hover_text(
                 "Paths from the lights too, joined to the camera's: caustics (light focused through \
                  glass or off mirrors onto surfaces) that path tracing finds slowly or not at all. \
-                 Renders on the CPU whatever the device; no fog, adaptive sampling, firefly clamp \
-                 or render passes",
+                 Renders on the CPU whatever the device; no fog, adaptive sampling or firefly \
+                 clamp",
             );
     });
 }
