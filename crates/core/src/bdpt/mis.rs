@@ -28,8 +28,8 @@ pub fn weight(
         return 1.0;
     }
     let (scene, frame, choice) = (walks.scene, walks.frame, walks.choice);
-    // Light that only a camera subpath finds (an environment no light subpath starts from, as
-    // when its light does not add up to a finite flux) has no other strategy.
+    // Light that only a camera subpath finds has no other strategy: an environment no light
+    // subpath starts from (the uniform ambient light, or a map without light above its mean).
     if s == 0
         && matches!(camera[t - 1].point, Point::Environment { .. })
         && choice.environment <= 0.0
