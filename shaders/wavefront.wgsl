@@ -90,9 +90,9 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
     ray_queues[i] = i;
     if (WRITE_AOVS) {
         // Stay zero if the path never reaches a vertex (max depth 0).
-        path_aovs[3u * i] = vec4(0.0);
-        path_aovs[3u * i + 1u] = vec4(0.0);
-        path_aovs[3u * i + 2u] = vec4(0.0);
+        for (var k = 0u; k < AOV_VECS; k++) {
+            path_aovs[AOV_VECS * i + k] = vec4(0.0);
+        }
     }
 }
 
@@ -122,9 +122,11 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     let goes_on = shade_vertex(&path, paths[p].hit, &rng, &shadow, true, &rays);
     if (WRITE_AOVS && first) {
         let values = aov_sample_values();
-        path_aovs[3u * p] = values.albedo;
-        path_aovs[3u * p + 1u] = values.normal;
-        path_aovs[3u * p + 2u] = values.emission;
+        let a = AOV_VECS * p;
+        path_aovs[a] = values.albedo;
+        path_aovs[a + 1u] = values.normal;
+        path_aovs[a + 2u] = values.emission;
+        path_aovs[a + 3u] = values.caught;
     }
     paths[p].path = path;
     paths[p].rng = rng;
@@ -191,7 +193,8 @@ fn finish(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         let n = f32(frame.sample_base + s + 1u);
         if (WRITE_AOVS) {
-            let values = AovMeans(path_aovs[3u * i], path_aovs[3u * i + 1u], path_aovs[3u * i + 2u]);
+            let a = AOV_VECS * i;
+            let values = AovMeans(path_aovs[a], path_aovs[a + 1u], path_aovs[a + 2u], path_aovs[a + 3u]);
             add_aov_sample(&aov_means, values, n);
         }
     }

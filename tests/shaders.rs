@@ -369,6 +369,12 @@ fn shared_constants_match_wgsl() {
         ("THIN_WALLED", gpu_types::THIN_WALLED),
         ("ALPHA_MASK", gpu_types::ALPHA_MASK),
         ("ALPHA_BLEND", gpu_types::ALPHA_BLEND),
+        ("TANGENTS", gpu_types::TANGENTS),
+        ("SHADOW_CATCHER", gpu_types::SHADOW_CATCHER),
+        (
+            "AOV_VECS",
+            (rt_gpu::renderer::AOV_BYTES_PER_PIXEL / 16) as u32,
+        ),
         ("SLOT_BASE", gpu_types::SLOT_BASE),
         (
             "SLOT_METALLIC_ROUGHNESS",

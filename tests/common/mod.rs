@@ -18,6 +18,7 @@ pub fn gpu() -> Option<&'static GpuContext> {
 
 pub fn object(name: &str, mesh: Mesh, material: Material) -> Object {
     Object {
+        shadow_catcher: false,
         name: name.into(),
         mesh: mesh.into(),
         material,

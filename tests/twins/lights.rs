@@ -19,6 +19,7 @@ fn cornell_with_many_lights() -> rt_core::Scene {
         let u = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
         let strength = 10f32.powf(2.0 * rng.next_f32());
         scene.objects.push(rt_core::Object {
+            shadow_catcher: false,
             name: format!("light {i}"),
             mesh: rt_core::shapes::quad(lo + (hi - lo) * u, unit(&mut rng), 40.0).into(),
             material: rt_core::Material::Emissive {

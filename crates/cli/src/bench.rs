@@ -109,6 +109,7 @@ fn material_scene(all: bool) -> Result<Scene> {
         ..Transform::default()
     };
     scene.objects.push(Object {
+        shadow_catcher: false,
         name: "metal ball".into(),
         mesh: sphere.clone(),
         material: Material::Metal {
@@ -119,6 +120,7 @@ fn material_scene(all: bool) -> Result<Scene> {
     });
     if all {
         scene.objects.push(Object {
+            shadow_catcher: false,
             name: "glass ball".into(),
             mesh: sphere.clone(),
             material: Material::Dielectric {
@@ -145,6 +147,7 @@ fn material_scene(all: bool) -> Result<Scene> {
             rgba8: texels.into(),
         });
         scene.objects.push(Object {
+            shadow_catcher: false,
             name: "textured ball".into(),
             mesh: sphere,
             material: Material::Lambertian {

@@ -21,11 +21,16 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
     println!("objects: {}", scene.objects.len());
     for o in &scene.objects {
         println!(
-            "  {:<24} {:>8} triangles  {:<22} {:?}",
+            "  {:<24} {:>8} triangles  {:<22} {:?}{}",
             o.name,
             o.mesh.indices.len(),
             o.material.kind_name(),
-            o.material
+            o.material,
+            if o.shadow_catcher {
+                "  (shadow catcher)"
+            } else {
+                ""
+            }
         );
     }
     println!("textures: {}", scene.textures.len());

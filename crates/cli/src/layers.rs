@@ -61,13 +61,13 @@ pub fn save(
     };
     let size = [image.width, image.height];
     let bytes = if scene.settings.transparent {
-        let coverage = &aovs.hits.coverage;
+        let alpha = aovs.hits.alphas();
         rt_core::output::encode_with_alpha(
             format,
             size,
             &image.pixels,
             counts,
-            coverage,
+            &alpha,
             &extra,
             view,
         )?

@@ -302,7 +302,8 @@ fn save_output(
             let aovs = aovs.context("the render kept no first hits")?;
             if let (Some(into), Some(window)) = (&args.into, scenes.0.settings.film_window) {
                 let size = [image.width, image.height];
-                let layers = (&image.pixels[..], &aovs.hits.coverage[..]);
+                let alpha = aovs.hits.alphas();
+                let layers = (&image.pixels[..], &alpha[..]);
                 return crate::region::compose_into_with_alpha(
                     into,
                     &args.output,
@@ -349,7 +350,8 @@ fn prepare_scene(args: &RenderArgs) -> Result<(Scene, Option<[u32; 2]>)> {
     } else if settings.adaptive_threshold.is_none() {
         settings.adaptive_threshold = args.noise_target.map(|x| x as f32);
     }
-    settings.transparent |= args.transparent;
+    // A shadow catcher shows the background through it: only a transparent film has one.
+    settings.transparent |= args.transparent || !args.scene.shadow_catcher.is_empty();
     crate::layers::check(&args.output, settings.transparent, args.passes())?;
     if let Some(region) = args.region {
         crate::region::apply(settings, region)?;

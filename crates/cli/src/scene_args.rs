@@ -89,6 +89,12 @@ pub struct SceneArgs {
     /// The fog's Henyey–Greenstein anisotropy g in (−1, 1): > 0 scatters forward (default 0).
     #[arg(long, value_name = "G", allow_hyphen_values = true)]
     pub fog_anisotropy: Option<f32>,
+    /// Makes the named object a shadow catcher (repeatable; Cycles' Object ▸ Shadow Catcher): on
+    /// a transparent film it shows only the shadows and the reflections of other objects it
+    /// receives, to composite renders over a photograph (alpha is 1 − the shadowed irradiance
+    /// ratio there). `render` makes its film transparent for it. Names as `rt-cli info` lists them.
+    #[arg(long, value_name = "OBJECT")]
+    pub shadow_catcher: Vec<String>,
     /// Set per frame by an animation (`render --frames`, `--turntable`), not a flag: the time at
     /// which a glTF file's animations place its nodes.
     #[arg(skip)]
@@ -149,6 +155,9 @@ impl SceneArgs {
         } else if self.env_rotation.is_some() || self.env_strength.is_some() {
             anyhow::bail!("--env-rotation and --env-strength need an environment (--environment)");
         }
+        for name in &self.shadow_catcher {
+            mark_shadow_catcher(&mut scene, name)?;
+        }
         let fog = &mut scene.fog;
         fog.density = self.fog_density.unwrap_or(fog.density);
         fog.albedo = self.fog_albedo.unwrap_or(fog.albedo);
@@ -182,6 +191,29 @@ fn orbit_vertically(scene: &mut Scene, turns: f32) {
     let camera = &mut scene.camera;
     camera.from = about(camera.from);
     camera.to = about(camera.to);
+}
+
+/// Makes every object named `name` a shadow catcher; an error lists the names there are.
+fn mark_shadow_catcher(scene: &mut Scene, name: &str) -> Result<()> {
+    let mut found = false;
+    for object in scene.objects.iter_mut().filter(|o| o.name == name) {
+        object.shadow_catcher = true;
+        found = true;
+    }
+    if !found {
+        let names: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+        let more = names.len().saturating_sub(12);
+        anyhow::bail!(
+            "--shadow-catcher {name}: the scene has no object of that name; it has {}{}",
+            names[..names.len().min(12)].join(", "),
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            }
+        );
+    }
+    Ok(())
 }
 
 fn is_gltf(path: &std::path::Path) -> bool {

@@ -40,6 +40,8 @@ struct PixelBatch {
     guides: [glam::Vec3; 3],
     /// Sums of coverage and of distance × coverage (`FirstHits`).
     hits: [f32; 2],
+    /// Sums of what shadow catchers caught (`FirstHits::caught`).
+    caught: glam::Vec3,
     /// The object (+1) the render's first sample met, when this batch took that sample.
     first_object: Option<u32>,
 }
@@ -53,6 +55,7 @@ impl PixelBatch {
         }
         self.hits[0] += f.coverage;
         self.hits[1] += f.depth * f.coverage;
+        self.caught += glam::Vec3::from(f.caught);
         if first_of_render {
             self.first_object = Some(f.object);
         }
@@ -326,6 +329,8 @@ impl CpuAccumulation {
             {
                 plane[i] = (plane[i] * n + sum) / total;
             }
+            let caught = glam::Vec3::from(h.caught[i]);
+            h.caught[i] = ((caught * n + add.caught) / total).to_array();
             if let Some(object) = add.first_object {
                 h.object[i] = object;
             }
@@ -404,6 +409,7 @@ mod tests {
         use crate::shapes::{cuboid, quad};
         use glam::Vec3;
         let object = |name: &str, mesh, material| Object {
+            shadow_catcher: false,
             name: name.into(),
             mesh: std::sync::Arc::new(mesh),
             material,

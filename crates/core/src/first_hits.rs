@@ -14,6 +14,9 @@ pub struct FirstHits {
     /// The object (`Scene::objects` index) plus one that the pixel's first sample met; 0 when it
     /// met none (or scattered in a medium first).
     pub object: Vec<u32>,
+    /// The means of (1, E_lit, E_free) over the samples that met a shadow catcher first, zeros
+    /// over the others (`crate::estimator::shadow_catcher`).
+    pub caught: Vec<[f32; 3]>,
 }
 
 impl FirstHits {
@@ -23,6 +26,7 @@ impl FirstHits {
             coverage: vec![0.0; n],
             depth_weighted: vec![0.0; n],
             object: vec![0; n],
+            caught: vec![[0.0; 3]; n],
         }
     }
 
@@ -39,11 +43,29 @@ impl FirstHits {
         }
     }
 
+    /// Pixel `i`'s alpha on a transparent film: its coverage, less the light its shadow catchers
+    /// show unshadowed (α = coverage − s · Ē_lit / Ē_free, `crate::estimator::shadow_catcher`).
+    pub fn alpha(&self, i: usize) -> f32 {
+        let [share, lit, free] = self.caught.get(i).copied().unwrap_or_default();
+        let unshadowed = if free > 0.0 {
+            (lit / free).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        (self.coverage[i] - share * unshadowed).clamp(0.0, 1.0)
+    }
+
+    /// Every pixel's alpha (`alpha`).
+    pub fn alphas(&self) -> Vec<f32> {
+        (0..self.coverage.len()).map(|i| self.alpha(i)).collect()
+    }
+
     /// Copies `tile` (pixels from `start` on) into these planes.
     pub fn copy_tile(&mut self, start: usize, tile: &FirstHits) {
         let range = start..start + tile.coverage.len();
         self.coverage[range.clone()].copy_from_slice(&tile.coverage);
         self.depth_weighted[range.clone()].copy_from_slice(&tile.depth_weighted);
-        self.object[range].copy_from_slice(&tile.object);
+        self.object[range.clone()].copy_from_slice(&tile.object);
+        self.caught[range].copy_from_slice(&tile.caught);
     }
 }

@@ -26,6 +26,9 @@ pub(crate) fn object_material(
     let label = || format!("object '{}'", object.name);
     object.material.validate(&label()).map_err(Error::Scene)?;
     let mut material = gpu_material(&object.material);
+    if object.shadow_catcher {
+        material.flags |= gpu_types::SHADOW_CATCHER;
+    }
     let texture = match &object.material {
         Material::Lambertian { texture, .. } => *texture,
         Material::Pbr(p) => p.texture,

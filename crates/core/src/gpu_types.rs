@@ -96,7 +96,8 @@ pub struct Material {
     /// emission image.
     pub emission: [f32; 3], // 16
     /// Bit 0 (`THIN_WALLED`) thin-walled transmission; bits 1–2 (`ALPHA_MASK`, `ALPHA_BLEND`) the
-    /// alpha mode; bit 3 (`TANGENTS`) its triangles carry tangents (`GpuScene::tangents`).
+    /// alpha mode; bit 3 (`TANGENTS`) its triangles carry tangents (`GpuScene::tangents`); bit 4
+    /// (`SHADOW_CATCHER`) it catches shadows.
     pub flags: u32, // 28
     /// The kind's parameter block, written and read only as that kind's block type (`lobe_of`).
     pub lobe: [[f32; 4]; LOBE_VEC4S], // 32
@@ -275,6 +276,8 @@ pub const ALPHA_MASK: u32 = 2;
 pub const ALPHA_BLEND: u32 = 4;
 /// The material's triangles have MikkTSpace tangents (normal maps, anisotropy).
 pub const TANGENTS: u32 = 8;
+/// The object is a shadow catcher (`Object::shadow_catcher`; `estimator::shadow_catcher`).
+pub const SHADOW_CATCHER: u32 = 16;
 
 /// The texture slots: indices into `Material::textures` (`Material::sampler_bits` finds each one's
 /// sampler).

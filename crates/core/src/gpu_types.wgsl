@@ -45,7 +45,7 @@ struct Material {
     color: vec3<f32>,        // 0: albedo, metal reflectance, glass tint or PBR base colour
     kind: u32,               // 12
     emission: vec3<f32>,     // 16
-    flags: u32,              // 28: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND, 3 TANGENTS
+    flags: u32,              // 28: bit 0 THIN_WALLED, 1 ALPHA_MASK, 2 ALPHA_BLEND, 3 TANGENTS, 4 SHADOW_CATCHER
     lobe: array<vec4<f32>, 8>,  // 32: the kind's parameter block
     alpha: f32,              // 160: the coverage factor
     alpha_cutoff: f32,       // 164
@@ -118,6 +118,7 @@ const THIN_WALLED: u32 = 1u;
 const ALPHA_MASK: u32 = 2u;
 const ALPHA_BLEND: u32 = 4u;
 const TANGENTS: u32 = 8u;
+const SHADOW_CATCHER: u32 = 16u;
 const SLOT_BASE: u32 = 0u;
 const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
 const SLOT_NORMAL: u32 = 2u;

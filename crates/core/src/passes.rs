@@ -184,6 +184,7 @@ mod tests {
             ),
         ] {
             scene.objects.push(crate::scene::Object {
+                shadow_catcher: false,
                 name: name.into(),
                 mesh: mesh.clone(),
                 material,
@@ -198,6 +199,7 @@ mod tests {
             coverage: vec![1.0, 0.0],
             depth_weighted: vec![2.5, 0.0],
             object: vec![3, 0],
+            caught: vec![[0.0; 3]; 2],
         };
         let (albedo, normal) = (
             [[0.1, 0.2, 0.3], [0.4, 0.5, 0.6]],

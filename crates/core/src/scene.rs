@@ -66,6 +66,11 @@ pub struct Object {
     pub material: Material,
     #[serde(default)]
     pub transform: Transform,
+    /// A shadow catcher (Cycles' Object ▸ Shadow Catcher): on a transparent film it shows only
+    /// the shadows and the reflections of other objects it receives
+    /// (`estimator::shadow_catcher`); on an opaque one it renders as its material.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub shadow_catcher: bool,
 }
 
 /// An RGBA8 image in sRGB encoding, referenced by `Material::Lambertian::texture`.

@@ -32,6 +32,7 @@ fn glass_cornell() -> Scene {
         ..Default::default()
     };
     scene.objects.push(Object {
+        shadow_catcher: false,
         name: "smooth glass".into(),
         mesh: ball.clone(),
         material: Material::Dielectric {
@@ -41,6 +42,7 @@ fn glass_cornell() -> Scene {
         transform: at(190.0, 330.0, 250.0),
     });
     scene.objects.push(Object {
+        shadow_catcher: false,
         name: "rough glass".into(),
         mesh: ball,
         material: Material::Pbr(Box::new(Pbr {

@@ -53,6 +53,7 @@ fn scene(textures: Vec<Texture>) -> Scene {
         indices: vec![[0, 1, 2]],
     });
     let object = |name: &str, material| Object {
+        shadow_catcher: false,
         name: name.into(),
         mesh: quad.clone(),
         material,

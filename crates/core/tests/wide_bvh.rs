@@ -18,6 +18,7 @@ fn scene_of(positions: Vec<Vec3>) -> Scene {
         .collect();
     Scene {
         objects: vec![Object {
+            shadow_catcher: false,
             name: "soup".into(),
             mesh: Arc::new(Mesh {
                 positions,

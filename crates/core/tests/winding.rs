@@ -14,6 +14,7 @@ use rt_core::{Camera, GpuScene, Material};
 fn glass_ball(mesh: Mesh) -> Scene {
     Scene {
         objects: vec![Object {
+            shadow_catcher: false,
             name: "ball".into(),
             mesh: Arc::new(mesh),
             material: Material::Dielectric {

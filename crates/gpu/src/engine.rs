@@ -250,6 +250,7 @@ mod tests {
     /// A floor under `lights` point lights and, with `lamp`, an emissive quad.
     fn scene(lights: usize, lamp: bool, sampler: LightSampler) -> Scene {
         let quad = |y: f32, material| Object {
+            shadow_catcher: false,
             name: "quad".into(),
             mesh: rt_core::shapes::quad(glam::Vec3::new(0.0, y, 0.0), glam::Vec3::Y, 4.0).into(),
             material,

@@ -12,9 +12,9 @@ use crate::context::GpuContext;
 use crate::error::Result;
 use crate::image::{Aovs, Image};
 
-/// Bytes per pixel of the denoiser's guides (albedo, normal and directly seen light, a `vec4`
-/// each), all in one binding.
-pub const AOV_BYTES_PER_PIXEL: u64 = 48;
+/// Bytes per pixel of the denoiser's guides (albedo, normal and directly seen light) and of what
+/// shadow catchers caught, a `vec4` each, all in one binding (path.wgsl `AovMeans`).
+pub const AOV_BYTES_PER_PIXEL: u64 = 64;
 
 /// The exact sums of a tile of `pixels`: red, green, blue, squared luminance, a buffer each.
 fn accumulation_bytes(pixels: u64) -> u64 {
@@ -37,7 +37,7 @@ pub(crate) fn check_sizes(ctx: &GpuContext, pixels: u64, aovs: bool) -> Result<(
         accumulation_bytes(pixels),
     )?;
     ctx.check_buffer(
-        "albedo, normal, emission (width x height x 48 bytes)",
+        "albedo, normal, emission, shadow catchers (width x height x 64 bytes)",
         aov_bytes(pixels, aovs),
     )
 }
@@ -132,17 +132,18 @@ impl Outputs {
         let size = u64::from(width) * u64::from(rows) * AOV_BYTES_PER_PIXEL;
         let bytes = read_buffer(ctx, &self.aovs, size)?;
         let values: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&bytes);
-        let take = |k: usize| {
+        const VECS: usize = (AOV_BYTES_PER_PIXEL / 16) as usize;
+        let xyz = |k: usize| {
             values
                 .iter()
                 .skip(k)
-                .step_by(3)
+                .step_by(VECS)
                 .map(|v| [v[0], v[1], v[2]])
-                .collect()
         };
+        let take = |k: usize| xyz(k).collect();
         // The w channels: coverage, distance × coverage, the first sample's object + 1
         // (path.wgsl `aov_sample_values`).
-        let w = |k: usize| values.iter().skip(k).step_by(3).map(|v| v[3]);
+        let w = |k: usize| values.iter().skip(k).step_by(VECS).map(|v| v[3]);
         Ok(Aovs {
             albedo: take(0),
             normal: take(1),
@@ -151,6 +152,7 @@ impl Outputs {
                 coverage: w(0).collect(),
                 depth_weighted: w(1).collect(),
                 object: w(2).map(|o| o as u32).collect(),
+                caught: xyz(3).collect(),
             },
         })
     }

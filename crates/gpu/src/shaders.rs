@@ -98,6 +98,10 @@ pub const LIGHT: WgslFile = (
     "crates/core/src/estimator/light.wgsl",
     rt_core::estimator::light::WGSL,
 );
+pub const SHADOW_CATCHER: WgslFile = (
+    "crates/core/src/estimator/shadow_catcher.wgsl",
+    rt_core::estimator::shadow_catcher::WGSL,
+);
 pub const MEDIA: WgslFile = (
     "crates/core/src/estimator/media.wgsl",
     rt_core::estimator::media::WGSL,
@@ -156,6 +160,7 @@ pub const FILES: &[WgslFile] = &[
     SURFACE,
     LIGHT_TREE,
     LIGHT,
+    SHADOW_CATCHER,
     MEDIA,
     SHADING,
     CAMERA,
@@ -206,6 +211,7 @@ macro_rules! tracing_module {
                 SURFACE,
                 LIGHT_TREE,
                 LIGHT,
+                SHADOW_CATCHER,
                 MEDIA,
                 SHADING,
                 CAMERA,

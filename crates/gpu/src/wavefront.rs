@@ -14,6 +14,7 @@ use crate::buffers::output_buffer;
 use crate::context::GpuContext;
 use crate::error::{GpuError, Result};
 use crate::options::Kernel;
+use crate::outputs::AOV_BYTES_PER_PIXEL;
 use crate::pipeline_cache::{KernelPipelines, PipelineKey};
 use crate::pipelines::{forget, kernel_pipelines};
 
@@ -116,9 +117,9 @@ impl Wavefront {
             (
                 "wavefront path AOVs",
                 if key.aovs {
-                    u64::from(capacity) * 48
+                    u64::from(capacity) * AOV_BYTES_PER_PIXEL
                 } else {
-                    48
+                    AOV_BYTES_PER_PIXEL
                 },
             ),
         ];

@@ -42,6 +42,7 @@ pub fn mesh_object_scene(path: &Path, mesh: Mesh, seed: u32) -> Scene {
         .map_or_else(|| "mesh".to_string(), |s| s.to_string_lossy().into_owned());
     let mut scene = Scene::default();
     scene.objects.push(Object {
+        shadow_catcher: false,
         name,
         mesh: Arc::new(mesh),
         material: Material::lambertian(albedo),

@@ -311,6 +311,7 @@ fn seed_project() -> (Vec<u8>, Vec<(String, Vec<u8>)>) {
         rgba8: vec![255, 0, 0, 255, 0, 0, 255, 255].into(),
     });
     scene.objects.push(rt_core::Object {
+        shadow_catcher: false,
         name: "ball".into(),
         mesh: rt_core::shapes::uv_sphere(40.0, 4, 6).into(),
         material: rt_core::Material::Lambertian {
@@ -513,6 +514,7 @@ fn ten_thousand_malformed_mesh_files(
             if let Ok(mesh) = read(&bytes) {
                 let scene = rt_core::Scene {
                     objects: vec![rt_core::scene::Object {
+                        shadow_catcher: false,
                         name: "fuzz".into(),
                         mesh: mesh.into(),
                         material: rt_core::Material::lambertian([0.5; 3]),

@@ -300,6 +300,7 @@ fn a_texture_without_uvs_renders_white_with_a_warning() {
         rgba8: vec![255, 0, 0, 255].into(),
     });
     scene.objects.push(rt_core::Object {
+        shadow_catcher: false,
         name: "no uvs".into(),
         mesh: rt_core::shapes::quad(glam::Vec3::ZERO, glam::Vec3::Z, 1.0).into(),
         material: Material::Lambertian {

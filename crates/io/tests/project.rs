@@ -36,6 +36,7 @@ fn rich_scene() -> Scene {
         .into(),
     });
     scene.objects.push(Object {
+        shadow_catcher: true,
         name: "textured ball".into(),
         mesh: sphere.clone(),
         material: Material::Lambertian {
@@ -49,6 +50,7 @@ fn rich_scene() -> Scene {
         },
     });
     scene.objects.push(Object {
+        shadow_catcher: false,
         name: "glass ball (same mesh)".into(),
         mesh: sphere,
         material: Material::Dielectric {
@@ -247,6 +249,7 @@ fn a_project_round_trips_every_field_through_a_file() {
         assert_eq!(a.name, b.name);
         assert_eq!(a.material, b.material, "{}", a.name);
         assert_eq!(a.transform, b.transform, "{}", a.name);
+        assert_eq!(a.shadow_catcher, b.shadow_catcher, "{}", a.name);
         assert_eq!(a.mesh, b.mesh, "{}", a.name);
     }
     assert_eq!(loaded, scene);

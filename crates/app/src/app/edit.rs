@@ -116,6 +116,7 @@ impl RtApp {
             .filter(|o| matches!(o.material, Material::Emissive { .. }))
             .count();
         let object = Object {
+            shadow_catcher: false,
             name: format!("{name} {}", count + 1),
             mesh: Arc::new(mesh),
             material: Material::Emissive {

@@ -314,6 +314,7 @@ mod tests {
         assert!((q * Vec3::X - Vec3::Y).length() < 1e-6);
         let mut scene = Scene::default();
         scene.objects.push(rt_core::Object {
+            shadow_catcher: false,
             name: "box".into(),
             mesh: rt_core::shapes::cuboid(Vec3::ZERO, Vec3::ONE, false).into(),
             material: rt_core::Material::lambertian([0.5; 3]),

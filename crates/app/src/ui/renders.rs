@@ -226,9 +226,9 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
     {
         return rt_core::output::save_image(path, image.width, image.height, denoised, view.view());
     }
-    let coverage = view.job.aovs.as_ref().map(|a| &a.hits.coverage);
+    let alpha = view.job.aovs.as_ref().map(|a| a.hits.alphas());
     if view.job.scene.settings.transparent
-        && let Some(coverage) = coverage.filter(|c| c.len() == image.pixels.len())
+        && let Some(alpha) = alpha.filter(|c| c.len() == image.pixels.len())
     {
         let format = rt_core::output::ImageFormat::from_path(path)?;
         let size = [image.width, image.height];
@@ -237,7 +237,7 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
             size,
             &image.pixels,
             image.counts(),
-            coverage,
+            &alpha,
             &[],
             view.view(),
         )?;

@@ -21,12 +21,14 @@ fn floor_and_lamp() -> rt_core::Scene {
     };
     scene.objects = vec![
         Object {
+            shadow_catcher: false,
             name: "floor".into(),
             mesh: rt_core::shapes::quad(Vec3::ZERO, Vec3::Y, 40.0).into(),
             material: pbr([0.8; 3], [0.0; 3]),
             transform: Default::default(),
         },
         Object {
+            shadow_catcher: false,
             name: "lamp".into(),
             mesh: rt_core::shapes::quad(Vec3::new(0.0, 0.5, 0.0), Vec3::Y, 2.0).into(),
             material: pbr([0.0; 3], [1.0, 0.5, 0.1]),

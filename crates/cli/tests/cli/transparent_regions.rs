@@ -99,3 +99,54 @@ fn a_project_saved_transparent_writes_alpha() {
     assert_eq!(png.get_pixel(12, 12).0[3], 255, "the box");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--shadow-catcher floor` on the built-in Cornell box: the floor turns transparent where the
+/// lamp reaches it and keeps the blocks' shadows (a film made transparent for it), the rest of
+/// the image keeps its alpha; bidirectional path tracing refuses it, and a name the scene lacks
+/// is an error listing the names it has.
+#[test]
+fn a_shadow_catcher_floor_keeps_only_its_shadows() {
+    let dir = temp_dir("shadow-catcher");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", "--width", "48", "--height", "48", "--spp", "64"];
+        args.extend(["--max-depth", "4", "-o", out.to_str().unwrap()]);
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = rt_cli(&args);
+        (code, stderr, out)
+    };
+    let alpha = |file: &std::path::Path| -> Vec<f32> {
+        let image = image::open(file).unwrap().to_rgba32f();
+        image.pixels().map(|p| p.0[3]).collect()
+    };
+    let (code, stderr, plain) = render("plain.png", &["--device", "cpu", "--transparent"]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stderr, caught) = render(
+        "caught.png",
+        &["--device", "cpu", "--shadow-catcher", "floor"],
+    );
+    assert_eq!(code, 0, "{stderr}");
+    let (plain, caught) = (alpha(&plain), alpha(&caught));
+    let floor: Vec<f32> = plain
+        .iter()
+        .zip(&caught)
+        .filter(|(p, c)| **c < **p - 0.01)
+        .map(|(_, c)| *c)
+        .collect();
+    assert!(floor.len() > 48 * 48 / 20, "{} floor pixels", floor.len());
+    assert!(
+        plain.iter().zip(&caught).all(|(p, c)| c <= p),
+        "a catcher adds alpha"
+    );
+    let lit = floor.iter().filter(|a| **a < 0.15).count();
+    let shadowed = floor.iter().filter(|a| **a > 0.5).count();
+    assert!(lit > 10 && shadowed > 3, "lit {lit}, shadowed {shadowed}");
+    let (code, stderr, out) = render(
+        "bdpt.png",
+        &["--integrator", "bdpt", "--shadow-catcher", "floor"],
+    );
+    assert!(code != 0 && stderr.contains("shadow catchers"), "{stderr}");
+    assert!(!out.exists());
+    let (code, stderr, _) = render("none.png", &["--shadow-catcher", "flor"]);
+    assert!(code != 0 && stderr.contains("floor, ceiling"), "{stderr}");
+}

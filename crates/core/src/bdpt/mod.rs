@@ -133,5 +133,11 @@ pub fn refusal(scene: &GpuScene, frame: &Frame) -> Option<&'static str> {
     if dispersive {
         return Some("dispersion (KHR_materials_dispersion)");
     }
+    let catcher = |m: &crate::gpu_types::Material| {
+        crate::estimator::shadow_catcher::catches_shadows(frame, m.flags)
+    };
+    if scene.materials.iter().any(catcher) {
+        return Some("shadow catchers");
+    }
     None
 }

@@ -73,6 +73,7 @@ impl Walks<'_> {
             media: 0,
             eta_scale: 1.0,
             depth: 0,
+            matte: false,
             rng,
             first_hit: None,
             rays: 0,

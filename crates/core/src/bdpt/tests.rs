@@ -17,6 +17,7 @@ use crate::shapes::{cuboid, quad, uv_sphere};
 
 fn object(name: &str, mesh: crate::Mesh, material: crate::Material, at: [f32; 3]) -> Object {
     Object {
+        shadow_catcher: false,
         name: name.into(),
         mesh: std::sync::Arc::new(mesh),
         material,

@@ -395,6 +395,7 @@ mod tests {
     /// `normal`.
     fn lamp(i: usize, centre: Vec3, normal: Vec3, size: f32, strength: f32) -> Object {
         Object {
+            shadow_catcher: false,
             name: format!("lamp {i}"),
             mesh: crate::shapes::quad(centre, normal, size).into(),
             material: crate::Material::Emissive {

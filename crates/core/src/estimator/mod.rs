@@ -25,7 +25,7 @@
 //!
 //! Each file is the twin of the WGSL file of its stem beside it (`bvh.rs` of `bvh.wgsl`,
 //! `cwbvh.rs` of `cwbvh.wgsl`, `camera.rs` of `camera.wgsl`, `path.rs` of `path.wgsl`, `light.rs` of `light.wgsl`, `light_tree.rs` of
-//! `light_tree.wgsl`, `shading.rs` of `shading.wgsl`, `media.rs` of `media.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
+//! `light_tree.wgsl`, `shading.rs` of `shading.wgsl`, `media.rs` of `media.wgsl`, `shadow_catcher.rs` of `shadow_catcher.wgsl`, `surface.rs` of `surface.wgsl`, `texture.rs`
 //! of `texture.wgsl`), exported
 //! as its `WGSL` for `rt_gpu::shaders` to compose; the math they share with the rest of rt-core
 //! (random numbers, sampling, intersection, microfacets, the PBR BSDF) lives in `crate::math`, each
@@ -44,6 +44,7 @@ pub mod light_tree;
 pub mod media;
 pub mod path;
 pub mod shading;
+pub mod shadow_catcher;
 pub mod surface;
 pub mod texture;
 

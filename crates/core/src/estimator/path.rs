@@ -19,6 +19,7 @@ use super::light::{
 use super::light_tree::tree_normal_at;
 use super::media::{media_enter, media_leave, media_top, medium_of};
 use super::shading::{anisotropy_tangent, normal_mapped, vertex_color};
+use super::shadow_catcher::{catcher_irradiance, catches_shadows};
 use super::surface::{PbrInputs, Surface};
 use super::texture::{Slot, base_color_texture, surface_emission, textured_pbr_inputs};
 use super::trace;
@@ -98,6 +99,9 @@ pub struct PathState {
     pub eta_scale: f32,
     /// Segments traced so far (0: the camera ray).
     pub depth: u32,
+    /// Whether the path has met only shadow catchers since the camera (`super::shadow_catcher`):
+    /// it then adds no light until it meets another object.
+    pub matte: bool,
     pub rng: Rng,
     /// The denoiser's guides of this sample, set at the first vertex when recorded (`Some`; the
     /// WGSL `aov_*` under `WRITE_AOVS`): the first hit's albedo and normal (facing the camera),
@@ -120,6 +124,9 @@ pub struct FirstHit {
     pub depth: f32,
     /// The object it met, plus one (0: none): `Object` index in the scene.
     pub object: u32,
+    /// Where it met a shadow catcher: 1, and the irradiance there with and without shadows
+    /// (`shadow_catcher::catcher_irradiance`); zeros elsewhere.
+    pub caught: [f32; 3],
 }
 
 /// The camera ray of pixel (x, y), sample `sample` (the WGSL `start_path`).
@@ -149,6 +156,7 @@ pub fn start_path(frame: &Frame, x: u32, y: u32, sample: u32) -> PathState {
         media: frame.camera_media,
         eta_scale: 1.0,
         depth: if sees { 0 } else { frame.max_depth },
+        matte: false,
         rng,
         first_hit: None,
         rays: 0,
@@ -184,8 +192,9 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
         }
     }
     if hit.triangle == MISS {
-        // A transparent film: the background seen directly adds nothing (alpha says where it is).
-        let sky = if path.depth == 0 && frame.transparent != 0 {
+        // A transparent film: the background seen directly adds nothing (alpha says where it is),
+        // nor does it reflected in a shadow catcher.
+        let sky = if (path.depth == 0 && frame.transparent != 0) || path.matte {
             Vec3::ZERO
         } else {
             path.beta * escaped(scene, frame, path.direction, path.prev_bsdf_pdf)
@@ -205,7 +214,12 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let ng_raw = (v1 - v0).cross(v2 - v0);
     let front = path.direction.dot(ng_raw) < 0.0;
-    if front {
+    // A matte path (camera, then catchers) leaves out the light an emitter sends it: a catcher's
+    // direct light is in its shadow ratio.
+    let catcher = catches_shadows(frame, material.flags);
+    let matte = path.matte;
+    path.matte = catcher && (path.depth == 0 || matte);
+    if front && !matte && !path.matte {
         add_emission(scene, frame, path, hit, tri, ng_raw);
     }
     if path.depth == 0
@@ -256,7 +270,15 @@ pub fn shade_vertex(scene: &GpuScene, frame: &Frame, path: &mut PathState, hit: 
             below: Vec3::from(medium_of(scene, frame, beyond).sigma_t),
         };
     }
-    if !surface.is_delta() {
+    if path.matte {
+        if path.depth == 0
+            && let Some(f) = path.first_hit.as_mut()
+        {
+            let [lit, free] =
+                catcher_irradiance(scene, frame, p, ng, &mut path.rng, &mut path.rays);
+            f.caught = [1.0, lit, free];
+        }
+    } else if !surface.is_delta() {
         add_light_at(scene, frame, path, p, ng, &surface, &media, lights_sampled);
     }
     let next = NextVertex {
@@ -515,6 +537,8 @@ fn scatter_in_medium(
         f.normal = -path.direction;
         (f.coverage, f.depth, f.object) = (1.0, (p - path.origin).length(), 0);
     }
+    // A medium is no shadow catcher: what it scatters counts (a matte path's reflection of it).
+    path.matte = false;
     if path.depth + 1 >= frame.max_depth {
         return false;
     }

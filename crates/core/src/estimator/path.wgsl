@@ -40,6 +40,8 @@ struct PathState {
     // The product of eta^2 over the interfaces refracted through (path.rs `eta_scale`), which
     // Russian roulette undoes.
     eta_scale: f32,
+    // 1 while the path has met only shadow catchers since the camera (path.rs `matte`).
+    matte: u32,
 }
 
 // A next-event estimation ray: `contribution` reaches the path's radiance if nothing lies within
@@ -60,20 +62,28 @@ var<private> aov_emission: vec3<f32>;
 // The current sample's camera ray: (1 if it met a surface or scattered in a medium, else 0; the
 // distance to that; the object hit + 1, 0 for none): the w channels of the three means below.
 var<private> aov_hit: vec3<f32>;
+// Where the camera ray met a shadow catcher: (1, the irradiance there with and without shadows).
+var<private> aov_caught: vec3<f32>;
 
 // Running means of a pixel's first-hit albedo, normal and directly seen light (the denoiser's
-// guides), kept at [3 slot], [3 slot + 1] and [3 slot + 2] of the entry file's `aovs` binding.
+// guides) and of what it caught in shadow catchers, kept at [AOV_VECS slot + k] of the entry
+// file's `aovs` binding.
 struct AovMeans {
     albedo: vec4<f32>,
     normal: vec4<f32>,
     emission: vec4<f32>,
+    caught: vec4<f32>,
 }
+
+// The vec4s of AovMeans (outputs.rs `AOV_BYTES_PER_PIXEL` / 16).
+const AOV_VECS: u32 = 4u;
 
 fn load_aov_means(slot: u32) -> AovMeans {
     if (frame.sample_base == 0u) {
-        return AovMeans(vec4(0.0), vec4(0.0), vec4(0.0));
+        return AovMeans(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
     }
-    return AovMeans(aovs[3u * slot], aovs[3u * slot + 1u], aovs[3u * slot + 2u]);
+    let i = AOV_VECS * slot;
+    return AovMeans(aovs[i], aovs[i + 1u], aovs[i + 2u], aovs[i + 3u]);
 }
 
 // Folds in the `n`-th sample's values: running means, except emission.w (the object id), which
@@ -84,11 +94,12 @@ fn add_aov_sample(m: ptr<function, AovMeans>, values: AovMeans, n: f32) {
     let object = select((*m).emission.w, values.emission.w, n == 1.0);
     (*m).emission += (values.emission - (*m).emission) / n;
     (*m).emission.w = object;
+    (*m).caught += (values.caught - (*m).caught) / n;
 }
 
 // A sample's guides as the means take them (`aov_*` and `aov_hit` in the w channels).
 fn aov_sample_values() -> AovMeans {
-    return AovMeans(vec4(aov_albedo, aov_hit.x), vec4(aov_normal, aov_hit.y), vec4(aov_emission, aov_hit.z));
+    return AovMeans(vec4(aov_albedo, aov_hit.x), vec4(aov_normal, aov_hit.y), vec4(aov_emission, aov_hit.z), vec4(aov_caught, 0.0));
 }
 
 fn reset_aov_sample() {
@@ -96,12 +107,15 @@ fn reset_aov_sample() {
     aov_normal = vec3(0.0);
     aov_emission = vec3(0.0);
     aov_hit = vec3(0.0);
+    aov_caught = vec3(0.0);
 }
 
 fn store_aov_means(slot: u32, m: AovMeans) {
-    aovs[3u * slot] = m.albedo;
-    aovs[3u * slot + 1u] = m.normal;
-    aovs[3u * slot + 2u] = m.emission;
+    let i = AOV_VECS * slot;
+    aovs[i] = m.albedo;
+    aovs[i + 1u] = m.normal;
+    aovs[i + 2u] = m.emission;
+    aovs[i + 3u] = m.caught;
 }
 
 // Firefly clamp (`frame.clamp_max`, 0 off): each contribution of light that has bounced at least
@@ -130,9 +144,9 @@ fn start_path(x: u32, y: u32, rng: ptr<function, Sampler>) -> PathState {
     let cam = camera_ray_origin_dir(x, y, rng);
     if (all(cam[1] == vec3(0.0))) {
         // Sees nothing (outside a fisheye's circle): a path that ends at once with zero weight.
-        return PathState(cam[0], frame.max_depth, -frame.cam_w, 0.0, vec3(0.0), 0u, vec3(0.0), 0u, frame.camera_media, 1.0);
+        return PathState(cam[0], frame.max_depth, -frame.cam_w, 0.0, vec3(0.0), 0u, vec3(0.0), 0u, frame.camera_media, 1.0, 0u);
     }
-    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, frame.camera_media, 1.0);
+    return PathState(cam[0], 0u, cam[1], 0.0, vec3(1.0), 0u, vec3(0.0), 0u, frame.camera_media, 1.0, 0u);
 }
 
 // The light a scattering vertex at p (normal ng, 0 in a medium) receives directly (path.rs
@@ -176,6 +190,8 @@ fn scatter_in_medium(path: ptr<function, PathState>, p: vec3<f32>, medium: Mediu
         aov_normal = -(*path).direction;
         aov_hit = vec3(1.0, length(p - (*path).origin), 0.0);
     }
+    // A medium is no shadow catcher: what it scatters counts (a matte path's reflection of it).
+    (*path).matte = 0u;
     if ((*path).depth + 1u >= frame.max_depth) {
         return false;
     }
@@ -328,8 +344,9 @@ fn shade_vertex(path: ptr<function, PathState>, found: Hit, rng: ptr<function, S
         }
     }
     if (hit.triangle == MISS) {
-        // A transparent film: the background seen directly adds nothing (alpha says where it is).
-        let transparent = depth == 0u && frame.transparent != 0u;
+        // A transparent film: the background seen directly adds nothing (alpha says where it is),
+        // nor does it reflected in a shadow catcher.
+        let transparent = (depth == 0u && frame.transparent != 0u) || (*path).matte != 0u;
         let sky = select((*path).beta * escaped(direction, (*path).prev_bsdf_pdf), vec3(0.0), transparent);
         (*path).radiance += select(clamp_bounced(sky), sky, depth == 0u);
         if (WRITE_AOVS && depth == 0u) {
@@ -373,7 +390,12 @@ fn shade_vertex(path: ptr<function, PathState>, found: Hit, rng: ptr<function, S
             aov_albedo = a;
         }
     }
-    if (front) {
+    // A matte path (camera, then catchers) leaves out the light an emitter sends it: a catcher's
+    // direct light is in its shadow ratio.
+    let matte = (*path).matte != 0u;
+    let catcher = catches_shadows(material.flags) && (depth == 0u || matte);
+    (*path).matte = select(0u, 1u, catcher);
+    if (front && !matte && !catcher) {
         add_emission(path, hit, tri, material, ng_raw);
     }
     if (material.kind == MAT_EMISSIVE || depth + 1u >= frame.max_depth) {
@@ -415,7 +437,12 @@ fn shade_vertex(path: ptr<function, PathState>, found: Hit, rng: ptr<function, S
         }
         media = ShadowMedia(medium.sigma_t, medium_of(beyond).sigma_t);
     }
-    if (!surface_is_delta(surface)) {
+    if (catcher) {
+        if (WRITE_AOVS && depth == 0u) {
+            let e = catcher_irradiance(p, ng, rng, rays);
+            aov_caught = vec3(1.0, e.lit, e.free);
+        }
+    } else if (!surface_is_delta(surface)) {
         add_light_at(path, p, ng, surface, media, rng, shadow, defer_shadow, rays);
     }
     return continue_from_surface(path, surface, p, ng, front, thin, tri.material, rng);

@@ -87,7 +87,8 @@ fn same_meshes(a: &Scene, b: &Scene) -> bool {
         })
 }
 
-/// Same materials, lights, environment and light sampling (what `GpuScene::restyle` redoes).
+/// Same materials (shadow catchers included), lights, environment and light sampling (what
+/// `GpuScene::restyle` redoes).
 fn same_shading(a: &Scene, b: &Scene) -> bool {
     let same_environment = match (&a.environment, &b.environment) {
         (None, None) => true,
@@ -101,7 +102,7 @@ fn same_shading(a: &Scene, b: &Scene) -> bool {
     a.objects
         .iter()
         .zip(&b.objects)
-        .all(|(x, y)| x.material == y.material)
+        .all(|(x, y)| x.material == y.material && x.shadow_catcher == y.shadow_catcher)
         && a.lights == b.lights
         && same_environment
         && a.settings.next_event_estimation == b.settings.next_event_estimation
@@ -146,6 +147,16 @@ mod tests {
         assert!(
             restyled.features.kinds.contains(MaterialKind::Metal)
                 && !first.features.kinds.contains(MaterialKind::Metal)
+        );
+
+        // A shadow catcher is a material flag on the GPU.
+        let mut catching = recoloured.clone();
+        catching.objects[0].shadow_catcher = true;
+        let (caught, how) = cache.get(&catching).unwrap();
+        assert_eq!(how, Rebuild::Shading);
+        assert_eq!(
+            caught.materials,
+            GpuScene::build(&catching).unwrap().materials
         );
 
         let mut shifted = recoloured.clone();

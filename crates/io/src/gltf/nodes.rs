@@ -60,6 +60,7 @@ impl Loader<'_> {
                 };
                 let (mesh, transform) = placed(m, world);
                 self.objects.push(Object {
+                    shadow_catcher: false,
                     name: object_name,
                     mesh,
                     material,

@@ -178,6 +178,7 @@ pub fn load_obj_bytes(
             _ => model.name.clone(),
         };
         scene.objects.push(Object {
+            shadow_catcher: false,
             name,
             mesh: mesh.into(),
             material,

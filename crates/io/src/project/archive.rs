@@ -51,6 +51,7 @@ pub fn encode_archive(scene: &Scene, format: &str, path: &Path) -> Result<Vec<u8
             mesh: entry,
             material: object.material.clone(),
             transform: object.transform.clone(),
+            shadow_catcher: object.shadow_catcher,
         });
     }
     let mut textures = Vec::with_capacity(scene.textures.len());
@@ -160,6 +161,7 @@ pub fn decode_archive(
             mesh,
             material: entry.material,
             transform: entry.transform,
+            shadow_catcher: entry.shadow_catcher,
         };
         check_object(&object, i).map_err(|m| archive.error(format!("{MANIFEST}: {m}")))?;
         objects.push(object);

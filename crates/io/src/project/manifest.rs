@@ -95,6 +95,8 @@ pub(super) struct ObjectEntry {
     pub(super) material: Material,
     #[serde(default)]
     pub(super) transform: Transform,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub(super) shadow_catcher: bool,
 }
 
 #[derive(Serialize, Deserialize)]

@@ -209,6 +209,11 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
     if let Some(material) = gallery(app, ui) {
         object.material = material;
     }
+    shadow_catcher_toggle(
+        ui,
+        &mut object.shadow_catcher,
+        app.doc.scene.settings.transparent,
+    );
 
     if object != app.doc.scene.objects[index] {
         app.doc.edit(
@@ -229,6 +234,19 @@ pub fn inspector_panel(app: &mut RtApp, ui: &mut Ui) {
             .pick_file()
     {
         app.set_texture_from_file(index, &path);
+    }
+}
+
+/// Cycles' Object ▸ Shadow Catcher; it needs a transparent film (Render panel) to show through.
+fn shadow_catcher_toggle(ui: &mut Ui, catcher: &mut bool, transparent: bool) {
+    ui.checkbox(catcher, "Shadow catcher").on_hover_text(
+        "Show only the shadows and the reflections of other objects this receives, over a \
+         transparent background: to composite renders over a photograph",
+    );
+    if *catcher && !transparent {
+        ui.weak(
+            "Needs \"Transparent background\" (Render panel): renders as its material until then.",
+        );
     }
 }
 

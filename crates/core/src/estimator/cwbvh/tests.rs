@@ -168,6 +168,7 @@ fn the_masked_and_wide_tests_equal_the_branching_one_over_random_nodes() {
 fn test_scene() -> GpuScene {
     use crate::scene::{Mesh, Object, Scene};
     let object = |name: &str, mesh: Mesh| Object {
+        shadow_catcher: false,
         name: name.into(),
         mesh: std::sync::Arc::new(mesh),
         material: crate::Material::Lambertian {
