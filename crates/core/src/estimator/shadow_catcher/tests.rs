@@ -138,3 +138,64 @@ fn an_opaque_film_renders_the_catcher_as_its_material() {
     assert_eq!(colour, plain);
     assert!(colour[1] > 0.0);
 }
+
+/// What a shadow catcher is for: its render laid over a photograph of the empty floor,
+/// colour + (1 − α) · photo, is the render of the objects on an ordinary floor. On a Lambertian
+/// floor under a sun and a uniform sky this holds in expectation pixel by pixel: the photo is
+/// ρ/π E_free, the ratio turns it into ρ/π E_lit, and the colour adds ρ/π times the light the
+/// objects send it (here a white sphere's, a tenth of the shadow's radiance). Z-test of the mean
+/// difference over the floor's pixels, its standard error from the differences' spread (each
+/// pixel's expected difference is zero; three renders with their own seeds).
+#[test]
+fn a_catcher_over_the_empty_floor_composites_to_the_full_render() {
+    let mut scene = floor_under_sphere(Some(0.9));
+    scene.objects[1].transform.translation = [0.0, 0.8, 0.0];
+    scene.lights[0].direction = [0.5, -1.0, 0.2];
+    scene.camera = Camera {
+        from: [0.0, 4.0, 3.0],
+        to: [0.4, 0.0, 0.0],
+        vfov_deg: 40.0,
+        ..Default::default()
+    };
+    (scene.settings.width, scene.settings.height) = (24, 24);
+    let render = |scene: &Scene, seed: u32| {
+        let mut scene = scene.clone();
+        scene.settings.seed = seed;
+        let gpu = GpuScene::build(&scene).unwrap();
+        let frame = crate::frame::frame_for(&scene, &gpu).unwrap();
+        let mut film = CpuAccumulation::new(&frame, 0, None, true);
+        assert!(film.add_batch(&gpu, &frame, 128, &AtomicBool::new(false)));
+        let hits = film.first_hits().unwrap().clone();
+        (film.pixels(), hits)
+    };
+    let (caught, hits) = render(&scene, 1);
+    let mut ordinary = scene.clone();
+    ordinary.settings.transparent = false;
+    ordinary.objects[0].shadow_catcher = false;
+    let (truth, _) = render(&ordinary, 2);
+    ordinary.objects.truncate(1);
+    let (photo, _) = render(&ordinary, 3);
+    let floor: Vec<usize> = (0..caught.len())
+        .filter(|&i| hits.caught[i][0] == 1.0)
+        .collect();
+    let shadowed = floor.iter().filter(|&&i| hits.alpha(i) > 0.5).count();
+    assert!(
+        floor.len() > 300 && shadowed > 20,
+        "{} {shadowed}",
+        floor.len()
+    );
+    for c in 0..3 {
+        let d: Vec<f64> = floor
+            .iter()
+            .map(|&i| {
+                let composite = caught[i][c] + (1.0 - hits.alpha(i)) * photo[i][c];
+                f64::from(composite - truth[i][c])
+            })
+            .collect();
+        let n = d.len() as f64;
+        let mean = d.iter().sum::<f64>() / n;
+        let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        let z = mean / (var / n).sqrt();
+        assert!(z.abs() < 4.0, "channel {c}: mean difference {mean}, z {z}");
+    }
+}
