@@ -46,12 +46,14 @@ pub fn save(
     let mut extra = Vec::new();
     if let Some(passes) = passes {
         let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+        let position = rt_core::passes::positions(&frame, &aovs.hits);
+        let material_ids = rt_core::passes::material_ids(scene);
         let inputs = PassInputs {
-            scene,
-            frame: &frame,
             albedo: &aovs.albedo,
             normal: &aovs.normal,
             hits: &aovs.hits,
+            position: &position,
+            material_ids: &material_ids,
         };
         extra.extend(rt_core::passes::pass_channels(passes, &inputs));
     }

@@ -1,5 +1,6 @@
 //! `rt-cli merge PARTS… -o OUT`: adds the parts' samples (exactly: `rt_core::part::merge`) and
-//! saves the frame: as .exr a part again (merges associate), else a tone-mapped image.
+//! saves the frame: as .exr a part again (merges associate), else a tone-mapped image; with the
+//! alpha and passes the render asked for (`--transparent`, `--aov`), from the parts' first hits.
 
 use std::path::PathBuf;
 
@@ -42,20 +43,17 @@ pub fn run(args: MergeArgs) -> Result<()> {
     let merged = merger.finish(args.allow_partial)?;
     let view = args.display.view();
     let (width, height) = (merged.header.width, merged.header.height);
-    if format == ImageFormat::Exr {
-        rt_core::part::save_part(&args.output, &merged)
+    let saved = if !merged.header.layers.is_empty() {
+        save_with_layers(&args.output, &merged, view)
+    } else if format == ImageFormat::Exr {
+        rt_core::part::save_part(&args.output, &merged).map_err(Into::into)
     } else {
         let pixels = merged.pixels();
-        rt_core::output::save_render(
-            &args.output,
-            width,
-            height,
-            &pixels,
-            SampleCounts::PerPixel(&merged.counts),
-            view,
-        )
-    }
-    .with_context(|| format!("saving {}", args.output.display()))?;
+        let counts = SampleCounts::PerPixel(&merged.counts);
+        rt_core::output::save_render(&args.output, width, height, &pixels, counts, view)
+            .map_err(Into::into)
+    };
+    saved.with_context(|| format!("saving {}", args.output.display()))?;
     let h = &merged.header;
     eprintln!(
         "merged:         {} parts, samples {} of {} ({}), {}x{}",
@@ -76,5 +74,63 @@ pub fn run(args: MergeArgs) -> Result<()> {
         crate::render::save_denoised_image(&args.output, &image, &aovs, view, denoiser)?;
     }
     eprintln!("saved:          {}", args.output.display());
+    Ok(())
+}
+
+/// The merged frame with the alpha and passes its render asked for (the parts' `layers`): an EXR
+/// part with `A` and the pass layers beside (as `render` writes them), or a PNG with alpha.
+fn save_with_layers(
+    output: &std::path::Path,
+    merged: &rt_core::part::Part,
+    view: rt_core::output::View,
+) -> Result<()> {
+    let layers = &merged.header.layers;
+    let passes = match layers.passes.is_empty() {
+        true => None,
+        false => Some(
+            rt_core::passes::parse_passes(&layers.passes.join(","))
+                .map_err(|e| anyhow::anyhow!("the parts' passes: {e}"))?,
+        ),
+    };
+    crate::layers::check(output, layers.transparent, passes.as_deref())?;
+    let hits = &merged.hits;
+    if hits.is_empty() {
+        anyhow::bail!("the parts ask for alpha or passes but carry no first hits");
+    }
+    let alpha = hits.alphas();
+    let mut extra = Vec::new();
+    if layers.transparent {
+        extra.push(("A".to_string(), alpha.clone()));
+    }
+    if let Some(passes) = &passes {
+        if merged.guides.albedo.len() != merged.counts.len() {
+            anyhow::bail!("the parts carry no albedo and normals for the passes");
+        }
+        let inputs = rt_core::passes::PassInputs {
+            albedo: &merged.guides.albedo,
+            normal: &merged.guides.normal,
+            hits,
+            position: &merged.position,
+            material_ids: &layers.material_ids,
+        };
+        extra.extend(rt_core::passes::pass_channels(passes, &inputs));
+    }
+    let bytes = if ImageFormat::from_path(output)? == ImageFormat::Exr {
+        rt_core::part::encode_part_with(merged, &extra)?
+    } else {
+        let size = [merged.header.width, merged.header.height];
+        let counts = SampleCounts::PerPixel(&merged.counts);
+        let pixels = merged.pixels();
+        rt_core::output::encode_with_alpha(
+            ImageFormat::Png,
+            size,
+            &pixels,
+            counts,
+            &alpha,
+            &[],
+            view,
+        )?
+    };
+    rt_core::output::write_atomically(output, &bytes)?;
     Ok(())
 }

@@ -296,7 +296,15 @@ fn save_output(
     match range {
         Some([first, end]) => {
             let note = format!("samples {first}..{end}: {rendered_by}");
-            crate::shard::save(&args.output, [first, end], scenes, image, aovs, note)
+            let layers = part_layers(args, scenes.0);
+            crate::shard::save(
+                &args.output,
+                [first, end],
+                scenes,
+                (image, aovs),
+                layers,
+                note,
+            )
         }
         None if args.wants_layers(&scenes.0.settings) => {
             let aovs = aovs.context("the render kept no first hits")?;
@@ -317,6 +325,21 @@ fn save_output(
             crate::layers::save(&args.output, image, aovs, scenes, passes, args.view())
         }
         None => save(args, image, scenes.0.settings.film_window),
+    }
+}
+
+/// What a part carries for the merge to write the alpha and passes asked for.
+fn part_layers(args: &RenderArgs, scene: &Scene) -> rt_core::part::Layers {
+    use rt_core::passes::{Pass, material_ids};
+    let passes = args.passes().unwrap_or(&[]);
+    rt_core::part::Layers {
+        transparent: scene.settings.transparent,
+        passes: passes.iter().map(|p| p.name().to_string()).collect(),
+        material_ids: if passes.contains(&Pass::Material) {
+            material_ids(scene)
+        } else {
+            Vec::new()
+        },
     }
 }
 
@@ -357,11 +380,6 @@ fn prepare_scene(args: &RenderArgs) -> Result<(Scene, Option<[u32; 2]>)> {
         crate::region::apply(settings, region)?;
     }
     let range = args.shard.range(settings.samples_per_pixel)?;
-    if range.is_some() && args.wants_layers(settings) {
-        anyhow::bail!(
-            "--transparent and --aov are not kept in render parts yet: render the frame whole"
-        );
-    }
     if args.passes().is_some() && args.into.is_some() {
         anyhow::bail!("--into pastes colour and alpha only: leave out --aov");
     }

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use rt_core::part::{Guides, PART_FORMAT_VERSION, Part, PartHeader};
+use rt_core::part::{Guides, Layers, PART_FORMAT_VERSION, Part, PartHeader};
 
 #[derive(Args, Debug, Clone, Default)]
 pub struct ShardArgs {
@@ -81,12 +81,12 @@ impl PartIdentity {
     }
 }
 
-/// The part of samples `range` read back from a render.
+/// The part of samples `range` read back from a render, with the first hits `layers` needs.
 fn part_from(
     identity: PartIdentity,
     range: [u32; 2],
-    image: &rt_gpu::Image,
-    aovs: Option<&rt_gpu::Aovs>,
+    (image, aovs): (&rt_gpu::Image, Option<&rt_gpu::Aovs>),
+    layers: Layers,
     note: String,
 ) -> Part {
     let counts = match &image.sample_counts {
@@ -112,23 +112,40 @@ fn part_from(
             total_spp: identity.total_spp,
             sample_ranges: vec![range],
             notes: vec![note],
+            layers,
         },
         counts,
         sums: image.sums.clone(),
         guides,
+        hits: Default::default(),
+        position: Vec::new(),
     }
 }
 
-/// Saves samples `range` read back from a render of `scene` as a part at `path` (atomically);
-/// `note` says where they were rendered.
+/// Saves samples `range` read back from a render of `scene` as a part at `path` (atomically),
+/// with the first hits (and positions) that `layers`' alpha and passes need; `note` says where
+/// they were rendered.
 pub fn save(
     path: &Path,
     range: [u32; 2],
     (scene, gpu_scene): (&rt_core::Scene, &rt_core::GpuScene),
-    image: &rt_gpu::Image,
-    aovs: Option<&rt_gpu::Aovs>,
+    rendered: (&rt_gpu::Image, Option<&rt_gpu::Aovs>),
+    layers: Layers,
     note: String,
 ) -> Result<()> {
-    let part = part_from(PartIdentity::of(scene, gpu_scene), range, image, aovs, note);
+    let identity = PartIdentity::of(scene, gpu_scene);
+    let keep_hits = !layers.is_empty();
+    let position = layers.passes.iter().any(|p| p == "position");
+    let mut part = part_from(identity, range, rendered, layers, note);
+    if keep_hits {
+        let aovs = rendered
+            .1
+            .context("the render kept no first hits for alpha or passes")?;
+        part.hits = aovs.hits.clone();
+        if position {
+            let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+            part.position = rt_core::passes::positions(&frame, &part.hits);
+        }
+    }
     rt_core::part::save_part(path, &part).with_context(|| format!("saving {}", path.display()))
 }

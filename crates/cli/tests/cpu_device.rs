@@ -251,3 +251,102 @@ fn converge_runs_on_the_cpu_backend() {
         "the error does not fall: {stdout}"
     );
 }
+
+/// A layer's values by channel name, as `render` or `merge` wrote the EXR.
+fn exr_channels(path: &Path) -> std::collections::HashMap<String, Vec<f32>> {
+    let layers = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
+    let channels = &layers.layer_data[0].channel_data.list;
+    channels
+        .iter()
+        .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
+        .collect()
+}
+
+/// Alpha and passes survive a split render: three CPU shards of a transparent render of the
+/// Cornell box with a shadow catcher floor and every pass, merged, give the whole render's alpha,
+/// depth and positions (to the rounding of means merged in another order) and its object and
+/// material ids exactly (the frame's first sample's), as EXR layers and as a PNG's alpha.
+#[test]
+fn shards_keep_alpha_and_passes_through_the_merge() {
+    let dir = temp_dir("cpu-shard-layers");
+    let flags = [
+        "--device",
+        "cpu",
+        "--shadow-catcher",
+        "floor",
+        "--aov",
+        "depth,normal,albedo,position,object,material",
+    ];
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let (code, stderr) = render_cornell(20, 16, 6, &out, &[&flags[..], extra].concat());
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        out
+    };
+    let whole = render("whole.exr", &[]);
+    let parts: Vec<PathBuf> = (0..3)
+        .map(|i| render(&format!("part{i}.exr"), &["--shard", &format!("{i}/3")]))
+        .collect();
+    let part_refs: Vec<&Path> = parts.iter().map(PathBuf::as_path).collect();
+    // Merged in another order than the samples': the ids still come from the first shard.
+    let merge = |parts: &[&Path], out: &Path| {
+        let mut args = vec!["merge"];
+        args.extend(parts.iter().map(|p| p.to_str().unwrap()));
+        args.extend(["-o", out.to_str().unwrap()]);
+        let (code, _, stderr) = rt_cli(&args);
+        (code, stderr)
+    };
+    let merged = dir.join("merged.exr");
+    let (code, stderr) = merge(&[part_refs[2], part_refs[0], part_refs[1]], &merged);
+    assert_eq!(code, 0, "{stderr}");
+    let (a, b) = (exr_channels(&whole), exr_channels(&merged));
+    for name in [
+        "A",
+        "depth.Z",
+        "position.X",
+        "position.Y",
+        "normal.Y",
+        "albedo.R",
+    ] {
+        let (x, y) = (&a[name], &b[name]);
+        assert_eq!(x.len(), 320, "{name}");
+        for (i, (p, q)) in x.iter().zip(y).enumerate() {
+            assert!(
+                (p - q).abs() <= 1e-4 * p.abs().max(1.0),
+                "{name} at pixel {i}: whole {p}, merged {q}"
+            );
+        }
+    }
+    assert_eq!(a["object.ID"], b["object.ID"]);
+    assert_eq!(a["material.ID"], b["material.ID"]);
+    assert!(a["A"].iter().any(|&x| x < 0.5), "the catcher floor");
+    let png = dir.join("merged.png");
+    let (code, stderr) = merge(&part_refs, &png);
+    assert!(
+        code != 0 && stderr.contains(".exr"),
+        "passes in a PNG: {stderr}"
+    );
+    // Alpha alone merges into a PNG too.
+    let catcher = ["--device", "cpu", "--shadow-catcher", "floor"];
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let (code, stderr) = render_cornell(20, 16, 6, &out, &[&catcher[..], extra].concat());
+        assert_eq!(code, 0, "{extra:?}: {stderr}");
+        out
+    };
+    let whole = image::open(render("whole.png", &[])).unwrap().to_rgba8();
+    let parts: Vec<PathBuf> = (0..2)
+        .map(|i| render(&format!("alpha{i}.exr"), &["--shard", &format!("{i}/2")]))
+        .collect();
+    let (code, stderr) = merge(&[&parts[0], &parts[1]], &png);
+    assert_eq!(code, 0, "{stderr}");
+    let merged = image::open(&png).unwrap().to_rgba8();
+    for (p, q) in whole.pixels().zip(merged.pixels()) {
+        assert!(
+            p.0[3].abs_diff(q.0[3]) <= 1,
+            "alpha {} vs {}",
+            p.0[3],
+            q.0[3]
+        );
+    }
+}

@@ -64,13 +64,32 @@ pub fn parse_passes(s: &str) -> Result<Vec<Pass>, String> {
     Ok(passes)
 }
 
-/// What the passes are made of: the guides and first hits of a render of `frame`.
+/// What the passes are made of: the guides and first hits of a render, each pixel's position
+/// (`positions`) and each object's material id (`material_ids`); a render part keeps these, so a
+/// merge writes the passes without the scene.
 pub struct PassInputs<'a> {
-    pub scene: &'a Scene,
-    pub frame: &'a Frame,
     pub albedo: &'a [[f32; 3]],
     pub normal: &'a [[f32; 3]],
     pub hits: &'a FirstHits,
+    pub position: &'a [[f32; 3]],
+    pub material_ids: &'a [u32],
+}
+
+/// Each pixel's point at its mean depth along its centre ray through `frame` (the origin where
+/// it met nothing). Linear in the depth, so the positions of parts merge as means weighted by
+/// their samples' coverage.
+pub fn positions(frame: &Frame, hits: &FirstHits) -> Vec<[f32; 3]> {
+    let width = frame.width.max(1);
+    (0..hits.coverage.len())
+        .map(|i| {
+            if hits.coverage[i] <= 0.0 {
+                return [0.0; 3];
+            }
+            let (x, y) = (i as u32 % width, i as u32 / width);
+            let (origin, direction) = crate::estimator::pixel_centre_ray(frame, x, y);
+            (origin + direction * hits.depth(i)).to_array()
+        })
+        .collect()
 }
 
 /// The EXR channels (full names, one value per pixel) of `passes`.
@@ -101,20 +120,14 @@ pub fn pass_channels(passes: &[Pass], inputs: &PassInputs) -> Vec<(String, Vec<f
             Pass::Normal => out.extend(vector("normal", ["X", "Y", "Z"], &|i| inputs.normal[i])),
             Pass::Albedo => out.extend(vector("albedo", ["R", "G", "B"], &|i| inputs.albedo[i])),
             Pass::Position => out.extend(vector("position", ["X", "Y", "Z"], &|i| {
-                if hits.coverage[i] <= 0.0 {
-                    return [0.0; 3];
-                }
-                let width = inputs.frame.width.max(1);
-                let (x, y) = (i as u32 % width, i as u32 / width);
-                let (origin, direction) = crate::estimator::pixel_centre_ray(inputs.frame, x, y);
-                (origin + direction * depth[i]).to_array()
+                inputs.position.get(i).copied().unwrap_or_default()
             })),
             Pass::Object => out.push((
                 "object.ID".to_string(),
                 hits.object.iter().map(|&o| o as f32).collect(),
             )),
             Pass::Material => {
-                let ids = material_ids(inputs.scene);
+                let ids = inputs.material_ids;
                 let id = |o: u32| {
                     if o == 0 {
                         0.0
@@ -205,12 +218,13 @@ mod tests {
             [[0.1, 0.2, 0.3], [0.4, 0.5, 0.6]],
             [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]],
         );
+        let (position, ids) = (positions(&frame, &hits), material_ids(&scene));
         let inputs = PassInputs {
-            scene: &scene,
-            frame: &frame,
             albedo: &albedo,
             normal: &normal,
             hits: &hits,
+            position: &position,
+            material_ids: &ids,
         };
         let channels = pass_channels(&Pass::ALL, &inputs);
         let get = |name: &str| channels.iter().find(|(n, _)| n == name).unwrap().1.clone();

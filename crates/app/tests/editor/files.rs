@@ -106,6 +106,7 @@ fn a_merged_exr_opens_in_the_viewer() {
             total_spp: 4,
             sample_ranges: vec![[0, 4]],
             notes: vec![],
+            layers: Default::default(),
         },
         counts: vec![4; size],
         sums,
@@ -114,6 +115,8 @@ fn a_merged_exr_opens_in_the_viewer() {
             normal: vec![[0.0, 0.0, 1.0]; size],
             emission: vec![[0.0; 3]; size],
         },
+        hits: Default::default(),
+        position: Vec::new(),
     };
     let merged = dir.join("frame.exr");
     rt_core::part::save_part(&merged, &part).unwrap();

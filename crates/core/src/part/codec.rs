@@ -7,9 +7,16 @@ use std::path::Path;
 use super::{Guides, HEADER_ATTRIBUTE, PART_FORMAT_VERSION, Part, PartHeader};
 use crate::accumulation::PixelSums;
 use crate::error::{Error, Result};
+use crate::first_hits::FirstHits;
 
 /// The EXR bytes of `part`.
 pub fn encode_part(part: &Part) -> Result<Vec<u8>> {
+    encode_part_with(part, &[])
+}
+
+/// The EXR bytes of `part` with `extra` channels beside (a merged frame's alpha and passes, for
+/// viewers; a part read back ignores them; one named as a guide channel is that guide).
+pub fn encode_part_with(part: &Part, extra: &[(String, Vec<f32>)]) -> Result<Vec<u8>> {
     use exr::prelude::{
         AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer,
         LayerAttributes, SmallVec, Text, WritableImage,
@@ -49,6 +56,14 @@ pub fn encode_part(part: &Part) -> Result<Vec<u8>> {
             ));
         }
     }
+    channels.extend(hit_channels(part, size)?);
+    for (name, values) in extra {
+        // The normal and albedo passes are the guides, already there under the same names.
+        let there = channels.iter().any(|c| c.name.to_string() == *name);
+        if values.len() == size && !there {
+            channels.push(f32s(name, values.clone()));
+        }
+    }
     let header_json = serde_json::to_string(h)
         .map_err(|e| Error::Scene(format!("encoding the part header failed: {e}")))?;
     let mut attributes = LayerAttributes::named("rt part");
@@ -72,6 +87,60 @@ pub fn encode_part(part: &Part) -> Result<Vec<u8>> {
 }
 
 const SUM_CHANNELS: [&str; 4] = ["R", "G", "B", "Y2"];
+
+/// The first hits' channels (`FirstHits`; `Part::position`).
+const COVERAGE: &str = "rt.hits.coverage";
+const DEPTH_WEIGHTED: &str = "rt.hits.depth";
+const OBJECT: &str = "rt.hits.object";
+const CAUGHT: [&str; 3] = [
+    "rt.hits.caught.share",
+    "rt.hits.caught.lit",
+    "rt.hits.caught.free",
+];
+const POSITION: [&str; 3] = [
+    "rt.hits.position.X",
+    "rt.hits.position.Y",
+    "rt.hits.position.Z",
+];
+
+/// The channels of a part's first hits and positions, where it has them.
+fn hit_channels(
+    part: &Part,
+    size: usize,
+) -> Result<Vec<exr::prelude::AnyChannel<exr::prelude::FlatSamples>>> {
+    use exr::prelude::{AnyChannel, FlatSamples};
+    let hits = &part.hits;
+    let mut channels = Vec::new();
+    if hits.is_empty() {
+        return Ok(channels);
+    }
+    let sizes = [
+        hits.depth_weighted.len(),
+        hits.object.len(),
+        hits.caught.len(),
+    ];
+    if hits.coverage.len() != size || sizes.iter().any(|&n| n != size) {
+        return Err(Error::Scene(
+            "the part's first hits do not match its pixels".into(),
+        ));
+    }
+    let f32s = |name: &str, values: Vec<f32>| AnyChannel::new(name, FlatSamples::F32(values));
+    channels.push(f32s(COVERAGE, hits.coverage.clone()));
+    channels.push(f32s(DEPTH_WEIGHTED, hits.depth_weighted.clone()));
+    channels.push(AnyChannel::new(
+        OBJECT,
+        FlatSamples::U32(hits.object.clone()),
+    ));
+    for (k, name) in CAUGHT.iter().enumerate() {
+        channels.push(f32s(name, hits.caught.iter().map(|c| c[k]).collect()));
+    }
+    if part.position.len() == size {
+        for (k, name) in POSITION.iter().enumerate() {
+            channels.push(f32s(name, part.position.iter().map(|p| p[k]).collect()));
+        }
+    }
+    Ok(channels)
+}
 
 /// The guides' EXR layers and channel names, in the order of `Guides::planes`.
 const GUIDE_CHANNELS: [(&str, [&str; 3]); 3] = [
@@ -177,12 +246,51 @@ pub fn decode_part(bytes: &[u8]) -> std::result::Result<Part, String> {
                 .collect();
         }
     }
+    let (hits, position) = decode_hits(&channels, size)?;
     Ok(Part {
         header,
         counts,
         sums,
         guides,
+        hits,
+        position,
     })
+}
+
+/// A part's first hits and positions, where it has them (all of the hits' channels or none).
+fn decode_hits(
+    channels: &BTreeMap<String, &exr::prelude::FlatSamples>,
+    size: usize,
+) -> std::result::Result<(FirstHits, Vec<[f32; 3]>), String> {
+    use exr::prelude::FlatSamples;
+    if !channels.contains_key(COVERAGE) {
+        return Ok((FirstHits::default(), Vec::new()));
+    }
+    let f32s = |name: &str| -> std::result::Result<&Vec<f32>, String> {
+        match channels.get(name) {
+            Some(FlatSamples::F32(v)) => Ok(v),
+            Some(_) => Err(format!("channel {name} is not f32")),
+            None => Err(format!("channel {name} is missing")),
+        }
+    };
+    let object = match channels.get(OBJECT) {
+        Some(FlatSamples::U32(v)) => v.clone(),
+        _ => return Err(format!("channel {OBJECT} is missing or not u32")),
+    };
+    let caught = [f32s(CAUGHT[0])?, f32s(CAUGHT[1])?, f32s(CAUGHT[2])?];
+    let hits = FirstHits {
+        coverage: f32s(COVERAGE)?.clone(),
+        depth_weighted: f32s(DEPTH_WEIGHTED)?.clone(),
+        object,
+        caught: (0..size)
+            .map(|i| [caught[0][i], caught[1][i], caught[2][i]])
+            .collect(),
+    };
+    let position = match POSITION.map(|name| f32s(name).ok()) {
+        [Some(x), Some(y), Some(z)] => (0..size).map(|i| [x[i], y[i], z[i]]).collect(),
+        _ => Vec::new(),
+    };
+    Ok((hits, position))
 }
 
 /// Ranges must be non-empty, sorted, disjoint and inside `[0, total)`.
@@ -216,7 +324,18 @@ mod tests {
 
     #[test]
     fn a_part_round_trips_through_its_exr() {
-        let p = part(vec![[0, 3], [5, 8]], 1);
+        let mut p = part(vec![[0, 3], [5, 8]], 1);
+        let back = decode_part(&encode_part(&p).unwrap()).unwrap();
+        assert_eq!(back, p);
+        // With first hits and positions (alpha and passes).
+        p.header.layers.transparent = true;
+        p.hits = FirstHits {
+            coverage: vec![1.0, 0.5, 0.0, 1.0, 1.0, 0.25],
+            depth_weighted: vec![2.0, 1.0, 0.0, 3.0, 4.0, 0.5],
+            object: vec![1, 2, 0, 1, 3, 2],
+            caught: vec![[1.0, 0.5, 2.0]; 6],
+        };
+        p.position = vec![[0.5, -1.0, 2.0]; 6];
         let back = decode_part(&encode_part(&p).unwrap()).unwrap();
         assert_eq!(back, p);
     }

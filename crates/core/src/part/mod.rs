@@ -4,8 +4,9 @@
 //! A part is an ordinary linear EXR (R, G, B, `variance.Y`, readable by any viewer) with, besides,
 //! each pixel's sample count (`samples.Y`), its exact fixed-point sums of radiance and squared
 //! luminance (`rt.sum.*`, four u32 words per channel: `accumulation`), the denoiser's guides
-//! (`albedo.*`, `normal.*`, `emission.*`, sample-weighted means) and, in the header attribute
-//! `rt.part`, a JSON `PartHeader`. Merging adds counts and sums, which is exact and associative,
+//! (`albedo.*`, `normal.*`, `emission.*`, sample-weighted means), where alpha or passes were
+//! asked for the camera rays' first hits (`rt.hits.*`: coverage, depth, object ids, shadow
+//! catchers, positions) and, in the header attribute `rt.part`, a JSON `PartHeader`. Merging adds counts and sums, which is exact and associative,
 //! so n merged shards are bit for bit the one-machine render of the same seed; the variance of a
 //! merged pixel follows from its sums as it would for one render (the sufficient statistics merge
 //! exactly, where float means and second moments would need Chan et al.'s pairwise update and
@@ -24,7 +25,7 @@ use crate::accumulation::{self, PixelSums};
 use crate::gpu_scene::GpuScene;
 use crate::scene::Scene;
 
-pub use codec::{decode_part, encode_part, read_part, save_part};
+pub use codec::{decode_part, encode_part, encode_part_with, read_part, save_part};
 pub use merger::{Merger, format_ranges, merge};
 
 /// The part format's version: parts of other versions are refused.
@@ -57,6 +58,28 @@ pub struct PartHeader {
     /// Where each range was rendered (adapter and kernel): information, not checked.
     #[serde(default)]
     pub notes: Vec<String>,
+    /// What the render writes beside its colour (checked: every part must agree).
+    #[serde(default, skip_serializing_if = "Layers::is_empty")]
+    pub layers: Layers,
+}
+
+/// What a render writes beside its colour, for a merge to write too: alpha (a transparent film)
+/// and the passes (`--aov`, by name), with each object's material id for the material pass
+/// (`passes::material_ids`: a merge has no scene).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Layers {
+    #[serde(default)]
+    pub transparent: bool,
+    #[serde(default)]
+    pub passes: Vec<String>,
+    #[serde(default)]
+    pub material_ids: Vec<u32>,
+}
+
+impl Layers {
+    pub fn is_empty(&self) -> bool {
+        !self.transparent && self.passes.is_empty()
+    }
 }
 
 /// A part in memory.
@@ -68,6 +91,11 @@ pub struct Part {
     pub sums: Vec<PixelSums>,
     /// Sample-weighted mean albedo, normal and directly seen light, for denoising after a merge.
     pub guides: Guides,
+    /// Coverage, depth and what shadow catchers caught (sample-weighted means) and the object of
+    /// the part's first sample, where `header.layers` asks for alpha or passes; else empty.
+    pub hits: crate::first_hits::FirstHits,
+    /// Each pixel's position pass (`passes::positions`) where the passes include it; else empty.
+    pub position: Vec<[f32; 3]>,
 }
 
 /// The denoiser's guides, per pixel.
@@ -231,6 +259,7 @@ mod tests {
                 total_spp: 8,
                 sample_ranges: ranges,
                 notes: vec![],
+                layers: Layers::default(),
             },
             counts: vec![samples; size],
             sums,
@@ -239,6 +268,8 @@ mod tests {
                 normal: vec![[0.0, 1.0, 0.0]; size],
                 emission: vec![[0.0; 3]; size],
             },
+            hits: Default::default(),
+            position: Vec::new(),
         }
     }
 
