@@ -23,6 +23,31 @@ pub fn tone_mapped_rgb(
     egui::ColorImage::from_rgba_unmultiplied([width as usize, height as usize], &bytes)
 }
 
+/// A transparent film's render (`rgb` premultiplied by `alpha`) over a grey checkerboard, as
+/// Blender shows one: where a shadow catcher or the background lets the board show through.
+pub fn over_checkerboard(
+    rgb: &[[f32; 3]],
+    alpha: &[f32],
+    width: u32,
+    height: u32,
+    view: View,
+) -> egui::ColorImage {
+    let mut bytes = Vec::with_capacity(rgb.len() * 4);
+    for (i, (&c, &a)) in rgb.iter().zip(alpha).enumerate() {
+        let (x, y) = (i as u32 % width.max(1), i as u32 / width.max(1));
+        let board: f32 = if (x / 8 + y / 8) % 2 == 0 {
+            102.0
+        } else {
+            153.0
+        };
+        let [r, g, b, a8] = view.straight_rgba8(c, a);
+        let a = f32::from(a8) / 255.0;
+        let blend = |v: u8| (f32::from(v) * a + board * (1.0 - a) + 0.5) as u8;
+        bytes.extend([blend(r), blend(g), blend(b), 255]);
+    }
+    egui::ColorImage::from_rgba_unmultiplied([width as usize, height as usize], &bytes)
+}
+
 /// The denoised image of a finished render (computed once).
 fn denoised(view: &mut RenderView) -> Option<&Vec<[f32; 3]>> {
     if view.denoised.is_none() {
@@ -188,9 +213,21 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
             show_denoised,
         );
         if view.texture_key != Some(key) {
-            let color = match (&view.denoised, show_denoised) {
-                (Some(d), true) => tone_mapped_rgb(d, image.width, image.height, view.view()),
-                _ => tone_mapped(image, view.view()),
+            let rgb = match (&view.denoised, show_denoised) {
+                (Some(d), true) => d.clone(),
+                _ => image.rgb(),
+            };
+            let alpha = view
+                .job
+                .aovs
+                .as_ref()
+                .filter(|_| view.job.scene.settings.transparent)
+                .map(|a| a.hits.alphas())
+                .filter(|a| a.len() == rgb.len());
+            let (w, h) = (image.width, image.height);
+            let color = match alpha {
+                Some(alpha) => over_checkerboard(&rgb, &alpha, w, h, view.view()),
+                None => tone_mapped_rgb(&rgb, w, h, view.view()),
             };
             match &mut view.texture {
                 Some(t) => t.set(color, egui::TextureOptions::NEAREST),
@@ -277,6 +314,24 @@ fn white_balance_control(ui: &mut egui::Ui, kelvin: &mut Option<f32>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A transparent render shows over a checkerboard: the board where alpha is 0, the colour as
+    /// the opaque view shows it where alpha is 1.
+    #[test]
+    fn transparent_renders_show_over_a_checkerboard() {
+        let view = View::default();
+        let rgb = [[0.5, 0.25, 0.1], [0.0; 3], [0.0; 3]];
+        let shown = over_checkerboard(&rgb, &[1.0, 0.0, 0.0], 3, 1, view);
+        let opaque = tone_mapped_rgb(&rgb, 3, 1, view);
+        assert_eq!(shown.pixels[0], opaque.pixels[0]);
+        assert_eq!(shown.pixels[1], egui::Color32::from_gray(102));
+        let far = over_checkerboard(&[[0.0; 3]; 9], &[0.0; 9], 9, 1, view);
+        assert_eq!(
+            far.pixels[8],
+            egui::Color32::from_gray(153),
+            "the next square"
+        );
+    }
 
     /// A render of a transparent scene saves its alpha: PNG RGBA with straight colour, EXR with
     /// an `A` channel; an opaque one saves RGB as before.
