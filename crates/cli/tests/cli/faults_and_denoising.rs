@@ -116,7 +116,7 @@ fn a_corrupt_oidn_library_falls_back_or_fails_as_asked() {
 }
 
 /// `--denoise` at 2560x1440: the accumulation (16 bytes a pixel) fits one binding on lavapipe but
-/// the denoiser's guides (48 bytes a pixel, 177 MB) do not, so the render must be tiled by the
+/// the denoiser's guides and first hits (64 bytes a pixel, 236 MB) do not, so the render must be tiled by the
 /// guides' size (it once failed with "the albedo, normal, emission buffer needs 176947200 bytes").
 /// The tiled render is the untiled one (rendered without the guides) bit for bit, and its denoised
 /// copy covers the whole frame.

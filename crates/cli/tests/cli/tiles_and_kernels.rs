@@ -105,8 +105,8 @@ fn tiled_renders_honour_every_flag() {
             (out, stderr)
         };
         let (whole, whole_log) = render("whole", &[]);
-        // Seven rows of the largest per-pixel buffer: the denoiser's guides, 48 bytes a pixel.
-        let seven_rows = (24 * 48 * 7).to_string();
+        // Seven rows of the largest per-pixel buffer: the denoiser's guides and first hits.
+        let seven_rows = (24 * rt_gpu::renderer::AOV_BYTES_PER_PIXEL * 7).to_string();
         let (tiled, tiled_log) = render("tiled", &[("RT_MAX_ACCUMULATION_BYTES", &seven_rows)]);
         assert!(!whole_log.contains("tiles of"), "{whole_log}");
         assert!(tiled_log.contains("3 tiles of 7 rows"), "{tiled_log}");
