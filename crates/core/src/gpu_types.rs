@@ -9,6 +9,10 @@ pub const WGSL: &str = include_str!("gpu_types.wgsl");
 
 use bytemuck::{Pod, Zeroable};
 
+mod layouts;
+pub(crate) use layouts::gpu_struct;
+pub use layouts::{GpuStruct, StructLayout, layouts};
+
 /// `Triangle.has_normals` bits.
 pub const HAS_NORMALS: u32 = 1;
 pub const HAS_COLORS: u32 = 2;
@@ -22,6 +26,7 @@ pub fn pack_color(c: [f32; 3]) -> u32 {
 /// `TextureSlot::offset` of an empty slot.
 pub const NO_TEXTURE: u32 = u32::MAX;
 
+gpu_struct! {
 /// One triangle's vertices in world space, in BVH leaf order.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -36,7 +41,9 @@ pub struct Triangle {
     /// 1 when `Shading` holds texture coordinates.
     pub has_uvs: u32, // 44
 }
+}
 
+gpu_struct! {
 /// Per-vertex shading attributes of the triangle with the same index.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -53,7 +60,9 @@ pub struct Shading {
     pub uv2: [f32; 2], // 64
     pub _pad3: [f32; 2], // 72
 }
+}
 
+gpu_struct! {
 /// Where one of a material's images lies in the texel buffer; `offset` is `NO_TEXTURE` when the
 /// slot is empty.
 #[repr(C)]
@@ -62,6 +71,7 @@ pub struct TextureSlot {
     pub offset: u32, // 0
     pub width: u32,  // 4
     pub height: u32, // 8
+}
 }
 
 impl TextureSlot {
@@ -82,6 +92,7 @@ impl Default for TextureSlot {
     }
 }
 
+gpu_struct! {
 /// A material as the kernel sees it: the tag `kind` (`MaterialKind::tag`) selects the BSDF, which
 /// reads its parameters from `lobe` through its own block type (`MetalLobe`, `DielectricLobe`,
 /// `PbrLobe`); the rest means the same for every kind.
@@ -118,7 +129,9 @@ pub struct Material {
     /// scattering. Zero: vacuum.
     pub medium: Medium, // 384
 }
+}
 
+gpu_struct! {
 /// A homogeneous participating medium (`math::medium`): per scene unit, its extinction
 /// σ_t = σ_a + σ_s and scattering σ_s per channel, and the Henyey–Greenstein anisotropy g of its
 /// phase function. All zero: vacuum.
@@ -129,6 +142,7 @@ pub struct Medium {
     pub anisotropy: f32,   // 12
     pub sigma_s: [f32; 3], // 16
     pub _pad: f32,         // 28
+}
 }
 
 /// How many texture slots a material has.
@@ -197,6 +211,7 @@ const _: () = assert!(
         && size_of::<PbrLobe>() <= 16 * LOBE_VEC4S
 );
 
+gpu_struct! {
 /// `MaterialKind::Metal`'s parameters.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -204,16 +219,20 @@ pub struct MetalLobe {
     /// The radius of the ball perturbing the mirror direction, in [0, 1].
     pub fuzz: f32, // 0
 }
+}
 impl Lobe for MetalLobe {}
 
+gpu_struct! {
 /// `MaterialKind::Dielectric`'s parameters.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct DielectricLobe {
     pub ior: f32, // 0
 }
+}
 impl Lobe for DielectricLobe {}
 
+gpu_struct! {
 /// `MaterialKind::Pbr`'s parameters (`math::bsdf`).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -264,6 +283,7 @@ pub struct PbrLobe {
     /// `KHR_materials_dispersion`'s 20 / V_d (`math::dispersion`; 0: none).
     pub dispersion: f32, // 116
     pub _pad: [f32; 2], // 120
+}
 }
 impl Lobe for PbrLobe {}
 
@@ -319,6 +339,7 @@ pub const WRAP_CLAMP: u32 = 1;
 pub const WRAP_MIRROR: u32 = 2;
 pub const FILTER_NEAREST: u32 = 16;
 
+gpu_struct! {
 /// One texel of the environment map with its importance-sampling record (`crate::environment`).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -331,7 +352,9 @@ pub struct EnvTexel {
     pub threshold: f32,   // 20
     pub _pad: [u32; 2],   // 24
 }
+}
 
+gpu_struct! {
 /// An inner node of the BVH2 holding the boxes of both its children, so one load per traversal step
 /// decides which children to visit. A child with `*_count > 0` is a leaf of triangles
 /// `left..left + left_count` (resp. right); otherwise `left` (resp. `right`) is the child's node index.
@@ -348,7 +371,9 @@ pub struct BvhNode {
     pub right_max: [f32; 3], // 48
     pub right_count: u32,    // 60
 }
+}
 
+gpu_struct! {
 /// A node of the compressed wide BVH (CWBVH, Ylitie, Karras and Laine 2017) as obvhs builds it: up
 /// to eight children whose boxes are quantised to 8 bits per plane on a grid with origin `origin`
 /// and power-of-two cell sizes. Byte-for-byte `obvhs::cwbvh::node::CwBvhNode`, with its byte arrays
@@ -373,7 +398,9 @@ pub struct WideBvhNode {
     pub lo_z: [u32; 2],   // 64
     pub hi_z: [u32; 2],   // 72
 }
+}
 
+gpu_struct! {
 /// Per-dispatch parameters: camera, image and the slice of work this dispatch does.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -460,7 +487,9 @@ pub struct Frame {
     /// nothing; the guides' coverage gives each pixel's alpha.
     pub transparent: u32, // 236
 }
+}
 
+gpu_struct! {
 /// One emitter triangle in the alias table that picks emitters in proportion to their power
 /// (area × luminance of emission): draw `i` uniformly, keep it when u < `threshold`, else take `alias_index`.
 #[repr(C)]
@@ -474,7 +503,9 @@ pub struct Emitter {
     /// without a tree).
     pub leaf: u32, // 12
 }
+}
 
+gpu_struct! {
 /// One node of the light tree (`crate::light_tree`), four-wide: per slot (a lane of each array)
 /// the bounds of the emitters below it (a sphere, the cone of their normals, the angle they emit
 /// into past a normal, their power), and a child node or the slot's emitter. Lanes, so that the
@@ -509,7 +540,9 @@ pub struct LightNode {
     pub parent: u32, // 196
     pub _pad: [u32; 2],     // 200
 }
+}
 
+gpu_struct! {
 /// A point, spot or directional light (see `crate::light` for the units).
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -525,7 +558,9 @@ pub struct DeltaLight {
     pub power: [f32; 3], // 32
     pub cos_outer: f32,     // 44
 }
+}
 
+gpu_struct! {
 /// A ray for the `trace_rays` test kernel.
 #[repr(C, align(16))]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -535,7 +570,9 @@ pub struct Ray {
     pub direction: [f32; 3], // 16
     pub _pad: f32,           // 28
 }
+}
 
+gpu_struct! {
 /// The nearest hit of a `Ray`; `triangle == u32::MAX` for a miss.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -548,9 +585,7 @@ pub struct Hit {
     /// triangle stored in world space.
     pub instance: u32, // 16
 }
+}
 
 /// `Hit::instance` of a triangle stored in world space.
 pub const NO_INSTANCE: u32 = u32::MAX;
-
-mod layouts;
-pub use layouts::{StructLayout, layouts};

@@ -33,6 +33,7 @@ pub struct PlacedTriangle {
     pub tangents: [[f32; 4]; 3],
 }
 
+crate::gpu_types::gpu_struct! {
 /// One placed copy of a shared mesh, as the kernels read it (`Instance` in `instances.wgsl`).
 /// Rows of 3×4 affine matrices: a point p goes to (r·(p, 1)) per row r.
 #[repr(C, align(16))]
@@ -49,6 +50,7 @@ pub struct Instance {
     /// 1 where the transform mirrors (a negative determinant): the winding turns over.
     pub mirrored: u32, // 104
     pub _pad: u32, // 108
+}
 }
 
 fn rows(m: Mat4) -> [[f32; 4]; 3] {
