@@ -28,34 +28,10 @@ pub fn parse_region(s: &str) -> Result<[u32; 4], String> {
 }
 
 /// Makes the settings render only `region` of the image they describe.
-pub fn apply(settings: &mut RenderSettings, [x0, y0, x1, y1]: [u32; 4]) -> Result<()> {
-    let (film_width, film_height, at) = match settings.film_window {
-        Some(w) => (w.film_width, w.film_height, (w.x, w.y)),
-        None => (settings.width, settings.height, (0, 0)),
-    };
-    if at != (0, 0)
-        || settings
-            .film_window
-            .is_some_and(|w| (w.film_width, w.film_height) != (settings.width, settings.height))
-    {
-        anyhow::bail!(
-            "--region: the scene already renders a region; give the region of the whole image instead"
-        );
-    }
-    if x1 > film_width || y1 > film_height {
-        anyhow::bail!(
-            "--region {x0},{y0},{x1},{y1} reaches past the {film_width}x{film_height} image"
-        );
-    }
-    settings.film_window = Some(FilmWindow {
-        x: x0,
-        y: y0,
-        film_width,
-        film_height,
-    });
-    settings.width = x1 - x0;
-    settings.height = y1 - y0;
-    Ok(())
+pub fn apply(settings: &mut RenderSettings, region: [u32; 4]) -> Result<()> {
+    settings
+        .crop_to_region(region)
+        .map_err(|e| anyhow::anyhow!("--region: {e}"))
 }
 
 /// Pastes the rendered window (`pixels`, `window`) into `into`, an image of the whole film, and

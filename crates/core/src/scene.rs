@@ -219,6 +219,41 @@ impl Integrator {
     }
 }
 
+impl RenderSettings {
+    /// Renders only the window `[x0, y0, x1, y1)` (pixels) of the image these settings describe
+    /// (Blender's render region): the image becomes the window, its pixels the samples the whole
+    /// image takes there (`film_window`). An error where the region leaves the image or the
+    /// settings already render a window of another.
+    pub fn crop_to_region(&mut self, [x0, y0, x1, y1]: [u32; 4]) -> Result<(), String> {
+        if let Some(w) = self.film_window
+            && (w.x, w.y, w.film_width, w.film_height) != (0, 0, self.width, self.height)
+        {
+            return Err(
+                "the scene already renders a region; give the region of the whole image instead"
+                    .into(),
+            );
+        }
+        let (film_width, film_height) = (self.width, self.height);
+        if x0 >= x1 || y0 >= y1 {
+            return Err(format!("the region {x0},{y0},{x1},{y1} is empty"));
+        }
+        if x1 > film_width || y1 > film_height {
+            return Err(format!(
+                "the region {x0},{y0},{x1},{y1} reaches past the {film_width}x{film_height} image"
+            ));
+        }
+        self.film_window = Some(FilmWindow {
+            x: x0,
+            y: y0,
+            film_width,
+            film_height,
+        });
+        self.width = x1 - x0;
+        self.height = y1 - y0;
+        Ok(())
+    }
+}
+
 /// Where an image sits in the film it is a window of (`RenderSettings::film_window`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct FilmWindow {

@@ -51,6 +51,8 @@ pub struct RenderView {
     pub denoised: Option<Vec<[f32; 3]>>,
     /// Which denoiser made `denoised`.
     pub denoiser: Option<&'static str>,
+    /// The render passes an EXR saved from this window carries as layers (as `rt-cli --aov`).
+    pub passes: Vec<rt_core::passes::Pass>,
 }
 
 /// The path-traced viewport: its engine, what it was last asked for, and the texture it shows.
@@ -111,6 +113,10 @@ pub struct UiState {
     pub window_title: Option<String>,
     /// Which backend renders the render windows (the Render panel's "Device").
     pub render_device: crate::render_job::DeviceChoice,
+    /// The window of the image the render windows render, `[x0, y0, x1, y1)` in pixels (the
+    /// Render panel's "Region", Blender's render region): a choice of this session, not the
+    /// scene's.
+    pub render_region: Option<[u32; 4]>,
     /// Where the viewport was last drawn (screen points), for what places things in it.
     pub viewport_rect: Option<egui::Rect>,
 }
@@ -231,6 +237,7 @@ impl RenderView {
             show_denoised: false,
             denoised: None,
             denoiser: None,
+            passes: Vec::new(),
         }
     }
 

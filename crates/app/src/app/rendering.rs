@@ -14,9 +14,16 @@ impl RtApp {
             return None;
         }
         let bidirectional = self.doc.scene.settings.integrator == rt_core::Integrator::Bdpt;
+        let mut scene = self.doc.scene.clone();
+        if let Some(region) = self.ui.render_region
+            && let Err(e) = scene.settings.crop_to_region(region)
+        {
+            self.show_error(format!("Cannot render the region: {e}"));
+            return None;
+        }
         let job = RenderJob::start(
             self.device.clone(),
-            self.doc.scene.clone(),
+            scene,
             None,
             JobOptions {
                 preview_every: Some(Duration::from_millis(500)),

@@ -5,7 +5,7 @@ pub mod gizmo;
 pub mod light_marks;
 mod menu;
 mod panels;
-mod renders;
+pub mod renders;
 mod transform_keys;
 mod viewport;
 

@@ -198,6 +198,9 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
             {
                 error = Some(format!("Could not save the image:\n{e}"));
             }
+            if view.job.aovs.is_some() {
+                pass_choice(ui, &mut view.passes);
+            }
         });
     }
     if view.show_denoised && view.job.aovs.is_some() {
@@ -253,6 +256,61 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
     error
 }
 
+/// Which render passes an EXR saved from the window carries (as `rt-cli --aov`).
+fn pass_choice(ui: &mut egui::Ui, passes: &mut Vec<rt_core::passes::Pass>) {
+    let label = match passes.len() {
+        0 => "Passes".to_string(),
+        n => format!("Passes ({n})"),
+    };
+    ui.menu_button(label, |ui| {
+        for pass in rt_core::passes::Pass::ALL {
+            let mut on = passes.contains(&pass);
+            if ui.checkbox(&mut on, pass.name()).changed() {
+                passes.retain(|p| *p != pass);
+                if on {
+                    passes.push(pass);
+                }
+            }
+        }
+    })
+    .response
+    .on_hover_text(
+        "Render passes saved as layers of an EXR beside the image, as Blender names them: depth, \
+         normal, albedo, position, object and material ids",
+    );
+}
+
+/// The layers of the passes the view asks for (`rt_core::passes`), from the render's first hits.
+fn pass_layers(view: &RenderView) -> rt_core::Result<Vec<(String, Vec<f32>)>> {
+    let (job, passes) = (&view.job, &view.passes);
+    let Some(aovs) = job.aovs.as_ref().filter(|_| !passes.is_empty()) else {
+        return Ok(Vec::new());
+    };
+    let position = if passes.contains(&rt_core::passes::Pass::Position) {
+        let built;
+        let gpu_scene = match &job.gpu_scene {
+            Some(g) => g.as_ref(),
+            None => {
+                built = rt_core::GpuScene::build(&job.scene)?;
+                &built
+            }
+        };
+        let frame = rt_core::frame::frame_for(&job.scene, gpu_scene)?;
+        rt_core::passes::positions(&frame, &aovs.hits)
+    } else {
+        Vec::new()
+    };
+    let material_ids = rt_core::passes::material_ids(&job.scene);
+    let inputs = rt_core::passes::PassInputs {
+        albedo: &aovs.albedo,
+        normal: &aovs.normal,
+        hits: &aovs.hits,
+        position: &position,
+        material_ids: &material_ids,
+    };
+    Ok(rt_core::passes::pass_channels(passes, &inputs))
+}
+
 /// Saves the view's image; the format follows the extension.
 pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
     let Some(image) = &view.job.image else {
@@ -263,21 +321,31 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
     {
         return rt_core::output::save_image(path, image.width, image.height, denoised, view.view());
     }
+    let format = rt_core::output::ImageFormat::from_path(path)?;
+    let passes = match format {
+        rt_core::output::ImageFormat::Exr => pass_layers(view)?,
+        _ => Vec::new(),
+    };
     let alpha = view.job.aovs.as_ref().map(|a| a.hits.alphas());
+    let size = [image.width, image.height];
     if view.job.scene.settings.transparent
         && let Some(alpha) = alpha.filter(|c| c.len() == image.pixels.len())
     {
-        let format = rt_core::output::ImageFormat::from_path(path)?;
-        let size = [image.width, image.height];
         let bytes = rt_core::output::encode_with_alpha(
             format,
             size,
             &image.pixels,
             image.counts(),
             &alpha,
-            &[],
+            &passes,
             view.view(),
         )?;
+        return rt_core::output::write_atomically(path, &bytes);
+    }
+    if !passes.is_empty() {
+        let [w, h] = size;
+        let counts = image.counts();
+        let bytes = rt_core::output::encode_exr_layers(w, h, &image.pixels, counts, &passes)?;
         return rt_core::output::write_atomically(path, &bytes);
     }
     rt_core::output::save_render(

@@ -227,3 +227,69 @@ fn without_a_hardware_gpu_the_viewport_opens_path_traced() {
             .is_some_and(|v| v.display().is_some())
     });
 }
+
+/// The Render panel's Region renders only that window of the image, its pixels the whole render's
+/// there (the same samples, on the CPU backend); the render window's Passes save as EXR layers.
+/// Needs no GPU.
+#[test]
+fn a_render_region_and_passes_from_the_editor() {
+    let mut harness = harness();
+    harness.run_ok();
+    harness.get_by_label("CPU").click();
+    harness.state_mut().doc.edit("small", "small", |s| {
+        s.settings.width = 32;
+        s.settings.height = 24;
+        s.settings.samples_per_pixel = 2;
+    });
+    harness.run_ok();
+    harness.state_mut().start_render();
+    step_until(&mut harness, "the whole image", |app| !app.is_rendering());
+    harness.get_by_label("Region").click();
+    harness.run_ok();
+    assert_eq!(harness.state().ui.render_region, Some([8, 6, 24, 18]));
+    harness.state_mut().ui.render_region = Some([4, 3, 20, 11]);
+    harness.state_mut().start_render();
+    step_until(&mut harness, "the region", |app| {
+        app.renders.len() == 2 && !app.is_rendering()
+    });
+    let (whole, window) = {
+        let renders = &harness.state().renders;
+        (
+            renders[0].job.image.clone().unwrap(),
+            renders[1].job.image.clone().unwrap(),
+        )
+    };
+    assert_eq!((window.width, window.height), (16, 8));
+    for y in 0..8 {
+        for x in 0..16 {
+            assert_eq!(
+                window.pixels[(y * 16 + x) as usize],
+                whole.pixels[((y + 3) * 32 + x + 4) as usize],
+                "pixel ({x}, {y}) of the region"
+            );
+        }
+    }
+    assert_eq!(
+        harness.state().doc.scene.settings.width,
+        32,
+        "the scene keeps its size"
+    );
+    let dir = std::env::temp_dir().join(format!("rt-editor-passes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let exr = dir.join("passes.exr");
+    let view = &mut harness.state_mut().renders[1];
+    view.passes = vec![rt_core::passes::Pass::Depth, rt_core::passes::Pass::Object];
+    rt_app::ui::renders::save(view, &exr).unwrap();
+    let layers = exr::prelude::read_all_flat_layers_from_file(&exr).unwrap();
+    let names: Vec<String> = layers.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    assert!(
+        names.contains(&"depth.Z".to_string()) && names.contains(&"object.ID".to_string()),
+        "{names:?}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

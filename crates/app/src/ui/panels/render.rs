@@ -110,11 +110,13 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
             range: 0.001..=1.0,
         },
     );
+    let size = [settings.width, settings.height];
     if settings != app.doc.scene.settings {
         app.doc.edit("change render settings", "settings", |s| {
             s.settings = settings
         });
     }
+    region_choice(ui, &mut app.ui.render_region, size);
     ui.horizontal(|ui| {
         if ui
             .button("Render image")
@@ -145,6 +147,32 @@ pub fn render_panel(app: &mut RtApp, ui: &mut Ui) {
         )))
         .on_hover_text("Samples per pixel done, estimated time left and relative noise");
     }
+}
+
+/// The render region (Blender's): render windows then render only that window of the image,
+/// `[x0, y0, x1, y1)` in pixels, kept inside the image.
+fn region_choice(ui: &mut Ui, region: &mut Option<[u32; 4]>, [width, height]: [u32; 2]) {
+    ui.horizontal(|ui| {
+        let mut on = region.is_some();
+        if ui
+            .checkbox(&mut on, "Region")
+            .on_hover_text(
+                "Render only a window of the image (pixels from the top left; the right and \
+                 bottom edges excluded): its pixels are those the whole image would have",
+            )
+            .changed()
+        {
+            *region = on.then_some([width / 4, height / 4, width * 3 / 4, height * 3 / 4]);
+        }
+        if let Some([x0, y0, x1, y1]) = region.as_mut() {
+            *x1 = (*x1).clamp(1, width.max(1));
+            *y1 = (*y1).clamp(1, height.max(1));
+            ui.add(DragValue::new(x0).range(0..=*x1 - 1).prefix("x "));
+            ui.add(DragValue::new(y0).range(0..=*y1 - 1).prefix("y "));
+            ui.add(DragValue::new(x1).range(*x0 + 1..=width).prefix("to x "));
+            ui.add(DragValue::new(y1).range(*y0 + 1..=height).prefix("y "));
+        }
+    });
 }
 
 /// How the render windows gather light: path tracing, or bidirectional path tracing for caustics.
