@@ -44,12 +44,17 @@ fn both_kernels_and_the_cpu_backend_stop_alike_and_keep_the_mean() {
         threshold: 0.12,
         min_samples: 8,
     };
+    let mut plain_scene = scene.clone();
+    (
+        scene.settings.adaptive_threshold,
+        scene.settings.adaptive_min_samples,
+    ) = (Some(0.12), 8);
+    assert_eq!(Adaptive::of_settings(&scene.settings), Some(adaptive));
     let mut images = Vec::new();
     for kernel in [Kernel::Wavefront, Kernel::Megakernel] {
         let options = RenderOptions {
             kernel,
             max_samples_per_dispatch: Some(1),
-            adaptive: Some(adaptive),
             ..Default::default()
         };
         let mut renderer = Renderer::for_scene(ctx, &scene, &gpu_scene, options).unwrap();
@@ -105,7 +110,8 @@ fn both_kernels_and_the_cpu_backend_stop_alike_and_keep_the_mean() {
         max_samples_per_dispatch: Some(1),
         ..Default::default()
     };
-    let mut plain = Renderer::for_scene(ctx, &scene, &gpu_scene, options).unwrap();
+    plain_scene.settings.adaptive_threshold = None;
+    let mut plain = Renderer::for_scene(ctx, &plain_scene, &gpu_scene, options).unwrap();
     plain.render(SPP, |_| true).unwrap();
     let plain = plain.read_image().unwrap();
     let (m_plain, v_plain) = mean_and_variance(&plain.pixels, &vec![SPP; plain.pixels.len()]);
@@ -140,12 +146,10 @@ fn a_loose_threshold_stops_every_pixel_after_the_minimum() {
     assert_eq!(renderer.samples_done(), min);
     let image = renderer.read_image().unwrap();
     assert!(image.sample_counts.unwrap().iter().all(|&c| c == min));
-    let frame = rt_core::frame::frame_for(&scene, &gpu_scene).unwrap();
     let tiled = rt_gpu::render_tiled(
         ctx,
-        &gpu_scene,
-        frame,
-        options.with_scene_settings(&scene.settings),
+        (&scene, &gpu_scene),
+        options,
         1000,
         Some(16 * 16 * 5),
         |_| true,
@@ -158,7 +162,7 @@ fn a_loose_threshold_stops_every_pixel_after_the_minimum() {
     );
 }
 
-/// A threshold that is not a positive number is a clear error.
+/// A threshold that is not a positive number, or a minimum under two samples, is a clear error.
 #[test]
 fn a_bad_threshold_is_a_clear_error() {
     let Some(ctx) = gpu() else { return };
@@ -170,4 +174,9 @@ fn a_bad_threshold_is_a_clear_error() {
         let gpu_scene = GpuScene::build(&scene).unwrap();
         assert!(Renderer::for_scene(ctx, &scene, &gpu_scene, RenderOptions::default()).is_err());
     }
+    // Fewer than two samples before stopping leaves a stream without one.
+    scene.settings.adaptive_threshold = Some(0.1);
+    scene.settings.adaptive_min_samples = 1;
+    let error = rt_core::frame::validate(&scene).unwrap_err().to_string();
+    assert!(error.contains("at least 2 samples"), "{error}");
 }

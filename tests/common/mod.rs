@@ -66,6 +66,7 @@ pub fn settings(width: u32, height: u32, spp: u32, max_depth: u32) -> RenderSett
         sampler: Default::default(),
         nee_only: false,
         adaptive_threshold: None,
+        adaptive_min_samples: rt_core::scene::ADAPTIVE_MIN_SAMPLES,
         light_sampler: Default::default(),
         film_window: None,
         transparent: false,

@@ -103,19 +103,16 @@ fn a_batch_failing_part_way_is_finished_by_the_next() {
     s.settings.samples_per_pixel = 3;
     let gpu_scene = GpuScene::build(&s).unwrap();
     // With adaptive sampling too: its waves walk the list of pixels still sampling, 64 at a time.
-    let adaptive = rt_gpu::Adaptive {
-        threshold: 0.3,
-        min_samples: 2,
-    };
+    s.settings.adaptive_min_samples = 2;
     for (kernel, adaptive) in [
         (Kernel::Wavefront, None),
         (Kernel::Megakernel, None),
-        (Kernel::Wavefront, Some(adaptive)),
+        (Kernel::Wavefront, Some(0.3)),
     ] {
+        s.settings.adaptive_threshold = adaptive;
         // A 1 µs target shrinks batches after the first to one sample in bands of one row.
         let options = RenderOptions {
             kernel,
-            adaptive,
             target_dispatch: Duration::from_micros(1),
             ..Default::default()
         };

@@ -86,12 +86,10 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
     renderer.render(3, |_| true).unwrap();
     let whole = renderer.read_image().unwrap();
     let whole_aovs = renderer.read_aovs().unwrap().unwrap();
-    let frame = rt_core::frame::frame_for(&s, &gpu_scene).unwrap();
     for rows in [1u32, 5, 22] {
         let rt_gpu::TiledRender { image: tiled, aovs } = rt_gpu::render_tiled(
             ctx,
-            &gpu_scene,
-            frame,
+            (&s, &gpu_scene),
             options,
             3,
             Some(u64::from(rows) * 37 * rt_gpu::pixel_binding_bytes(&options)),
@@ -113,7 +111,10 @@ fn tiled_renders_are_bit_identical_to_untiled_ones() {
         );
     }
     // Tiles are sized by the largest per-pixel binding: the guides when the denoiser keeps them.
-    assert_eq!(rt_gpu::pixel_binding_bytes(&options), 48);
+    assert_eq!(
+        rt_gpu::pixel_binding_bytes(&options),
+        rt_gpu::renderer::AOV_BYTES_PER_PIXEL
+    );
     assert_eq!(rt_gpu::pixel_binding_bytes(&RenderOptions::default()), 16);
     assert_eq!(rt_gpu::tile_rows(16384, 16384, 16, 128 << 20), 512);
     assert_eq!(rt_gpu::tile_rows(2560, 1440, 48, 128 << 20), 1092);

@@ -35,11 +35,16 @@ pub struct EstimatorArgs {
     /// samples) or independent (PCG streams).
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerArg>,
-    /// Adaptive sampling: after 64 samples a pixel stops once its estimated noise (the square root
-    /// of its relMSE term, as --noise-target measures the image) and its neighbours' is at most X,
-    /// judged on each of two halves of its samples for the other half (so it stays unbiased).
+    /// Adaptive sampling: after 64 samples (--adaptive-min-samples) a pixel stops once its
+    /// estimated noise (the square root of its relMSE term, as --noise-target measures the image)
+    /// and its neighbours' is at most X, judged on each of two halves of its samples for the other
+    /// half (so it stays unbiased).
     #[arg(long, value_name = "X")]
     pub adaptive: Option<f32>,
+    /// The samples every pixel takes before adaptive sampling may stop it (Cycles' Min Samples;
+    /// default 64, at least 2).
+    #[arg(long, value_name = "N")]
+    pub adaptive_min_samples: Option<u32>,
     /// How next-event estimation picks a light: tree (an emitter, point or spot light by its
     /// importance at the shading point, through the light tree: for scenes with many lights), power
     /// (an emitter in proportion to its power, every point and spot light summed), or auto (the
@@ -83,6 +88,9 @@ impl EstimatorArgs {
             settings.sampler = sampler.into();
         }
         settings.adaptive_threshold = self.adaptive.or(settings.adaptive_threshold);
+        settings.adaptive_min_samples = self
+            .adaptive_min_samples
+            .unwrap_or(settings.adaptive_min_samples);
         if let Some(sampler) = self.light_sampler {
             settings.light_sampler = sampler.into();
         }

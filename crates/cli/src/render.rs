@@ -430,7 +430,7 @@ fn render_in_tiles(
     range: Option<[u32; 2]>,
 ) -> Result<()> {
     let settings = &scene.settings;
-    let options = shard_options(args, settings, range).with_scene_settings(settings);
+    let options = shard_options(args, settings, range);
     let pixel_bytes = rt_gpu::pixel_binding_bytes(&options);
     let rows = rt_gpu::tile_rows(settings.width, settings.height, pixel_bytes, max_buffer);
     let tiles = settings.height.div_ceil(rows);
@@ -443,11 +443,9 @@ fn render_in_tiles(
     );
     bar.set_message(format!("{tiles} tiles of {rows} rows"));
     let started = Instant::now();
-    let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
     let rt_gpu::TiledRender { image, aovs } = rt_gpu::render_tiled(
         ctx,
-        gpu_scene,
-        frame,
+        (scene, gpu_scene),
         options,
         range.map_or(settings.samples_per_pixel, |[a, b]| b - a),
         Some(max_buffer),

@@ -36,7 +36,7 @@ impl Adaptive {
     pub fn of_settings(settings: &crate::RenderSettings) -> Option<Adaptive> {
         settings.adaptive_threshold.map(|threshold| Adaptive {
             threshold,
-            min_samples: crate::scene::ADAPTIVE_MIN_SAMPLES,
+            min_samples: settings.adaptive_min_samples,
         })
     }
 }

@@ -173,12 +173,16 @@ pub struct RenderSettings {
     /// estimators agree. Off by default.
     #[serde(default)]
     pub nee_only: bool,
-    /// Adaptive sampling: once a pixel has `ADAPTIVE_MIN_SAMPLES` samples, it stops taking more as
+    /// Adaptive sampling: once a pixel has `adaptive_min_samples` samples, it stops taking more as
     /// soon as its estimated noise (the square root of its term of the image's estimated relMSE,
     /// `metrics::pixel_rel_mse`) is at most this, and so do its neighbours', on each of its two
     /// streams of samples (`crate::adaptive`). `None`, the default, gives every pixel every sample.
     #[serde(default)]
     pub adaptive_threshold: Option<f32>,
+    /// The samples every pixel takes before adaptive sampling may stop it (Cycles' Min Samples;
+    /// half in each of its two streams).
+    #[serde(default = "default_adaptive_min_samples")]
+    pub adaptive_min_samples: u32,
     /// How next-event estimation picks an emitter: by its power alone, or by its importance at the
     /// shading point through the light tree (`crate::light_tree`, which also holds the point and
     /// spot lights); by default the tree where the scene has many lights.
@@ -307,6 +311,10 @@ impl LightSampler {
 /// of samples (on the glass-caustics scene 16 gave 2.4× the relMSE of 64, docs/quality.md).
 pub const ADAPTIVE_MIN_SAMPLES: u32 = 64;
 
+fn default_adaptive_min_samples() -> u32 {
+    ADAPTIVE_MIN_SAMPLES
+}
+
 fn default_true() -> bool {
     true
 }
@@ -325,6 +333,7 @@ impl Default for RenderSettings {
             sampler: Default::default(),
             nee_only: false,
             adaptive_threshold: None,
+            adaptive_min_samples: ADAPTIVE_MIN_SAMPLES,
             light_sampler: LightSampler::default(),
             film_window: None,
             transparent: false,
@@ -378,6 +387,13 @@ impl RenderSettings {
         {
             return Err(format!(
                 "the adaptive sampling threshold must be a positive number, got {t}"
+            ));
+        }
+        if self.adaptive_min_samples < 2 {
+            return Err(format!(
+                "adaptive sampling needs at least 2 samples per pixel before it stops one (one \
+                 in each of its two streams), got {}",
+                self.adaptive_min_samples
             ));
         }
         Ok(())

@@ -125,6 +125,7 @@ pub(crate) fn pipeline_key(
     frame: &Frame,
     options: &RenderOptions,
     ray_query: bool,
+    adaptive: bool,
 ) -> PipelineKey {
     PipelineKey {
         kernel: options.kernel,
@@ -135,7 +136,7 @@ pub(crate) fn pipeline_key(
         workgroup: options.tuning.workgroup,
         sobol: frame.sampler == 1,
         aovs: options.aovs,
-        adaptive: options.adaptive.is_some(),
+        adaptive,
     }
 }
 
@@ -184,9 +185,11 @@ fn key_for_scene(
     options: RenderOptions,
 ) -> Result<PipelineKey> {
     let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
-    let options = options.with_scene_settings(&scene.settings);
     let ray_query = ctx.resolve_trace(options.trace, gpu_scene) == Trace::Hardware;
-    Ok(pipeline_key(gpu_scene, &frame, &options, ray_query))
+    let adaptive = scene.settings.adaptive_threshold.is_some();
+    Ok(pipeline_key(
+        gpu_scene, &frame, &options, ray_query, adaptive,
+    ))
 }
 
 /// Whether the kernel `Renderer::for_scene` would run with these arguments is compiled on `ctx`

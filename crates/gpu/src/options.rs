@@ -1,6 +1,7 @@
-//! What one run chooses of a render: the kernel, dispatch sizing, AOVs and adaptive sampling (the
-//! contract; what the scene asks of the estimator is in its settings and so in the `Frame`), and `Tuning`: how the kernels run (measurements, tests and driver
-//! workarounds), never what they compute.
+//! What one run chooses of a render: the kernel, dispatch sizing and AOVs (the contract; what the
+//! scene asks for, adaptive sampling included, is in its settings and so in the `Frame` or, for
+//! adaptive sampling, read from them by `Renderer::for_scene` and `render_tiled`), and `Tuning`:
+//! how the kernels run (measurements, tests and driver workarounds), never what they compute.
 
 use std::time::Duration;
 
@@ -81,10 +82,6 @@ pub struct RenderOptions {
     /// Also accumulate each pixel's first-hit albedo and normal and the light seen directly (for
     /// the denoiser; read them with `Renderer::read_aovs`).
     pub aovs: bool,
-    /// Adaptive sampling: pixels stop taking samples once their noise estimate is low enough.
-    /// `with_scene_settings` (and so `Renderer::for_scene`) takes it from the scene's settings
-    /// when unset here.
-    pub adaptive: Option<Adaptive>,
     /// The index of the render's first sample: a shard of a larger render (`rt-cli render
     /// --shard`) takes samples `first_sample..first_sample + spp` of the whole image's, with the
     /// same random numbers a one-machine render gives them.
@@ -101,7 +98,6 @@ impl Default for RenderOptions {
             target_dispatch: Duration::from_millis(40),
             max_samples_per_dispatch: None,
             aovs: false,
-            adaptive: None,
             first_sample: 0,
             tuning: Tuning::default(),
         }
@@ -162,16 +158,6 @@ pub enum PipelineRebuilds {
 }
 
 impl RenderOptions {
-    /// These options with the scene's adaptive sampling where they set none, as every render of
-    /// a scene uses them. (What the scene asks of the estimator, such as the firefly clamp, is in
-    /// the `Frame`, built by `rt_core::frame::frame_for` alone.)
-    pub fn with_scene_settings(self, settings: &rt_core::RenderSettings) -> Self {
-        RenderOptions {
-            adaptive: self.adaptive.or(Adaptive::of_settings(settings)),
-            ..self
-        }
-    }
-
     /// An error for a combination that cannot be honoured (rather than silently ignoring a part).
     pub fn validate(&self) -> Result<()> {
         let [wx, wy] = self.tuning.workgroup;
@@ -184,14 +170,6 @@ impl RenderOptions {
             return Err(GpuError::Options(format!(
                 "work group {wx}x{wy}: it must have 1 to {MAX_WORKGROUP_INVOCATIONS} invocations \
                  (their BVH traversal stacks share the work group's 16 KiB of memory)"
-            )));
-        }
-        if let Some(a) = self.adaptive
-            && !(a.threshold.is_finite() && a.threshold > 0.0 && a.min_samples >= 2)
-        {
-            return Err(GpuError::Options(format!(
-                "adaptive sampling needs a positive threshold and at least 2 samples before it \
-                 stops a pixel, got {a:?}"
             )));
         }
         if self.kernel == Kernel::Wavefront && self.tuning.workgroup != DEFAULT_WORKGROUP {

@@ -95,7 +95,8 @@ pub struct Renderer<'a> {
 }
 
 impl<'a> Renderer<'a> {
-    /// Prepares a render of `scene` (camera and settings from the scene).
+    /// Prepares a render of `scene` (camera and settings, adaptive sampling included, from the
+    /// scene).
     pub fn for_scene(
         ctx: &'a GpuContext,
         scene: &Scene,
@@ -110,18 +111,16 @@ impl<'a> Renderer<'a> {
             ));
         }
         let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
-        Self::new(
-            ctx,
-            gpu_scene,
-            frame,
-            options.with_scene_settings(&scene.settings),
-        )
+        let adaptive = rt_core::adaptive::Adaptive::of_settings(&scene.settings);
+        Self::new(ctx, gpu_scene, (frame, adaptive), options)
     }
 
-    pub fn new(
+    /// A render of `frame` of `scene` with adaptive sampling's rule `adaptive` (the scene's
+    /// settings', as `for_scene` and `render_tiled` read them).
+    pub(crate) fn new(
         ctx: &'a GpuContext,
         scene: &GpuScene,
-        frame: Frame,
+        (frame, adaptive_rule): (Frame, Option<rt_core::adaptive::Adaptive>),
         options: RenderOptions,
     ) -> Result<Self> {
         validate_frame(ctx, scene, &frame, &options)?;
@@ -132,17 +131,18 @@ impl<'a> Renderer<'a> {
         } else {
             None
         };
-        let pipeline_key = engine::pipeline_key(scene, &frame, &options, ray_query);
+        let pipeline_key =
+            engine::pipeline_key(scene, &frame, &options, ray_query, adaptive_rule.is_some());
         let megakernel = engine::megakernel_pipelines(ctx, pipeline_key)?;
         let scene_buffers = scene_buffers(ctx, scene)?;
         ctx.check_buffer(
             "adaptive sampling stops (width x height x 4 bytes)",
-            AdaptiveState::buffer_bytes(options.adaptive, pixels),
+            AdaptiveState::buffer_bytes(adaptive_rule, pixels),
         )?;
         let (outputs, adaptive) = ctx.scoped(|| {
             (
                 Outputs::new(ctx, &frame, pixels, options.aovs),
-                AdaptiveState::new(ctx, options.adaptive, frame.width, tile_rows(&frame)),
+                AdaptiveState::new(ctx, adaptive_rule, frame.width, tile_rows(&frame)),
             )
         })?;
         let bound: Vec<(Binding, wgpu::Buffer)> = outputs

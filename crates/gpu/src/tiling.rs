@@ -38,8 +38,9 @@ pub struct TiledRender {
     pub aovs: Option<Aovs>,
 }
 
-/// Renders `spp` samples per pixel of an image too large for one accumulation buffer, tile by
-/// tile (bands of whole rows), and stitches the tiles (and their AOVs). Each pixel's samples are
+/// Renders `spp` samples per pixel of `scene` (built as `gpu_scene`), an image too large for one
+/// accumulation buffer, tile by tile (bands of whole rows), and stitches the tiles (and their
+/// AOVs). Each pixel's samples are
 /// the same as in an untiled render (random numbers are keyed by the pixel's number in the whole
 /// image), so the result is bit-identical, except with adaptive sampling: a pixel on a tile's
 /// first or last row judges only its neighbours inside the tile, so it may stop sooner. `max_tile_bytes` defaults to the adapter's largest
@@ -47,13 +48,14 @@ pub struct TiledRender {
 /// unrendered rest is black).
 pub fn render_tiled(
     ctx: &GpuContext,
-    gpu_scene: &GpuScene,
-    frame: Frame,
+    (scene, gpu_scene): (&rt_core::Scene, &GpuScene),
     options: RenderOptions,
     spp: u32,
     max_tile_bytes: Option<u64>,
     mut progress: impl FnMut(f64) -> bool,
 ) -> Result<TiledRender> {
+    let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
+    let adaptive = rt_core::adaptive::Adaptive::of_settings(&scene.settings);
     let limits = ctx.device.limits();
     let max_bytes = max_tile_bytes.unwrap_or(
         limits
@@ -69,7 +71,7 @@ pub fn render_tiled(
     let pixel_count = frame.width as usize * frame.height as usize;
     let mut pixels = vec![[0.0f32; 4]; pixel_count];
     let mut sums = vec![PixelSums::default(); pixel_count];
-    let mut counts = options.adaptive.map(|_| vec![0u32; pixel_count]);
+    let mut counts = adaptive.map(|_| vec![0u32; pixel_count]);
     let mut aovs = options.aovs.then(|| Aovs {
         albedo: vec![[0.0; 3]; pixel_count],
         normal: vec![[0.0; 3]; pixel_count],
@@ -86,7 +88,7 @@ pub fn render_tiled(
             tile_row_end: end,
             ..frame
         };
-        let mut renderer = Renderer::new(ctx, gpu_scene, tile_frame, options)?;
+        let mut renderer = Renderer::new(ctx, gpu_scene, (tile_frame, adaptive), options)?;
         while renderer.samples_done() < spp && renderer.active_pixels() > 0 {
             renderer.render_batch(spp - renderer.samples_done())?;
             let fraction = (f64::from(begin)
@@ -99,7 +101,7 @@ pub fn render_tiled(
         }
         // Adaptive tiles end when their pixels have all stopped, each at its own count: the image's
         // samples per pixel is then the most any took (its pixels' counts are at most that).
-        done_samples = if options.adaptive.is_some() {
+        done_samples = if adaptive.is_some() {
             if begin == 0 {
                 renderer.samples_done()
             } else {
