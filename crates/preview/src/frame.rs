@@ -428,6 +428,48 @@ fn glass_attenuation(material: &Material) -> Vec3 {
     }
 }
 
+/// Half the diagonal of the box around `mesh`'s vertices turned and scaled by `linear`: how far a
+/// view refracted into solid glass travels through it. A frame is built for every frame the
+/// viewport draws, so each (mesh, turn and scale) is measured once and remembered (a million
+/// vertices took milliseconds a frame); a mesh dropped and another allocated where it was is
+/// measured anew (the entry holds the mesh weakly).
+fn glass_radius(mesh: &Arc<rt_core::Mesh>, linear: Mat3) -> f32 {
+    type Key = (usize, [u32; 9]);
+    thread_local! {
+        static MEASURED: std::cell::RefCell<std::collections::HashMap<Key, (std::sync::Weak<rt_core::Mesh>, f32)>> =
+            Default::default();
+    }
+    let key = (
+        Arc::as_ptr(mesh) as usize,
+        linear.to_cols_array().map(f32::to_bits),
+    );
+    let known = MEASURED.with_borrow(|m| {
+        m.get(&key)
+            .filter(|(weak, _)| weak.upgrade().is_some_and(|m| Arc::ptr_eq(&m, mesh)))
+            .map(|(_, r)| *r)
+    });
+    if let Some(radius) = known {
+        return radius;
+    }
+    let (lo, hi) = mesh.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(linear * *p), hi.max(linear * *p)),
+    );
+    let radius = if lo.x <= hi.x {
+        0.5 * (hi - lo).length()
+    } else {
+        0.0
+    };
+    MEASURED.with_borrow_mut(|m| {
+        // Forget what was measured before it piles up (a dragged object leaves a trail of turns).
+        if m.len() >= 256 {
+            m.clear();
+        }
+        m.insert(key, (Arc::downgrade(mesh), radius));
+    });
+    radius
+}
+
 /// An object's record, its material's images, and whether it is drawn blended (transmission or
 /// alpha).
 fn preview_object(
@@ -469,16 +511,7 @@ fn preview_object(
     };
     // How far a refracted view travels through it: the radius of its bounding sphere.
     let glass_radius = if refracting_ior > 0.0 {
-        let linear = Mat3::from_mat4(model);
-        let (lo, hi) = object.mesh.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(linear * *p), hi.max(linear * *p)),
-        );
-        if lo.x <= hi.x {
-            0.5 * (hi - lo).length()
-        } else {
-            0.0
-        }
+        glass_radius(&object.mesh, Mat3::from_mat4(model))
     } else {
         0.0
     };
