@@ -46,7 +46,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from cycles_settings import arguments, export_glb, match_rt
+from cycles_settings import arguments, export_glb, read_channels, render_with_object_index
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
@@ -187,30 +187,6 @@ def patch(glb):
     glb.write_bytes(struct.pack("<III", 0x46546C67, 2, 12 + len(chunk) + len(rest)) + chunk + rest)
 
 
-def render_cycles(bpy, scene, spp, out):
-    match_rt(scene, spp, DEPTH)
-    scene.view_layers[0].use_pass_object_index = True
-    settings = scene.render.image_settings
-    if hasattr(settings, "media_type"):  # Blender 5: multilayer is a media type
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    else:
-        settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.color_depth = "32"
-    scene.render.filepath = str(out)
-    bpy.ops.render.render(write_still=True)
-
-
-def read_channels(path):
-    """Every channel of an EXR (all parts) by name, as numpy arrays (rows from the top)."""
-    import OpenEXR
-
-    out = {}
-    for part in OpenEXR.File(str(path), separate_channels=True).parts:
-        for name, channel in part.channels.items():
-            out[name] = channel.pixels.astype("float64")
-    return out
-
-
 def rgb_of(channels):
     import numpy
 
@@ -233,7 +209,7 @@ def main():
     patch(out / "scene.glb")
     started = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
-        render_cycles(bpy, scene, args.spp, Path(tmp) / "cycles.exr")
+        render_with_object_index(bpy, scene, args.spp, DEPTH, Path(tmp) / "cycles.exr")
         cycles = read_channels(Path(tmp) / "cycles.exr")
     t_cycles = time.perf_counter() - started
     index = next(v for k, v in cycles.items() if "Index" in k)

@@ -21,8 +21,8 @@ import tempfile
 import time
 from pathlib import Path
 
-import bpy  # noqa: F401 (first: it makes `mathutils`, which cycles_settings uses, importable)
-from cycles_settings import arguments, export_glb, match_rt
+import bpy
+from cycles_settings import arguments, export_glb, read_channels, render_with_object_index
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
@@ -85,31 +85,6 @@ def build(bpy):
     return scene
 
 
-def render_cycles(bpy, scene, spp, out):
-    match_rt(scene, spp, DEPTH)
-    scene.view_layers[0].use_pass_object_index = True
-    settings = scene.render.image_settings
-    if hasattr(settings, "media_type"):  # Blender 5: multilayer is a media type
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    else:
-        settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.color_depth = "32"
-    settings.color_mode = "RGBA"
-    scene.render.filepath = str(out)
-    bpy.ops.render.render(write_still=True)
-
-
-def read_channels(path):
-    """Every channel of an EXR (all parts) by name, as numpy arrays (rows from the top)."""
-    import OpenEXR
-
-    out = {}
-    for part in OpenEXR.File(str(path), separate_channels=True).parts:
-        for name, channel in part.channels.items():
-            out[name] = channel.pixels.astype("float64")
-    return out
-
-
 def rgba_of(channels):
     import numpy
 
@@ -147,17 +122,17 @@ def render_rt(glb, out, spp, extra):
 def cycles_variants(bpy, scene, spp, tmp):
     """Cycles' catcher render (RGBA), its truth (the floor an ordinary object, opaque film) and
     its photo (the floor alone, opaque), and the object-index pass."""
-    render_cycles(bpy, scene, spp, tmp / "catcher.exr")
+    render_with_object_index(bpy, scene, spp, DEPTH, tmp / "catcher.exr", rgba=True)
     channels = read_channels(tmp / "catcher.exr")
     index = next(v for k, v in channels.items() if "Index" in k)
     catcher = rgba_of(channels)
     scene.render.film_transparent = False
     bpy.data.objects["floor"].is_shadow_catcher = False
-    render_cycles(bpy, scene, spp, tmp / "truth.exr")
+    render_with_object_index(bpy, scene, spp, DEPTH, tmp / "truth.exr")
     truth = rgba_of(read_channels(tmp / "truth.exr"))
     for name in ("sphere", "box"):
         bpy.data.objects[name].hide_render = True
-    render_cycles(bpy, scene, spp, tmp / "photo.exr")
+    render_with_object_index(bpy, scene, spp, DEPTH, tmp / "photo.exr")
     photo = rgba_of(read_channels(tmp / "photo.exr"))
     return catcher, truth, photo, index
 

@@ -1,12 +1,10 @@
-"""What both Blender comparisons (`cycles-vs-rt.py`, `cycles-layers.py`) share: Cycles' settings
+"""What the Blender comparisons (`cycles-vs-rt.py`, `cycles-layers.py`, `cycles-shadow-catcher.py`) share: Cycles' settings
 matched to rt (the CPU device, a fixed sample count without adaptive sampling, denoising or
 clamping, a 1-pixel box filter, every bounce limit at rt's max depth − 1, caustics on and the
 "Standard" view transform, linear output), their command line and the glTF export."""
 
 import argparse
 from pathlib import Path
-
-import mathutils
 
 
 def arguments(doc, rt_spp, out, sets=None):
@@ -54,6 +52,8 @@ def match_rt(scene, spp, depth):
 def look_at(camera):
     """The camera's placement from rt's from/to/up (y up): Blender's `to_track_quat` keeps world z
     up, which is degenerate for a camera looking along z."""
+    import mathutils  # bpy's: importable once bpy is
+
     origin = mathutils.Vector(camera["from"])
     forward = (mathutils.Vector(camera["to"]) - origin).normalized()
     right = forward.cross(mathutils.Vector(camera.get("up", [0, 1, 0]))).normalized()
@@ -105,3 +105,31 @@ def camera_and_world(bpy, scene, camera, background):
     node.inputs["Color"].default_value = (*background, 1.0)
     node.inputs["Strength"].default_value = 1.0
     scene.world = world
+
+
+def render_with_object_index(bpy, scene, spp, depth, out, rgba=False):
+    """Renders `scene` with Cycles matched to rt (`match_rt`) into a multilayer 32-bit EXR at
+    `out` with the object-index pass (and alpha with `rgba`)."""
+    match_rt(scene, spp, depth)
+    scene.view_layers[0].use_pass_object_index = True
+    settings = scene.render.image_settings
+    if hasattr(settings, "media_type"):  # Blender 5: multilayer is a media type
+        settings.media_type = "MULTI_LAYER_IMAGE"
+    else:
+        settings.file_format = "OPEN_EXR_MULTILAYER"
+    settings.color_depth = "32"
+    if rgba:
+        settings.color_mode = "RGBA"
+    scene.render.filepath = str(out)
+    bpy.ops.render.render(write_still=True)
+
+
+def read_channels(path):
+    """Every channel of an EXR (all parts) by name, as numpy arrays (rows from the top)."""
+    import OpenEXR
+
+    out = {}
+    for part in OpenEXR.File(str(path), separate_channels=True).parts:
+        for name, channel in part.channels.items():
+            out[name] = channel.pixels.astype("float64")
+    return out
