@@ -130,51 +130,6 @@ pub const SHADER_PREVIEW: WgslFile = shader_file!("preview.wgsl");
 pub const SHADER_PREVIEW_SHADING: WgslFile = shader_file!("preview_shading.wgsl");
 pub const SHADER_PREVIEW_BLIT: WgslFile = shader_file!("preview_blit.wgsl");
 
-/// Every WGSL file of the kernels and the preview, each named once above. The estimator's files
-/// live beside their Rust twins in `rt-core` (same folder, same stem), which exports each as
-/// `WGSL`; `shaders/` keeps the entry points and what has no CPU twin (the driver's ray queries,
-/// the raster preview). `tests/shaders.rs` checks this list against the files on disk.
-pub const FILES: &[WgslFile] = &[
-    GPU_TYPES,
-    RNG,
-    SAMPLING,
-    MICROFACET,
-    BSDF,
-    COAT,
-    IRIDESCENCE,
-    DISPERSION,
-    GLASS_ENERGY,
-    ANISOTROPIC_ENERGY,
-    SHEEN,
-    LAYERS,
-    MEDIUM,
-    ENVIRONMENT,
-    INTERSECT,
-    BVH,
-    CWBVH,
-    INSTANCE_BVH,
-    SHADER_RAY_QUERY,
-    GPU_SCENE,
-    INSTANCES,
-    TEXTURE,
-    SURFACE,
-    LIGHT_TREE,
-    LIGHT,
-    SHADOW_CATCHER,
-    MEDIA,
-    SHADING,
-    CAMERA,
-    PATH,
-    ACCUMULATION,
-    SHADER_TRACE,
-    SHADER_WAVEFRONT,
-    SHADER_TRACE_RAYS,
-    SHADER_TRACE_RAYS_BVH,
-    SHADER_PREVIEW,
-    SHADER_PREVIEW_SHADING,
-    SHADER_PREVIEW_BLIT,
-];
-
 /// An entry-point module: its name and the files it is made of, in order.
 pub struct ShaderModule {
     pub name: &'static str,
@@ -319,6 +274,21 @@ pub const MODULES: &[ShaderModule] = &[
     PREVIEW,
     PREVIEW_BLIT,
 ];
+
+/// Every WGSL file of the kernels and the preview, once each: those the modules are made of
+/// (`tests/shaders.rs` checks them against the files on disk). The estimator's files live beside
+/// their Rust twins in `rt-core` (same folder, same stem), which exports each as `WGSL`;
+/// `shaders/` keeps the entry points and what has no CPU twin (the driver's ray queries, the
+/// raster preview).
+pub fn files() -> Vec<WgslFile> {
+    let mut files: Vec<WgslFile> = Vec::new();
+    for file in MODULES.iter().flat_map(|m| m.files) {
+        if !files.iter().any(|(name, _)| *name == file.0) {
+            files.push(*file);
+        }
+    }
+    files
+}
 
 impl ShaderModule {
     /// The composed source.
