@@ -257,6 +257,7 @@ fn same_objects(a: &Scene, b: &Scene) -> bool {
             x.name == y.name
                 && x.material == y.material
                 && x.transform == y.transform
+                && x.shadow_catcher == y.shadow_catcher
                 && std::sync::Arc::ptr_eq(&x.mesh, &y.mesh)
         })
 }
