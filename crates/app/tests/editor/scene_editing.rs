@@ -90,47 +90,6 @@ fn select_change_material_undo_and_redo() {
     ));
 }
 
-/// The Inspector's Shadow catcher marks the selected object (one undo step), says that it needs
-/// a transparent film until the Render panel's Transparent background is on.
-#[test]
-fn the_inspector_makes_a_shadow_catcher() {
-    if !have_gpu() {
-        return;
-    }
-    let mut harness = harness();
-    harness.run_ok();
-    harness.get_by_label("floor").click();
-    harness.run_ok();
-    let index = index_of(harness.state(), "floor");
-    // Below the material, out of the panel's view: clicked through accessibility.
-    harness.get_by_label("Shadow catcher").click_accesskit();
-    harness.run_ok();
-    assert!(harness.state().doc.scene.objects[index].shadow_catcher);
-    harness.get_by_label_contains("Needs \"Transparent background\"");
-    harness
-        .get_by_label("Transparent background")
-        .click_accesskit();
-    harness.run_ok();
-    assert!(harness.state().doc.scene.settings.transparent);
-    assert!(
-        harness
-            .query_by_label_contains("Needs \"Transparent background\"")
-            .is_none()
-    );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_ok();
-    assert!(
-        !harness.state().doc.scene.settings.transparent,
-        "the film undone"
-    );
-    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
-    harness.run_ok();
-    assert!(
-        !harness.state().doc.scene.objects[index].shadow_catcher,
-        "the catcher undone"
-    );
-}
-
 #[test]
 fn alt_d_duplicates_the_selection_as_an_instance_of_its_mesh() {
     if !have_gpu() {
