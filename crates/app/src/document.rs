@@ -254,11 +254,20 @@ fn same_environment(a: &Scene, b: &Scene) -> bool {
 fn same_objects(a: &Scene, b: &Scene) -> bool {
     a.objects.len() == b.objects.len()
         && a.objects.iter().zip(&b.objects).all(|(x, y)| {
-            x.name == y.name
-                && x.material == y.material
-                && x.transform == y.transform
-                && x.shadow_catcher == y.shadow_catcher
-                && std::sync::Arc::ptr_eq(&x.mesh, &y.mesh)
+            // Every field named, so that one added to `Object` cannot be left out of the
+            // comparison (an edit of it would record no undo step and reach no view).
+            let rt_core::Object {
+                name,
+                mesh,
+                material,
+                transform,
+                shadow_catcher,
+            } = x;
+            *name == y.name
+                && *material == y.material
+                && *transform == y.transform
+                && *shadow_catcher == y.shadow_catcher
+                && std::sync::Arc::ptr_eq(mesh, &y.mesh)
         })
 }
 
