@@ -4,11 +4,13 @@
 //! the median-split tree of [`balanced`] replaces it, so any triangle soup builds.
 
 mod balanced;
+mod wide;
 
 use std::time::{Duration, Instant};
 
 use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 
 use crate::gpu_types::{BvhNode, WideBvhNode};
 
@@ -239,15 +241,24 @@ pub fn build_wide_bvh_over(
             "a vertex coordinate of magnitude {largest:e} is beyond the wide BVH's {MAX_WIDE_BVH_COORDINATE:e}"
         ));
     }
-    // obvhs validates its tree in debug builds and panics where it is deeper than its own stack:
-    // that, like a tree too deep for the kernel's stack, takes the median-split tree.
+    // obvhs' `build_cwbvh_from_tris` without spatial splits, but collapsed to the wide tree on
+    // every core (`wide`). A panic in obvhs or a tree too deep for the kernel's stack takes the
+    // median-split tree.
+    let params = quality.params();
     let surface_area = std::panic::catch_unwind(|| {
-        let mut core_time = Duration::ZERO;
-        obvhs::cwbvh::builder::build_cwbvh_from_tris(tris, quality.params(), &mut core_time)
+        let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(tris.len()).build(
+            params.ploc_search_distance,
+            tris,
+            (0..tris.len() as u32).collect(),
+            params.sort_precision,
+            params.search_depth_threshold,
+        );
+        ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+        bvh2
     });
-    let surface_area = match surface_area {
-        Ok(bvh) => Some(wide_kernel_nodes(bvh, tris.len())?),
-        Err(_) => None,
+    let surface_area = match surface_area.map(|bvh2| wide::bvh2_to_cwbvh(&bvh2, 3)) {
+        Ok(Ok(wide)) => Some(wide_kernel_nodes(wide, tris.len())?),
+        _ => None,
     };
     let (nodes, triangle_order, depth) = match surface_area {
         Some(built) if built.2 <= MAX_WIDE_BVH_DEPTH => built,
@@ -257,11 +268,7 @@ pub fn build_wide_bvh_over(
                  using one collapsed from a median-split BVH"
             );
             let balanced = balanced::median_split_bvh2(tris);
-            let wide = std::panic::catch_unwind(|| {
-                obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&balanced, 3, true, false)
-            })
-            .map_err(|_| "the wide BVH builder failed on this geometry".to_string())?;
-            wide_kernel_nodes(wide, tris.len())?
+            wide_kernel_nodes(wide::bvh2_to_cwbvh(&balanced, 3)?, tris.len())?
         }
     };
     if depth > MAX_WIDE_BVH_DEPTH {
@@ -279,18 +286,18 @@ pub fn build_wide_bvh_over(
 
 /// obvhs' CWBVH as the kernel's nodes, the triangle order its leaves index, and its depth.
 fn wide_kernel_nodes(
-    bvh: obvhs::cwbvh::CwBvh,
+    (nodes, primitive_indices): (Vec<obvhs::cwbvh::node::CwBvhNode>, Vec<u32>),
     triangles: usize,
 ) -> Result<(Vec<WideBvhNode>, Vec<u32>, usize), String> {
-    if bvh.primitive_indices.len() != triangles {
+    if primitive_indices.len() != triangles {
         return Err(format!(
             "wide BVH lists {} triangles, the scene has {triangles}",
-            bvh.primitive_indices.len()
+            primitive_indices.len()
         ));
     }
-    let nodes: Vec<WideBvhNode> = bvh.nodes.iter().map(|n| bytemuck::cast(*n)).collect();
+    let nodes: Vec<WideBvhNode> = nodes.iter().map(|n| bytemuck::cast(*n)).collect();
     let depth = wide_depth(&nodes);
-    Ok((nodes, bvh.primitive_indices, depth))
+    Ok((nodes, primitive_indices, depth))
 }
 
 /// Levels on the longest root-to-leaf path of a wide tree whose inner children come after their
