@@ -138,8 +138,8 @@ fn kernel_nodes(bvh: &obvhs::bvh2::Bvh2, empty_root: BvhNode) -> (Vec<BvhNode>, 
     if root.prim_count > 0 {
         // A single leaf: the root's left child, the right one empty.
         let (first, count) = append_leaf(bvh, root, &mut triangle_order);
-        nodes[0].left_min = root.aabb.min.to_array();
-        nodes[0].left_max = root.aabb.max.to_array();
+        nodes[0].left_min = root.aabb().min.to_array();
+        nodes[0].left_max = root.aabb().max.to_array();
         nodes[0].left = first;
         nodes[0].left_count = count;
     } else {
@@ -157,7 +157,7 @@ fn kernel_nodes(bvh: &obvhs::bvh2::Bvh2, empty_root: BvhNode) -> (Vec<BvhNode>, 
                     stack.push((child_index, nodes.len() - 1, level + 1));
                     ((nodes.len() - 1) as u32, 0)
                 };
-                let (lo, hi) = (child.aabb.min.to_array(), child.aabb.max.to_array());
+                let (lo, hi) = (child.aabb().min.to_array(), child.aabb().max.to_array());
                 let node = &mut nodes[dst];
                 if side == 0 {
                     (node.left_min, node.left_max, node.left, node.left_count) =

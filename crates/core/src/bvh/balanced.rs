@@ -40,12 +40,7 @@ pub fn median_split_bvh2(triangles: &[Triangle]) -> Bvh2 {
         });
         let left = nodes.len();
         nodes.extend([Bvh2Node::default(); 2]);
-        nodes[node] = Bvh2Node {
-            aabb,
-            prim_count: 0,
-            first_index: left as u32,
-            ..Default::default()
-        };
+        nodes[node] = Bvh2Node::new(aabb, 0, left as u32);
         stack.push((left, first, middle));
         stack.push((left + 1, middle, end));
     }
@@ -57,12 +52,7 @@ pub fn median_split_bvh2(triangles: &[Triangle]) -> Bvh2 {
 }
 
 fn leaf(aabb: Aabb, first: usize) -> Bvh2Node {
-    Bvh2Node {
-        aabb,
-        prim_count: 1,
-        first_index: first as u32,
-        ..Default::default()
-    }
+    Bvh2Node::new(aabb, 1, first as u32)
 }
 
 #[cfg(test)]
@@ -118,14 +108,14 @@ mod tests {
         let mut leaves = 0;
         while let Some((node, parent)) = stack.pop() {
             let n = &bvh.nodes[node];
-            assert!(n.aabb.min.cmpge(parent.min).all() && n.aabb.max.cmple(parent.max).all());
+            assert!(n.aabb().min.cmpge(parent.min).all() && n.aabb().max.cmple(parent.max).all());
             if n.prim_count > 0 {
                 let t = &triangles[bvh.primitive_indices[n.first_index as usize] as usize];
-                assert_eq!(t.aabb().union(&n.aabb), n.aabb);
+                assert_eq!(t.aabb().union(n.aabb()), *n.aabb());
                 leaves += 1;
             } else {
-                stack.push((n.first_index as usize, n.aabb));
-                stack.push((n.first_index as usize + 1, n.aabb));
+                stack.push((n.first_index as usize, *n.aabb()));
+                stack.push((n.first_index as usize + 1, *n.aabb()));
             }
         }
         assert_eq!(leaves, triangles.len());
