@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
+use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 
 use crate::gpu_types::{BvhNode, WideBvhNode};
@@ -73,21 +74,60 @@ pub struct BuiltBvh {
     pub build_time: Duration,
 }
 
+/// A triangle's bounding box: all the builders read of a triangle (24 bytes, where obvhs'
+/// `Triangle` holds the corners in 48; the scene's build keeps one per triangle while PLOC runs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleBox {
+    min: [f32; 3],
+    max: [f32; 3],
+}
+
+impl TriangleBox {
+    /// The box of a triangle's corners (as obvhs bounds its `Triangle`).
+    pub fn of(corners: [Vec3; 3]) -> Self {
+        let aabb = Aabb::from_points(&corners.map(Vec3A::from));
+        Self::from_aabb(aabb)
+    }
+
+    /// The box spanning `lo` and `hi` (an instance's world box in the top-level tree).
+    pub fn span(lo: Vec3, hi: Vec3) -> Self {
+        Self::of([lo, hi, lo])
+    }
+
+    fn from_aabb(aabb: Aabb) -> Self {
+        TriangleBox {
+            min: aabb.min.to_array(),
+            max: aabb.max.to_array(),
+        }
+    }
+
+    /// The largest coordinate magnitude of its corners.
+    fn largest_coordinate(&self) -> f32 {
+        self.min
+            .iter()
+            .chain(&self.max)
+            .fold(0.0f32, |m, c| m.max(c.abs()))
+    }
+}
+
+impl obvhs::Boundable for TriangleBox {
+    fn aabb(&self) -> Aabb {
+        Aabb::new(self.min.into(), self.max.into())
+    }
+}
+
 const EMPTY_MIN: [f32; 3] = [f32::INFINITY; 3];
 const EMPTY_MAX: [f32; 3] = [f32::NEG_INFINITY; 3];
 
 /// Builds over world-space triangles. An empty input gives one node with two empty children: child
 /// index 0 with no triangles, which traversals read as no child (the root is nobody's child).
 pub fn build_bvh(triangles: &[[Vec3; 3]], quality: BvhQuality) -> Result<BuiltBvh, String> {
-    build_bvh_over(&obvhs_triangles(triangles), quality)
+    build_bvh_over(&triangle_boxes(triangles), quality)
 }
 
-/// [`build_bvh`] over triangles already in obvhs' form (what `GpuScene` builds them into
-/// directly, so that no second copy of the corners is held during the build).
-pub fn build_bvh_over(
-    tris: &[obvhs::triangle::Triangle],
-    quality: BvhQuality,
-) -> Result<BuiltBvh, String> {
+/// [`build_bvh`] over the triangles' boxes (what `GpuScene` writes them into directly, so that no
+/// copy of the corners is held during the build).
+pub fn build_bvh_over(tris: &[TriangleBox], quality: BvhQuality) -> Result<BuiltBvh, String> {
     let start = Instant::now();
     let empty_root = BvhNode {
         left_min: EMPTY_MIN,
@@ -104,8 +144,20 @@ pub fn build_bvh_over(
             build_time: start.elapsed(),
         });
     }
-    let mut core_time = Duration::ZERO;
-    let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(tris, quality.params(), &mut core_time);
+    // obvhs' `build_bvh2_from_tris` without spatial splits, over boxes.
+    let params = quality.params();
+    let mut reinsertion = ReinsertionOptimizer::default();
+    let mut bvh = surface_area_bvh2(tris, &params, &mut reinsertion);
+    obvhs::bvh2::leaf_collapser::collapse(
+        &mut bvh,
+        params.max_prims_per_leaf.clamp(1, 255),
+        params.collapse_traversal_cost,
+    );
+    reinsertion.run(
+        &mut bvh,
+        params.reinsertion_batch_ratio * params.post_collapse_reinsertion_batch_ratio_multiplier,
+        None,
+    );
     let (mut nodes, mut triangle_order, mut depth) = kernel_nodes(&bvh, empty_root);
     if depth > MAX_BVH_DEPTH {
         log::warn!(
@@ -172,16 +224,27 @@ fn kernel_nodes(bvh: &obvhs::bvh2::Bvh2, empty_root: BvhNode) -> (Vec<BvhNode>, 
     (nodes, triangle_order, depth)
 }
 
-/// Triangles in obvhs' form (corners as `Vec3A`).
-pub fn obvhs_triangles(triangles: &[[Vec3; 3]]) -> Vec<obvhs::triangle::Triangle> {
-    triangles
-        .iter()
-        .map(|t| obvhs::triangle::Triangle {
-            v0: Vec3A::from(t[0]),
-            v1: Vec3A::from(t[1]),
-            v2: Vec3A::from(t[2]),
-        })
-        .collect()
+/// The triangles' boxes.
+pub fn triangle_boxes(triangles: &[[Vec3; 3]]) -> Vec<TriangleBox> {
+    triangles.iter().map(|&t| TriangleBox::of(t)).collect()
+}
+
+/// PLOC's binary tree over the boxes, one triangle a leaf, improved by reinsertion (the first steps
+/// of obvhs' builders).
+fn surface_area_bvh2(
+    tris: &[TriangleBox],
+    params: &BvhBuildParams,
+    reinsertion: &mut ReinsertionOptimizer,
+) -> obvhs::bvh2::Bvh2 {
+    let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(tris.len()).build(
+        params.ploc_search_distance,
+        tris,
+        (0..tris.len() as u32).collect(),
+        params.sort_precision,
+        params.search_depth_threshold,
+    );
+    reinsertion.run(&mut bvh2, params.reinsertion_batch_ratio, None);
+    bvh2
 }
 
 /// Appends a leaf's triangles to the order and returns (first, count).
@@ -211,12 +274,12 @@ pub fn build_wide_bvh(
     triangles: &[[Vec3; 3]],
     quality: BvhQuality,
 ) -> Result<BuiltWideBvh, String> {
-    build_wide_bvh_over(&obvhs_triangles(triangles), quality)
+    build_wide_bvh_over(&triangle_boxes(triangles), quality)
 }
 
-/// [`build_wide_bvh`] over triangles already in obvhs' form.
+/// [`build_wide_bvh`] over the triangles' boxes.
 pub fn build_wide_bvh_over(
-    tris: &[obvhs::triangle::Triangle],
+    tris: &[TriangleBox],
     quality: BvhQuality,
 ) -> Result<BuiltWideBvh, String> {
     let start = Instant::now();
@@ -233,8 +296,7 @@ pub fn build_wide_bvh_over(
     // project fuzzer). Such scenes take the BVH2, whose builder copes.
     let largest = tris
         .iter()
-        .flat_map(|t| [t.v0, t.v1, t.v2])
-        .map(|v| v.abs().max_element())
+        .map(TriangleBox::largest_coordinate)
         .fold(0.0f32, f32::max);
     if largest > MAX_WIDE_BVH_COORDINATE {
         return Err(format!(
@@ -246,15 +308,7 @@ pub fn build_wide_bvh_over(
     // median-split tree.
     let params = quality.params();
     let surface_area = std::panic::catch_unwind(|| {
-        let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(tris.len()).build(
-            params.ploc_search_distance,
-            tris,
-            (0..tris.len() as u32).collect(),
-            params.sort_precision,
-            params.search_depth_threshold,
-        );
-        ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
-        bvh2
+        surface_area_bvh2(tris, &params, &mut ReinsertionOptimizer::default())
     });
     let surface_area = match surface_area.map(|bvh2| wide::bvh2_to_cwbvh(&bvh2, 3)) {
         Ok(Ok(wide)) => Some(wide_kernel_nodes(wide, tris.len())?),

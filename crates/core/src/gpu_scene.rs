@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use glam::{Vec2, Vec3};
 
-use crate::bvh::{BvhLayout, BvhQuality, build_bvh_over, build_wide_bvh_over};
+use crate::bvh::{BvhLayout, BvhQuality, TriangleBox, build_bvh_over, build_wide_bvh_over};
 use crate::error::{Error, Result};
 use crate::gpu_material::object_material;
 use crate::gpu_types::{self, BvhNode, Shading, Triangle, WideBvhNode};
@@ -218,10 +218,10 @@ impl GpuScene {
         quality: BvhQuality,
         layout: BvhLayout,
     ) -> Result<Option<(u32, (Vec3, Vec3))>> {
-        // Corners in the builder's form (the only copy) and each triangle's (frame, face); the
+        // Each triangle's box (all the builder reads) and its (frame, face); the
         // corners and attributes are read from the meshes again when written in BVH order.
         let count: usize = frames.iter().map(ObjectFrame::faces).sum();
-        let mut corners = Vec::with_capacity(count);
+        let mut boxes = Vec::with_capacity(count);
         let mut faces: Vec<(u32, u32)> = Vec::with_capacity(count);
         let mut bounds = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         for (f, frame) in frames.iter().enumerate() {
@@ -231,8 +231,7 @@ impl GpuScene {
                     bounds.0.min(v0.min(v1).min(v2)),
                     bounds.1.max(v0.max(v1).max(v2)),
                 );
-                let [v0, v1, v2] = [v0, v1, v2].map(glam::Vec3A::from);
-                corners.push(obvhs::triangle::Triangle { v0, v1, v2 });
+                boxes.push(TriangleBox::of([v0, v1, v2]));
                 faces.push((f as u32, face as u32));
             }
         }
@@ -241,7 +240,7 @@ impl GpuScene {
         let triangle_base = self.triangles.len() as u32;
         let (order, depth, time) = match layout {
             BvhLayout::Bvh2 => {
-                let bvh = build_bvh_over(&corners, quality).map_err(Error::Scene)?;
+                let bvh = build_bvh_over(&boxes, quality).map_err(Error::Scene)?;
                 let rebased = bvh
                     .nodes
                     .iter()
@@ -249,7 +248,7 @@ impl GpuScene {
                 self.nodes.extend(rebased);
                 (bvh.triangle_order, bvh.depth, bvh.build_time)
             }
-            BvhLayout::Cwbvh => match build_wide_bvh_over(&corners, quality) {
+            BvhLayout::Cwbvh => match build_wide_bvh_over(&boxes, quality) {
                 Ok(bvh) => {
                     self.wide_nodes
                         .extend(bvh.nodes.iter().map(|n| WideBvhNode {
@@ -267,13 +266,12 @@ impl GpuScene {
         };
         self.bvh_depth = self.bvh_depth.max(depth);
         self.bvh_build_time += time;
-        drop(corners);
+        drop(boxes);
         self.push_in_order(&faces, frames, &order);
         Ok(Some((node_base, bounds)))
     }
 
-    /// The top-level BVH2 over the instances' world boxes (each as a flat triangle across its
-    /// box's diagonal, which the builder bounds by the box), with the instances (and their meshes'
+    /// The top-level BVH2 over the instances' world boxes, with the instances (and their meshes'
     /// boxes) in its leaf order, and the scene's extent.
     pub(crate) fn place_instances(&mut self, quality: BvhQuality) -> Result<()> {
         let mut bounds = self.world_box;
@@ -295,11 +293,7 @@ impl GpuScene {
         }
         let diagonals: Vec<_> = world
             .iter()
-            .map(|&(lo, hi)| obvhs::triangle::Triangle {
-                v0: lo.into(),
-                v1: hi.into(),
-                v2: lo.into(),
-            })
+            .map(|&(lo, hi)| TriangleBox::span(lo, hi))
             .collect();
         let bvh = build_bvh_over(&diagonals, quality).map_err(Error::Scene)?;
         self.instance_nodes = bvh.nodes;

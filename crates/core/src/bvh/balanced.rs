@@ -7,15 +7,17 @@
 //! surface-area tree, so it is the fallback when that one is too deep.
 
 use glam::Vec3A;
+use obvhs::Boundable;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 use obvhs::bvh2::node::Bvh2Node;
-use obvhs::triangle::Triangle;
+
+use super::TriangleBox;
 
 /// A median-split BVH2 over `triangles` in obvhs' layout (children of an inner node side by side
 /// at `first_index`), one triangle per leaf.
-pub fn median_split_bvh2(triangles: &[Triangle]) -> Bvh2 {
-    let bounds: Vec<Aabb> = triangles.iter().map(Triangle::aabb).collect();
+pub fn median_split_bvh2(triangles: &[TriangleBox]) -> Bvh2 {
+    let bounds: Vec<Aabb> = triangles.iter().map(Boundable::aabb).collect();
     let centroids: Vec<Vec3A> = bounds.iter().map(Aabb::center).collect();
     let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
     let mut nodes = vec![Bvh2Node::default()];
@@ -58,6 +60,7 @@ fn leaf(aabb: Aabb, first: usize) -> Bvh2Node {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     /// Depth of an obvhs BVH2 (levels on its longest root-to-leaf path).
     fn depth(bvh: &Bvh2, node: usize) -> usize {
@@ -72,11 +75,7 @@ mod tests {
 
     #[test]
     fn coincident_triangles_make_a_balanced_tree_holding_each_once() {
-        let one = Triangle {
-            v0: Vec3A::ZERO,
-            v1: Vec3A::X,
-            v2: Vec3A::Y,
-        };
+        let one = TriangleBox::of([Vec3::ZERO, Vec3::X, Vec3::Y]);
         for n in [1usize, 2, 3, 7, 1000, 4097] {
             let bvh = median_split_bvh2(&vec![one; n]);
             let bound = (n as f64).log2().ceil() as usize + 1;
@@ -93,14 +92,10 @@ mod tests {
 
     #[test]
     fn every_leaf_lies_in_its_ancestors_boxes() {
-        let triangles: Vec<Triangle> = (0..500)
+        let triangles: Vec<TriangleBox> = (0..500)
             .map(|i| {
-                let p = Vec3A::new((i % 7) as f32, (i % 13) as f32 * 0.5, (i / 50) as f32);
-                Triangle {
-                    v0: p,
-                    v1: p + Vec3A::X,
-                    v2: p + Vec3A::Z * 0.25,
-                }
+                let p = Vec3::new((i % 7) as f32, (i % 13) as f32 * 0.5, (i / 50) as f32);
+                TriangleBox::of([p, p + Vec3::X, p + Vec3::Z * 0.25])
             })
             .collect();
         let bvh = median_split_bvh2(&triangles);
@@ -111,7 +106,7 @@ mod tests {
             assert!(n.aabb().min.cmpge(parent.min).all() && n.aabb().max.cmple(parent.max).all());
             if n.prim_count > 0 {
                 let t = &triangles[bvh.primitive_indices[n.first_index as usize] as usize];
-                assert_eq!(t.aabb().union(n.aabb()), *n.aabb());
+                assert_eq!(Boundable::aabb(t).union(n.aabb()), *n.aabb());
                 leaves += 1;
             } else {
                 stack.push((n.first_index as usize, *n.aabb()));

@@ -1,8 +1,8 @@
-use glam::Vec3A;
+use glam::{Vec3, Vec3A};
 use obvhs::triangle::Triangle;
 
 use super::*;
-use crate::bvh::{BvhQuality, balanced};
+use crate::bvh::{BvhQuality, TriangleBox, balanced};
 
 /// A linear congruential generator: the same soup on every run.
 struct Random(u64);
@@ -97,7 +97,10 @@ fn collapses_as_obvhs_does_on_median_split_trees() {
     // The fallback tree for degenerate input: many coincident triangles.
     let mut triangles = soup(5_000, 6);
     triangles.extend(std::iter::repeat_n(triangles[0], 3_000));
-    assert_as_obvhs(&balanced::median_split_bvh2(&triangles), 3);
+    let boxes: Vec<TriangleBox> = (triangles.iter())
+        .map(|t| TriangleBox::of([t.v0, t.v1, t.v2].map(Vec3::from)))
+        .collect();
+    assert_as_obvhs(&balanced::median_split_bvh2(&boxes), 3);
 }
 
 #[test]
