@@ -8,10 +8,11 @@
 
 use crate::error::{Error, Result};
 
-/// Peak bytes a triangle takes while a scene builds (world corners, BVH builder, the built
-/// arrays), measured with peak RSS over 69k–2.1M instanced triangles (`bench/instances.py`,
-/// 2026-12-06, docs/performance-log.md: 281), rounded up.
-pub const BUILD_BYTES_PER_TRIANGLE: u64 = 290;
+/// Peak bytes a triangle takes while a scene builds (its box, the BVH builder's arrays, the built
+/// arrays), measured as the slope of peak RSS between the 202k- and 871k-triangle dragons as
+/// glTFs (2026-12-07, docs/performance-log.md session 29: 233; 281 before the builder's memory was
+/// cut), rounded up.
+pub const BUILD_BYTES_PER_TRIANGLE: u64 = 250;
 
 /// Peak bytes an instance takes while a scene builds (its object's packed material, its record,
 /// boxes and share of the top level and its builder): measured over the scene already in memory,
@@ -96,7 +97,7 @@ mod tests {
             .to_string();
         assert!(
             message.contains("71000000 triangles")
-                && message.contains("20.6 GB")
+                && message.contains("17.8 GB")
                 && message.contains("8.0 GB"),
             "{message}"
         );
