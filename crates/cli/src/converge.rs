@@ -56,44 +56,10 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     scene.settings.samples_per_pixel = args.max_spp.max(1);
     rt_core::frame::validate(&scene)?;
     let reference = RgbImage::load(&args.reference)?;
-    let label = args.label.clone().unwrap_or_else(|| {
-        format!(
-            "{}{}{}depth {} {:?}",
-            if scene.settings.integrator == rt_core::Integrator::Bdpt {
-                "BDPT, "
-            } else if args.estimator.no_nee {
-                "BSDF only, "
-            } else if args.estimator.nee_only {
-                "NEE only, "
-            } else {
-                "NEE+MIS, "
-            },
-            if args.estimator.no_roulette {
-                "no roulette, "
-            } else {
-                ""
-            },
-            scene
-                .settings
-                .clamp
-                .map_or(String::new(), |c| format!("clamp {c}, "))
-                + if scene.settings.sampler == rt_core::math::rng::SamplerKind::Sobol {
-                    "Sobol, "
-                } else {
-                    "independent, "
-                }
-                + match scene.settings.light_sampler {
-                    rt_core::LightSampler::Auto => "",
-                    rt_core::LightSampler::Power => "lights by power, ",
-                    rt_core::LightSampler::Tree => "light tree, ",
-                }
-                + &args
-                    .denoise
-                    .map_or(String::new(), |d| format!("denoised ({}), ", d.name())),
-            scene.settings.max_depth,
-            args.bvh.bvh_quality
-        )
-    });
+    let label = args
+        .label
+        .clone()
+        .unwrap_or_else(|| default_label(&args, &scene));
 
     let ctx = match args.engine.on_cpu_for(&scene.settings)?.0 {
         true => None,
@@ -132,7 +98,6 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     );
     let mut rows = Vec::new();
     let mut rendering = Duration::ZERO;
-    let mut denoise_time = Duration::ZERO;
     let mut step = 1u32;
     let never = std::sync::atomic::AtomicBool::new(false);
     loop {
@@ -143,26 +108,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         }
         // render_batch waits for its dispatches, so this is GPU time as the user sees it.
         rendering += step_start.elapsed();
-        let image = renderer.read_image()?;
-        let pixels = if let Some(denoiser) = args.denoise {
-            let aovs = renderer
-                .read_aovs()?
-                .context("the renderer did not keep albedo and normals")?;
-            let started = Instant::now();
-            let denoised = image
-                .denoised(&aovs, denoiser.choice())
-                .map_err(anyhow::Error::msg)?;
-            // The user waits for the denoiser too (but only for the image they keep).
-            denoise_time = started.elapsed();
-            denoised.pixels
-        } else {
-            image.rgb()
-        };
-        let measured = RgbImage {
-            width: image.width,
-            height: image.height,
-            pixels,
-        };
+        let (measured, denoise_time) = read_measured(&renderer, args.denoise)?;
         let e = compare(&measured, &reference)
             .map_err(anyhow::Error::msg)
             .with_context(|| format!("comparing with {}", args.reference.display()))?;
@@ -201,4 +147,72 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         eprintln!("plot: {}", out.display());
     }
     Ok(())
+}
+
+/// The image a step measures, denoised with `denoise` where asked, and the time the denoiser took
+/// (the user waits for it too, but only for the image they keep: it does not accumulate).
+fn read_measured(
+    renderer: &Progressive,
+    denoise: Option<crate::options::DenoiseArg>,
+) -> Result<(RgbImage, Duration)> {
+    let image = renderer.read_image()?;
+    let (pixels, took) = if let Some(denoiser) = denoise {
+        let aovs = renderer
+            .read_aovs()?
+            .context("the renderer did not keep albedo and normals")?;
+        let started = Instant::now();
+        let denoised = image
+            .denoised(&aovs, denoiser.choice())
+            .map_err(anyhow::Error::msg)?;
+        (denoised.pixels, started.elapsed())
+    } else {
+        (image.rgb(), Duration::ZERO)
+    };
+    let measured = RgbImage {
+        width: image.width,
+        height: image.height,
+        pixels,
+    };
+    Ok((measured, took))
+}
+
+/// A series' name from its settings: the estimator, roulette, clamp, sampler, light sampler,
+/// denoiser, depth and BVH quality.
+fn default_label(args: &ConvergeArgs, scene: &rt_core::Scene) -> String {
+    format!(
+        "{}{}{}depth {} {:?}",
+        if scene.settings.integrator == rt_core::Integrator::Bdpt {
+            "BDPT, "
+        } else if args.estimator.no_nee {
+            "BSDF only, "
+        } else if args.estimator.nee_only {
+            "NEE only, "
+        } else {
+            "NEE+MIS, "
+        },
+        if args.estimator.no_roulette {
+            "no roulette, "
+        } else {
+            ""
+        },
+        scene
+            .settings
+            .clamp
+            .map_or(String::new(), |c| format!("clamp {c}, "))
+            + if scene.settings.sampler == rt_core::math::rng::SamplerKind::Sobol {
+                "Sobol, "
+            } else {
+                "independent, "
+            }
+            + match scene.settings.light_sampler {
+                rt_core::LightSampler::Auto => "",
+                rt_core::LightSampler::Power => "lights by power, ",
+                rt_core::LightSampler::Tree => "light tree, ",
+            }
+            + &args
+                .denoise
+                .map_or(String::new(), |d| format!("denoised ({}), ", d.name())),
+        scene.settings.max_depth,
+        args.bvh.bvh_quality
+    )
 }
