@@ -91,6 +91,18 @@ pub fn render_windows(app: &mut RtApp, ctx: &egui::Context) {
 
 /// Draws one render's window; returns an error message to show, if any.
 fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
+    job_status(view, ui);
+    display_controls(view, ui);
+    let error = save_row(view, ui);
+    if view.show_denoised && view.job.aovs.is_some() {
+        let _ = denoised(view);
+    }
+    render_image(view, ui);
+    error
+}
+
+/// The job's progress (with Cancel) or how it ended.
+fn job_status(view: &mut RenderView, ui: &mut egui::Ui) {
     let p = view.job.progress;
     match &view.job.state {
         JobState::Running => {
@@ -135,6 +147,10 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
             );
         }
     }
+}
+
+/// Exposure, view transform, white balance, zoom and the denoised toggle.
+fn display_controls(view: &mut RenderView, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         ui.add(egui::Slider::new(&mut view.exposure, -8.0..=8.0).text("exposure (stops)"))
             .on_hover_text("Brighten or darken the display and the PNG/JPEG/PPM you save");
@@ -180,6 +196,11 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
             );
         }
     });
+}
+
+/// "Save as…" and the passes an EXR carries, once the render has stopped; an error message where
+/// saving failed.
+fn save_row(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
     let mut error = None;
     if view.job.image.is_some() && !view.job.is_running() {
         ui.horizontal(|ui| {
@@ -203,9 +224,12 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
             }
         });
     }
-    if view.show_denoised && view.job.aovs.is_some() {
-        let _ = denoised(view);
-    }
+    error
+}
+
+/// The image as displayed (re-tone-mapped only when its settings change), or a spinner until the
+/// first one arrives.
+fn render_image(view: &mut RenderView, ui: &mut egui::Ui) {
     if let Some(image) = &view.job.image {
         let show_denoised = view.show_denoised && view.denoised.is_some();
         let key = (
@@ -253,7 +277,6 @@ fn render_window(view: &mut RenderView, ui: &mut egui::Ui) -> Option<String> {
     } else {
         ui.spinner();
     }
-    error
 }
 
 /// Which render passes an EXR saved from the window carries (as `rt-cli --aov`).
