@@ -40,6 +40,7 @@ pub(super) fn child_hits(
     oct_inv: u32,
     neg: BVec3,
     t_max: f32,
+    near_out: &mut [f32; 8],
 ) -> u32 {
     let scaled_inv = cell_size(node) * ray.inv_direction;
     let shifted_origin = (Vec3::from(node.origin) - ray.origin) * ray.inv_direction;
@@ -62,6 +63,7 @@ pub(super) fn child_hits(
         _mm256_max_ps(t(near_y, s.y, o.y), t(near_z, s.z, o.z)),
     );
     let near = _mm256_max_ps(near, _mm256_setzero_ps());
+    *near_out = bytemuck::cast(near);
     let far = _mm256_min_ps(
         t(far_x, s.x, o.x),
         _mm256_min_ps(t(far_y, s.y, o.y), t(far_z, s.z, o.z)),

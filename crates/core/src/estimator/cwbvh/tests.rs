@@ -141,7 +141,8 @@ fn the_masked_and_wide_tests_equal_the_branching_one_over_random_nodes() {
             1 => f32::MAX,
             _ => random.float().abs() * 100.0,
         };
-        let masked = child_hits(&node, &ray, oct_inv * 0x0101_0101, neg, t_max);
+        let mut near = [0.0; 8];
+        let masked = child_hits(&node, &ray, oct_inv * 0x0101_0101, neg, t_max, &mut near);
         let reference = child_hits_per_child(&node, &ray, oct_inv * 0x0101_0101, neg, t_max);
         assert_eq!(
             masked, reference,
@@ -150,11 +151,24 @@ fn the_masked_and_wide_tests_equal_the_branching_one_over_random_nodes() {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2.
-            let wide = unsafe { super::avx2::child_hits(&node, &ray, oct_inv, neg, t_max) };
+            let mut wide_near = [0.0; 8];
+            let wide = unsafe {
+                super::avx2::child_hits(&node, &ray, oct_inv, neg, t_max, &mut wide_near)
+            };
             assert_eq!(
                 wide, reference,
                 "AVX2: node {node:?}, ray {ray:?}, t_max {t_max}"
             );
+            // The entry distances the nearest-first traversal sorts by, for every child entered.
+            for slot in 0..8 {
+                if near[slot] <= t_max {
+                    assert_eq!(
+                        near[slot].to_bits(),
+                        wide_near[slot].to_bits(),
+                        "slot {slot}"
+                    );
+                }
+            }
         }
         entered += usize::from(reference != 0);
     }
@@ -245,4 +259,64 @@ fn the_dispatched_traversal_equals_the_baseline_bit_for_bit() {
         hits += usize::from(baseline.triangle != super::super::hit::MISS);
     }
     assert!(hits > 500_000, "only {hits} rays hit: the test needs many");
+}
+
+/// The CPU's nearest-first traversal finds the nearest distance of the kernel's octant-order one
+/// bit for bit, and the same triangle and barycentrics wherever no other triangle is hit at
+/// exactly that distance (a shared edge or vertex), over 10⁶ rays from inside and outside the test
+/// scene (any-hit queries take the kernel's order itself).
+#[test]
+fn nearest_first_finds_the_kernel_orders_nearest_hits() {
+    let scene = test_scene();
+    let mut random = Random(0x5e1f);
+    let (mut hits, mut ties) = (0, 0);
+    for i in 0..1_000_000 {
+        let mut coordinate = || (random.next() >> 8) as f32 / 16_777_216.0 * 8.0 - 4.0;
+        let origin = Vec3::new(coordinate(), coordinate(), coordinate());
+        let direction = loop {
+            let d = random.vector();
+            if d != Vec3::ZERO && d.is_finite() {
+                break d.normalize_or(Vec3::X);
+            }
+        };
+        let t_max = if i % 4 == 0 {
+            random.float().abs() * 4.0
+        } else {
+            f32::MAX
+        };
+        let ours = trace_wide(&scene, 0, origin, direction, t_max, false);
+        let kernel = traverse(
+            &scene,
+            0,
+            origin,
+            direction,
+            t_max,
+            false,
+            portable_child_hits,
+        );
+        let context = format!("ray {origin} → {direction}, t_max {t_max}");
+        assert_eq!(ours.t.to_bits(), kernel.t.to_bits(), "{context}");
+        if kernel.triangle == super::super::hit::MISS {
+            assert_eq!(ours.triangle, kernel.triangle, "{context}");
+            continue;
+        }
+        hits += 1;
+        if ours.triangle != kernel.triangle {
+            ties += 1;
+        } else {
+            assert_eq!(
+                (ours.b1.to_bits(), ours.b2.to_bits()),
+                (kernel.b1.to_bits(), kernel.b2.to_bits()),
+                "{context}"
+            );
+        }
+    }
+    assert!(
+        hits > 300_000,
+        "only {hits} nearest hits: the test needs many"
+    );
+    assert!(
+        ties < hits / 10_000,
+        "{ties} of {hits} hits on another triangle"
+    );
 }
