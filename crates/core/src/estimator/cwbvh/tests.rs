@@ -223,6 +223,25 @@ fn test_scene() -> GpuScene {
     GpuScene::build(&scene).unwrap()
 }
 
+/// Ray `i` of the traversal tests: from mostly inside the test scene's room (±3), some outside
+/// it, in a random unit direction; every fourth with a short random limit.
+fn random_ray(random: &mut Random, i: u32) -> (Vec3, Vec3, f32) {
+    let mut coordinate = || (random.next() >> 8) as f32 / 16_777_216.0 * 8.0 - 4.0;
+    let origin = Vec3::new(coordinate(), coordinate(), coordinate());
+    let direction = loop {
+        let d = random.vector();
+        if d != Vec3::ZERO && d.is_finite() {
+            break d.normalize_or(Vec3::X);
+        }
+    };
+    let t_max = if i.is_multiple_of(4) {
+        random.float().abs() * 4.0
+    } else {
+        f32::MAX
+    };
+    (origin, direction, t_max)
+}
+
 /// The version `multiversion` dispatches to on this CPU finds the same hits as the baseline
 /// x86-64 one, bit for bit (distance, triangle, barycentrics), nearest and any-hit, over 10⁶ rays
 /// from inside and outside the scene. (On a CPU without the newer instructions both are the
@@ -233,20 +252,7 @@ fn the_dispatched_traversal_equals_the_baseline_bit_for_bit() {
     let mut random = Random(0xd15b);
     let mut hits = 0;
     for i in 0..1_000_000 {
-        // Mostly inside the room (±3), some outside it.
-        let mut coordinate = || (random.next() >> 8) as f32 / 16_777_216.0 * 8.0 - 4.0;
-        let origin = Vec3::new(coordinate(), coordinate(), coordinate());
-        let direction = loop {
-            let d = random.vector();
-            if d != Vec3::ZERO && d.is_finite() {
-                break d.normalize_or(Vec3::X);
-            }
-        };
-        let t_max = if i % 4 == 0 {
-            random.float().abs() * 4.0
-        } else {
-            f32::MAX
-        };
+        let (origin, direction, t_max) = random_ray(&mut random, i);
         let any_hit = i % 3 == 0;
         let bits = |h: Hit| (h.t.to_bits(), h.triangle, h.b1.to_bits(), h.b2.to_bits());
         let dispatched = trace_wide(&scene, 0, origin, direction, t_max, any_hit);
@@ -271,19 +277,7 @@ fn nearest_first_finds_the_kernel_orders_nearest_hits() {
     let mut random = Random(0x5e1f);
     let (mut hits, mut ties) = (0, 0);
     for i in 0..1_000_000 {
-        let mut coordinate = || (random.next() >> 8) as f32 / 16_777_216.0 * 8.0 - 4.0;
-        let origin = Vec3::new(coordinate(), coordinate(), coordinate());
-        let direction = loop {
-            let d = random.vector();
-            if d != Vec3::ZERO && d.is_finite() {
-                break d.normalize_or(Vec3::X);
-            }
-        };
-        let t_max = if i % 4 == 0 {
-            random.float().abs() * 4.0
-        } else {
-            f32::MAX
-        };
+        let (origin, direction, t_max) = random_ray(&mut random, i);
         let ours = trace_wide(&scene, 0, origin, direction, t_max, false);
         let kernel = traverse(
             &scene,
