@@ -1,8 +1,8 @@
-use glam::{Vec3, Vec3A};
-use obvhs::triangle::Triangle;
+use glam::Vec3;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 
 use super::*;
-use crate::bvh::{BvhQuality, TriangleBox, balanced};
+use crate::bvh::{BvhQuality, TriangleBox, balanced, surface_area_bvh2};
 
 /// A linear congruential generator: the same soup on every run.
 struct Random(u64);
@@ -16,14 +16,14 @@ impl Random {
         (self.0 >> 40) as f32 / 16_777_216.0
     }
 
-    fn point(&mut self, scale: f32) -> Vec3A {
-        Vec3A::new(self.unit(), self.unit(), self.unit()) * scale
+    fn point(&mut self, scale: f32) -> Vec3 {
+        Vec3::new(self.unit(), self.unit(), self.unit()) * scale
     }
 }
 
 /// `count` small triangles scattered through a box, some in tight clusters, a few long slivers,
-/// and some repeated exactly (equal boxes make cost ties).
-fn soup(count: usize, seed: u64) -> Vec<Triangle> {
+/// and some repeated exactly (equal boxes make cost ties); their boxes, as the builders read them.
+fn soup(count: usize, seed: u64) -> Vec<TriangleBox> {
     let mut random = Random(seed);
     let mut triangles = Vec::with_capacity(count);
     for i in 0..count {
@@ -33,11 +33,7 @@ fn soup(count: usize, seed: u64) -> Vec<Triangle> {
             _ => 0.05,
         };
         let v0 = random.point(10.0);
-        let triangle = Triangle {
-            v0,
-            v1: v0 + random.point(size),
-            v2: v0 + random.point(size),
-        };
+        let triangle = TriangleBox::of([v0, v0 + random.point(size), v0 + random.point(size)]);
         triangles.push(triangle);
         if i % 97 == 0 {
             triangles.push(triangle);
@@ -47,21 +43,10 @@ fn soup(count: usize, seed: u64) -> Vec<Triangle> {
     triangles
 }
 
-fn ploc(triangles: &[Triangle]) -> Bvh2 {
+/// The surface-area tree the scene's build collapses (PLOC and reinsertion, the `fast` preset).
+fn ploc(triangles: &[TriangleBox]) -> Bvh2 {
     let params = BvhQuality::Fast.params();
-    let mut bvh = obvhs::ploc::PlocBuilder::with_capacity(triangles.len()).build(
-        params.ploc_search_distance,
-        triangles,
-        (0..triangles.len() as u32).collect(),
-        params.sort_precision,
-        params.search_depth_threshold,
-    );
-    obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
-        &mut bvh,
-        params.reinsertion_batch_ratio,
-        None,
-    );
-    bvh
+    surface_area_bvh2(triangles, &params, &mut ReinsertionOptimizer::default())
 }
 
 /// The collapse equals obvhs' serial one byte for byte (nodes) and index for index (primitives).
@@ -97,10 +82,7 @@ fn collapses_as_obvhs_does_on_median_split_trees() {
     // The fallback tree for degenerate input: many coincident triangles.
     let mut triangles = soup(5_000, 6);
     triangles.extend(std::iter::repeat_n(triangles[0], 3_000));
-    let boxes: Vec<TriangleBox> = (triangles.iter())
-        .map(|t| TriangleBox::of([t.v0, t.v1, t.v2].map(Vec3::from)))
-        .collect();
-    assert_as_obvhs(&balanced::median_split_bvh2(&boxes), 3);
+    assert_as_obvhs(&balanced::median_split_bvh2(&triangles), 3);
 }
 
 #[test]
