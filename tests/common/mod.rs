@@ -19,6 +19,7 @@ pub fn gpu() -> Option<&'static GpuContext> {
 pub fn object(name: &str, mesh: Mesh, material: Material) -> Object {
     Object {
         shadow_catcher: false,
+        animation_node: None,
         name: name.into(),
         mesh: mesh.into(),
         material,
@@ -41,6 +42,7 @@ pub fn scene(
         lights: Vec::new(),
         environment: None,
         fog: Default::default(),
+        animation: None,
     }
 }
 

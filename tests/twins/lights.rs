@@ -20,6 +20,7 @@ fn cornell_with_many_lights() -> rt_core::Scene {
         let strength = 10f32.powf(2.0 * rng.next_f32());
         scene.objects.push(rt_core::Object {
             shadow_catcher: false,
+            animation_node: None,
             name: format!("light {i}"),
             mesh: rt_core::shapes::quad(lo + (hi - lo) * u, unit(&mut rng), 40.0).into(),
             material: rt_core::Material::Emissive {

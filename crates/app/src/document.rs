@@ -262,8 +262,10 @@ fn same_objects(a: &Scene, b: &Scene) -> bool {
                 material,
                 transform,
                 shadow_catcher,
+                animation_node,
             } = x;
             *name == y.name
+                && *animation_node == y.animation_node
                 && *material == y.material
                 && *transform == y.transform
                 && *shadow_catcher == y.shadow_catcher

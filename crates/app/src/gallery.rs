@@ -57,6 +57,7 @@ pub fn thumbnail_scene(
     scene.objects = vec![
         Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "sphere".into(),
             mesh: rt_core::shapes::uv_sphere(1.0, 16, 32).into(),
             material,
@@ -67,6 +68,7 @@ pub fn thumbnail_scene(
         },
         Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "floor".into(),
             mesh: rt_core::shapes::quad(Vec3::ZERO, Vec3::Y, 12.0).into(),
             material: Material::lambertian([0.35; 3]),

@@ -9,8 +9,8 @@ use clap::Args;
 #[derive(Args, Debug, Clone, Default)]
 pub struct AnimationArgs {
     /// Render frames A to B (both included, as Blender's frame range; one number for a single
-    /// frame) of a glTF file's animation: frame N shows the file at time (N − 1) / fps, so frame 1
-    /// is its start. Each frame is written to OUT.NNNN.EXT.
+    /// frame) of the scene's animation (a glTF file's, or a project's saved from one): frame N
+    /// shows the scene at time (N − 1) / fps, so frame 1 is its start. Each frame is written to OUT.NNNN.EXT.
     #[arg(long, value_name = "A..B", value_parser = parse_frames)]
     pub frames: Option<[u32; 2]>,
     /// Frames per second of --frames.

@@ -110,6 +110,7 @@ fn material_scene(all: bool) -> Result<Scene> {
     };
     scene.objects.push(Object {
         shadow_catcher: false,
+        animation_node: None,
         name: "metal ball".into(),
         mesh: sphere.clone(),
         material: Material::Metal {
@@ -121,6 +122,7 @@ fn material_scene(all: bool) -> Result<Scene> {
     if all {
         scene.objects.push(Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "glass ball".into(),
             mesh: sphere.clone(),
             material: Material::Dielectric {
@@ -148,6 +150,7 @@ fn material_scene(all: bool) -> Result<Scene> {
         });
         scene.objects.push(Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "textured ball".into(),
             mesh: sphere,
             material: Material::Lambertian {

@@ -80,6 +80,17 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
         );
     }
     println!("lights: {}", scene.lights.len());
+    if let Some(animation) = &scene.animation {
+        let times = animation.channels.iter().flat_map(|c| &c.times);
+        let end = times.fold(0.0f32, |end, t| end.max(*t));
+        println!(
+            "animation: {} channels moving {} nodes, 0 to {end:.3} s (render --frames)",
+            animation.channels.len(),
+            (animation.channels.iter().map(|c| c.node))
+                .collect::<std::collections::BTreeSet<_>>()
+                .len()
+        );
+    }
     if verbose {
         // Where loading time goes: parsing the file, then flattening and the BVH build.
         let built = std::time::Instant::now();

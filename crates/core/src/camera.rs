@@ -34,6 +34,9 @@ pub struct Camera {
         skip_serializing_if = "is_default_fisheye_angle"
     )]
     pub fisheye_angle_deg: f32,
+    /// The node of the scene's animation that carries the camera (`crate::animation`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation_node: Option<u32>,
 }
 
 /// How a camera maps the image to directions (`Frame::projection`, the same numbers in WGSL).
@@ -129,6 +132,7 @@ impl Default for Camera {
             projection: Projection::Perspective,
             ortho_height: None,
             fisheye_angle_deg: default_fisheye_angle(),
+            animation_node: None,
         }
     }
 }

@@ -410,6 +410,7 @@ mod tests {
         use glam::Vec3;
         let object = |name: &str, mesh, material| Object {
             shadow_catcher: false,
+            animation_node: None,
             name: name.into(),
             mesh: std::sync::Arc::new(mesh),
             material,
@@ -450,6 +451,7 @@ mod tests {
             lights: Vec::new(),
             environment: None,
             fog: Default::default(),
+            animation: None,
         };
         let gpu = GpuScene::build(&scene).unwrap();
         let frame = crate::frame::frame_for(&scene, &gpu).unwrap();

@@ -5,6 +5,7 @@
 
 pub mod accumulation;
 pub mod adaptive;
+pub mod animation;
 pub mod bdpt;
 pub mod bvh;
 pub mod camera;

@@ -48,6 +48,9 @@ pub struct Light {
     pub outer_angle_deg: f32,
     #[serde(default)]
     pub falloff: SpotFalloff,
+    /// The node of the scene's animation that carries the light (`crate::animation`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation_node: Option<u32>,
 }
 
 fn down() -> [f32; 3] {
@@ -74,6 +77,7 @@ impl Light {
             inner_angle_deg: default_inner(),
             outer_angle_deg: default_outer(),
             falloff: SpotFalloff::Smoothstep,
+            animation_node: None,
         }
     }
 

@@ -198,6 +198,7 @@ mod tests {
         ] {
             scene.objects.push(crate::scene::Object {
                 shadow_catcher: false,
+                animation_node: None,
                 name: name.into(),
                 mesh: mesh.clone(),
                 material,

@@ -71,6 +71,9 @@ pub struct Object {
     /// (`estimator::shadow_catcher`); on an opaque one it renders as its material.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub shadow_catcher: bool,
+    /// The node of the scene's animation that carries the object (`crate::animation`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation_node: Option<u32>,
 }
 
 /// An RGBA8 image in sRGB encoding, referenced by `Material::Lambertian::texture`.
@@ -418,6 +421,11 @@ pub struct Scene {
     /// Fog filling the space outside closed objects (`crate::fog`; off by default).
     #[serde(default)]
     pub fog: crate::fog::Fog,
+    /// The nodes and channels that move objects, lights and the camera over time, at rest here
+    /// (`crate::animation::posed_at` places them at a time). Shared: copies of a scene (undo
+    /// history, render jobs) cost no copies of its keys.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation: Option<Arc<crate::animation::Animation>>,
 }
 
 impl Scene {

@@ -18,6 +18,7 @@ use rt_core::{Camera, GpuScene, Material};
 fn object(name: &str, mesh: &Arc<Mesh>, material: Material, transform: Transform) -> Object {
     Object {
         shadow_catcher: false,
+        animation_node: None,
         name: name.into(),
         mesh: mesh.clone(),
         material,

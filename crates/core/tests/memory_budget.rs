@@ -20,6 +20,7 @@ fn a_scene_too_big_for_memory_is_an_error_before_the_build() {
     let objects = (0..200_000)
         .map(|i| Object {
             shadow_catcher: false,
+            animation_node: None,
             name: format!("copy {i}"),
             mesh: mesh.clone(),
             material: Material::lambertian([0.5; 3]),

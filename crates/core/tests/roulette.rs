@@ -33,6 +33,7 @@ fn glass_cornell() -> Scene {
     };
     scene.objects.push(Object {
         shadow_catcher: false,
+        animation_node: None,
         name: "smooth glass".into(),
         mesh: ball.clone(),
         material: Material::Dielectric {
@@ -43,6 +44,7 @@ fn glass_cornell() -> Scene {
     });
     scene.objects.push(Object {
         shadow_catcher: false,
+        animation_node: None,
         name: "rough glass".into(),
         mesh: ball,
         material: Material::Pbr(Box::new(Pbr {

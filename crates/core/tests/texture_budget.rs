@@ -54,6 +54,7 @@ fn scene(textures: Vec<Texture>) -> Scene {
     });
     let object = |name: &str, material| Object {
         shadow_catcher: false,
+        animation_node: None,
         name: name.into(),
         mesh: quad.clone(),
         material,

@@ -19,6 +19,7 @@ fn scene_of(positions: Vec<Vec3>) -> Scene {
     Scene {
         objects: vec![Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "soup".into(),
             mesh: Arc::new(Mesh {
                 positions,

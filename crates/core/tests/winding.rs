@@ -15,6 +15,7 @@ fn glass_ball(mesh: Mesh) -> Scene {
     Scene {
         objects: vec![Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "ball".into(),
             mesh: Arc::new(mesh),
             material: Material::Dielectric {

@@ -254,6 +254,7 @@ mod tests {
     fn scene(lights: usize, lamp: bool, sampler: LightSampler) -> Scene {
         let quad = |y: f32, material| Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "quad".into(),
             mesh: rt_core::shapes::quad(glam::Vec3::new(0.0, y, 0.0), glam::Vec3::Y, 4.0).into(),
             material,

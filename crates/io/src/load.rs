@@ -29,8 +29,9 @@ pub struct LoadOptions {
     /// than this many degrees ([`rt_core::smooth_normals`]); `None` shades them flat, as their
     /// facets are (STL's CAD parts mean it).
     pub smooth_normals_deg: Option<u32>,
-    /// The time, in seconds, at which a glTF file's animations place its nodes (meshes, cameras,
-    /// lights); `None` loads the nodes as they stand. Other formats have no animation.
+    /// The time, in seconds, at which the scene's animation places what it moves (meshes,
+    /// cameras, lights: a glTF file's animations, or a project's saved from one); `None` loads
+    /// the scene at rest with its animation kept. OBJ, PLY and STL have no animation.
     pub animation_time: Option<f32>,
 }
 
@@ -154,8 +155,24 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene> {
             Ok(scene)
         }
         SceneFormat::Gltf => gltf::load_gltf_at(path, options.gltf_scene, options.animation_time),
-        SceneFormat::Project => project::load_project(path),
+        SceneFormat::Project => {
+            let scene = project::load_project(path)?;
+            Ok(match options.animation_time {
+                Some(time) => posed(scene, path, time),
+                None => scene,
+            })
+        }
     }
+}
+
+/// The scene at `time` seconds of its animation (`rt_core::animation::posed_at`); a warning
+/// naming the file when it has none to play.
+pub(crate) fn posed(scene: Scene, path: &Path, time: f32) -> Scene {
+    if scene.animation.is_none() {
+        log::warn!("{}: has no animation to play", path.display());
+        return scene;
+    }
+    rt_core::animation::posed_at(&scene, time)
 }
 
 #[cfg(test)]

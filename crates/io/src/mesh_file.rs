@@ -43,6 +43,7 @@ pub fn mesh_object_scene(path: &Path, mesh: Mesh, seed: u32) -> Scene {
     let mut scene = Scene::default();
     scene.objects.push(Object {
         shadow_catcher: false,
+        animation_node: None,
         name,
         mesh: Arc::new(mesh),
         material: Material::lambertian(albedo),

@@ -312,6 +312,7 @@ fn seed_project() -> (Vec<u8>, Vec<(String, Vec<u8>)>) {
     });
     scene.objects.push(rt_core::Object {
         shadow_catcher: false,
+        animation_node: None,
         name: "ball".into(),
         mesh: rt_core::shapes::uv_sphere(40.0, 4, 6).into(),
         material: rt_core::Material::Lambertian {
@@ -515,6 +516,7 @@ fn ten_thousand_malformed_mesh_files(
                 let scene = rt_core::Scene {
                     objects: vec![rt_core::scene::Object {
                         shadow_catcher: false,
+                        animation_node: None,
                         name: "fuzz".into(),
                         mesh: mesh.into(),
                         material: rt_core::Material::lambertian([0.5; 3]),

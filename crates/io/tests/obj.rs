@@ -301,6 +301,7 @@ fn a_texture_without_uvs_renders_white_with_a_warning() {
     });
     scene.objects.push(rt_core::Object {
         shadow_catcher: false,
+        animation_node: None,
         name: "no uvs".into(),
         mesh: rt_core::shapes::quad(glam::Vec3::ZERO, glam::Vec3::Z, 1.0).into(),
         material: Material::Lambertian {

@@ -37,6 +37,7 @@ fn rich_scene() -> Scene {
     });
     scene.objects.push(Object {
         shadow_catcher: true,
+        animation_node: None,
         name: "textured ball".into(),
         mesh: sphere.clone(),
         material: Material::Lambertian {
@@ -51,6 +52,7 @@ fn rich_scene() -> Scene {
     });
     scene.objects.push(Object {
         shadow_catcher: false,
+        animation_node: None,
         name: "glass ball (same mesh)".into(),
         mesh: sphere,
         material: Material::Dielectric {

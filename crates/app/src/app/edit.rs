@@ -117,6 +117,7 @@ impl RtApp {
             .count();
         let object = Object {
             shadow_catcher: false,
+            animation_node: None,
             name: format!("{name} {}", count + 1),
             mesh: Arc::new(mesh),
             material: Material::Emissive {

@@ -315,6 +315,7 @@ mod tests {
         let mut scene = Scene::default();
         scene.objects.push(rt_core::Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "box".into(),
             mesh: rt_core::shapes::cuboid(Vec3::ZERO, Vec3::ONE, false).into(),
             material: rt_core::Material::lambertian([0.5; 3]),

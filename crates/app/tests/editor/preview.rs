@@ -22,6 +22,7 @@ fn floor_and_lamp() -> rt_core::Scene {
     scene.objects = vec![
         Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "floor".into(),
             mesh: rt_core::shapes::quad(Vec3::ZERO, Vec3::Y, 40.0).into(),
             material: pbr([0.8; 3], [0.0; 3]),
@@ -29,6 +30,7 @@ fn floor_and_lamp() -> rt_core::Scene {
         },
         Object {
             shadow_catcher: false,
+            animation_node: None,
             name: "lamp".into(),
             mesh: rt_core::shapes::quad(Vec3::new(0.0, 0.5, 0.0), Vec3::Y, 2.0).into(),
             material: pbr([0.0; 3], [1.0, 0.5, 0.1]),

@@ -513,7 +513,8 @@ fn agx_and_white_balance_shape_8_bit_outputs() {
 
 /// `--frames 1..2` renders a glTF animation frame by frame to OUT.0001.EXT, OUT.0002.EXT: an
 /// emissive card keyed from x = −1 (frame 1, time 0) to x = +1 (frame 2, time 1 at --fps 1) is
-/// seen left of centre, then right of it. `--turntable 2` turns the camera half way round.
+/// seen left of centre, then right of it; a project saved from the file renders the same frames.
+/// `--turntable 2` turns the camera half way round.
 #[test]
 fn frames_render_an_animation_and_a_turntable() {
     let dir = temp_dir("frames");
@@ -586,6 +587,34 @@ fn frames_render_an_animation_and_a_turntable() {
         first < 14.0 && second > 18.0,
         "card at columns {first}, then {second}"
     );
+    // A project saved from the file keeps the animation: its frames are the file's, bit for bit.
+    let project = dir.join("card.rtproj");
+    let loaded = rt_io::load(&scene, &Default::default()).unwrap();
+    rt_io::project::save_project(&loaded, &project).unwrap();
+    let from_project = dir.join("project.png");
+    let (code, _, stderr) = rt_cli(&[
+        "render",
+        "--device",
+        "cpu",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--spp",
+        "2",
+        "--frames",
+        "1..2",
+        "--fps",
+        "1",
+        "-o",
+        from_project.to_str().unwrap(),
+        project.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    for frame in ["0001", "0002"] {
+        let read = |name: &str| std::fs::read(dir.join(format!("{name}.{frame}.png"))).unwrap();
+        assert!(read("shot") == read("project"), "frame {frame}");
+    }
     let turn = dir.join("turn.exr");
     let (code, _, stderr) = rt_cli(&[
         "render",

@@ -18,6 +18,7 @@ use crate::shapes::{cuboid, quad, uv_sphere};
 fn object(name: &str, mesh: crate::Mesh, material: crate::Material, at: [f32; 3]) -> Object {
     Object {
         shadow_catcher: false,
+        animation_node: None,
         name: name.into(),
         mesh: std::sync::Arc::new(mesh),
         material,
@@ -106,6 +107,7 @@ fn build(
         lights,
         environment,
         fog: Default::default(),
+        animation: None,
     };
     let gpu = GpuScene::build(&scene).unwrap();
     let frame = crate::frame::frame_for(&scene, &gpu).unwrap();

@@ -396,6 +396,7 @@ mod tests {
     fn lamp(i: usize, centre: Vec3, normal: Vec3, size: f32, strength: f32) -> Object {
         Object {
             shadow_catcher: false,
+            animation_node: None,
             name: format!("lamp {i}"),
             mesh: crate::shapes::quad(centre, normal, size).into(),
             material: crate::Material::Emissive {

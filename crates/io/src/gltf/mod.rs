@@ -72,8 +72,8 @@ pub fn load_gltf(path: &Path, scene: Option<usize>) -> Result<Scene> {
     load_gltf_at(path, scene, None)
 }
 
-/// `load_gltf` with the file's animations at `time` seconds (`None`: the nodes as they stand,
-/// without their animation).
+/// `load_gltf` posed at `time` seconds of the file's animations (`None`: the nodes as they stand,
+/// the animation kept in [`Scene::animation`]; `rt_core::animation::posed_at`).
 pub fn load_gltf_at(path: &Path, scene: Option<usize>, time: Option<f32>) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
@@ -100,7 +100,7 @@ pub fn load_gltf_bytes(
     load_gltf_bytes_at(bytes, path, base, read_file, scene, None)
 }
 
-/// `load_gltf_bytes` with the file's animations at `time` seconds.
+/// `load_gltf_bytes` posed at `time` seconds of the file's animations.
 pub fn load_gltf_bytes_at(
     bytes: &[u8],
     path: &Path,
@@ -111,14 +111,18 @@ pub fn load_gltf_bytes_at(
 ) -> Result<Scene> {
     // The gltf crate's validation can panic on some malformed files: a bug in it must not take
     // the program down, so it becomes an error naming the file.
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        load_unguarded(bytes, path, base, read_file, scene, time)
+    let loaded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        load_unguarded(bytes, path, base, read_file, scene)
     }))
     .unwrap_or_else(|_| {
         Err(Error::File {
             path: path.to_path_buf(),
             message: "the glTF parser failed on this file (malformed input)".into(),
         })
+    })?;
+    Ok(match time {
+        Some(time) => crate::load::posed(loaded, path, time),
+        None => loaded,
     })
 }
 
@@ -143,7 +147,6 @@ fn load_unguarded(
     base: &Path,
     read_file: &dyn Fn(&Path) -> Result<Vec<u8>>,
     scene: Option<usize>,
-    time: Option<f32>,
 ) -> Result<Scene> {
     let err = |message: String| Error::File {
         path: path.to_path_buf(),
@@ -200,16 +203,7 @@ fn load_unguarded(
         }
     }
     let buffers = load_buffers(doc, gltf.blob.as_deref(), base, read_file).map_err(err)?;
-    let animated = match time {
-        Some(t) => {
-            let (locals, any) = animation::animated_locals(doc, &buffers, t).map_err(err)?;
-            if !any {
-                log::warn!("{}: has no animation to play", path.display());
-            }
-            locals
-        }
-        None => HashMap::new(),
-    };
+    let animation = animation::read_animation(doc, &buffers).map_err(err)?;
     let mut loader = Loader {
         path,
         buffers: &buffers,
@@ -223,7 +217,7 @@ fn load_unguarded(
         read_file,
         document: doc,
         skipped_primitives: 0,
-        animated,
+        animated: animation.is_some(),
     };
     let chosen = match scene {
         Some(i) => doc.scenes().nth(i).ok_or_else(|| {
@@ -261,6 +255,7 @@ fn load_unguarded(
         objects: loader.objects,
         textures: loader.textures,
         lights: loader.lights,
+        animation: animation.map(Arc::new),
         ..Scene::default()
     };
     match loader.camera {
@@ -419,6 +414,7 @@ struct Loader<'a> {
     /// Primitives of points or lines met (rt renders surfaces): skipped with a warning, an error
     /// only when nothing else is left.
     skipped_primitives: usize,
-    /// Local transforms of the nodes an animation moves, at the time asked for (`animation.rs`).
-    animated: HashMap<usize, Mat4>,
+    /// Whether the file has an animation: then objects, lights and the camera record the node
+    /// they hang under (`animation.rs`).
+    animated: bool,
 }

@@ -1,16 +1,15 @@
 //! The node hierarchy: each node's world transform, its mesh primitives as objects, the first
 //! perspective camera and its punctual light.
 
-use std::sync::Arc;
-
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat4, Vec3};
 
 use super::Loader;
 use super::lights::light_of;
-use rt_core::scene::{Mesh, Object, Transform};
+use rt_core::animation::placed;
+use rt_core::scene::Object;
 
 /// Node trees deeper than this are refused (real files nest a few dozen levels).
-const MAX_NODE_DEPTH: usize = 1024;
+use rt_core::animation::MAX_NODE_DEPTH;
 
 impl Loader<'_> {
     pub(super) fn visit(
@@ -25,10 +24,8 @@ impl Loader<'_> {
         if stack.len() >= MAX_NODE_DEPTH {
             return Err(format!("nodes nest deeper than {MAX_NODE_DEPTH} levels"));
         }
-        let local = match self.animated.get(&node.index()) {
-            Some(animated) => *animated,
-            None => Mat4::from_cols_array_2d(&node.transform().matrix()),
-        };
+        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        let animation_node = self.animated.then_some(node.index() as u32);
         let world = parent * local;
         if !world.is_finite() {
             return Err(format!(
@@ -61,6 +58,7 @@ impl Loader<'_> {
                 let (mesh, transform) = placed(m, world);
                 self.objects.push(Object {
                     shadow_catcher: false,
+                    animation_node,
                     name: object_name,
                     mesh,
                     material,
@@ -78,6 +76,7 @@ impl Loader<'_> {
                 from: from.to_array(),
                 to: (from + forward).to_array(),
                 up: up.to_array(),
+                animation_node,
                 ..Default::default()
             };
             self.camera = Some(match camera.projection() {
@@ -106,63 +105,15 @@ impl Loader<'_> {
             });
         }
         if let Some(light) = node.light() {
-            self.lights.push(light_of(&light, world, &name));
+            self.lights.push(rt_core::light::Light {
+                animation_node,
+                ..light_of(&light, world, &name)
+            });
         }
         for child in node.children() {
             self.visit(&child, world, stack)?;
         }
         stack.pop();
         Ok(())
-    }
-}
-
-/// A node's mesh and rt's transform for its world matrix. A matrix with shear (a non-uniform scale
-/// above a turned node), which scale-rotate-translate cannot hold, is baked into a copy of the
-/// mesh placed unmoved (positions by the matrix, normals by its inverse transpose, the winding
-/// turned over where it mirrors): the right shape, at the cost of that copy not being shared.
-fn placed(mesh: Arc<Mesh>, world: Mat4) -> (Arc<Mesh>, Transform) {
-    let transform = transform_of(world);
-    let held = transform.matrix();
-    let size = world
-        .to_cols_array()
-        .iter()
-        .fold(0.0f32, |m, v| m.max(v.abs()));
-    let off = (held - world)
-        .to_cols_array()
-        .iter()
-        .fold(0.0f32, |m, v| m.max(v.abs()));
-    if off <= 1e-5 * size.max(1.0) || world.determinant() == 0.0 {
-        return (mesh, transform);
-    }
-    let normals = Mat3::from_mat4(world).inverse().transpose();
-    let mut baked = Mesh {
-        positions: mesh
-            .positions
-            .iter()
-            .map(|p| world.transform_point3(*p))
-            .collect(),
-        normals: (mesh.normals.as_ref()).map(|ns| {
-            ns.iter()
-                .map(|n| (normals * *n).normalize_or_zero())
-                .collect()
-        }),
-        ..(*mesh).clone()
-    };
-    if world.determinant() < 0.0 {
-        for t in &mut baked.indices {
-            t.swap(1, 2);
-        }
-    }
-    (Arc::new(baked), Transform::default())
-}
-
-/// rt's TRS of a node's world matrix.
-fn transform_of(world: Mat4) -> Transform {
-    let (scale, rotation, translation) = world.to_scale_rotation_translation();
-    let (x, y, z) = rotation.to_euler(glam::EulerRot::XYZ);
-    Transform {
-        translation: translation.to_array(),
-        rotation_deg: [x.to_degrees(), y.to_degrees(), z.to_degrees()],
-        scale: scale.to_array(),
     }
 }

@@ -179,6 +179,7 @@ pub fn load_obj_bytes(
         };
         scene.objects.push(Object {
             shadow_catcher: false,
+            animation_node: None,
             name,
             mesh: mesh.into(),
             material,

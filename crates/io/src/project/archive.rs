@@ -52,6 +52,7 @@ pub fn encode_archive(scene: &Scene, format: &str, path: &Path) -> Result<Vec<u8
             material: object.material.clone(),
             transform: object.transform.clone(),
             shadow_catcher: object.shadow_catcher,
+            animation_node: object.animation_node,
         });
     }
     let mut textures = Vec::with_capacity(scene.textures.len());
@@ -106,6 +107,7 @@ pub fn encode_archive(scene: &Scene, format: &str, path: &Path) -> Result<Vec<u8
         lights: scene.lights.clone(),
         environment,
         fog: scene.fog,
+        animation: scene.animation.as_deref().filter(|_| is_project).cloned(),
     };
     let json = serde_json::to_vec_pretty(&manifest)
         .map_err(|e| err(format!("encoding {MANIFEST}: {e}")))?;
@@ -162,6 +164,7 @@ pub fn decode_archive(
             material: entry.material,
             transform: entry.transform,
             shadow_catcher: entry.shadow_catcher,
+            animation_node: entry.animation_node,
         };
         check_object(&object, i).map_err(|m| archive.error(format!("{MANIFEST}: {m}")))?;
         objects.push(object);
@@ -233,9 +236,37 @@ pub fn decode_archive(
         lights: manifest.lights,
         environment,
         fog: manifest.fog,
+        animation: manifest.animation.map(Arc::new),
     };
     check_scene(&scene).map_err(|m| archive.error(format!("{MANIFEST}: {m}")))?;
     Ok(scene)
+}
+
+/// The animation plays (`Animation::validate`) and every node an object, light or the camera
+/// follows is one of its nodes.
+fn check_animation(scene: &Scene) -> Result<(), String> {
+    let nodes = match &scene.animation {
+        Some(animation) => {
+            animation.validate()?;
+            animation.nodes.len()
+        }
+        None => 0,
+    };
+    let followed = (scene.objects.iter().enumerate())
+        .map(|(i, o)| (format!("objects[{i}] ('{}')", o.name), o.animation_node))
+        .chain(
+            (scene.lights.iter().enumerate())
+                .map(|(i, l)| (format!("lights[{i}] ('{}')", l.name), l.animation_node)),
+        )
+        .chain([("camera".to_string(), scene.camera.animation_node)]);
+    for (what, node) in followed {
+        if let Some(node) = node.filter(|&n| n as usize >= nodes) {
+            return Err(format!(
+                "{what}.animation_node: node {node} does not exist (the animation has {nodes})"
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn finite(values: &[f32]) -> bool {
@@ -278,6 +309,7 @@ fn check_scene(scene: &Scene) -> Result<(), String> {
         env.validate()?;
     }
     scene.fog.validate()?;
+    check_animation(scene)?;
     let c = &scene.camera;
     if !(finite(&c.from) && finite(&c.to) && finite(&c.up) && c.vfov_deg.is_finite()) {
         return Err("camera: every number must be finite".into());

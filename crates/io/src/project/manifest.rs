@@ -10,8 +10,9 @@ use rt_core::scene::{RenderSettings, Transform};
 
 /// The format version this build writes; it reads this and every earlier one. Version 2 added
 /// point, spot and directional lights (`lights`); version 3 the PBR material and environment maps;
-/// version 5 the fog and scattering and subsurface volumes.
-pub const FORMAT_VERSION: u32 = 5;
+/// version 5 the fog and scattering and subsurface volumes; version 6 the animation (`animation`,
+/// and the node each object, light and the camera follows).
+pub const FORMAT_VERSION: u32 = 6;
 pub const PROJECT_FORMAT: &str = "rt-project";
 pub const LIGHTING_FORMAT: &str = "rt-lighting";
 
@@ -37,6 +38,9 @@ pub(super) struct Manifest {
     /// The scene's fog (`rt_core::fog`), left out when there is none.
     #[serde(default, skip_serializing_if = "no_fog")]
     pub(super) fog: rt_core::fog::Fog,
+    /// The scene's animation (`rt_core::animation`), left out when there is none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) animation: Option<rt_core::animation::Animation>,
 }
 
 fn no_fog(fog: &rt_core::fog::Fog) -> bool {
@@ -97,6 +101,8 @@ pub(super) struct ObjectEntry {
     pub(super) transform: Transform,
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub(super) shadow_catcher: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) animation_node: Option<u32>,
 }
 
 #[derive(Serialize, Deserialize)]

@@ -1,9 +1,9 @@
 //! Project files: a whole scene in one zip archive, so that a project can be mailed or moved
 //! without breaking paths.
 //!
-//! Layout (format version 5; version 1 had no `lights`, versions before 3 no environment, before 4
+//! Layout (format version 6; version 1 had no `lights`, versions before 3 no environment, before 4
 //! no texture samplers, PBR emission textures or alpha modes, before 5 no fog, volume scattering
-//! or subsurface):
+//! or subsurface, before 6 no animation):
 //! - `project.json`: `{"format": "rt-project", "version": 1, ...}` with the camera, ambient light,
 //!   render settings (all but the diagnostic `nee_only`), and per object its name, material,
 //!   transform and the mesh entry it uses; per texture its name, size, sampler and image entry.
@@ -12,6 +12,8 @@
 //! - `textures/N.png`: the RGBA8 texels, lossless.
 //! - `environment.bin`: the environment map's linear RGB texels as little-endian f32, row-major
 //!   from the top (version 3).
+//! - the animation (version 6): `project.json`'s `animation` holds the node hierarchy and its
+//!   channels (`rt_core::animation`), and each object, light and the camera the node it follows.
 //!
 //! A lighting file (`.rtlight`) is the same container with `"format": "rt-lighting"`, holding only
 //! the ambient light, the emissive objects and the point, spot and directional lights, to reuse a
@@ -58,6 +60,8 @@ pub struct Lighting {
 }
 
 impl Lighting {
+    /// The scene's lights as they stand: a lighting file keeps no animation, so the lights lose
+    /// the nodes they followed (another scene's nodes are others).
     pub fn of(scene: &Scene) -> Self {
         Lighting {
             ambient: scene.ambient,
@@ -65,9 +69,17 @@ impl Lighting {
                 .objects
                 .iter()
                 .filter(|o| matches!(o.material, Material::Emissive { .. }))
-                .cloned()
+                .map(|o| Object {
+                    animation_node: None,
+                    ..o.clone()
+                })
                 .collect(),
-            delta_lights: scene.lights.clone(),
+            delta_lights: (scene.lights.iter())
+                .map(|l| rt_core::light::Light {
+                    animation_node: None,
+                    ..l.clone()
+                })
+                .collect(),
             fog: scene.fog,
         }
     }

@@ -248,6 +248,59 @@ fn animations_move_meshes_and_cameras_at_the_time_asked_for() {
         close(end.objects[1].transform.translation, [5.0, 0.0, 0.0]),
         "not animated"
     );
+    // The animation is kept with the scene at rest, and a project saved from it plays the same.
+    let animation = still.animation.as_deref().expect("the animation is kept");
+    assert_eq!(animation.channels.len(), 2);
+    assert_eq!(still.objects[0].animation_node, Some(0));
+    let project = through_a_project(&still);
+    assert_eq!(project.animation, still.animation);
+    for time in [1.0, 5.0] {
+        let from_file = at(Some(time));
+        let from_project = rt_core::animation::posed_at(&project, time);
+        assert_eq!(from_project.objects, from_file.objects, "t = {time}");
+        assert_eq!(from_project.camera, from_file.camera, "t = {time}");
+    }
+}
+
+/// A project whose animation cannot play, or whose objects follow nodes it does not have, is
+/// refused with the field named (a hand-edited or damaged file).
+#[test]
+fn projects_with_broken_animations_are_refused() {
+    use rt_core::animation::{Animation, Node};
+    use rt_io::project::{PROJECT_FORMAT, decode_archive, encode_archive};
+    let mut scene = load(&embedded(document()), None).unwrap();
+    let node = |parent| Node {
+        parent,
+        translation: [0.0; 3],
+        rotation: [0.0, 0.0, 0.0, 1.0],
+        scale: [1.0; 3],
+    };
+    scene.animation = Some(std::sync::Arc::new(Animation {
+        nodes: vec![node(Some(1)), node(Some(0))],
+        channels: Vec::new(),
+    }));
+    let path = Path::new("broken.rtproj");
+    let decode = |scene: &Scene| {
+        let bytes = encode_archive(scene, PROJECT_FORMAT, path).unwrap();
+        decode_archive(&bytes, path, PROJECT_FORMAT, &Default::default())
+            .unwrap_err()
+            .to_string()
+    };
+    let circle = decode(&scene);
+    assert!(
+        circle.contains("animation node 0") && circle.contains("circle"),
+        "{circle}"
+    );
+    scene.animation = Some(std::sync::Arc::new(Animation {
+        nodes: vec![node(None)],
+        channels: Vec::new(),
+    }));
+    scene.objects[0].animation_node = Some(4);
+    let missing = decode(&scene);
+    assert!(
+        missing.contains("objects[0]") && missing.contains("node 4 does not exist"),
+        "{missing}"
+    );
 }
 
 /// The spec requires POSITION's min and max, and the gltf crate refuses files without them, but

@@ -152,6 +152,7 @@ fn a_large_scenes_bounce_light_is_built_on_a_thread() {
 fn an_emitters_projected_area_follows_its_shape() {
     let flat = rt_core::Object {
         shadow_catcher: false,
+        animation_node: None,
         name: "quad".into(),
         mesh: rt_core::shapes::quad(Vec3::ZERO, Vec3::NEG_Y, 2.0).into(),
         material: Material::Emissive {

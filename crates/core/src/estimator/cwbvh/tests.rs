@@ -183,6 +183,7 @@ fn test_scene() -> GpuScene {
     use crate::scene::{Mesh, Object, Scene};
     let object = |name: &str, mesh: Mesh| Object {
         shadow_catcher: false,
+        animation_node: None,
         name: name.into(),
         mesh: std::sync::Arc::new(mesh),
         material: crate::Material::Lambertian {

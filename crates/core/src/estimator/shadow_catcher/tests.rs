@@ -31,6 +31,7 @@ fn floor_under_sphere(albedo: Option<f32>) -> Scene {
             ..Default::default()
         },
         shadow_catcher,
+        animation_node: None,
     };
     let mut objects = vec![object(
         "floor",
@@ -68,6 +69,7 @@ fn floor_under_sphere(albedo: Option<f32>) -> Scene {
         lights: vec![sun()],
         environment: None,
         fog: Default::default(),
+        animation: None,
     }
 }
 
