@@ -1,6 +1,7 @@
 //! `render --transparent` and `--aov LIST`: the beauty with its alpha (EXR: premultiplied `A`, as
 //! the colour already leaves out the background; PNG: straight alpha, as Blender writes both) and
-//! the render passes as named layers of the same EXR (`rt_core::passes`).
+//! the render passes as named layers of the same EXR (`rt_core::passes`), Cryptomatte's with its
+//! header metadata.
 
 use std::path::Path;
 
@@ -44,6 +45,7 @@ pub fn save(
     }
     let format = ImageFormat::from_path(output)?;
     let mut extra = Vec::new();
+    let mut metadata = Vec::new();
     if let Some(passes) = passes {
         let frame = rt_core::frame::frame_for(scene, gpu_scene)?;
         let position = rt_core::passes::positions(&frame, &aovs.hits);
@@ -56,6 +58,11 @@ pub fn save(
             material_ids: &material_ids,
         };
         extra.extend(rt_core::passes::pass_channels(passes, &inputs));
+        let samples = image.samples_per_pixel;
+        let (crypto, meta) =
+            rt_core::passes::cryptomatte_layers(passes, scene, gpu_scene, samples)?;
+        extra.extend(crypto);
+        metadata = meta;
     }
     let counts = match &image.sample_counts {
         Some(c) => SampleCounts::PerPixel(c),
@@ -70,11 +77,12 @@ pub fn save(
             &image.pixels,
             counts,
             &alpha,
-            &extra,
+            (&extra, &metadata),
             view,
         )?
     } else {
-        rt_core::output::encode_exr_layers(size[0], size[1], &image.pixels, counts, &extra)?
+        let [w, h] = size;
+        rt_core::output::encode_exr_layers(w, h, &image.pixels, counts, &extra, &metadata)?
     };
     rt_core::output::write_atomically(output, &bytes)
         .with_context(|| format!("saving {}", output.display()))

@@ -127,7 +127,7 @@ fn save_with_layers(
             &pixels,
             counts,
             &alpha,
-            &[],
+            (&[], &[]),
             view,
         )?
     };

@@ -388,6 +388,15 @@ fn prepare_scene(args: &RenderArgs) -> Result<(Scene, Option<[u32; 2]>)> {
     }
     if range.is_some() {
         crate::shard::check_options(&args.output, open_ended, args.denoise.is_some())?;
+        if args
+            .passes()
+            .is_some_and(|p| p.contains(&rt_core::passes::Pass::Cryptomatte))
+        {
+            anyhow::bail!(
+                "--aov cryptomatte traces the scene again when the image is saved, which a \
+                 render part does not: render it without --shard (it takes only camera rays)"
+            );
+        }
     }
     // Check the camera and settings before opening the GPU, so mistakes are reported at once.
     rt_core::frame::validate(&scene)?;

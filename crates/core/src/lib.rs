@@ -10,6 +10,7 @@ pub mod bdpt;
 pub mod bvh;
 pub mod camera;
 pub mod cpu_render;
+pub mod cryptomatte;
 pub mod denoise;
 pub mod denoiser;
 pub mod display;

@@ -284,17 +284,24 @@ pub fn encode_exr_with_variance(
     pixels: &[[f32; 4]],
     counts: SampleCounts,
 ) -> Result<Vec<u8>> {
-    encode_exr_layers(width, height, pixels, counts, &[])
+    encode_exr_layers(width, height, pixels, counts, &[], &[])
 }
 
+/// A named EXR channel beside the colour, one value per pixel (`depth.Z`, `CryptoObject00.r`).
+pub type ExrChannel = (String, Vec<f32>);
+/// A text attribute of an EXR's header (name, value).
+pub type ExrAttribute = (String, String);
+
 /// `encode_exr_with_variance` with more channels beside the colour: an alpha (`A`) and named
-/// layers such as `depth.Z` or `normal.X` (render passes: `crate::passes`), one value per pixel.
+/// layers such as `depth.Z` or `normal.X` (render passes: `crate::passes`), one value per pixel;
+/// and text attributes in the header (`metadata`: Cryptomatte's, `crate::cryptomatte`).
 pub fn encode_exr_layers(
     width: u32,
     height: u32,
     pixels: &[[f32; 4]],
     counts: SampleCounts,
-    extra: &[(String, Vec<f32>)],
+    extra: &[ExrChannel],
+    metadata: &[ExrAttribute],
 ) -> Result<Vec<u8>> {
     use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, SmallVec, WritableImage};
     let size = width as usize * height as usize;
@@ -330,7 +337,20 @@ pub fn encode_exr_layers(
         ));
     }
     let channels = AnyChannels::sort(SmallVec::from_vec(channels));
-    let image = Image::from_channels((width as usize, height as usize), channels);
+    let mut image = Image::from_channels((width as usize, height as usize), channels);
+    for (name, value) in metadata {
+        let text = |t: &str| {
+            exr::meta::attribute::Text::new_or_none(t).ok_or_else(|| {
+                Error::Scene(format!(
+                    "the EXR attribute {name} holds characters EXR cannot"
+                ))
+            })
+        };
+        (image.layer_data.attributes.other).insert(
+            text(name)?,
+            exr::meta::attribute::AttributeValue::Text(text(value)?),
+        );
+    }
     let mut out = std::io::Cursor::new(Vec::new());
     image
         .write()
@@ -349,7 +369,7 @@ pub fn encode_with_alpha(
     pixels: &[[f32; 4]],
     counts: SampleCounts,
     coverage: &[f32],
-    extra: &[(String, Vec<f32>)],
+    (extra, metadata): (&[ExrChannel], &[ExrAttribute]),
     view: impl Into<View>,
 ) -> Result<Vec<u8>> {
     if coverage.len() != pixels.len() {
@@ -359,7 +379,7 @@ pub fn encode_with_alpha(
         ImageFormat::Exr => {
             let mut layers = vec![("A".to_string(), coverage.to_vec())];
             layers.extend_from_slice(extra);
-            encode_exr_layers(width, height, pixels, counts, &layers)
+            encode_exr_layers(width, height, pixels, counts, &layers, metadata)
         }
         ImageFormat::Png => {
             let view = view.into();

@@ -2,10 +2,13 @@
 //! layers: `depth.Z` (distance along the camera ray; 1e10 where nothing was met, as Blender),
 //! `normal.X/Y/Z` and `albedo.R/G/B` (the denoiser's guides: the same data, computed once),
 //! `position.X/Y/Z` (the point at the pixel's mean depth along its centre ray), `object.ID` and
-//! `material.ID` (the first sample's first hit, counted from 1, 0 for nothing; never averaged).
+//! `material.ID` (the first sample's first hit, counted from 1, 0 for nothing; never averaged),
+//! and Cryptomatte's `CryptoObject00`–`02` (`crate::cryptomatte`: the scene traced again from the
+//! camera, so not in a render part).
 
 use crate::first_hits::FirstHits;
 use crate::gpu_types::Frame;
+use crate::output::{ExrAttribute, ExrChannel};
 use crate::scene::Scene;
 
 /// Where a camera ray met nothing, Blender's depth.
@@ -20,16 +23,18 @@ pub enum Pass {
     Position,
     Object,
     Material,
+    Cryptomatte,
 }
 
 impl Pass {
-    pub const ALL: [Pass; 6] = [
+    pub const ALL: [Pass; 7] = [
         Pass::Depth,
         Pass::Normal,
         Pass::Albedo,
         Pass::Position,
         Pass::Object,
         Pass::Material,
+        Pass::Cryptomatte,
     ];
 
     pub fn name(self) -> &'static str {
@@ -40,6 +45,7 @@ impl Pass {
             Pass::Position => "position",
             Pass::Object => "object",
             Pass::Material => "material",
+            Pass::Cryptomatte => "cryptomatte",
         }
     }
 }
@@ -52,7 +58,10 @@ pub fn parse_passes(s: &str) -> Result<Vec<Pass>, String> {
             .into_iter()
             .find(|p| p.name().eq_ignore_ascii_case(name))
             .ok_or_else(|| {
-                format!("unknown pass '{name}': expected depth, normal, albedo, position, object or material")
+                format!(
+                    "unknown pass '{name}': expected depth, normal, albedo, position, object, \
+                     material or cryptomatte"
+                )
             })?;
         if !passes.contains(&pass) {
             passes.push(pass);
@@ -92,7 +101,8 @@ pub fn positions(frame: &Frame, hits: &FirstHits) -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// The EXR channels (full names, one value per pixel) of `passes`.
+/// The EXR channels (full names, one value per pixel) of `passes`, all but Cryptomatte's (which
+/// traces the scene: [`cryptomatte_layers`]).
 pub fn pass_channels(passes: &[Pass], inputs: &PassInputs) -> Vec<(String, Vec<f32>)> {
     let hits = inputs.hits;
     let n = hits.coverage.len();
@@ -140,9 +150,27 @@ pub fn pass_channels(passes: &[Pass], inputs: &PassInputs) -> Vec<(String, Vec<f
                     hits.object.iter().map(|&o| id(o)).collect(),
                 ));
             }
+            Pass::Cryptomatte => {}
         }
     }
     out
+}
+
+/// Cryptomatte's channels and header metadata when `passes` asks for them (none otherwise): the
+/// render's first camera rays of each pixel traced again through `gpu_scene` (`samples` of them
+/// at most `cryptomatte::MAX_SAMPLES`).
+pub fn cryptomatte_layers(
+    passes: &[Pass],
+    scene: &Scene,
+    gpu_scene: &crate::GpuScene,
+    samples: u32,
+) -> crate::Result<(Vec<ExrChannel>, Vec<ExrAttribute>)> {
+    if !passes.contains(&Pass::Cryptomatte) {
+        return Ok((Vec::new(), Vec::new()));
+    }
+    let frame = crate::frame::frame_for(scene, gpu_scene)?;
+    let coverage = crate::cryptomatte::coverage(gpu_scene, &frame, samples);
+    Ok(crate::cryptomatte::layers(scene, &coverage))
 }
 
 /// Each object's material id, counted from 1: objects with equal materials (a glTF's objects

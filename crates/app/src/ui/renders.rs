@@ -299,29 +299,39 @@ fn pass_choice(ui: &mut egui::Ui, passes: &mut Vec<rt_core::passes::Pass>) {
     .response
     .on_hover_text(
         "Render passes saved as layers of an EXR beside the image, as Blender names them: depth, \
-         normal, albedo, position, object and material ids",
+         normal, albedo, position, object and material ids, and Cryptomatte's object mattes",
     );
 }
 
-/// The layers of the passes the view asks for (`rt_core::passes`), from the render's first hits.
-fn pass_layers(view: &RenderView) -> rt_core::Result<Vec<(String, Vec<f32>)>> {
+/// The layers of the passes the view asks for (`rt_core::passes`), from the render's first hits,
+/// and the header metadata Cryptomatte's need.
+type PassLayers = (
+    Vec<rt_core::output::ExrChannel>,
+    Vec<rt_core::output::ExrAttribute>,
+);
+
+fn pass_layers(view: &RenderView) -> rt_core::Result<PassLayers> {
     let (job, passes) = (&view.job, &view.passes);
     let Some(aovs) = job.aovs.as_ref().filter(|_| !passes.is_empty()) else {
-        return Ok(Vec::new());
+        return Ok(Default::default());
     };
-    let position = if passes.contains(&rt_core::passes::Pass::Position) {
-        let built;
-        let gpu_scene = match &job.gpu_scene {
-            Some(g) => g.as_ref(),
-            None => {
-                built = rt_core::GpuScene::build(&job.scene)?;
-                &built
-            }
-        };
-        let frame = rt_core::frame::frame_for(&job.scene, gpu_scene)?;
-        rt_core::passes::positions(&frame, &aovs.hits)
-    } else {
-        Vec::new()
+    use rt_core::passes::Pass;
+    let needs_scene = passes.contains(&Pass::Position) || passes.contains(&Pass::Cryptomatte);
+    let built;
+    let gpu_scene = match (&job.gpu_scene, needs_scene) {
+        (Some(g), _) => Some(g.as_ref()),
+        (None, true) => {
+            built = rt_core::GpuScene::build(&job.scene)?;
+            Some(&built)
+        }
+        (None, false) => None,
+    };
+    let position = match gpu_scene.filter(|_| passes.contains(&Pass::Position)) {
+        Some(gpu_scene) => {
+            let frame = rt_core::frame::frame_for(&job.scene, gpu_scene)?;
+            rt_core::passes::positions(&frame, &aovs.hits)
+        }
+        None => Vec::new(),
     };
     let material_ids = rt_core::passes::material_ids(&job.scene);
     let inputs = rt_core::passes::PassInputs {
@@ -331,7 +341,16 @@ fn pass_layers(view: &RenderView) -> rt_core::Result<Vec<(String, Vec<f32>)>> {
         position: &position,
         material_ids: &material_ids,
     };
-    Ok(rt_core::passes::pass_channels(passes, &inputs))
+    let mut channels = rt_core::passes::pass_channels(passes, &inputs);
+    let mut metadata = Vec::new();
+    if let (Some(gpu_scene), Some(image)) = (gpu_scene, &job.image) {
+        let samples = image.samples_per_pixel;
+        let (crypto, meta) =
+            rt_core::passes::cryptomatte_layers(passes, &job.scene, gpu_scene, samples)?;
+        channels.extend(crypto);
+        metadata = meta;
+    }
+    Ok((channels, metadata))
 }
 
 /// Saves the view's image; the format follows the extension.
@@ -345,9 +364,9 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
         return rt_core::output::save_image(path, image.width, image.height, denoised, view.view());
     }
     let format = rt_core::output::ImageFormat::from_path(path)?;
-    let passes = match format {
+    let (passes, metadata) = match format {
         rt_core::output::ImageFormat::Exr => pass_layers(view)?,
-        _ => Vec::new(),
+        _ => Default::default(),
     };
     let alpha = view.job.aovs.as_ref().map(|a| a.hits.alphas());
     let size = [image.width, image.height];
@@ -360,7 +379,7 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
             &image.pixels,
             image.counts(),
             &alpha,
-            &passes,
+            (&passes, &metadata),
             view.view(),
         )?;
         return rt_core::output::write_atomically(path, &bytes);
@@ -368,7 +387,8 @@ pub fn save(view: &RenderView, path: &std::path::Path) -> rt_core::Result<()> {
     if !passes.is_empty() {
         let [w, h] = size;
         let counts = image.counts();
-        let bytes = rt_core::output::encode_exr_layers(w, h, &image.pixels, counts, &passes)?;
+        let bytes =
+            rt_core::output::encode_exr_layers(w, h, &image.pixels, counts, &passes, &metadata)?;
         return rt_core::output::write_atomically(path, &bytes);
     }
     rt_core::output::save_render(

@@ -279,7 +279,8 @@ fn a_render_region_and_passes_from_the_editor() {
     std::fs::create_dir_all(&dir).unwrap();
     let exr = dir.join("passes.exr");
     let view = &mut harness.state_mut().renders[1];
-    view.passes = vec![rt_core::passes::Pass::Depth, rt_core::passes::Pass::Object];
+    use rt_core::passes::Pass;
+    view.passes = vec![Pass::Depth, Pass::Object, Pass::Cryptomatte];
     rt_app::ui::renders::save(view, &exr).unwrap();
     let layers = exr::prelude::read_all_flat_layers_from_file(&exr).unwrap();
     let names: Vec<String> = layers.layer_data[0]
@@ -288,9 +289,20 @@ fn a_render_region_and_passes_from_the_editor() {
         .iter()
         .map(|c| c.name.to_string())
         .collect();
+    for name in [
+        "depth.Z",
+        "object.ID",
+        "CryptoObject00.r",
+        "CryptoObject02.a",
+    ] {
+        assert!(names.iter().any(|n| n == name), "{name} not in {names:?}");
+    }
+    let manifest = (layers.layer_data[0].attributes.other.iter())
+        .find(|(name, _)| name.to_string().ends_with("/manifest"))
+        .map(|(_, value)| format!("{value:?}"));
     assert!(
-        names.contains(&"depth.Z".to_string()) && names.contains(&"object.ID".to_string()),
-        "{names:?}"
+        manifest.is_some_and(|m| m.contains("floor")),
+        "Cryptomatte's manifest names the objects"
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }

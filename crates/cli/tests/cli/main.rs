@@ -2,7 +2,8 @@
 //!
 //! `renders.rs` holds renders, `info` and bad input, `convergence.rs` noise targets, time limits
 //! and `converge`, `tiles_and_kernels.rs` tiles, kernels and ray queries, `faults_and_denoising.rs`
-//! device faults and denoising, `transparent_regions.rs` a transparent region pasted back.
+//! device faults and denoising, `transparent_regions.rs` a transparent region pasted back,
+//! `cryptomatte.rs` Cryptomatte's layers.
 #![expect(
     clippy::unwrap_used,
     reason = "test helpers fail the test on unexpected errors"
@@ -11,6 +12,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 mod convergence;
+mod cryptomatte;
 mod faults_and_denoising;
 mod integrators;
 mod renders;
