@@ -3,12 +3,13 @@
 //! `renders.rs` holds renders, `info` and bad input, `convergence.rs` noise targets, time limits
 //! and `converge`, `tiles_and_kernels.rs` tiles, kernels and ray queries, `faults_and_denoising.rs`
 //! device faults and denoising, `transparent_regions.rs` a transparent region pasted back,
-//! `cryptomatte.rs` Cryptomatte's layers.
+//! `cryptomatte.rs` Cryptomatte's layers, `animation.rs` animations and turntables.
 #![expect(
     clippy::unwrap_used,
     reason = "test helpers fail the test on unexpected errors"
 )]
 
+mod animation;
 #[path = "../common/mod.rs"]
 mod common;
 mod convergence;
