@@ -1,8 +1,11 @@
 enable wgpu_ray_query;
 
 // Traversal by the driver's ray queries (Vulkan VK_KHR_ray_query, DX12 DXR 1.1, Metal; lavapipe
-// >= 24.1 in software) over one bottom-level structure of every scene triangle, in the order of
-// `triangles`, so a hit's primitive index is the triangle index the estimator expects. Stands in
+// >= 24.1 in software) over bottom-level structures in the order of `triangles` (rt_gpu::accel):
+// the world-space triangles' (custom data 0: a hit's primitive index is rt's triangle index) and
+// each shared mesh's under an instance per copy (custom data k + 1 for rt's instance k: its
+// primitives count from the mesh's `first_triangle`; the hit carries the instance, which
+// `hit_triangle` places in the world as after rt's own traversal). Stands in
 // for bvh.wgsl or cwbvh.wgsl (the same `intersect_scene`); the `nodes` binding stays
 // declared (gpu_scene.wgsl) but is not read, and there is no traversal stack.
 // This file is first in its modules: WGSL wants the `enable` before any declaration.
@@ -14,6 +17,15 @@ const BVH_STACK_SIZE: u32 = 64u;
 var<private> stack_base: u32;
 
 @group(0) @binding(17) var scene_tlas: acceleration_structure;
+
+// rt's triangle index and instance of a driver's hit (see the head of this file).
+fn query_hit(custom_data: u32, primitive: u32) -> vec2<u32> {
+    if (custom_data == 0u) {
+        return vec2<u32>(primitive, NO_INSTANCE);
+    }
+    let k = custom_data - 1u;
+    return vec2<u32>(instance_first_triangle(k) + primitive, k);
+}
 
 fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit: bool) -> Hit {
     // With alpha the geometry is built non-opaque (rt_gpu::accel), so the driver hands each hit
@@ -30,7 +42,8 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
         let ray = prepare_ray(origin, direction);
         while (rayQueryProceed(&query)) {
             let c = rayQueryGetCandidateIntersection(&query);
-            let i = c.primitive_index;
+            // Only world-space triangles have holes: instanced meshes are opaque.
+            let i = query_hit(c.instance_custom_data, c.primitive_index).x;
             if (c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && stops_ray_at(ray, i, c.barycentrics.x, c.barycentrics.y)) {
                 rayQueryConfirmIntersection(&query);
             }
@@ -42,7 +55,6 @@ fn intersect_scene(origin: vec3<f32>, direction: vec3<f32>, t_max: f32, any_hit:
     if (found.kind == RAY_QUERY_INTERSECTION_NONE) {
         return Hit(t_max, MISS, 0.0, 0.0, NO_INSTANCE);
     }
-    return Hit(
-        found.t, found.primitive_index, found.barycentrics.x, found.barycentrics.y, NO_INSTANCE
-    );
+    let at = query_hit(found.instance_custom_data, found.primitive_index);
+    return Hit(found.t, at.x, found.barycentrics.x, found.barycentrics.y, at.y);
 }

@@ -13,6 +13,11 @@ fn stops_ray_at(ray: PreparedRay, i: u32, b1: f32, b2: f32) -> bool {
     return true;
 }
 
+// Nor any instance (its scenes are world-space triangles): ray_query.wgsl's custom data is 0.
+fn instance_first_triangle(k: u32) -> u32 {
+    return 0u;
+}
+
 fn intersect_triangle_at(ray: PreparedRay, i: u32, t_max: f32) -> vec3<f32> {
     let tri = triangles[i];
     return intersect_triangle(ray, tri.v0, tri.v1, tri.v2, t_max);

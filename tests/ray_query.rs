@@ -128,8 +128,10 @@ fn ray_queries_render_the_image_of_rts_bvh() {
     bulb.position = [150.0, 400.0, 250.0];
     bulb.intensity = 40_000.0;
     metal.lights.push(bulb);
-    let scenes: [(&str, Scene); 3] = [
+    let scenes: [(&str, Scene); 4] = [
         ("Cornell box with metal, glass and a point light", metal),
+        // One bottom-level structure of the shared ball, three instances (one mirrored).
+        ("instances", cornell_with_shared_balls()),
         (
             "textures, normals, thin lens",
             textured_scene_with_normals_metal_glass_and_lens(),
@@ -147,6 +149,10 @@ fn ray_queries_render_the_image_of_rts_bvh() {
         scene.settings.height = 24;
         scene.settings.samples_per_pixel = 4;
         let gpu_scene = GpuScene::build(&scene).unwrap();
+        assert_eq!(
+            gpu_scene.instances.len(),
+            if name == "instances" { 3 } else { 0 }
+        );
         for kernel in [Kernel::Wavefront, Kernel::Megakernel] {
             let render = |trace| {
                 let options = RenderOptions {
@@ -184,6 +190,48 @@ fn ray_queries_render_the_image_of_rts_bvh() {
             }
         }
     }
+}
+
+/// The Cornell box with three copies of one ball mesh (instances): turned, one mirrored and
+/// stretched, one scaled down and metal.
+fn cornell_with_shared_balls() -> Scene {
+    let mut scene = rt_io::assets::cornell_box().unwrap();
+    let ball = std::sync::Arc::new(rt_core::shapes::uv_sphere(60.0, 12, 24));
+    let placements = [
+        (
+            [150.0, 60.0, 150.0],
+            [1.0, 1.0, 1.0],
+            rt_core::Material::lambertian([0.7, 0.6, 0.5]),
+        ),
+        (
+            [400.0, 80.0, 300.0],
+            [-1.0, 1.3, 1.0],
+            rt_core::Material::lambertian([0.3, 0.5, 0.8]),
+        ),
+        (
+            [280.0, 300.0, 280.0],
+            [0.7, 0.7, 0.7],
+            rt_core::Material::Metal {
+                albedo: [0.9; 3],
+                fuzz: 0.1,
+            },
+        ),
+    ];
+    for (i, (translation, scale, material)) in placements.into_iter().enumerate() {
+        scene.objects.push(rt_core::scene::Object {
+            name: format!("ball {i}"),
+            mesh: ball.clone(),
+            material,
+            transform: rt_core::scene::Transform {
+                translation,
+                rotation_deg: [10.0, 30.0 * i as f32, 0.0],
+                scale,
+            },
+            shadow_catcher: false,
+            animation_node: None,
+        });
+    }
+    scene
 }
 
 /// `Trace::Auto` picks rt's BVH on CPU adapters (lavapipe's ray queries are software too, and

@@ -160,14 +160,18 @@ impl GpuScene {
             let representative = crate::instances::in_mesh_space(&scene.objects[group[0]]);
             let frame =
                 ObjectFrame::new(&representative, group[0] as u32, tangents[group[0]].take())?;
+            let first_triangle = out.triangles.len() as u32;
             let Some((root, mesh_box)) = out.add_mesh_bvh(&[frame], quality, layout)? else {
                 return Self::build_geometry(scene, quality, BvhLayout::Bvh2, share_meshes);
             };
             for &i in group {
                 let object = &scene.objects[i];
                 ObjectFrame::check_transform(object)?;
-                out.instances
-                    .push(crate::instances::Instance::new(object, i as u32, root));
+                out.instances.push(crate::instances::Instance::new(
+                    object,
+                    i as u32,
+                    (root, first_triangle),
+                ));
                 out.instance_mesh_boxes.push(mesh_box);
             }
         }
@@ -577,7 +581,8 @@ impl GpuScene {
         for instance in &mut out.instances {
             let object = &scene.objects[instance.material as usize];
             crate::object_frames::ObjectFrame::check_transform(object)?;
-            *instance = crate::instances::Instance::new(object, instance.material, instance.root);
+            let mesh = (instance.root, instance.first_triangle);
+            *instance = crate::instances::Instance::new(object, instance.material, mesh);
         }
         out.place_instances(crate::bvh::BvhQuality::default())?;
         Ok(Some(out))

@@ -23,6 +23,12 @@
 // (placeholders, never read, without instances).
 override HAS_INSTANCES: bool = false;
 @group(0) @binding(27) var<storage, read> instances: array<Instance>;
+
+// The first triangle of instance k's mesh, where the driver's ray queries count its primitives
+// from (ray_query.wgsl; the Rust side reads `Instance::first_triangle` directly).
+fn instance_first_triangle(k: u32) -> u32 {
+    return instances[k].first_triangle;
+}
 @group(0) @binding(28) var<storage, read> instance_nodes: array<BvhNode>;
 
 // Adaptive sampling: per pixel of the tile, 0 while it takes samples, else the sample count it

@@ -277,7 +277,7 @@ struct Instance {
     root: u32,                      // 96: its mesh's BVH root
     material: u32,                  // 100: the object it draws
     mirrored: u32,                  // 104: 1 where the transform mirrors
-    _pad: u32,                      // 108
+    first_triangle: u32,            // 108: its mesh's first triangle in `triangles`
 }
 
 

@@ -10,8 +10,9 @@
 //! and alpha-tested objects stay in world space: the emitter table, the light tree and the
 //! alpha test read world-space triangles with their own material, exactly as before.
 //!
-//! Both backends trace them (`estimator/instance_bvh.rs` ⇄ `instance_bvh.wgsl`); the driver's
-//! ray queries do not yet, so a scene with instances is traced by rt's BVH.
+//! Both backends trace them (`estimator/instance_bvh.rs` ⇄ `instance_bvh.wgsl`), and so do the
+//! driver's ray queries: one bottom-level structure per shared mesh, an instance of it per copy
+//! (`rt_gpu::accel`).
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -49,7 +50,10 @@ pub struct Instance {
     pub material: u32, // 100
     /// 1 where the transform mirrors (a negative determinant): the winding turns over.
     pub mirrored: u32, // 104
-    pub _pad: u32, // 108
+    /// Its mesh's first triangle in `GpuScene::triangles` (the mesh's triangles follow in order):
+    /// where the driver's ray queries, which count a hit's primitive from the mesh's first,
+    /// find rt's triangle index (`ray_query.wgsl`).
+    pub first_triangle: u32, // 108
 }
 }
 
@@ -64,7 +68,7 @@ fn apply(row: [f32; 4], v: Vec3, w: f32) -> f32 {
 }
 
 impl Instance {
-    pub fn new(object: &Object, index: u32, root: u32) -> Self {
+    pub fn new(object: &Object, index: u32, (root, first_triangle): (u32, u32)) -> Self {
         let m = object.transform.matrix();
         Instance {
             to_object: rows(m.inverse()),
@@ -72,7 +76,7 @@ impl Instance {
             root,
             material: index,
             mirrored: u32::from(m.determinant() < 0.0),
-            _pad: 0,
+            first_triangle,
         }
     }
 

@@ -273,15 +273,14 @@ impl GpuContext {
     /// `Trace::Auto` resolved for `scene` on this device (the others as they are): ray queries on
     /// GPUs that offer them, else rt's BVH. Lavapipe's ray queries are software too, and rt's
     /// traversal measured faster there (docs/performance.md); an empty scene has nothing to build
-    /// them over, and instances (shared meshes) are traced by rt's BVH only, so far.
+    /// them over.
     pub fn resolve_trace(&self, trace: crate::Trace, scene: &rt_core::GpuScene) -> crate::Trace {
         use crate::Trace;
         match trace {
             Trace::Auto
                 if self.has_ray_queries()
                     && self.info.device_type != wgpu::DeviceType::Cpu
-                    && !scene.triangles.is_empty()
-                    && scene.instances.is_empty() =>
+                    && !scene.triangles.is_empty() =>
             {
                 Trace::Hardware
             }
