@@ -83,12 +83,14 @@ pub fn run(args: InfoArgs, verbose: bool) -> Result<()> {
     if let Some(animation) = &scene.animation {
         let times = animation.channels.iter().flat_map(|c| &c.times);
         let end = times.fold(0.0f32, |end, t| end.max(*t));
+        let nodes = (animation.channels.iter().map(|c| c.node))
+            .collect::<std::collections::BTreeSet<_>>()
+            .len();
+        let count = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
         println!(
-            "animation: {} channels moving {} nodes, 0 to {end:.3} s (render --frames)",
-            animation.channels.len(),
-            (animation.channels.iter().map(|c| c.node))
-                .collect::<std::collections::BTreeSet<_>>()
-                .len()
+            "animation: {} moving {}, 0 to {end:.3} s (render --frames)",
+            count(animation.channels.len(), "channel"),
+            count(nodes, "node")
         );
     }
     if verbose {

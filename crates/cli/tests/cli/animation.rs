@@ -106,6 +106,12 @@ fn frames_render_an_animation_and_a_turntable() {
         let read = |name: &str| std::fs::read(dir.join(format!("{name}.{frame}.png"))).unwrap();
         assert!(read("shot") == read("project"), "frame {frame}");
     }
+    let (code, stdout, stderr) = rt_cli(&["info", project.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("animation: 1 channel moving 1 node, 0 to 1.000 s"),
+        "{stdout}"
+    );
     let turn = dir.join("turn.exr");
     let (code, _, stderr) = rt_cli(&[
         "render",
