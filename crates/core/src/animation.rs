@@ -3,7 +3,7 @@
 //! on each object, light and the camera, the node that carries it (`animation_node`).
 //!
 //! The scene holds the nodes at rest (as the file places them without its animation);
-//! [`posed_at`] gives the scene at a time: each carried thing moves by its node's world matrix at
+//! `crate::posing::posed_at` gives the scene at a time: each carried thing moves by its node's world matrix at
 //! that time times the inverse of the node's world matrix at rest, so that an object the user has
 //! since moved keeps that move. A node whose world matrix at rest is singular (scaled to zero, as
 //! exporters write objects that grow in) places what it carries as the file's loader would: an
@@ -13,12 +13,8 @@
 //! CUBICSPLINE, holding the first key before it and the last after it. Morph weights and skins are
 //! not kept (rt does not deform meshes).
 
-use std::sync::Arc;
-
-use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
+use glam::{Mat4, Quat, Vec3, Vec4};
 use serde::{Deserialize, Serialize};
-
-use crate::scene::{Mesh, Scene, Transform};
 
 /// Node chains deeper than this are refused (the glTF loader's limit too).
 pub const MAX_NODE_DEPTH: usize = 1024;
@@ -237,131 +233,6 @@ pub fn sample(channel: &Channel, time: f32) -> Option<Vec4> {
                 + in_tangent * (s3 - s2)
         }
     })
-}
-
-/// The scene at `time` seconds: what each node carries moved with it (see the module's doc).
-/// The result holds no animation (its objects stand where the time put them, so posing it again
-/// would move them twice); a scene without one is returned as it is.
-pub fn posed_at(scene: &Scene, time: f32) -> Scene {
-    let mut posed = scene.clone();
-    let Some(animation) = posed.animation.take() else {
-        return posed;
-    };
-    let rest = animation.world_matrices(None);
-    let now = animation.world_matrices(Some(time));
-    // How a node moved since rest, or `None` where its rest matrix cannot be undone.
-    let moved = |node: Option<u32>| -> Option<Result<Mat4, Mat4>> {
-        let i = node? as usize;
-        let (rest, now) = (*rest.get(i)?, *now.get(i)?);
-        Some(if rest.determinant().abs() > 1e-12 {
-            Ok(now * rest.inverse())
-        } else {
-            Err(now)
-        })
-    };
-    for object in &mut posed.objects {
-        let Some(motion) = moved(object.animation_node) else {
-            continue;
-        };
-        let world = match motion {
-            Ok(delta) => delta * object.transform.matrix(),
-            Err(node) => node,
-        };
-        (object.mesh, object.transform) = placed(object.mesh.clone(), world);
-    }
-    for light in &mut posed.lights {
-        let Some(motion) = moved(light.animation_node) else {
-            continue;
-        };
-        let (position, direction) = match motion {
-            Ok(delta) => (
-                delta.transform_point3(Vec3::from(light.position)),
-                delta.transform_vector3(Vec3::from(light.direction)),
-            ),
-            Err(node) => (
-                node.transform_point3(Vec3::ZERO),
-                node.transform_vector3(Vec3::NEG_Z),
-            ),
-        };
-        light.position = position.to_array();
-        let direction = direction.normalize_or_zero();
-        if direction != Vec3::ZERO {
-            light.direction = direction.to_array();
-        }
-    }
-    if let Some(motion) = moved(posed.camera.animation_node) {
-        let camera = &mut posed.camera;
-        let (from, to, up) = match motion {
-            Ok(delta) => (
-                delta.transform_point3(Vec3::from(camera.from)),
-                delta.transform_point3(Vec3::from(camera.to)),
-                delta.transform_vector3(Vec3::from(camera.up)),
-            ),
-            Err(node) => {
-                let from = node.transform_point3(Vec3::ZERO);
-                let forward = node.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
-                (from, from + forward, node.transform_vector3(Vec3::Y))
-            }
-        };
-        let up = up.normalize_or_zero();
-        if from.is_finite() && to.is_finite() && from != to && up != Vec3::ZERO {
-            camera.from = from.to_array();
-            camera.to = to.to_array();
-            camera.up = up.to_array();
-        }
-    }
-    posed
-}
-
-/// A mesh and rt's transform for a world matrix. A matrix with shear (a non-uniform scale above a
-/// turned node), which scale-rotate-translate cannot hold, is baked into a copy of the mesh placed
-/// unmoved (positions by the matrix, normals by its inverse transpose, the winding turned over
-/// where it mirrors): the right shape, at the cost of that copy not being shared.
-pub fn placed(mesh: Arc<Mesh>, world: Mat4) -> (Arc<Mesh>, Transform) {
-    let transform = transform_of(world);
-    let held = transform.matrix();
-    let size = world
-        .to_cols_array()
-        .iter()
-        .fold(0.0f32, |m, v| m.max(v.abs()));
-    let off = (held - world)
-        .to_cols_array()
-        .iter()
-        .fold(0.0f32, |m, v| m.max(v.abs()));
-    if off <= 1e-5 * size.max(1.0) || world.determinant() == 0.0 {
-        return (mesh, transform);
-    }
-    let normals = Mat3::from_mat4(world).inverse().transpose();
-    let mut baked = Mesh {
-        positions: mesh
-            .positions
-            .iter()
-            .map(|p| world.transform_point3(*p))
-            .collect(),
-        normals: (mesh.normals.as_ref()).map(|ns| {
-            ns.iter()
-                .map(|n| (normals * *n).normalize_or_zero())
-                .collect()
-        }),
-        ..(*mesh).clone()
-    };
-    if world.determinant() < 0.0 {
-        for t in &mut baked.indices {
-            t.swap(1, 2);
-        }
-    }
-    (Arc::new(baked), Transform::default())
-}
-
-/// rt's TRS of a world matrix.
-pub fn transform_of(world: Mat4) -> Transform {
-    let (scale, rotation, translation) = world.to_scale_rotation_translation();
-    let (x, y, z) = rotation.to_euler(glam::EulerRot::XYZ);
-    Transform {
-        translation: translation.to_array(),
-        rotation_deg: [x.to_degrees(), y.to_degrees(), z.to_degrees()],
-        scale: scale.to_array(),
-    }
 }
 
 #[cfg(test)]

@@ -39,6 +39,7 @@ pub mod oidn;
 pub mod output;
 pub mod part;
 pub mod passes;
+pub mod posing;
 pub mod scene;
 pub mod scene_features;
 pub mod shapes;

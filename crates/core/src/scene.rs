@@ -422,7 +422,7 @@ pub struct Scene {
     #[serde(default)]
     pub fog: crate::fog::Fog,
     /// The nodes and channels that move objects, lights and the camera over time, at rest here
-    /// (`crate::animation::posed_at` places them at a time). Shared: copies of a scene (undo
+    /// (`crate::posing::posed_at` places them at a time). Shared: copies of a scene (undo
     /// history, render jobs) cost no copies of its keys.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub animation: Option<Arc<crate::animation::Animation>>,

@@ -165,14 +165,14 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Scene> {
     }
 }
 
-/// The scene at `time` seconds of its animation (`rt_core::animation::posed_at`); a warning
+/// The scene at `time` seconds of its animation (`rt_core::posing::posed_at`); a warning
 /// naming the file when it has none to play.
 pub(crate) fn posed(scene: Scene, path: &Path, time: f32) -> Scene {
     if scene.animation.is_none() {
         log::warn!("{}: has no animation to play", path.display());
         return scene;
     }
-    rt_core::animation::posed_at(&scene, time)
+    rt_core::posing::posed_at(&scene, time)
 }
 
 #[cfg(test)]

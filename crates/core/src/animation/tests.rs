@@ -1,10 +1,13 @@
 use std::f32::consts::FRAC_PI_2;
+use std::sync::Arc;
 
 use super::*;
 use crate::camera::Camera;
 use crate::light::{Light, LightKind};
 use crate::material::Material;
+use crate::posing::{placed, posed_at};
 use crate::scene::Object;
+use crate::scene::{Mesh, Scene, Transform};
 
 fn close(a: [f32; 3], b: [f32; 3]) -> bool {
     a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-5)

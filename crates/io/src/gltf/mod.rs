@@ -73,7 +73,7 @@ pub fn load_gltf(path: &Path, scene: Option<usize>) -> Result<Scene> {
 }
 
 /// `load_gltf` posed at `time` seconds of the file's animations (`None`: the nodes as they stand,
-/// the animation kept in [`Scene::animation`]; `rt_core::animation::posed_at`).
+/// the animation kept in [`Scene::animation`]; `rt_core::posing::posed_at`).
 pub fn load_gltf_at(path: &Path, scene: Option<usize>, time: Option<f32>) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),

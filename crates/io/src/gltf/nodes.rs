@@ -5,7 +5,7 @@ use glam::{Mat4, Vec3};
 
 use super::Loader;
 use super::lights::light_of;
-use rt_core::animation::placed;
+use rt_core::posing::placed;
 use rt_core::scene::Object;
 
 /// Node trees deeper than this are refused (real files nest a few dozen levels).

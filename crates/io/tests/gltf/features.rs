@@ -256,7 +256,7 @@ fn animations_move_meshes_and_cameras_at_the_time_asked_for() {
     assert_eq!(project.animation, still.animation);
     for time in [1.0, 5.0] {
         let from_file = at(Some(time));
-        let from_project = rt_core::animation::posed_at(&project, time);
+        let from_project = rt_core::posing::posed_at(&project, time);
         assert_eq!(from_project.objects, from_file.objects, "t = {time}");
         assert_eq!(from_project.camera, from_file.camera, "t = {time}");
     }
