@@ -41,26 +41,30 @@ fn frames_render_an_animation_and_a_turntable() {
       "buffers": [{"byteLength": 92, "uri": "card.bin"}]}"#;
     let scene = dir.join("card.gltf");
     std::fs::write(&scene, gltf).unwrap();
+    // Frames 1 and 2 of `input` at 1 frame a second, to OUT.0001.png and OUT.0002.png.
+    let render_frames = |input: &std::path::Path, out: &std::path::Path| {
+        let (code, _, stderr) = rt_cli(&[
+            "render",
+            "--device",
+            "cpu",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--spp",
+            "2",
+            "--frames",
+            "1..2",
+            "--fps",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+            input.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{stderr}");
+    };
     let out = dir.join("shot.png");
-    let (code, _, stderr) = rt_cli(&[
-        "render",
-        "--device",
-        "cpu",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--spp",
-        "2",
-        "--frames",
-        "1..2",
-        "--fps",
-        "1",
-        "-o",
-        out.to_str().unwrap(),
-        scene.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
+    render_frames(&scene, &out);
     assert!(!out.exists(), "frames are numbered");
     // The mean column of the lit pixels.
     let centroid = |name: &str| {
@@ -82,26 +86,7 @@ fn frames_render_an_animation_and_a_turntable() {
     let project = dir.join("card.rtproj");
     let loaded = rt_io::load(&scene, &Default::default()).unwrap();
     rt_io::project::save_project(&loaded, &project).unwrap();
-    let from_project = dir.join("project.png");
-    let (code, _, stderr) = rt_cli(&[
-        "render",
-        "--device",
-        "cpu",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--spp",
-        "2",
-        "--frames",
-        "1..2",
-        "--fps",
-        "1",
-        "-o",
-        from_project.to_str().unwrap(),
-        project.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{stderr}");
+    render_frames(&project, &dir.join("project.png"));
     for frame in ["0001", "0002"] {
         let read = |name: &str| std::fs::read(dir.join(format!("{name}.{frame}.png"))).unwrap();
         assert!(read("shot") == read("project"), "frame {frame}");
