@@ -37,7 +37,13 @@ pub fn posed_at(scene: &Scene, time: f32) -> Scene {
             Ok(delta) => delta * object.transform.matrix(),
             Err(node) => node,
         };
-        (object.mesh, object.transform) = placed(object.mesh.clone(), world);
+        (object.mesh, object.transform) = if world.determinant() == 0.0 {
+            // Scaled to nothing at this time (objects that shrink away): it draws nothing, as in
+            // Blender, where a still scene's singular transform is an error naming the object.
+            (Arc::new(Mesh::default()), Transform::default())
+        } else {
+            placed(object.mesh.clone(), world)
+        };
     }
     for light in &mut posed.lights {
         let Some(motion) = moved(light.animation_node) else {
