@@ -129,13 +129,49 @@ pub fn placed(mesh: Arc<Mesh>, world: Mat4) -> (Arc<Mesh>, Transform) {
     (Arc::new(baked), Transform::default())
 }
 
-/// rt's TRS of a world matrix.
+/// rt's TRS of a world matrix. A singular one (an axis scaled to nothing) keeps its axes' lengths
+/// as the scale and the turn of the axes that remain, so that the numbers stay finite (a project
+/// holds only finite ones).
 pub fn transform_of(world: Mat4) -> Transform {
-    let (scale, rotation, translation) = world.to_scale_rotation_translation();
+    let (mut scale, mut rotation, translation) = world.to_scale_rotation_translation();
+    if !(scale.is_finite() && rotation.is_finite()) {
+        let axes = [world.x_axis, world.y_axis, world.z_axis].map(|a| a.truncate());
+        scale = Vec3::from(axes.map(|a| a.length()));
+        rotation = turn_of_axes(axes);
+    }
     let (x, y, z) = rotation.to_euler(glam::EulerRot::XYZ);
     Transform {
         translation: translation.to_array(),
         rotation_deg: [x.to_degrees(), y.to_degrees(), z.to_degrees()],
         scale: scale.to_array(),
     }
+}
+
+/// The rotation whose x, y and z axes point along `axes` as far as they are not degenerate: the
+/// longest axis kept, the next made perpendicular to it, the third their cross product (in the
+/// right-handed order); the identity where no axis has a length.
+fn turn_of_axes(axes: [Vec3; 3]) -> glam::Quat {
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| {
+        axes[b]
+            .length_squared()
+            .total_cmp(&axes[a].length_squared())
+    });
+    let [i, j, k] = order;
+    let Some(first) = axes[i].try_normalize() else {
+        return glam::Quat::IDENTITY;
+    };
+    let second = (axes[j] - first * axes[j].dot(first))
+        .try_normalize()
+        .unwrap_or_else(|| first.any_orthonormal_vector());
+    let mut basis = [Vec3::ZERO; 3];
+    basis[i] = first;
+    basis[j] = second;
+    // (i, j, k) cyclic: e_k = e_i × e_j; otherwise e_k = e_j × e_i.
+    basis[k] = if (j + 3 - i) % 3 == 1 {
+        first.cross(second)
+    } else {
+        second.cross(first)
+    };
+    glam::Quat::from_mat3(&Mat3::from_cols(basis[0], basis[1], basis[2]))
 }

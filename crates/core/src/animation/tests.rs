@@ -259,3 +259,27 @@ fn validation_names_what_cannot_play() {
     // Unvalidated circles still end (posing never hangs on a hostile file).
     assert_eq!(circle.world_matrices(Some(0.5)).len(), 2);
 }
+
+/// A matrix that scales an axis (or all) to nothing still gives finite numbers (a project holds
+/// only those), the remaining axes turned as the matrix turns them.
+#[test]
+fn singular_matrices_give_finite_transforms() {
+    let turn = Quat::from_rotation_y(0.7) * Quat::from_rotation_x(0.3);
+    for scale in [
+        Vec3::ZERO,
+        Vec3::new(2.0, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, 3.0),
+    ] {
+        let m = Mat4::from_scale_rotation_translation(scale, turn, Vec3::new(1.0, 2.0, 3.0));
+        let t = crate::posing::transform_of(m);
+        let numbers = t.translation.iter().chain(&t.rotation_deg).chain(&t.scale);
+        assert!(numbers.into_iter().all(|v| v.is_finite()), "{scale}: {t:?}");
+        assert!(close(t.scale, scale.to_array()), "{scale}: {t:?}");
+        assert!(close(t.translation, [1.0, 2.0, 3.0]));
+        // The axes that remain point where the matrix's do: the same matrix back.
+        if scale != Vec3::ZERO {
+            let back = t.matrix();
+            assert!(back.abs_diff_eq(m, 1e-5), "{back} vs {m}");
+        }
+    }
+}

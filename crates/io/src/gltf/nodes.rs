@@ -8,7 +8,7 @@ use super::lights::light_of;
 use rt_core::posing::placed;
 use rt_core::scene::Object;
 
-/// Node trees deeper than this are refused (real files nest a few dozen levels).
+// Node trees deeper than this are refused (real files nest a few dozen levels).
 use rt_core::animation::MAX_NODE_DEPTH;
 
 impl Loader<'_> {
@@ -38,7 +38,10 @@ impl Loader<'_> {
             .name()
             .map(str::to_string)
             .unwrap_or_else(|| format!("node {}", node.index()));
-        if let Some(mesh) = node.mesh() {
+        // A mesh scaled to nothing shows nothing, and no animation of the file can grow it: left
+        // out with a warning (a still scene's singular transform is an error naming the object).
+        let vanished = !self.animated && world.determinant() == 0.0;
+        if let Some(mesh) = node.mesh().filter(|_| !vanished) {
             for primitive in mesh.primitives() {
                 use gltf::mesh::Mode;
                 if !matches!(
@@ -65,6 +68,12 @@ impl Loader<'_> {
                     transform,
                 });
             }
+        }
+        if vanished && node.mesh().is_some() {
+            log::warn!(
+                "node {} ('{name}') is scaled to nothing: left out",
+                node.index()
+            );
         }
         if let Some(camera) = node.camera()
             && self.camera.is_none()

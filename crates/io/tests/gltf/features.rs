@@ -674,3 +674,58 @@ fn draco_compressed_primitives_load_as_the_surface_encoded() {
         "{message}"
     );
 }
+
+/// A node scaled to nothing shows nothing: in a file without animation its mesh is left out (a
+/// still scene's singular transform would be an error), the others load as before; in an animated
+/// file it is kept, with finite numbers, for the frames that grow it.
+#[test]
+fn nodes_scaled_to_nothing_are_left_out_of_still_files() {
+    let full = load(&embedded(document()), None).unwrap();
+    let mut doc = document();
+    doc["nodes"][0]["scale"] = json!([0, 0, 0]);
+    let still = load(&embedded(doc.clone()), None).unwrap();
+    assert_eq!(still.objects.len(), full.objects.len() - 1);
+    assert!(still.objects.iter().all(|o| o.name != full.objects[0].name));
+    rt_core::GpuScene::build(&still).expect("the rest renders");
+    doc["animations"] = json!([]);
+    let mut data = Vec::new();
+    [0.0f32, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0]
+        .iter()
+        .for_each(|f| data.extend(f.to_le_bytes()));
+    let uri = base64::engine::general_purpose::STANDARD.encode(&data);
+    doc["buffers"].as_array_mut().unwrap().push(json!({
+        "byteLength": data.len(),
+        "uri": format!("data:application/octet-stream;base64,{uri}")
+    }));
+    let buffer = doc["buffers"].as_array().unwrap().len() - 1;
+    let views = doc["bufferViews"].as_array_mut().unwrap();
+    views.push(json!({"buffer": buffer, "byteOffset": 0, "byteLength": 8}));
+    views.push(json!({"buffer": buffer, "byteOffset": 8, "byteLength": 24}));
+    let view = views.len() - 2;
+    let accessors = doc["accessors"].as_array_mut().unwrap();
+    accessors.push(
+        json!({"bufferView": view, "componentType": 5126, "count": 2,
+        "type": "SCALAR", "min": [0.0], "max": [1.0]}),
+    );
+    accessors
+        .push(json!({"bufferView": view + 1, "componentType": 5126, "count": 2, "type": "VEC3"}));
+    let first = accessors.len() - 2;
+    doc["animations"] = json!([{
+        "samplers": [{"input": first, "output": first + 1, "interpolation": "LINEAR"}],
+        "channels": [{"sampler": 0, "target": {"node": 0, "path": "scale"}}]
+    }]);
+    let grows = load(&embedded(doc), None).unwrap();
+    assert_eq!(grows.objects.len(), full.objects.len());
+    let t = &grows.objects[0].transform;
+    let numbers = t.translation.iter().chain(&t.rotation_deg).chain(&t.scale);
+    assert!(numbers.into_iter().all(|v| v.is_finite()), "{t:?}");
+    let grown = rt_core::posing::posed_at(&grows, 1.0);
+    assert!(close(grown.objects[0].transform.scale, [1.0; 3]));
+    assert!(!grown.objects[0].mesh.indices.is_empty());
+    assert!(
+        rt_core::posing::posed_at(&grows, 0.0).objects[0]
+            .mesh
+            .indices
+            .is_empty()
+    );
+}
