@@ -102,6 +102,9 @@ impl GpuScene {
         layout: BvhLayout,
         share_meshes: bool,
     ) -> Result<Self> {
+        if let Some(shown) = crate::posing::with_vanished_hidden(scene) {
+            return Self::build_geometry(&shown, quality, layout, share_meshes);
+        }
         let mut out = GpuScene::default();
         let texture_offsets = out.pack_texels(scene)?;
         let mut tangents = Vec::with_capacity(scene.objects.len());

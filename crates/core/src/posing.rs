@@ -89,6 +89,24 @@ pub fn posed_at(scene: &Scene, time: f32) -> Scene {
     posed
 }
 
+/// `scene` with the objects an animation carries but has scaled to nothing where they stand (at
+/// rest, objects that later frames grow in) drawing nothing: their meshes empty, their indices
+/// kept. `None` where there are none. (Any other singular transform is an error naming the
+/// object, `ObjectFrame::check_transform`.)
+pub fn with_vanished_hidden(scene: &Scene) -> Option<Scene> {
+    let vanished = |o: &crate::scene::Object| {
+        o.animation_node.is_some() && o.transform.matrix().determinant() == 0.0
+    };
+    if !scene.objects.iter().any(vanished) {
+        return None;
+    }
+    let mut shown = scene.clone();
+    for object in shown.objects.iter_mut().filter(|o| vanished(o)) {
+        (object.mesh, object.transform) = (Arc::new(Mesh::default()), Transform::default());
+    }
+    Some(shown)
+}
+
 /// A mesh and rt's transform for a world matrix. A matrix with shear (a non-uniform scale above a
 /// turned node), which scale-rotate-translate cannot hold, is baked into a copy of the mesh placed
 /// unmoved (positions by the matrix, normals by its inverse transpose, the winding turned over

@@ -719,6 +719,14 @@ fn nodes_scaled_to_nothing_are_left_out_of_still_files() {
     let t = &grows.objects[0].transform;
     let numbers = t.translation.iter().chain(&t.rotation_deg).chain(&t.scale);
     assert!(numbers.into_iter().all(|v| v.is_finite()), "{t:?}");
+    let hidden = rt_core::GpuScene::build(&grows).expect("hidden at rest, the scene builds");
+    let quad = full.objects[0].mesh.indices.len();
+    let all = rt_core::GpuScene::build(&full).unwrap().triangles.len();
+    assert_eq!(
+        hidden.triangles.len(),
+        all - quad,
+        "the vanished quad has no triangles"
+    );
     let grown = rt_core::posing::posed_at(&grows, 1.0);
     assert!(close(grown.objects[0].transform.scale, [1.0; 3]));
     assert!(!grown.objects[0].mesh.indices.is_empty());
