@@ -23,8 +23,9 @@ pub fn posed_at(scene: &Scene, time: f32) -> Scene {
     let moved = |node: Option<u32>| -> Option<Result<Mat4, Mat4>> {
         let i = node? as usize;
         let (rest, now) = (*rest.get(i)?, *now.get(i)?);
-        Some(if rest.determinant().abs() > 1e-12 {
-            Ok(now * rest.inverse())
+        let undo = rest.inverse();
+        Some(if rest.determinant() != 0.0 && undo.is_finite() {
+            Ok(now * undo)
         } else {
             Err(now)
         })
