@@ -20,7 +20,7 @@ import tempfile
 from pathlib import Path
 
 import bpy
-from cycles_settings import export_glb, match_rt, read_channels
+from cycles_settings import add_camera, export_glb, match_rt, read_channels
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
@@ -29,8 +29,6 @@ NAMES = ("sphere", "box", "torus", "floor")
 
 
 def build():
-    import mathutils
-
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     bpy.ops.mesh.primitive_plane_add(size=6, location=(0, 0, 0))
@@ -46,12 +44,7 @@ def build():
                                      minor_radius=0.04, rotation=(math.radians(70), 0, 0))
     bpy.context.object.name = "torus"
     bpy.ops.object.light_add(type="SUN", rotation=(math.radians(30), 0, 0))
-    bpy.ops.object.camera_add(location=(0.0, -6.0, 2.5))
-    cam = bpy.context.object
-    cam.rotation_euler = mathutils.Vector((0.0, 6.0, -1.8)).to_track_quat("-Z", "Y").to_euler()
-    cam.data.sensor_fit = "VERTICAL"
-    cam.data.angle_y = math.radians(35)
-    scene.camera = cam
+    add_camera(bpy, scene, (0.0, -6.0, 2.5), (0.0, 6.0, -1.8), 35)
     scene.render.resolution_x, scene.render.resolution_y = WIDTH, HEIGHT
     scene.render.resolution_percentage = 100
     return scene

@@ -46,7 +46,13 @@ import tempfile
 import time
 from pathlib import Path
 
-from cycles_settings import arguments, export_glb, read_channels, render_with_object_index
+from cycles_settings import (
+    add_camera,
+    arguments,
+    export_glb,
+    read_channels,
+    render_with_object_index,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
@@ -127,14 +133,7 @@ def build(bpy, spheres):
     sun = bpy.context.object.data
     sun.energy = 2.0
     sun.angle = 0.0
-    bpy.ops.object.camera_add(location=(0.0, -7.0, 1.6))
-    cam = bpy.context.object
-    import mathutils
-
-    cam.rotation_euler = mathutils.Vector((0.0, 7.0, -1.1)).to_track_quat("-Z", "Y").to_euler()
-    cam.data.sensor_fit = "VERTICAL"
-    cam.data.angle_y = math.radians(20)
-    scene.camera = cam
+    add_camera(bpy, scene, (0.0, -7.0, 1.6), (0.0, 7.0, -1.1), 20)
     world = bpy.data.worlds.new("grey")
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (AMBIENT,) * 3 + (1,)

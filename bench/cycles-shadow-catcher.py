@@ -22,7 +22,13 @@ import time
 from pathlib import Path
 
 import bpy
-from cycles_settings import arguments, export_glb, read_channels, render_with_object_index
+from cycles_settings import (
+    add_camera,
+    arguments,
+    export_glb,
+    read_channels,
+    render_with_object_index,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = ROOT / "target" / "release" / "rt-cli"
@@ -41,8 +47,6 @@ def principled(bpy, name, colour):
 
 
 def build(bpy):
-    import mathutils
-
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
     bpy.ops.mesh.primitive_plane_add(size=12, location=(0, 0, 0))
@@ -68,12 +72,7 @@ def build(bpy):
     sun = bpy.context.object.data
     sun.energy = SUN
     sun.angle = 0.0
-    bpy.ops.object.camera_add(location=(0.0, -6.0, 3.5))
-    cam = bpy.context.object
-    cam.rotation_euler = mathutils.Vector((0.0, 6.0, -3.2)).to_track_quat("-Z", "Y").to_euler()
-    cam.data.sensor_fit = "VERTICAL"
-    cam.data.angle_y = math.radians(35)
-    scene.camera = cam
+    add_camera(bpy, scene, (0.0, -6.0, 3.5), (0.0, 6.0, -3.2), 35)
     world = bpy.data.worlds.new("grey")
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (AMBIENT,) * 3 + (1,)

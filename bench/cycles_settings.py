@@ -49,6 +49,22 @@ def match_rt(scene, spp, depth):
     scene.view_settings.view_transform = "Standard"
 
 
+def add_camera(bpy, scene, location, toward, vfov_deg):
+    """A perspective camera at `location` looking along `toward` (Blender's z up), `vfov_deg`
+    high, made the scene's camera (as the Blender comparisons place theirs)."""
+    import math
+
+    import mathutils  # bpy's: importable once bpy is
+
+    bpy.ops.object.camera_add(location=location)
+    cam = bpy.context.object
+    cam.rotation_euler = mathutils.Vector(toward).to_track_quat("-Z", "Y").to_euler()
+    cam.data.sensor_fit = "VERTICAL"
+    cam.data.angle_y = math.radians(vfov_deg)
+    scene.camera = cam
+    return cam
+
+
 def look_at(camera):
     """The camera's placement from rt's from/to/up (y up): Blender's `to_track_quat` keeps world z
     up, which is degenerate for a camera looking along z."""
