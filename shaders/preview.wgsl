@@ -111,6 +111,8 @@ struct PreviewObject {
 @group(0) @binding(10) var probe_radiance: texture_3d<f32>;
 const BANDS: u32 = 6u;
 const AZIMUTHS: u32 = 8u;
+// How far off a surface, in cells, `ambient_cube` looks the probes up (bounce.rs).
+const PROBE_LOOKUP_LIFT: f32 = 0.25;
 // A material's images (white, or a flat normal, where it has none).
 @group(1) @binding(0) var albedo_texture: texture_2d<f32>;
 @group(1) @binding(1) var albedo_sampler: sampler;

@@ -34,6 +34,11 @@ use super::types::{PreviewLight, light_kind};
 
 /// Rays per probe.
 pub const PROBE_RAYS: usize = 128;
+/// How far off a surface, in cells, the ambient cube is looked up (the shader's
+/// `PROBE_LOOKUP_LIFT`): far enough that probes behind a wall weigh less, near enough that a floor
+/// reads the probes just above it (half a cell made the Cornell box's floor 14% too bright and a
+/// dark room's walls 10%; a tenth made its ceiling 14% too dark).
+pub const PROBE_LOOKUP_LIFT: f32 = 0.25;
 /// Largest scene that gets a grid (its BVH and rays take tens of milliseconds at this size).
 pub const MAX_TRIANGLES: usize = 100_000;
 /// Probes along the scene's largest side.
@@ -126,30 +131,34 @@ impl IrradianceVolume {
         [i % nx, (i / nx) % ny, i / (nx * ny)]
     }
 
-    /// The probes interpolated trilinearly at `q`, side `axis`, clamped to the outer probes
-    /// (the shader's `probe`, whose texture sampler does the same).
-    fn probe(&self, q: Vec3, axis: usize) -> Vec4 {
+    /// The probes interpolated at `q`, side `axis`, for a surface at `s` facing `n`: trilinear
+    /// weights times `facing_weight`, clamped to the outer probes (the shader's `probe`).
+    fn probe(&self, q: Vec3, s: Vec3, n: Vec3, axis: usize) -> Vec4 {
         let dims = Vec3::from(self.dims.map(|d| d as f32));
         let extent = (self.hi - self.lo).max(Vec3::splat(1e-6));
         let f = ((q - self.lo) / extent).clamp(Vec3::ZERO, Vec3::ONE) * dims;
         let c = f.clamp(Vec3::splat(0.5), dims - 0.5) - 0.5;
         let base = c.floor();
         let t = c - base;
-        let mut sum = Vec4::ZERO;
+        let cell = (extent / dims).min_element();
+        let (mut sum, mut total) = (Vec4::ZERO, 0.0);
         for corner in 0..8u32 {
             let offset = UVec3::new(corner & 1, (corner >> 1) & 1, corner >> 2);
             let at = (base.as_uvec3() + offset).min(UVec3::from(self.dims) - 1);
-            let w = Vec3::select(offset.cmpeq(UVec3::ZERO), 1.0 - t, t);
-            sum += Vec4::from(self.at(at.to_array(), axis)) * w.x * w.y * w.z;
+            let w3 = Vec3::select(offset.cmpeq(UVec3::ZERO), 1.0 - t, t);
+            let centre = self.lo + (at.as_vec3() + 0.5) / dims * extent;
+            let w = w3.x * w3.y * w3.z * facing_weight((centre - s).dot(n) / cell);
+            sum += Vec4::from(self.at(at.to_array(), axis)) * w;
+            total += w;
         }
-        sum
+        sum / total.max(1e-12)
     }
 
     /// Bounce irradiance/π (xyz) and sky visibility (w) towards `d` at a surface point `p` facing
     /// `n`: the shader's `ambient_cube`, on the CPU (the second bounce reads the first with it).
     pub(crate) fn ambient_cube(&self, p: Vec3, n: Vec3, d: Vec3) -> Vec4 {
         let cell = (self.hi - self.lo) / Vec3::from(self.dims.map(|d| d as f32));
-        let q = p + n * 0.5 * cell.min_element();
+        let q = p + n * PROBE_LOOKUP_LIFT * cell.min_element();
         let w = d * d;
         let mut sum = Vec4::ZERO;
         for (axis, weight, positive) in [
@@ -158,7 +167,7 @@ impl IrradianceVolume {
             (4, w.z, d.z >= 0.0),
         ] {
             if weight > 1e-4 {
-                sum += self.probe(q, if positive { axis } else { axis + 1 }) * weight;
+                sum += self.probe(q, p, n, if positive { axis } else { axis + 1 }) * weight;
             }
         }
         sum / (w.x + w.y + w.z).max(1e-6)
@@ -168,6 +177,14 @@ impl IrradianceVolume {
     pub fn at(&self, cell: [u32; 3], axis: usize) -> [f32; 4] {
         self.texels[self.index(cell, axis)]
     }
+}
+
+/// How much a probe at height `h` above a surface's plane counts, `h` in units of the smallest
+/// cell side (the shader's `facing_weight`): fully a tenth of a cell in front, a fiftieth a tenth
+/// behind (inside the object, or beyond a wall: a box's face read the probe inside the box, which
+/// took its lit neighbours' light); so a floor's own probes, just above it, count fully.
+fn facing_weight(h: f32) -> f32 {
+    (0.5 + 5.0 * h).clamp(0.02, 1.0)
 }
 
 /// The scene's area-weighted mean albedo times how enclosed it is, its surface area, and how

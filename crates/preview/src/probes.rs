@@ -193,6 +193,8 @@ pub(crate) fn compute(
     .clamp(Vec3::ONE, Vec3::splat(8.0))
     .as_uvec3()
     .to_array();
+    let (lo, hi) = outer_probes_at_the_bounds(lo, hi, size, dims);
+    let size = hi - lo;
     let mut volume = IrradianceVolume {
         dims,
         lo,
@@ -210,6 +212,23 @@ pub(crate) fn compute(
     volume.radiance = radiance_maps(&volume, &hits, &rays, &valid, bounces);
     volume
 }
+
+/// The volume's corners such that its outer probes (at cell centres) lie just inside `lo` and
+/// `hi` along each axis with two or more probes: a probe a metre above a floor saw a lamp's bright
+/// patch on the ceiling over it (1/d²) nearer than the floor does, and lit the floor with it.
+fn outer_probes_at_the_bounds(lo: Vec3, hi: Vec3, size: Vec3, dims: [u32; 3]) -> (Vec3, Vec3) {
+    let n = Vec3::from(dims.map(|d| d as f32));
+    let inset = size / n * PROBE_INSET;
+    let spacing = (size - 2.0 * inset) / (n - 1.0).max(Vec3::ONE);
+    let several = n.cmpgt(Vec3::ONE);
+    (
+        Vec3::select(several, lo + inset - 0.5 * spacing, lo),
+        Vec3::select(several, hi - inset + 0.5 * spacing, hi),
+    )
+}
+
+/// How far inside the bounds the outer probes lie, in cells.
+const PROBE_INSET: f32 = 0.1;
 
 /// E/π = Σ L max(a·d, 0) · (4π/N) / π: the weight of one of N rays.
 fn per_ray(rays: &[Vec3]) -> f32 {

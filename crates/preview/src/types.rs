@@ -202,6 +202,8 @@ mod tests {
                     "MAX_SHADOW_LAYERS",
                     crate::shadows::MAX_SHADOW_LAYERS as u32,
                 ),
+                ("BANDS", crate::bounce::BANDS),
+                ("AZIMUTHS", crate::bounce::AZIMUTHS),
             ])
         {
             let (_, c) = module
@@ -217,6 +219,21 @@ mod tests {
                 "{name}"
             );
         }
+    }
+
+    #[test]
+    fn the_probe_lookup_lift_matches_the_shader() {
+        let source = rt_gpu::shaders::PREVIEW.source();
+        let module = naga::front::wgsl::parse_str(&source).expect("preview.wgsl parses");
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some("PROBE_LOOKUP_LIFT"))
+            .expect("preview.wgsl has PROBE_LOOKUP_LIFT");
+        assert!(matches!(
+            module.global_expressions[c.init],
+            naga::Expression::Literal(naga::Literal::F32(v)) if v == crate::bounce::PROBE_LOOKUP_LIFT
+        ));
     }
 
     #[test]
