@@ -34,71 +34,44 @@ fn irradiance_over_pi(n: vec3<f32>) -> vec3<f32> {
     return textureSampleLevel(env_blur, linear_sampler, uv, ENV_DIFFUSE_LAYER, 0.0).rgb;
 }
 
-// Where the probes about a lookup point lie for a surface: the first of the eight about q, the
-// trilinear fractions, the first's height above the surface's plane and each axis's step to the
-// next (in units of the smallest cell side: heights are linear in the probe's index), and whether
-// every probe lies fully in front (then the sampler's own trilinear filter gives the same, in one
-// read, and no weight is worked out).
-struct ProbeCorners {
-    base: vec3<u32>,
-    t: vec3<f32>,
-    height: f32,
-    step: vec3<f32>,
-    all_in_front: bool,
-    // The filtered lookup's coordinates within side 0's block of texels.
-    uvw: vec3<f32>,
-}
-
-// The corners about q for a surface at s facing n, clamped to the outer probes (bounce.rs
-// `IrradianceVolume::probe`).
-fn probe_corners(q: vec3<f32>, s: vec3<f32>, n: vec3<f32>) -> ProbeCorners {
+// The volume's probes interpolated at q, side `axis` (kept inside that side's block of texels).
+fn probe(q: vec3<f32>, axis: u32) -> vec4<f32> {
     let size = vec3<f32>(textureDimensions(probes));
-    let d = size / vec3<f32>(6.0, 1.0, 1.0);
+    let dims = vec3<f32>(size.x / 6.0, size.y, size.z);
     let extent = max(view.probe_hi.xyz - view.probe_lo.xyz, vec3<f32>(1e-6));
-    let f = clamp((q - view.probe_lo.xyz) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * d;
-    let c = clamp(f, vec3<f32>(0.5), d - vec3<f32>(0.5));
-    let spacing = extent / d;
+    let f = clamp((q - view.probe_lo.xyz) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * dims;
+    let c = clamp(f, vec3<f32>(0.5), dims - vec3<f32>(0.5));
+    let uvw = vec3<f32>((f32(axis) * dims.x + c.x) / size.x, c.y / size.y, c.z / size.z);
+    return textureSampleLevel(probes, linear_sampler, uvw, 0.0);
+}
+
+// Lookup point q for a surface at s facing n, moved within its cell of probes so that the sampler's
+// trilinear weights favour the probes in front of the surface (bounce.rs `in_front_of`): a box's
+// face otherwise read the probe inside the box, which takes its lit neighbours' light. Per axis,
+// the two layers of probes are weighed by `facing_weight` of their height above the surface's
+// plane (linear in the probe's index, so exact for a surface facing along an axis).
+fn in_front_of(q: vec3<f32>, s: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
+    let lo = view.probe_lo.xyz;
+    let extent = max(view.probe_hi.xyz - lo, vec3<f32>(1e-6));
+    let spacing = extent / dims;
     let cell = min(spacing.x, min(spacing.y, spacing.z));
+    let c = clamp(clamp((q - lo) / extent, vec3<f32>(0.0), vec3<f32>(1.0)) * dims, vec3<f32>(0.5), dims - vec3<f32>(0.5));
     let base = floor(c - vec3<f32>(0.5));
-    var out: ProbeCorners;
-    out.uvw = c / size;
-    out.base = vec3<u32>(base);
-    out.t = c - vec3<f32>(0.5) - base;
-    let first = view.probe_lo.xyz + (base + vec3<f32>(0.5)) * spacing;
-    out.height = dot(first - s, n) / cell;
-    out.step = spacing * n / cell;
-    let lowest = out.height + min(out.step.x, 0.0) + min(out.step.y, 0.0) + min(out.step.z, 0.0);
-    out.all_in_front = facing_weight(lowest) >= 1.0;
-    return out;
+    let t = c - vec3<f32>(0.5) - base;
+    let height = dot(lo + c * spacing - s, n) / cell;
+    let step = select(vec3<f32>(0.0), spacing * n / cell, dims > vec3<f32>(1.5));
+    let below = facing_weight(vec3<f32>(height) - t * step);
+    let above = facing_weight(vec3<f32>(height) + (vec3<f32>(1.0) - t) * step);
+    let moved = t * above / max((vec3<f32>(1.0) - t) * below + t * above, vec3<f32>(1e-12));
+    return lo + (base + vec3<f32>(0.5) + moved) * spacing;
 }
 
-// Side `axis` of the probes at `corners`: trilinear weights times `facing_weight`.
-fn probe(corners: ProbeCorners, axis: u32) -> vec4<f32> {
-    if corners.all_in_front {
-        let uvw = corners.uvw + vec3<f32>(f32(axis) / 6.0, 0.0, 0.0);
-        return textureSampleLevel(probes, linear_sampler, uvw, 0.0);
-    }
-    let dims = vec3<u32>(textureDimensions(probes)) / vec3<u32>(6u, 1u, 1u);
-    var sum = vec4<f32>(0.0);
-    var total = 0.0;
-    for (var corner = 0u; corner < 8u; corner++) {
-        let offset = vec3<u32>(corner & 1u, (corner >> 1u) & 1u, corner >> 2u);
-        let at = min(corners.base + offset, dims - vec3<u32>(1u));
-        let w3 = select(corners.t, vec3<f32>(1.0) - corners.t, offset == vec3<u32>(0u));
-        let h = corners.height + dot(vec3<f32>(at - corners.base), corners.step);
-        let w = w3.x * w3.y * w3.z * facing_weight(h);
-        sum += w * textureLoad(probes, vec3<u32>(axis * dims.x + at.x, at.y, at.z), 0);
-        total += w;
-    }
-    return sum / max(total, 1e-12);
-}
-
-// How much a probe at height h above a surface's plane counts (h in units of the smallest cell
+// How much a probe at height h above a surface's plane counts (in units of the smallest cell
 // side): fully a tenth of a cell in front, a fiftieth a tenth behind (inside the object, or beyond
-// a wall: a box's face read the probe inside the box, which took its lit neighbours' light); so a
-// floor's own probes, just above it, count fully.
-fn facing_weight(h: f32) -> f32 {
-    return clamp(0.5 + 5.0 * h, 0.02, 1.0);
+// a wall); so a floor's own probes, just above it, count fully.
+fn facing_weight(h: vec3<f32>) -> vec3<f32> {
+    return clamp(vec3<f32>(0.5) + 5.0 * h, vec3<f32>(0.02), vec3<f32>(1.0));
 }
 
 // The bin of unit direction d in a probe's radiance map (bounce.rs `direction_bin`): its band of
@@ -126,24 +99,23 @@ fn probe_radiance_along(p: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
 
 // Bounce irradiance/π (rgb) and sky visibility (a) towards direction d at a surface point p with
 // normal n: the ambient cube's three sides facing d, weighted by d's squared components, looked up
-// a quarter of a cell off the surface (`PROBE_LOOKUP_LIFT`), each probe weighed by whether it lies
-// in front of the surface (`probe`).
+// a quarter of a cell off the surface (`PROBE_LOOKUP_LIFT`), farther where a probe about that
+// point lies behind the surface (`in_front_of`).
 fn ambient_cube(p: vec3<f32>, n: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
     let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
-    let q = p + n * PROBE_LOOKUP_LIFT * min(cell.x, min(cell.y, cell.z));
-    let corners = probe_corners(q, p, n);
+    let q = in_front_of(p + n * PROBE_LOOKUP_LIFT * min(cell.x, min(cell.y, cell.z)), p, n);
     let w = d * d;
     // Sides with no weight are not read (a wall facing along an axis reads one).
     var sum = vec4<f32>(0.0);
     if w.x > 1e-4 {
-        sum += w.x * probe(corners, select(1u, 0u, d.x >= 0.0));
+        sum += w.x * probe(q, select(1u, 0u, d.x >= 0.0));
     }
     if w.y > 1e-4 {
-        sum += w.y * probe(corners, select(3u, 2u, d.y >= 0.0));
+        sum += w.y * probe(q, select(3u, 2u, d.y >= 0.0));
     }
     if w.z > 1e-4 {
-        sum += w.z * probe(corners, select(5u, 4u, d.z >= 0.0));
+        sum += w.z * probe(q, select(5u, 4u, d.z >= 0.0));
     }
     return sum / max(w.x + w.y + w.z, 1e-6);
 }

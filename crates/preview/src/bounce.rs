@@ -131,34 +131,53 @@ impl IrradianceVolume {
         [i % nx, (i / nx) % ny, i / (nx * ny)]
     }
 
-    /// The probes interpolated at `q`, side `axis`, for a surface at `s` facing `n`: trilinear
-    /// weights times `facing_weight`, clamped to the outer probes (the shader's `probe`).
-    fn probe(&self, q: Vec3, s: Vec3, n: Vec3, axis: usize) -> Vec4 {
+    /// The probes interpolated trilinearly at `q`, side `axis`, clamped to the outer probes
+    /// (the shader's `probe`, whose texture sampler does the same).
+    fn probe(&self, q: Vec3, axis: usize) -> Vec4 {
         let dims = Vec3::from(self.dims.map(|d| d as f32));
         let extent = (self.hi - self.lo).max(Vec3::splat(1e-6));
         let f = ((q - self.lo) / extent).clamp(Vec3::ZERO, Vec3::ONE) * dims;
         let c = f.clamp(Vec3::splat(0.5), dims - 0.5) - 0.5;
         let base = c.floor();
         let t = c - base;
-        let cell = (extent / dims).min_element();
-        let (mut sum, mut total) = (Vec4::ZERO, 0.0);
+        let mut sum = Vec4::ZERO;
         for corner in 0..8u32 {
             let offset = UVec3::new(corner & 1, (corner >> 1) & 1, corner >> 2);
             let at = (base.as_uvec3() + offset).min(UVec3::from(self.dims) - 1);
-            let w3 = Vec3::select(offset.cmpeq(UVec3::ZERO), 1.0 - t, t);
-            let centre = self.lo + (at.as_vec3() + 0.5) / dims * extent;
-            let w = w3.x * w3.y * w3.z * facing_weight((centre - s).dot(n) / cell);
-            sum += Vec4::from(self.at(at.to_array(), axis)) * w;
-            total += w;
+            let w = Vec3::select(offset.cmpeq(UVec3::ZERO), 1.0 - t, t);
+            sum += Vec4::from(self.at(at.to_array(), axis)) * w.x * w.y * w.z;
         }
-        sum / total.max(1e-12)
+        sum
+    }
+
+    /// Lookup point `q` for a surface at `s` facing `n`, moved within its cell of probes so that
+    /// the trilinear weights favour the probes in front of the surface (the shader's
+    /// `in_front_of`): a box's face otherwise read the probe inside the box, which takes its lit
+    /// neighbours' light. Per axis, the two layers of probes are weighed by `facing_weight` of
+    /// their height above the surface's plane (linear in the probe's index, so exact for a surface
+    /// facing along an axis).
+    fn in_front_of(&self, q: Vec3, s: Vec3, n: Vec3) -> Vec3 {
+        let dims = Vec3::from(self.dims.map(|d| d as f32));
+        let extent = (self.hi - self.lo).max(Vec3::splat(1e-6));
+        let spacing = extent / dims;
+        let cell = spacing.min_element();
+        let c = (((q - self.lo) / extent).clamp(Vec3::ZERO, Vec3::ONE) * dims)
+            .clamp(Vec3::splat(0.5), dims - 0.5);
+        let base = (c - 0.5).floor();
+        let t = c - 0.5 - base;
+        let height = (self.lo + c * spacing - s).dot(n) / cell;
+        let step = Vec3::select(dims.cmpgt(Vec3::splat(1.5)), spacing * n / cell, Vec3::ZERO);
+        let below = facing_weight(Vec3::splat(height) - t * step);
+        let above = facing_weight(Vec3::splat(height) + (1.0 - t) * step);
+        let moved = t * above / ((1.0 - t) * below + t * above).max(Vec3::splat(1e-12));
+        self.lo + (base + 0.5 + moved) * spacing
     }
 
     /// Bounce irradiance/π (xyz) and sky visibility (w) towards `d` at a surface point `p` facing
     /// `n`: the shader's `ambient_cube`, on the CPU (the second bounce reads the first with it).
     pub(crate) fn ambient_cube(&self, p: Vec3, n: Vec3, d: Vec3) -> Vec4 {
         let cell = (self.hi - self.lo) / Vec3::from(self.dims.map(|d| d as f32));
-        let q = p + n * PROBE_LOOKUP_LIFT * cell.min_element();
+        let q = self.in_front_of(p + n * PROBE_LOOKUP_LIFT * cell.min_element(), p, n);
         let w = d * d;
         let mut sum = Vec4::ZERO;
         for (axis, weight, positive) in [
@@ -167,7 +186,7 @@ impl IrradianceVolume {
             (4, w.z, d.z >= 0.0),
         ] {
             if weight > 1e-4 {
-                sum += self.probe(q, p, n, if positive { axis } else { axis + 1 }) * weight;
+                sum += self.probe(q, if positive { axis } else { axis + 1 }) * weight;
             }
         }
         sum / (w.x + w.y + w.z).max(1e-6)
@@ -179,12 +198,12 @@ impl IrradianceVolume {
     }
 }
 
-/// How much a probe at height `h` above a surface's plane counts, `h` in units of the smallest
-/// cell side (the shader's `facing_weight`): fully a tenth of a cell in front, a fiftieth a tenth
-/// behind (inside the object, or beyond a wall: a box's face read the probe inside the box, which
-/// took its lit neighbours' light); so a floor's own probes, just above it, count fully.
-fn facing_weight(h: f32) -> f32 {
-    (0.5 + 5.0 * h).clamp(0.02, 1.0)
+/// How much a probe at height `h` above a surface's plane counts, in units of the smallest cell
+/// side (the shader's `facing_weight`): fully a tenth of a cell in front, a fiftieth a tenth
+/// behind (inside the object, or beyond a wall); so a floor's own probes, just above it, count
+/// fully.
+fn facing_weight(h: Vec3) -> Vec3 {
+    (0.5 + 5.0 * h).clamp(Vec3::splat(0.02), Vec3::ONE)
 }
 
 /// The scene's area-weighted mean albedo times how enclosed it is, its surface area, and how
