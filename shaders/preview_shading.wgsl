@@ -308,20 +308,23 @@ fn reflected(sky: vec3<f32>, ahead: vec4<f32>) -> vec3<f32> {
     return sky * ahead.a + ahead.rgb;
 }
 
-// The environment an anisotropic reflector shows: GGX's slopes along the direction of
-// anisotropy x spread as p(s) ∝ (1 + s²/α_x²)^(−3/2), so the mirror directions of five normals
-// tilted along x at that distribution's quantiles 0.1, 0.3, …, 0.9 (s = 0, ±0.436 α_x,
-// ±1.333 α_x), each prefiltered at the narrow width, stand for the stretched lobe (a single
-// bent normal, as glTF's sample viewer reads, swung a brushed floor from 30% too dark to 36% too
-// bright under a sky with a sun).
-fn stretched_environment(v: vec3<f32>, n: vec3<f32>, x: vec3<f32>, w: Widths) -> vec3<f32> {
+// What an anisotropic reflector shows: GGX's slopes along the direction of anisotropy x spread as
+// p(s) ∝ (1 + s²/α_x²)^(−3/2), so the mirror directions of five normals tilted along x at that
+// distribution's quantiles 0.1, 0.3, …, 0.9 (s = 0, ±0.436 α_x, ±1.333 α_x) stand for the
+// stretched lobe, each showing the environment prefiltered at the narrow width and what the probes
+// about `origin` see that way (`probe_radiance_along`, blended towards `broad` as a lobe widens). A
+// single bent normal, as glTF's sample viewer reads, swung a brushed floor from 30% too dark to 36%
+// too bright under a sky with a sun; the probes read along the mirror direction alone left a
+// brushed can, whose lobe reaches down to a lit floor, 18% too dark.
+fn stretched_reflection(v: vec3<f32>, n: vec3<f32>, x: vec3<f32>, w: Widths, origin: vec3<f32>, broad: vec4<f32>) -> vec3<f32> {
     let narrow = sqrt(max(w.y, 0.3 * w.x));
     var sum = vec3<f32>(0.0);
     for (var k = 0; k < 5; k++) {
         let slope = array<f32, 5>(-1.333, -0.436, 0.0, 0.436, 1.333)[k] * w.x;
         let r = reflect(-v, normalize(n - x * slope));
         // A mirror direction below the surface sees the surface itself: the horizon instead.
-        sum += environment(normalize(r - n * min(dot(r, n), 0.0)), narrow);
+        let d = normalize(r - n * min(dot(r, n), 0.0));
+        sum += reflected(environment(d, narrow), mix(probe_radiance_along(origin, d), broad, sqrt(w.y)));
     }
     return sum * 0.2;
 }
@@ -467,11 +470,12 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
         // line between a lit floor and the sky stays sharp).
         let sharp = probe_radiance_along(p + n * 0.5 * min(cell.x, min(cell.y, cell.z)), r);
         if specular {
-            var sky = environment(r, roughness);
+            var shown = reflected(environment(r, roughness), mix(sharp, broad, sqrt(w.y)));
             if anisotropic {
-                sky = stretched_environment(v, n, frame[0], w);
+                let origin = p + n * 0.5 * min(cell.x, min(cell.y, cell.z));
+                shown = stretched_reflection(v, n, frame[0], w, origin, broad);
             }
-            ambient += reflected(sky, mix(sharp, broad, sqrt(w.y))) * e_spec * compensation;
+            ambient += shown * e_spec * compensation;
         }
         if layers.coat > 0.0 {
             let ahead = mix(sharp, broad, layers.coat_roughness);
