@@ -104,7 +104,12 @@ fn probe_radiance_along(p: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
 fn ambient_cube(p: vec3<f32>, n: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
     let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
-    let q = in_front_of(p + n * PROBE_LOOKUP_LIFT * min(cell.x, min(cell.y, cell.z)), p, n);
+    return cube_sides(in_front_of(p + n * PROBE_LOOKUP_LIFT * min(cell.x, min(cell.y, cell.z)), p, n), d);
+}
+
+// The three sides of the probes interpolated at q that face d, weighted by d's squared components
+// (a reflection's look ahead reads them at a point off any surface).
+fn cube_sides(q: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     let w = d * d;
     // Sides with no weight are not read (a wall facing along an axis reads one).
     var sum = vec4<f32>(0.0);
@@ -463,7 +468,7 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
         // object's own bounce: a metal sphere alone under the sun lit itself).
         let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
         let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
-        let broad = ambient_cube(p + r * min(cell.x, min(cell.y, cell.z)), r, r);
+        let broad = cube_sides(p + r * min(cell.x, min(cell.y, cell.z)), r);
         // A sharp lobe meets what lies along r (the probes' radiance maps), a rough one the
         // cosine-weighted average about it (the ambient cube): blended by the lobe's narrower
         // width (a brushed lobe blurs along its direction of anisotropy alone; across it, the
