@@ -329,3 +329,42 @@ impl Sky {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two layers of probes along x, the near one lit and the far one dark: a wall between them
+    /// facing −x (the dark probes behind it, inside an object) reads the lit probes it faces, and
+    /// the wall facing +x reads the dark ones; the weights fall smoothly across the wall's plane,
+    /// so a surface level with a layer of probes still reads it.
+    #[test]
+    fn a_lookup_reads_the_probes_in_front_of_the_surface() {
+        let dims = [2, 1, 1];
+        let mut volume = IrradianceVolume {
+            dims,
+            lo: Vec3::ZERO,
+            hi: Vec3::new(2.0, 1.0, 1.0),
+            texels: vec![[0.0; 4]; 12],
+            radiance: Vec::new(),
+        };
+        for axis in 0..6 {
+            let i = volume.index([0, 0, 0], axis);
+            volume.texels[i] = [1.0, 1.0, 1.0, 0.0];
+        }
+        // The probes stand at x = 0.5 (lit) and 1.5 (dark); walls at x = 1.
+        let facing_lit = volume.ambient_cube(Vec3::new(1.0, 0.5, 0.5), -Vec3::X, -Vec3::X);
+        assert!(facing_lit.x > 0.97, "{facing_lit}");
+        let facing_dark = volume.ambient_cube(Vec3::new(1.0, 0.5, 0.5), Vec3::X, Vec3::X);
+        assert!(facing_dark.x < 0.03, "{facing_dark}");
+        // Facing along y, both layers lie in the wall's plane: plain trilinear, half and half.
+        let level = volume.ambient_cube(Vec3::new(1.0, 0.5, 0.5), Vec3::Y, Vec3::Y);
+        assert!((level.x - 0.5).abs() < 1e-5, "{level}");
+        // A wall at x = 1.75 facing −x has both layers in front: the lookup is not moved.
+        let q = Vec3::new(1.25, 0.5, 0.5);
+        assert_eq!(
+            volume.in_front_of(q, Vec3::new(1.75, 0.5, 0.5), -Vec3::X),
+            q
+        );
+    }
+}

@@ -538,4 +538,23 @@ mod tests {
         assert!(edge > 0.0 && edge < PI * s2 * 0.5, "{edge}");
         assert_eq!(illuminance_sphere_or_disc(-0.9, s2), 0.0);
     }
+
+    /// The outer probes stand a tenth of a cell inside the bounds along every axis with two or
+    /// more of them, evenly spaced between; an axis with one keeps it in the middle.
+    #[test]
+    fn the_outer_probes_stand_just_inside_the_bounds() {
+        let (lo, hi) = (Vec3::new(-4.0, 0.0, -1.0), Vec3::new(4.0, 3.0, 1.0));
+        let dims = [4, 2, 1];
+        let (vlo, vhi) = outer_probes_at_the_bounds(lo, hi, hi - lo, dims);
+        let centres = probe_centres(vlo, vhi - vlo, dims);
+        let (first, last) = (centres[0], centres[centres.len() - 1]);
+        let cell = (hi - lo) / Vec3::new(4.0, 2.0, 1.0);
+        assert!((first.x - (lo.x + 0.1 * cell.x)).abs() < 1e-5, "{first}");
+        assert!((last.x - (hi.x - 0.1 * cell.x)).abs() < 1e-5, "{last}");
+        assert!((first.y - (lo.y + 0.1 * cell.y)).abs() < 1e-5, "{first}");
+        assert!((last.y - (hi.y - 0.1 * cell.y)).abs() < 1e-5, "{last}");
+        assert_eq!(first.z, 0.0);
+        let step = centres[1].x - centres[0].x;
+        assert!((centres[2].x - centres[1].x - step).abs() < 1e-5);
+    }
 }
