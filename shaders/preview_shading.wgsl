@@ -99,8 +99,8 @@ fn probe_radiance_along(p: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
 
 // Bounce irradiance/π (rgb) and sky visibility (a) towards direction d at a surface point p with
 // normal n: the ambient cube's three sides facing d, weighted by d's squared components, looked up
-// a quarter of a cell off the surface (`PROBE_LOOKUP_LIFT`), farther where a probe about that
-// point lies behind the surface (`in_front_of`).
+// a quarter of a cell off the surface (`PROBE_LOOKUP_LIFT`) and moved within its cell towards the
+// probes in front of the surface (`in_front_of`).
 fn ambient_cube(p: vec3<f32>, n: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
     let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
@@ -473,11 +473,11 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
         // cosine-weighted average about it (the ambient cube): blended by the lobe's narrower
         // width (a brushed lobe blurs along its direction of anisotropy alone; across it, the
         // line between a lit floor and the sky stays sharp).
-        let sharp = probe_radiance_along(p + n * 0.5 * min(cell.x, min(cell.y, cell.z)), r);
+        let origin = p + n * 0.5 * min(cell.x, min(cell.y, cell.z));
+        let sharp = probe_radiance_along(origin, r);
         if specular {
             var shown = reflected(environment(r, roughness), mix(sharp, broad, sqrt(w.y)));
             if anisotropic {
-                let origin = p + n * 0.5 * min(cell.x, min(cell.y, cell.z));
                 shown = stretched_reflection(v, n, frame[0], w, origin, broad);
             }
             ambient += shown * e_spec * compensation;
