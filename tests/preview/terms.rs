@@ -320,8 +320,8 @@ fn terms(scene: &Scene, name: &str) -> Vec<(String, f64, f64, f64, f64)> {
 /// The bounds each scene is held to, as measured (docs/editor.md "The preview against the render"):
 /// (scene, total, direct). Direct light is held where it is at least half of an object's light;
 /// bounce light, where it is at least a quarter, within 70%. Measured: direct within 8.4% but a
-/// brushed can's (+12%); totals within 14.7% but that can's (−16.5%: its reflections of a sunlit
-/// floor, −18%, read probes that see the floor from above the can, and farther off); the Cornell
+/// brushed can's (+11%); totals within 14.5% but that can's (−16.2%: its reflections of a sunlit
+/// floor, −17.5%, read probes that see the floor from elsewhere); the Cornell
 /// box within 8.6%. Before the outer probes stood at the bounds, a dark room's walls and floor
 /// were +19% (probes a metre off the floor saw the lamp's bright patch on the ceiling nearer).
 const BOUNDS: [(&str, f64, f64); 5] = [
