@@ -51,6 +51,7 @@ fn has_display() -> bool {
 
 /// Parses the command line and runs the editor until its window closes.
 pub fn main() -> ExitCode {
+    rt_core::memory_budget::return_large_blocks_to_the_system();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let args = Args::parse();
     if !has_display() {

@@ -59,6 +59,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    rt_core::memory_budget::return_large_blocks_to_the_system();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {

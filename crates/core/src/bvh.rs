@@ -4,6 +4,7 @@
 //! the median-split tree of [`balanced`] replaces it, so any triangle soup builds.
 
 mod balanced;
+mod chunked;
 mod wide;
 
 use std::time::{Duration, Instant};
@@ -229,20 +230,14 @@ pub fn triangle_boxes(triangles: &[[Vec3; 3]]) -> Vec<TriangleBox> {
     triangles.iter().map(|&t| TriangleBox::of(t)).collect()
 }
 
-/// PLOC's binary tree over the boxes, one triangle a leaf, improved by reinsertion (the first steps
-/// of obvhs' builders).
+/// PLOC's binary tree over the boxes, one triangle a leaf (large meshes in runs: `chunked`),
+/// improved by reinsertion (the first steps of obvhs' builders).
 fn surface_area_bvh2(
     tris: &[TriangleBox],
     params: &BvhBuildParams,
     reinsertion: &mut ReinsertionOptimizer,
 ) -> obvhs::bvh2::Bvh2 {
-    let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(tris.len()).build(
-        params.ploc_search_distance,
-        tris,
-        (0..tris.len() as u32).collect(),
-        params.sort_precision,
-        params.search_depth_threshold,
-    );
+    let mut bvh2 = chunked::ploc_bvh2(tris, params, chunked::CHUNK_TRIANGLES);
     reinsertion.run(&mut bvh2, params.reinsertion_batch_ratio, None);
     bvh2
 }

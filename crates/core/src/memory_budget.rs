@@ -19,6 +19,20 @@ pub const BUILD_BYTES_PER_TRIANGLE: u64 = 250;
 /// 200,000 instances of a small mesh (2026-12-06: 873, 617 kept), rounded up.
 pub const BUILD_BYTES_PER_INSTANCE: u64 = 900;
 
+/// Makes the allocator give blocks of 1 MiB and more back to the system as they are freed, for
+/// the whole process (the binaries call it first). glibc raises its threshold for that to the
+/// largest block freed so far (up to 32 MiB); after the loader frees a file's bytes, a build's
+/// large arrays then come from its heaps, and the holes they leave stay resident: the 871k dragon's
+/// peak RSS stood 60–90 MB above its heap's peak (docs/performance-log.md, session 32).
+#[allow(unsafe_code)] // one libc call; see SAFETY below
+pub fn return_large_blocks_to_the_system() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets a tuning parameter of glibc's allocator, valid at any time.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 1 << 20);
+    }
+}
+
 /// Bytes the build of `triangles` stored triangles and `texels` texels needs at its peak.
 pub fn build_bytes(triangles: u64, texels: u64) -> u64 {
     triangles

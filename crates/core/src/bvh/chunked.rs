@@ -1,0 +1,272 @@
+//! PLOC in spatial chunks, so that a large mesh's build holds its binary tree and not also PLOC's
+//! working arrays for every triangle at once (issue 43: bytes per unique triangle).
+//!
+//! obvhs' PLOC over n triangles keeps, besides the 2n − 1 nodes of the tree it writes, two cluster
+//! arrays of n nodes and n Morton codes: 96 of the 160 bytes a triangle its build held at its peak
+//! (docs/performance-log.md, session 29). PLOC merges clusters that are near in Morton order, so the
+//! triangles are sorted by the Morton code of their box's centre once, cut into runs of
+//! [`CHUNK_TRIANGLES`], each run built by PLOC on its own (its working arrays sized to the run,
+//! the runs on every core) and written straight into its place in the one tree; a PLOC over the
+//! runs' boxes joins them at the top. Only a run's edges see fewer merge candidates than before,
+//! and the reinsertion that follows works over the whole tree, seams included.
+
+use obvhs::BvhBuildParams;
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::Bvh2;
+use obvhs::bvh2::node::Bvh2Node;
+use obvhs::ploc::PlocBuilder;
+use rayon::prelude::*;
+
+use super::TriangleBox;
+
+/// Triangles per run: PLOC's working arrays for one run take about 6 MB, and a mesh of up to
+/// twice this many is built in one piece, as before.
+pub const CHUNK_TRIANGLES: usize = 1 << 16;
+
+/// PLOC's binary tree over `tris` (one triangle a leaf, leaves indexing `primitive_indices`), built
+/// in runs of `chunk` triangles when there are more than two runs' worth.
+pub fn ploc_bvh2(tris: &[TriangleBox], params: &BvhBuildParams, chunk: usize) -> Bvh2 {
+    if tris.len() <= 2 * chunk {
+        return ploc(tris, (0..tris.len() as u32).collect(), params);
+    }
+    let order = morton_order(tris);
+    let runs: Vec<&[u32]> = order.chunks(chunk).collect();
+    let run_boxes: Vec<TriangleBox> = runs
+        .par_iter()
+        .map(|run| {
+            let aabb = run.iter().fold(Aabb::empty(), |b, &i| {
+                b.union(&obvhs::Boundable::aabb(&tris[i as usize]))
+            });
+            TriangleBox::from_aabb(aabb)
+        })
+        .collect();
+    let top = ploc(&run_boxes, (0..runs.len() as u32).collect(), params);
+    // The top tree's leaves, one per run, are where the runs' roots go.
+    let mut root_slot = vec![0usize; runs.len()];
+    for (index, node) in top.nodes.iter().enumerate() {
+        if node.prim_count > 0 {
+            root_slot[top.primitive_indices[node.first_index as usize] as usize] = index;
+        }
+    }
+    // Every run of m triangles brings 2m − 2 nodes below its root, placed after the top tree's.
+    let mut nodes = vec![Bvh2Node::default(); 2 * tris.len() - 1];
+    nodes[..top.nodes.len()].copy_from_slice(&top.nodes);
+    let mut jobs = Vec::with_capacity(runs.len());
+    let mut rest = &mut nodes[top.nodes.len()..];
+    let mut offset = top.nodes.len();
+    for (r, run) in runs.iter().enumerate() {
+        let (below, after) = rest.split_at_mut(2 * run.len() - 2);
+        jobs.push(RunJob {
+            run,
+            below,
+            offset,
+            first_triangle: r * chunk,
+        });
+        offset += 2 * run.len() - 2;
+        rest = after;
+    }
+    // The runs in one contiguous group per thread, each group with one builder, tree and box list
+    // for all its runs: allocated once, not once a run.
+    let group = runs.len().div_ceil(rayon::current_num_threads());
+    let roots: Vec<Bvh2Node> = jobs
+        .par_chunks_mut(group)
+        .flat_map_iter(|group| {
+            let mut workspace = (
+                PlocBuilder::with_capacity(chunk),
+                Bvh2::default(),
+                Vec::new(),
+            );
+            group
+                .iter_mut()
+                .map(|job| job.build(tris, params, &mut workspace))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for (r, root) in roots.into_iter().enumerate() {
+        nodes[root_slot[r]] = root;
+    }
+    Bvh2 {
+        nodes,
+        primitive_indices: order,
+        ..Default::default()
+    }
+}
+
+/// One run to build: its triangles, and where its nodes go in the whole tree.
+struct RunJob<'a> {
+    run: &'a [u32],
+    /// The run's nodes below its root, from `offset` in the whole tree.
+    below: &'a mut [Bvh2Node],
+    offset: usize,
+    /// Where the run's triangles start in the whole tree's order.
+    first_triangle: usize,
+}
+
+impl RunJob<'_> {
+    /// Builds the run with PLOC, writes its nodes below the root into place and returns its
+    /// root (placed too).
+    fn build(
+        &mut self,
+        tris: &[TriangleBox],
+        params: &BvhBuildParams,
+        (builder, built, boxes): &mut (PlocBuilder, Bvh2, Vec<TriangleBox>),
+    ) -> Bvh2Node {
+        boxes.clear();
+        boxes.extend(self.run.iter().map(|&i| tris[i as usize]));
+        builder.build_with_bvh(
+            built,
+            params.ploc_search_distance,
+            boxes,
+            (0..self.run.len() as u32).collect(),
+            params.sort_precision,
+            params.search_depth_threshold,
+        );
+        let placed = |node: &Bvh2Node| placed(node, self.offset, self.first_triangle);
+        for (slot, node) in self.below.iter_mut().zip(&built.nodes[1..]) {
+            *slot = placed(node);
+        }
+        placed(&built.nodes[0])
+    }
+}
+
+/// A run's node moved into the whole tree: its nodes below the root (from index 1) start at
+/// `offset`, its triangles' positions in the order at `first_triangle`.
+fn placed(node: &Bvh2Node, offset: usize, first_triangle: usize) -> Bvh2Node {
+    let mut node = *node;
+    node.first_index += if node.prim_count > 0 {
+        first_triangle as u32
+    } else {
+        offset as u32 - 1
+    };
+    node
+}
+
+fn ploc<T: obvhs::Boundable>(boxes: &[T], indices: Vec<u32>, params: &BvhBuildParams) -> Bvh2 {
+    PlocBuilder::with_capacity(boxes.len()).build(
+        params.ploc_search_distance,
+        boxes,
+        indices,
+        params.sort_precision,
+        params.search_depth_threshold,
+    )
+}
+
+/// The triangles' indices sorted by the 63-bit Morton code of their box's centre within the
+/// centres' bounds (ties by index, so the order is the same on any number of cores).
+fn morton_order(tris: &[TriangleBox]) -> Vec<u32> {
+    let centre = |t: &TriangleBox| obvhs::Boundable::aabb(t).center();
+    let bounds = tris
+        .par_iter()
+        .fold(Aabb::empty, |mut b, t| {
+            b.extend(centre(t));
+            b
+        })
+        .reduce(Aabb::empty, |a, b| a.union(&b));
+    let scale = (1.0 / bounds.diagonal().as_dvec3()).map(|s| if s.is_finite() { s } else { 0.0 });
+    let mut keyed: Vec<(u64, u32)> = tris
+        .par_iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let unit = ((centre(t).as_dvec3() - bounds.min.as_dvec3()) * scale)
+                .clamp(glam::DVec3::ZERO, glam::DVec3::splat(1.0 - f64::EPSILON));
+            (obvhs::ploc::morton::morton_encode_u64_unorm(unit), i as u32)
+        })
+        .collect();
+    keyed.par_sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn boxes(n: usize) -> Vec<TriangleBox> {
+        // A bumpy sheet with a few coincident triangles.
+        (0..n)
+            .map(|i| {
+                let (x, z) = ((i % 97) as f32, (i / 97) as f32);
+                let p = Vec3::new(x, (x * 0.3).sin() + (z * 0.7).cos(), z);
+                let p = if i % 50 == 0 { Vec3::ZERO } else { p };
+                TriangleBox::of([p, p + Vec3::X, p + Vec3::Z * 0.5])
+            })
+            .collect()
+    }
+
+    /// Every triangle in exactly one leaf, every node's box holding its children's, each inner
+    /// node's children side by side and reached once.
+    fn assert_well_formed(bvh: &Bvh2, tris: &[TriangleBox]) {
+        let mut seen = vec![0u32; tris.len()];
+        let mut reached = vec![0u32; bvh.nodes.len()];
+        let mut stack = vec![0usize];
+        while let Some(i) = stack.pop() {
+            reached[i] += 1;
+            let node = &bvh.nodes[i];
+            let aabb = node.aabb();
+            if node.prim_count > 0 {
+                for k in 0..node.prim_count as usize {
+                    let t = bvh.primitive_indices[node.first_index as usize + k] as usize;
+                    seen[t] += 1;
+                    let b = obvhs::Boundable::aabb(&tris[t]);
+                    assert!(
+                        aabb.union(&b) == *aabb,
+                        "leaf {i} does not hold triangle {t}"
+                    );
+                }
+            } else {
+                for child in [node.first_index as usize, node.first_index as usize + 1] {
+                    let b = *bvh.nodes[child].aabb();
+                    assert!(
+                        aabb.union(&b) == *aabb,
+                        "node {i} does not hold child {child}"
+                    );
+                    stack.push(child);
+                }
+            }
+        }
+        assert!(
+            seen.iter().all(|&s| s == 1),
+            "a triangle not in exactly one leaf"
+        );
+        assert!(
+            reached.iter().all(|&r| r == 1),
+            "a node not reached exactly once"
+        );
+    }
+
+    #[test]
+    fn runs_make_one_tree_over_every_triangle() {
+        let params = BvhBuildParams::fast_build();
+        // Runs of 64: one of a single triangle at the end, and one tree without runs.
+        for n in [1, 2, 100, 129, 64 * 7 + 1, 5000] {
+            let tris = boxes(n);
+            let bvh = ploc_bvh2(&tris, &params, 64);
+            assert_eq!(bvh.nodes.len(), 2 * n - 1, "{n} triangles");
+            assert_well_formed(&bvh, &tris);
+        }
+    }
+
+    #[test]
+    fn the_morton_order_is_a_permutation_and_groups_neighbours() {
+        let tris = boxes(4000);
+        let order = morton_order(&tris);
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert!(sorted.iter().copied().eq(0..4000));
+        // Consecutive triangles in the order lie near each other far more often than in a
+        // scrambled order (i·1237 mod 4000).
+        let centre = |i: u32| obvhs::Boundable::aabb(&tris[i as usize]).center();
+        let near = |order: &[u32]| {
+            order
+                .windows(2)
+                .filter(|w| centre(w[0]).distance(centre(w[1])) < 4.0)
+                .count()
+        };
+        let scrambled: Vec<u32> = (0..4000u32).map(|i| i * 1237 % 4000).collect();
+        let (sorted_near, scrambled_near) = (near(&order), near(&scrambled));
+        assert!(
+            sorted_near > 10 * scrambled_near.max(10),
+            "{sorted_near} near pairs in Morton order, {scrambled_near} scrambled"
+        );
+    }
+}
