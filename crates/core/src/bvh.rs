@@ -303,9 +303,9 @@ pub fn build_wide_bvh_over(
     // median-split tree.
     let params = quality.params();
     let surface_area = std::panic::catch_unwind(|| {
-        surface_area_bvh2(tris, &params, &mut ReinsertionOptimizer::default())
+        chunked::ploc_cwbvh(tris, &params, chunked::CHUNK_TRIANGLES, 3)
     });
-    let surface_area = match surface_area.map(|bvh2| wide::bvh2_to_cwbvh(&bvh2, 3)) {
+    let surface_area = match surface_area {
         Ok(Ok(wide)) => Some(wide_kernel_nodes(wide, tris.len())?),
         _ => None,
     };

@@ -315,7 +315,6 @@ impl GpuScene {
     /// The triangles and their shading attributes (and tangents, with normal maps) in BVH order.
     fn push_in_order(&mut self, faces: &[(u32, u32)], frames: &[ObjectFrame], order: &[u32]) {
         self.triangles.reserve(faces.len());
-        self.shading.reserve(faces.len());
         for &i in order {
             let (frame, face) = faces[i as usize];
             let mut p = frames[frame as usize].world(face as usize);
@@ -350,21 +349,22 @@ impl GpuScene {
                 v2: p[2].to_array(),
                 has_uvs: uvs.is_some() as u32,
             });
-            let n = normals.unwrap_or([Vec3::ZERO; 3]);
-            let uv = uvs.unwrap_or([Vec2::ZERO; 3]);
-            let c = colors.unwrap_or([u32::MAX; 3]);
-            self.shading.push(Shading {
-                c0: c[0],
-                c1: c[1],
-                c2: c[2],
-                n0: n[0].to_array(),
-                n1: n[1].to_array(),
-                n2: n[2].to_array(),
-                uv0: uv[0].to_array(),
-                uv1: uv[1].to_array(),
-                uv2: uv[2].to_array(),
-                ..Default::default()
-            });
+            // Shading records (80 bytes a triangle) only once a triangle has attributes: until
+            // then the list stays empty, as the build leaves it where none has any.
+            let attributes = normals.is_some() || uvs.is_some() || colors.is_some();
+            if !attributes && self.shading.is_empty() {
+                continue;
+            }
+            if self.shading.len() + 1 < self.triangles.len() {
+                self.shading.reserve_exact(faces.len());
+                self.shading
+                    .resize(self.triangles.len() - 1, shading_of(None, None, None));
+            }
+            self.shading.push(shading_of(normals, uvs, colors));
+        }
+        if !self.shading.is_empty() {
+            let plain = shading_of(None, None, None);
+            self.shading.resize(self.triangles.len(), plain);
         }
     }
 
@@ -589,5 +589,29 @@ impl GpuScene {
         }
         out.place_instances(crate::bvh::BvhQuality::default())?;
         Ok(Some(out))
+    }
+}
+
+/// A triangle's shading record: its corners' normals, texture coordinates and colours (zeros, and
+/// `u32::MAX` for no colour, where it has none).
+fn shading_of(
+    normals: Option<[Vec3; 3]>,
+    uvs: Option<[Vec2; 3]>,
+    colors: Option<[u32; 3]>,
+) -> Shading {
+    let n = normals.unwrap_or([Vec3::ZERO; 3]);
+    let uv = uvs.unwrap_or([Vec2::ZERO; 3]);
+    let c = colors.unwrap_or([u32::MAX; 3]);
+    Shading {
+        c0: c[0],
+        c1: c[1],
+        c2: c[2],
+        n0: n[0].to_array(),
+        n1: n[1].to_array(),
+        n2: n[2].to_array(),
+        uv0: uv[0].to_array(),
+        uv1: uv[1].to_array(),
+        uv2: uv[2].to_array(),
+        ..Default::default()
     }
 }

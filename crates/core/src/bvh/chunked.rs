@@ -18,6 +18,9 @@ use obvhs::ploc::PlocBuilder;
 use rayon::prelude::*;
 
 use super::TriangleBox;
+use super::wide::{self, Wide};
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::cwbvh::node::CwBvhNode;
 
 /// Triangles per run: PLOC's working arrays for one run take about 6 MB, and a mesh of up to
 /// twice this many is built in one piece, as before.
@@ -127,6 +130,71 @@ impl RunJob<'_> {
         }
         placed(&built.nodes[0])
     }
+}
+
+/// The wide tree over `tris`, collapsed from PLOC's binary tree improved by reinsertion (leaves of
+/// at most `max_prims_per_leaf` triangles). Beyond two runs' worth of triangles each run is built,
+/// improved and collapsed on its own, its binary tree freed before the next (the whole mesh's
+/// binary tree, 64 bytes a triangle, is never held), and a wide tree over the runs' roots joins
+/// them (`wide::collapse_over`). Returns the nodes, root first, and the triangle order.
+pub fn ploc_cwbvh(
+    tris: &[TriangleBox],
+    params: &BvhBuildParams,
+    chunk: usize,
+    max_prims_per_leaf: u32,
+) -> Result<(Vec<CwBvhNode>, Vec<u32>), String> {
+    let mut reinsertion = ReinsertionOptimizer::default();
+    if tris.len() <= 2 * chunk {
+        let mut bvh2 = ploc(tris, (0..tris.len() as u32).collect(), params);
+        reinsertion.run(&mut bvh2, params.reinsertion_batch_ratio, None);
+        return wide::bvh2_to_cwbvh(&bvh2, max_prims_per_leaf);
+    }
+    let order = morton_order(tris);
+    let runs: Vec<&[u32]> = order.chunks(chunk).collect();
+    // The runs in one contiguous group per thread, each group with one builder, tree, optimiser
+    // and box list for all its runs.
+    let group = runs.len().div_ceil(rayon::current_num_threads());
+    let built: Vec<Result<(Wide, f32, TriangleBox), String>> = runs
+        .par_chunks(group)
+        .flat_map_iter(|group| {
+            let mut builder = PlocBuilder::with_capacity(chunk);
+            let (mut bvh2, mut boxes) = (Bvh2::default(), Vec::new());
+            let mut reinsertion = ReinsertionOptimizer::default();
+            group
+                .iter()
+                .map(|run| {
+                    boxes.clear();
+                    boxes.extend(run.iter().map(|&i| tris[i as usize]));
+                    builder.build_with_bvh(
+                        &mut bvh2,
+                        params.ploc_search_distance,
+                        &boxes,
+                        (0..run.len() as u32).collect(),
+                        params.sort_precision,
+                        params.search_depth_threshold,
+                    );
+                    reinsertion.run(&mut bvh2, params.reinsertion_batch_ratio, None);
+                    let (mut wide, cost) = wide::collapse(&bvh2, max_prims_per_leaf)?;
+                    for p in &mut wide.primitives {
+                        *p = run[*p as usize];
+                    }
+                    Ok((wide, cost, TriangleBox::from_aabb(*bvh2.nodes[0].aabb())))
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    drop(order);
+    let mut subtrees = Vec::with_capacity(built.len());
+    let mut run_boxes = Vec::with_capacity(built.len());
+    for run in built {
+        let (wide, cost, aabb) = run?;
+        subtrees.push((wide, cost));
+        run_boxes.push(aabb);
+    }
+    let mut top = ploc(&run_boxes, (0..run_boxes.len() as u32).collect(), params);
+    reinsertion.run(&mut top, params.reinsertion_batch_ratio, None);
+    let whole = wide::collapse_over(&top, subtrees)?;
+    Ok((whole.nodes, whole.primitives))
 }
 
 /// A run's node moved into the whole tree: its nodes below the root (from index 1) start at
@@ -243,6 +311,30 @@ mod tests {
             let bvh = ploc_bvh2(&tris, &params, 64);
             assert_eq!(bvh.nodes.len(), 2 * n - 1, "{n} triangles");
             assert_well_formed(&bvh, &tris);
+        }
+    }
+
+    #[test]
+    fn runs_collapse_into_one_valid_wide_tree() {
+        let params = BvhBuildParams::fast_build();
+        // Runs of 64, the last of one triangle in the second case; obvhs' validation checks
+        // every node's quantised child boxes against the triangles below them, that every node
+        // and every triangle is reached exactly once, and the depth.
+        for n in [200, 64 * 7 + 1, 5000] {
+            let tris = boxes(n);
+            let (nodes, primitive_indices) = ploc_cwbvh(&tris, &params, 64, 3).expect("builds");
+            let total_aabb = tris
+                .iter()
+                .fold(Aabb::empty(), |b, t| b.union(&obvhs::Boundable::aabb(t)));
+            let cwbvh = obvhs::cwbvh::CwBvh {
+                nodes,
+                primitive_indices,
+                total_aabb,
+                exact_node_aabbs: None,
+                uses_spatial_splits: false,
+            };
+            let result = cwbvh.validate(&tris, false);
+            assert_eq!(result.prim_count, n, "{n} triangles");
         }
     }
 

@@ -12,6 +12,7 @@
 //! them. The costs go up the recursion rather than into a table: a binary node keeps only its
 //! seven decisions, a byte each (obvhs keeps 56 bytes a node; 97 MB of the dragon's build).
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::{Vec3A, vec3a};
@@ -84,9 +85,50 @@ pub fn bvh2_to_cwbvh(
     bvh2: &Bvh2,
     max_prims_per_leaf: u32,
 ) -> Result<(Vec<CwBvhNode>, Vec<u32>), String> {
+    collapse(bvh2, max_prims_per_leaf).map(|(wide, _)| (wide.nodes, wide.primitives))
+}
+
+/// [`bvh2_to_cwbvh`] as lists, with the surface-area cost of its root as one wide child (what a
+/// tree that takes it whole as a subtree weighs it by: [`collapse_over`]).
+pub fn collapse(bvh2: &Bvh2, max_prims_per_leaf: u32) -> Result<(Wide, f32), String> {
     if bvh2.nodes.is_empty() {
-        return Ok((vec![CwBvhNode::default()], Vec::new()));
+        let empty = Wide {
+            nodes: vec![CwBvhNode::default()],
+            primitives: Vec::new(),
+        };
+        return Ok((empty, 0.0));
     }
+    collapse_with(bvh2, max_prims_per_leaf, None)
+}
+
+/// The wide tree over wide trees built apart: `top`'s leaf holding primitive i stands for
+/// `subtrees[i]` (its lists and its root's cost), which becomes one inner child, root node and
+/// all, with its indices moved to where it lands. A subtree's root is never spread into its
+/// parent's slots, the one way this tree differs from collapsing the whole binary tree at once.
+pub fn collapse_over(top: &Bvh2, subtrees: Vec<(Wide, f32)>) -> Result<Wide, String> {
+    let subtrees = Subtrees {
+        costs: subtrees.iter().map(|(_, cost)| *cost).collect(),
+        trees: subtrees
+            .into_iter()
+            .map(|(tree, _)| Mutex::new(Some(tree)))
+            .collect(),
+    };
+    let (wide, _) = collapse_with(top, 3, Some(&subtrees))?;
+    if subtrees
+        .trees
+        .iter()
+        .any(|t| t.lock().is_ok_and(|t| t.is_some()))
+    {
+        return Err("a subtree was not placed in the wide tree over them".into());
+    }
+    Ok(wide)
+}
+
+fn collapse_with(
+    bvh2: &Bvh2,
+    max_prims_per_leaf: u32,
+    subtrees: Option<&Subtrees>,
+) -> Result<(Wide, f32), String> {
     if let Some(leaf) = bvh2.nodes.iter().find(|n| n.prim_count > 1) {
         return Err(format!(
             "the binary BVH has a leaf of {} primitives; the wide BVH is collapsed from leaves of one",
@@ -99,8 +141,9 @@ pub fn bvh2_to_cwbvh(
             .into_par_iter()
             .map(|_| AtomicU64::new(0))
             .collect(),
+        subtrees,
     };
-    collapse
+    let (_, costs) = collapse
         .cost(0, max_prims_per_leaf.clamp(1, 3), 0)
         .ok_or_else(|| {
             format!(
@@ -113,7 +156,7 @@ pub fn bvh2_to_cwbvh(
         primitives: Vec::with_capacity(bvh2.primitive_indices.len()),
     };
     collapse.convert(0, 0, &mut out, 0);
-    Ok((out.nodes, out.primitives))
+    Ok((out, costs[0]))
 }
 
 struct Collapse<'a> {
@@ -121,15 +164,47 @@ struct Collapse<'a> {
     /// Each binary node's `SLOTS` decisions, a byte each (written once, by the cost pass's task
     /// for that node).
     decisions: Vec<AtomicU64>,
+    /// Wide trees the binary tree's leaves stand for, where it is a tree over them.
+    subtrees: Option<&'a Subtrees>,
+}
+
+/// Wide trees built apart, taken once each as the conversion reaches their leaves.
+struct Subtrees {
+    trees: Vec<Mutex<Option<Wide>>>,
+    costs: Vec<f32>,
 }
 
 /// Wide nodes and primitive indices written so far (a whole tree, or a subtree's own lists).
-struct Wide {
-    nodes: Vec<CwBvhNode>,
-    primitives: Vec<u32>,
+pub struct Wide {
+    pub nodes: Vec<CwBvhNode>,
+    pub primitives: Vec<u32>,
+}
+
+impl Wide {
+    /// Puts `subtree` into these lists: its root node into `slot`, the rest appended, their child
+    /// and primitive indices moved by where they land.
+    fn splice(&mut self, slot: usize, subtree: Wide) {
+        let node_shift = self.nodes.len() as u32 - 1;
+        let primitive_shift = self.primitives.len() as u32;
+        let mut nodes = subtree.nodes.into_iter().map(|mut n| {
+            n.child_base_idx += node_shift;
+            n.primitive_base_idx += primitive_shift;
+            n
+        });
+        self.nodes[slot] = nodes.next().expect("a subtree has its node");
+        self.nodes.extend(nodes);
+        self.primitives.extend(subtree.primitives);
+    }
 }
 
 impl Collapse<'_> {
+    /// Which subtree `node` stands for, if it is a leaf of a tree over subtrees.
+    fn subtree_at(&self, node: usize) -> Option<usize> {
+        let n = &self.bvh2.nodes[node];
+        (self.subtrees.is_some() && n.prim_count != 0)
+            .then(|| self.bvh2.primitive_indices[n.first_index as usize] as usize)
+    }
+
     fn decision(&self, node: usize, slot: usize) -> Decision {
         let bits = self.decisions[node].load(Ordering::Relaxed);
         Decision::unpack((bits >> (8 * slot)) as u8)
@@ -156,6 +231,17 @@ impl Collapse<'_> {
         }
         let n = &self.bvh2.nodes[node];
         let half_area = n.aabb().half_area();
+        if let Some(subtree) = self.subtree_at(node) {
+            // One inner child, whatever the slots; too many primitives for any leaf above it.
+            let inner = Decision {
+                kind: Kind::Inner,
+                left: NONE,
+                right: NONE,
+            };
+            self.set(node, [inner; SLOTS]);
+            let cost = self.subtrees.map_or(0.0, |s| s.costs[subtree]);
+            return Some((u32::MAX / 2, [cost; SLOTS]));
+        }
         if n.prim_count != 0 {
             let leaf = Decision {
                 kind: Kind::Leaf,
@@ -180,7 +266,7 @@ impl Collapse<'_> {
                     self.cost(right, max_prims_per_leaf, level + 1)?,
                 )
             };
-        let primitives = left_primitives + right_primitives;
+        let primitives = left_primitives.saturating_add(right_primitives);
         let pair = |k: usize, j: usize| left_costs[k] + right_costs[j];
         // One slot: a leaf if few enough primitives, else an inner node over the best split of
         // seven slots between the children.
@@ -235,6 +321,13 @@ impl Collapse<'_> {
     /// Writes the wide node at `out.nodes[slot]` for binary node `node` and, below it, its
     /// subtree (appended to `out`, as obvhs appends it).
     fn convert(&self, slot: usize, node: usize, out: &mut Wide, level: u32) {
+        if let Some(subtree) = self.subtree_at(node) {
+            let taken = self
+                .subtrees
+                .and_then(|s| s.trees[subtree].lock().ok()?.take());
+            out.splice(slot, taken.expect("each subtree's leaf is reached once"));
+            return;
+        }
         let aabb = self.bvh2.nodes[node].aabb();
         let p = aabb.min;
         let mut wide = CwBvhNode {
@@ -308,16 +401,7 @@ impl Collapse<'_> {
                 })
                 .collect();
             for (offset, subtree) in subtrees.into_iter().enumerate() {
-                let node_shift = out.nodes.len() as u32 - 1;
-                let primitive_shift = out.primitives.len() as u32;
-                let mut nodes = subtree.nodes.into_iter().map(|mut n| {
-                    n.child_base_idx += node_shift;
-                    n.primitive_base_idx += primitive_shift;
-                    n
-                });
-                out.nodes[first + offset] = nodes.next().expect("a subtree has its node");
-                out.nodes.extend(nodes);
-                out.primitives.extend(subtree.primitives);
+                out.splice(first + offset, subtree);
             }
         } else {
             for (offset, &child) in inner.iter().enumerate() {
