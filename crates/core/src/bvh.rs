@@ -1,7 +1,8 @@
 //! Builds the BVH the kernel traverses, with obvhs (PLOC + reinsertion + leaf collapse): a binary
 //! BVH2 of uncompressed boxes, or obvhs' compressed wide BVH8 (CWBVH) collapsed from it. Where
 //! that tree is deeper than a traversal stack (coincident or degenerate triangles can chain it),
-//! the median-split tree of [`balanced`] replaces it, so any triangle soup builds.
+//! the median-split tree of [`balanced`] replaces it, so any triangle soup builds. Large meshes
+//! are built in spatial runs ([`chunked`]).
 
 mod balanced;
 mod chunked;
@@ -299,8 +300,8 @@ pub fn build_wide_bvh_over(
         ));
     }
     // obvhs' `build_cwbvh_from_tris` without spatial splits, but collapsed to the wide tree on
-    // every core (`wide`). A panic in obvhs or a tree too deep for the kernel's stack takes the
-    // median-split tree.
+    // every core (`wide`), a large mesh run by run (`chunked`). A panic in obvhs or a tree too
+    // deep for the kernel's stack takes the median-split tree.
     let params = quality.params();
     let surface_area = std::panic::catch_unwind(|| {
         chunked::ploc_cwbvh(tris, &params, chunked::CHUNK_TRIANGLES, 3)

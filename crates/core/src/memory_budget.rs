@@ -8,11 +8,13 @@
 
 use crate::error::{Error, Result};
 
-/// Peak bytes a triangle takes while a scene builds (its box, the BVH builder's arrays, the built
-/// arrays), measured as the slope of peak RSS between the 202k- and 871k-triangle dragons as
-/// glTFs (2026-12-07, docs/performance-log.md session 29: 233; 281 before the builder's memory was
-/// cut), rounded up.
-pub const BUILD_BYTES_PER_TRIANGLE: u64 = 250;
+/// Peak bytes a triangle takes while a scene builds (its box and (object, face) pair, the BVH
+/// builder's arrays, the built triangle and shading records, the scene's mesh), measured on the
+/// 871k-triangle dragon (2026-12-07, docs/performance-log.md session 32): 84 as the slope of peak
+/// RSS from the 202k dragon for a glTF of positions only, about 180 by the heap's peak where
+/// vertex normals add an 80-byte shading record a triangle (281 in session 21, 233 in session
+/// 29), rounded up.
+pub const BUILD_BYTES_PER_TRIANGLE: u64 = 200;
 
 /// Peak bytes an instance takes while a scene builds (its object's packed material, its record,
 /// boxes and share of the top level and its builder): measured over the scene already in memory,

@@ -1,14 +1,17 @@
-//! PLOC in spatial chunks, so that a large mesh's build holds its binary tree and not also PLOC's
-//! working arrays for every triangle at once (issue 43: bytes per unique triangle).
+//! PLOC in spatial runs, so that a large mesh's build never holds PLOC's working arrays for every
+//! triangle at once, nor (for the wide tree) the whole mesh's binary tree (issue 43: bytes per
+//! unique triangle).
 //!
-//! obvhs' PLOC over n triangles keeps, besides the 2n − 1 nodes of the tree it writes, two cluster
-//! arrays of n nodes and n Morton codes: 96 of the 160 bytes a triangle its build held at its peak
-//! (docs/performance-log.md, session 29). PLOC merges clusters that are near in Morton order, so the
-//! triangles are sorted by the Morton code of their box's centre once, cut into runs of
-//! [`CHUNK_TRIANGLES`], each run built by PLOC on its own (its working arrays sized to the run,
-//! the runs on every core) and written straight into its place in the one tree; a PLOC over the
-//! runs' boxes joins them at the top. Only a run's edges see fewer merge candidates than before,
-//! and the reinsertion that follows works over the whole tree, seams included.
+//! obvhs' PLOC over n triangles keeps, besides the 2n − 1 nodes of the tree it writes (64 bytes a
+//! triangle), two cluster arrays of n nodes and n Morton codes: 96 more bytes a triangle
+//! (docs/performance-log.md, session 29). PLOC merges clusters that are near in Morton order, so
+//! the triangles are sorted by the Morton code of their box's centre once and cut into runs of
+//! [`CHUNK_TRIANGLES`], each built by PLOC on its own (its working arrays sized to the run, the
+//! runs spread over the cores). For the wide tree ([`ploc_cwbvh`]) each run is improved by
+//! reinsertion and collapsed on its own, and a wide tree over the runs' roots joins them; for the
+//! binary tree ([`ploc_bvh2`]) each run is written straight into its place in the one tree and a
+//! PLOC over the runs' boxes joins them at the top. Only a run's edges see fewer merge candidates
+//! than before. A mesh of up to two runs is built in one piece, as before.
 
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
@@ -22,8 +25,7 @@ use super::wide::{self, Wide};
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::cwbvh::node::CwBvhNode;
 
-/// Triangles per run: PLOC's working arrays for one run take about 6 MB, and a mesh of up to
-/// twice this many is built in one piece, as before.
+/// Triangles per run: PLOC's working arrays and tree for one run take about 10 MB.
 pub const CHUNK_TRIANGLES: usize = 1 << 16;
 
 /// PLOC's binary tree over `tris` (one triangle a leaf, leaves indexing `primitive_indices`), built
@@ -32,8 +34,8 @@ pub fn ploc_bvh2(tris: &[TriangleBox], params: &BvhBuildParams, chunk: usize) ->
     if tris.len() <= 2 * chunk {
         return ploc(tris, (0..tris.len() as u32).collect(), params);
     }
-    let order = morton_order(tris);
-    let runs: Vec<&[u32]> = order.chunks(chunk).collect();
+    let (order, ranges) = spatial_runs(tris, chunk);
+    let runs: Vec<&[u32]> = ranges.iter().map(|r| &order[r.clone()]).collect();
     let run_boxes: Vec<TriangleBox> = runs
         .par_iter()
         .map(|run| {
@@ -57,13 +59,13 @@ pub fn ploc_bvh2(tris: &[TriangleBox], params: &BvhBuildParams, chunk: usize) ->
     let mut jobs = Vec::with_capacity(runs.len());
     let mut rest = &mut nodes[top.nodes.len()..];
     let mut offset = top.nodes.len();
-    for (r, run) in runs.iter().enumerate() {
+    for (run, range) in runs.iter().zip(&ranges) {
         let (below, after) = rest.split_at_mut(2 * run.len() - 2);
         jobs.push(RunJob {
             run,
             below,
             offset,
-            first_triangle: r * chunk,
+            first_triangle: range.start,
         });
         offset += 2 * run.len() - 2;
         rest = after;
@@ -149,8 +151,8 @@ pub fn ploc_cwbvh(
         reinsertion.run(&mut bvh2, params.reinsertion_batch_ratio, None);
         return wide::bvh2_to_cwbvh(&bvh2, max_prims_per_leaf);
     }
-    let order = morton_order(tris);
-    let runs: Vec<&[u32]> = order.chunks(chunk).collect();
+    let (order, ranges) = spatial_runs(tris, chunk);
+    let runs: Vec<&[u32]> = ranges.iter().map(|r| &order[r.clone()]).collect();
     // The runs in one contiguous group per thread, each group with one builder, tree, optimiser
     // and box list for all its runs.
     let group = runs.len().div_ceil(rayon::current_num_threads());
@@ -219,29 +221,48 @@ fn ploc<T: obvhs::Boundable>(boxes: &[T], indices: Vec<u32>, params: &BvhBuildPa
     )
 }
 
-/// The triangles' indices sorted by the 63-bit Morton code of their box's centre within the
-/// centres' bounds (ties by index, so the order is the same on any number of cores).
-fn morton_order(tris: &[TriangleBox]) -> Vec<u32> {
-    let centre = |t: &TriangleBox| obvhs::Boundable::aabb(t).center();
-    let bounds = tris
-        .par_iter()
-        .fold(Aabb::empty, |mut b, t| {
-            b.extend(centre(t));
-            b
-        })
-        .reduce(Aabb::empty, |a, b| a.union(&b));
-    let scale = (1.0 / bounds.diagonal().as_dvec3()).map(|s| if s.is_finite() { s } else { 0.0 });
-    let mut keyed: Vec<(u64, u32)> = tris
-        .par_iter()
-        .enumerate()
-        .map(|(i, t)| {
-            let unit = ((centre(t).as_dvec3() - bounds.min.as_dvec3()) * scale)
-                .clamp(glam::DVec3::ZERO, glam::DVec3::splat(1.0 - f64::EPSILON));
-            (obvhs::ploc::morton::morton_encode_u64_unorm(unit), i as u32)
-        })
-        .collect();
-    keyed.par_sort_unstable();
-    keyed.into_iter().map(|(_, i)| i).collect()
+/// The triangles' indices grouped into runs of at most `chunk`, and the runs: each part split at
+/// its median box centre along the widest extent of its centres until it fits (a k-d tree's top
+/// levels), so that the runs' boxes overlap little (consecutive stretches of the Morton order
+/// would overlap their neighbours' wherever the curve turns, and the tree over the runs traced
+/// 16% slower). Ties go by index, so the runs are the same on any number of cores.
+fn spatial_runs(tris: &[TriangleBox], chunk: usize) -> (Vec<u32>, Vec<std::ops::Range<usize>>) {
+    let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+    let mut runs = Vec::new();
+    split_into_runs(tris, &mut order, 0, chunk.max(1), &mut runs);
+    runs.sort_by_key(|r: &std::ops::Range<usize>| r.start);
+    (order, runs)
+}
+
+fn split_into_runs(
+    tris: &[TriangleBox],
+    part: &mut [u32],
+    first: usize,
+    chunk: usize,
+    runs: &mut Vec<std::ops::Range<usize>>,
+) {
+    if part.len() <= chunk {
+        runs.push(first..first + part.len());
+        return;
+    }
+    let centre = |i: u32| obvhs::Boundable::aabb(&tris[i as usize]).center();
+    let bounds = part.iter().fold(Aabb::empty(), |mut b, &i| {
+        b.extend(centre(i));
+        b
+    });
+    let axis = bounds.largest_axis();
+    let middle = part.len() / 2;
+    part.select_nth_unstable_by(middle, |&a, &b| {
+        centre(a)[axis].total_cmp(&centre(b)[axis]).then(a.cmp(&b))
+    });
+    let (left, right) = part.split_at_mut(middle);
+    let (mut left_runs, mut right_runs) = (Vec::new(), Vec::new());
+    rayon::join(
+        || split_into_runs(tris, left, first, chunk, &mut left_runs),
+        || split_into_runs(tris, right, first + middle, chunk, &mut right_runs),
+    );
+    runs.extend(left_runs);
+    runs.extend(right_runs);
 }
 
 #[cfg(test)]
@@ -339,26 +360,21 @@ mod tests {
     }
 
     #[test]
-    fn the_morton_order_is_a_permutation_and_groups_neighbours() {
+    fn runs_are_a_permutation_split_at_medians() {
         let tris = boxes(4000);
-        let order = morton_order(&tris);
+        let (order, runs) = spatial_runs(&tris, 300);
         let mut sorted = order.clone();
         sorted.sort_unstable();
         assert!(sorted.iter().copied().eq(0..4000));
-        // Consecutive triangles in the order lie near each other far more often than in a
-        // scrambled order (i·1237 mod 4000).
-        let centre = |i: u32| obvhs::Boundable::aabb(&tris[i as usize]).center();
-        let near = |order: &[u32]| {
-            order
-                .windows(2)
-                .filter(|w| centre(w[0]).distance(centre(w[1])) < 4.0)
-                .count()
-        };
-        let scrambled: Vec<u32> = (0..4000u32).map(|i| i * 1237 % 4000).collect();
-        let (sorted_near, scrambled_near) = (near(&order), near(&scrambled));
-        assert!(
-            sorted_near > 10 * scrambled_near.max(10),
-            "{sorted_near} near pairs in Morton order, {scrambled_near} scrambled"
-        );
+        // 4000 halved until at most 300: 16 runs of 250, one after another.
+        assert_eq!(runs.len(), 16);
+        assert!(runs.iter().all(|r| r.len() == 250));
+        assert!(runs.windows(2).all(|w| w[0].end == w[1].start));
+        // The first split: along the sheet's long side (x spans 97, z 41), every centre of the
+        // first half at or before every one of the second.
+        let x = |i: &u32| obvhs::Boundable::aabb(&tris[*i as usize]).center().x;
+        let left = order[..2000].iter().map(x).fold(f32::MIN, f32::max);
+        let right = order[2000..].iter().map(x).fold(f32::MAX, f32::min);
+        assert!(left <= right, "halves overlap: {left} > {right}");
     }
 }
