@@ -113,7 +113,7 @@ mod tests {
             .to_string();
         assert!(
             message.contains("71000000 triangles")
-                && message.contains("17.8 GB")
+                && message.contains(&format!("{:.1} GB", needed as f64 / 1e9))
                 && message.contains("8.0 GB"),
             "{message}"
         );
