@@ -4,26 +4,27 @@
 //!
 //! obvhs' PLOC over n triangles keeps, besides the 2n − 1 nodes of the tree it writes (64 bytes a
 //! triangle), two cluster arrays of n nodes and n Morton codes: 96 more bytes a triangle
-//! (docs/performance-log.md, session 29). PLOC merges clusters that are near in Morton order, so
-//! the triangles are sorted by the Morton code of their box's centre once and cut into runs of
-//! [`CHUNK_TRIANGLES`], each built by PLOC on its own (its working arrays sized to the run, the
-//! runs spread over the cores). For the wide tree ([`ploc_cwbvh`]) each run is improved by
+//! (docs/performance-log.md, session 29). So a large mesh is split at its median box centre along
+//! its widest axis until each part (a run) holds at most [`CHUNK_TRIANGLES`], and each run is built
+//! by PLOC on its own (its working arrays sized to the run, the runs spread over the cores). For the wide tree ([`ploc_cwbvh`]) each run is improved by
 //! reinsertion and collapsed on its own, and a wide tree over the runs' roots joins them; for the
 //! binary tree ([`ploc_bvh2`]) each run is written straight into its place in the one tree and a
 //! PLOC over the runs' boxes joins them at the top. Only a run's edges see fewer merge candidates
 //! than before. A mesh of up to two runs is built in one piece, as before.
 
+use std::ops::Range;
+
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 use obvhs::bvh2::node::Bvh2Node;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::ploc::PlocBuilder;
 use rayon::prelude::*;
 
 use super::TriangleBox;
 use super::wide::{self, Wide};
-use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
-use obvhs::cwbvh::node::CwBvhNode;
 
 /// Triangles per run: PLOC's working arrays and tree for one run take about 10 MB.
 pub const CHUNK_TRIANGLES: usize = 1 << 16;
@@ -70,17 +71,11 @@ pub fn ploc_bvh2(tris: &[TriangleBox], params: &BvhBuildParams, chunk: usize) ->
         offset += 2 * run.len() - 2;
         rest = after;
     }
-    // The runs in one contiguous group per thread, each group with one builder, tree and box list
-    // for all its runs: allocated once, not once a run.
     let group = runs.len().div_ceil(rayon::current_num_threads());
     let roots: Vec<Bvh2Node> = jobs
         .par_chunks_mut(group)
         .flat_map_iter(|group| {
-            let mut workspace = (
-                PlocBuilder::with_capacity(chunk),
-                Bvh2::default(),
-                Vec::new(),
-            );
+            let mut workspace = Workspace::new(chunk);
             group
                 .iter_mut()
                 .map(|job| job.build(tris, params, &mut workspace))
@@ -114,23 +109,73 @@ impl RunJob<'_> {
         &mut self,
         tris: &[TriangleBox],
         params: &BvhBuildParams,
-        (builder, built, boxes): &mut (PlocBuilder, Bvh2, Vec<TriangleBox>),
+        workspace: &mut Workspace,
     ) -> Bvh2Node {
-        boxes.clear();
-        boxes.extend(self.run.iter().map(|&i| tris[i as usize]));
-        builder.build_with_bvh(
-            built,
-            params.ploc_search_distance,
-            boxes,
-            (0..self.run.len() as u32).collect(),
-            params.sort_precision,
-            params.search_depth_threshold,
-        );
+        let built = workspace.ploc(self.run, tris, params);
         let placed = |node: &Bvh2Node| placed(node, self.offset, self.first_triangle);
         for (slot, node) in self.below.iter_mut().zip(&built.nodes[1..]) {
             *slot = placed(node);
         }
         placed(&built.nodes[0])
+    }
+}
+
+/// What one thread builds its runs with: allocated once for all of them (once a run, the holes
+/// each left in the allocator's heaps cost more than the runs saved), as obvhs means its builder
+/// to be kept.
+struct Workspace {
+    builder: PlocBuilder,
+    bvh2: Bvh2,
+    boxes: Vec<TriangleBox>,
+    reinsertion: ReinsertionOptimizer,
+}
+
+impl Workspace {
+    fn new(chunk: usize) -> Self {
+        Workspace {
+            builder: PlocBuilder::with_capacity(chunk),
+            bvh2: Bvh2::default(),
+            boxes: Vec::with_capacity(chunk),
+            reinsertion: ReinsertionOptimizer::default(),
+        }
+    }
+
+    /// PLOC's tree over a run's triangles (leaf i holds the run's triangle i).
+    fn ploc(&mut self, run: &[u32], tris: &[TriangleBox], params: &BvhBuildParams) -> &mut Bvh2 {
+        self.boxes.clear();
+        self.boxes.extend(run.iter().map(|&i| tris[i as usize]));
+        self.builder.build_with_bvh(
+            &mut self.bvh2,
+            params.ploc_search_distance,
+            &self.boxes,
+            (0..run.len() as u32).collect(),
+            params.sort_precision,
+            params.search_depth_threshold,
+        );
+        &mut self.bvh2
+    }
+
+    /// A run's wide tree (its leaves indexing the mesh's triangles), its root's cost as one wide
+    /// child, and its box.
+    fn collapse(
+        &mut self,
+        run: &[u32],
+        tris: &[TriangleBox],
+        params: &BvhBuildParams,
+        max_prims_per_leaf: u32,
+    ) -> Result<(Wide, f32, TriangleBox), String> {
+        self.ploc(run, tris, params);
+        self.reinsertion
+            .run(&mut self.bvh2, params.reinsertion_batch_ratio, None);
+        let (mut wide, cost) = wide::collapse(&self.bvh2, max_prims_per_leaf)?;
+        for p in &mut wide.primitives {
+            *p = run[*p as usize];
+        }
+        Ok((
+            wide,
+            cost,
+            TriangleBox::from_aabb(*self.bvh2.nodes[0].aabb()),
+        ))
     }
 }
 
@@ -153,35 +198,15 @@ pub fn ploc_cwbvh(
     }
     let (order, ranges) = spatial_runs(tris, chunk);
     let runs: Vec<&[u32]> = ranges.iter().map(|r| &order[r.clone()]).collect();
-    // The runs in one contiguous group per thread, each group with one builder, tree, optimiser
-    // and box list for all its runs.
+    // The runs in one contiguous group per thread.
     let group = runs.len().div_ceil(rayon::current_num_threads());
     let built: Vec<Result<(Wide, f32, TriangleBox), String>> = runs
         .par_chunks(group)
         .flat_map_iter(|group| {
-            let mut builder = PlocBuilder::with_capacity(chunk);
-            let (mut bvh2, mut boxes) = (Bvh2::default(), Vec::new());
-            let mut reinsertion = ReinsertionOptimizer::default();
+            let mut workspace = Workspace::new(chunk);
             group
                 .iter()
-                .map(|run| {
-                    boxes.clear();
-                    boxes.extend(run.iter().map(|&i| tris[i as usize]));
-                    builder.build_with_bvh(
-                        &mut bvh2,
-                        params.ploc_search_distance,
-                        &boxes,
-                        (0..run.len() as u32).collect(),
-                        params.sort_precision,
-                        params.search_depth_threshold,
-                    );
-                    reinsertion.run(&mut bvh2, params.reinsertion_batch_ratio, None);
-                    let (mut wide, cost) = wide::collapse(&bvh2, max_prims_per_leaf)?;
-                    for p in &mut wide.primitives {
-                        *p = run[*p as usize];
-                    }
-                    Ok((wide, cost, TriangleBox::from_aabb(*bvh2.nodes[0].aabb())))
-                })
+                .map(|run| workspace.collapse(run, tris, params, max_prims_per_leaf))
                 .collect::<Vec<_>>()
         })
         .collect();
@@ -226,11 +251,10 @@ fn ploc<T: obvhs::Boundable>(boxes: &[T], indices: Vec<u32>, params: &BvhBuildPa
 /// levels), so that the runs' boxes overlap little (consecutive stretches of the Morton order
 /// would overlap their neighbours' wherever the curve turns, and the tree over the runs traced
 /// 16% slower). Ties go by index, so the runs are the same on any number of cores.
-fn spatial_runs(tris: &[TriangleBox], chunk: usize) -> (Vec<u32>, Vec<std::ops::Range<usize>>) {
+fn spatial_runs(tris: &[TriangleBox], chunk: usize) -> (Vec<u32>, Vec<Range<usize>>) {
     let mut order: Vec<u32> = (0..tris.len() as u32).collect();
     let mut runs = Vec::new();
     split_into_runs(tris, &mut order, 0, chunk.max(1), &mut runs);
-    runs.sort_by_key(|r: &std::ops::Range<usize>| r.start);
     (order, runs)
 }
 
@@ -239,7 +263,7 @@ fn split_into_runs(
     part: &mut [u32],
     first: usize,
     chunk: usize,
-    runs: &mut Vec<std::ops::Range<usize>>,
+    runs: &mut Vec<Range<usize>>,
 ) {
     if part.len() <= chunk {
         runs.push(first..first + part.len());
