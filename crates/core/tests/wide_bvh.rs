@@ -60,10 +60,33 @@ fn scenes() -> Vec<(&'static str, Scene)> {
             load_obj(&root.join("spot/spot_triangulated_textured.obj"), 0).unwrap(),
         ),
         ("soup", scene_of(soup)),
+        ("a soup built in runs", soup_in_runs()),
         ("fan over repeated corners", repeated_corner_fan()),
         ("one triangle", scene_of(vec![Vec3::ZERO, Vec3::X, Vec3::Y])),
         ("empty", Scene::default()),
     ]
+}
+
+/// 140,000 small triangles through a box, ten of them copies of one triangle: more than two
+/// of the builder's runs (`bvh::chunked`, 65,536 triangles), so both layouts build it run by run.
+fn soup_in_runs() -> Scene {
+    let mut rng = Rng::new(5, 0, 3);
+    let mut r = move || rng.next_f32();
+    let copy = [
+        Vec3::splat(5.0),
+        Vec3::new(5.1, 5.0, 5.0),
+        Vec3::new(5.0, 5.1, 5.0),
+    ];
+    let positions = (0..140_000)
+        .flat_map(|i| {
+            if i % 14_000 == 0 {
+                return copy;
+            }
+            let c = Vec3::new(r(), r(), r()) * 10.0;
+            [(); 3].map(|_| c + (Vec3::new(r(), r(), r()) - 0.5) * 0.05)
+        })
+        .collect();
+    scene_of(positions)
 }
 
 /// What `box_longline.obj` (Debian's assimp-testmodels) makes: one face of 470 vertices that
