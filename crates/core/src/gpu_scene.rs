@@ -179,14 +179,8 @@ impl GpuScene {
             }
         }
         out.place_instances(quality)?;
-        // The kernel reads shading attributes only for triangles that have them.
-        if out
-            .triangles
-            .iter()
-            .all(|t| t.has_normals == 0 && t.has_uvs == 0)
-        {
-            out.shading = Vec::new();
-        }
+        // The kernel reads shading attributes only for triangles that have them: `push_in_order`
+        // leaves the list empty where none has any.
         out.light(scene)?;
         out.albedo_tables = crate::math::layers::albedo_tables_for(&out.materials);
         Ok(out)

@@ -192,8 +192,7 @@ pub fn ploc_cwbvh(
 ) -> Result<(Vec<CwBvhNode>, Vec<u32>), String> {
     let mut reinsertion = ReinsertionOptimizer::default();
     if tris.len() <= 2 * chunk {
-        let mut bvh2 = ploc(tris, (0..tris.len() as u32).collect(), params);
-        reinsertion.run(&mut bvh2, params.reinsertion_batch_ratio, None);
+        let bvh2 = super::surface_area_bvh2(tris, params, &mut reinsertion);
         return wide::bvh2_to_cwbvh(&bvh2, max_prims_per_leaf);
     }
     let (order, ranges) = spatial_runs(tris, chunk);
