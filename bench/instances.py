@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Writes a glTF whose nodes all reference one mesh: N instances of an OBJ's triangles on a grid
-(the scene of issue 43: instances that should cost nothing). Positions and triangles only.
+(the scene of issue 43: instances that should cost nothing). Positions and triangles, and with
+--normals smooth vertex normals (area-weighted, as a mesh exported with smooth shading has).
 
-    python3 bench/instances.py MESH.obj N OUT.gltf
+    python3 bench/instances.py [--normals] MESH.obj N OUT.gltf
 """
 import base64
 import json
@@ -28,8 +29,28 @@ def read_obj(path):
     return positions, triangles
 
 
+def smooth_normals(positions, triangles):
+    sums = [[0.0, 0.0, 0.0] for _ in positions]
+    for t in triangles:
+        a, b, c = (positions[i] for i in t)
+        u = [b[k] - a[k] for k in range(3)]
+        v = [c[k] - a[k] for k in range(3)]
+        n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+        for i in t:
+            for k in range(3):
+                sums[i][k] += n[k]
+    out = []
+    for s in sums:
+        length = math.sqrt(sum(x * x for x in s))
+        out.append(tuple(x / length for x in s) if length > 0 else (0.0, 1.0, 0.0))
+    return out
+
+
 def main():
-    mesh, count, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+    args = sys.argv[1:]
+    normals = "--normals" in args
+    args = [a for a in args if a != "--normals"]
+    mesh, count, out = args[0], int(args[1]), args[2]
     positions, triangles = read_obj(mesh)
     lo = [min(p[k] for p in positions) for k in range(3)]
     hi = [max(p[k] for p in positions) for k in range(3)]
@@ -37,6 +58,16 @@ def main():
     data = b"".join(struct.pack("<3f", *p) for p in positions)
     index_offset = len(data)
     data += b"".join(struct.pack("<3I", *t) for t in triangles)
+    attributes = {"POSITION": 0}
+    accessors_extra, views_extra = [], []
+    if normals:
+        normal_offset = len(data)
+        data += b"".join(struct.pack("<3f", *n) for n in smooth_normals(positions, triangles))
+        attributes["NORMAL"] = 2
+        accessors_extra.append(
+            {"bufferView": 2, "componentType": 5126, "count": len(positions), "type": "VEC3"})
+        views_extra.append(
+            {"buffer": 0, "byteOffset": normal_offset, "byteLength": len(data) - normal_offset})
     side = math.ceil(math.sqrt(count))
     nodes = [
         {"mesh": 0, "translation": [(i % side) * size * 1.2, 0.0, (i // side) * size * 1.2]}
@@ -47,16 +78,17 @@ def main():
         "scene": 0,
         "scenes": [{"nodes": list(range(count))}],
         "nodes": nodes,
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": 1}]}],
         "accessors": [
             {"bufferView": 0, "componentType": 5126, "count": len(positions), "type": "VEC3",
              "min": lo, "max": hi},
             {"bufferView": 1, "componentType": 5125, "count": 3 * len(triangles), "type": "SCALAR"},
-        ],
+        ] + accessors_extra,
         "bufferViews": [
             {"buffer": 0, "byteOffset": 0, "byteLength": index_offset},
-            {"buffer": 0, "byteOffset": index_offset, "byteLength": len(data) - index_offset},
-        ],
+            {"buffer": 0, "byteOffset": index_offset,
+             "byteLength": (normal_offset if normals else len(data)) - index_offset},
+        ] + views_extra,
         "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64,"
                      + base64.b64encode(data).decode()}],
     }

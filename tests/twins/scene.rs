@@ -148,6 +148,72 @@ fn texture_lookups_match_their_twin() {
     });
 }
 
+/// A triangle's shading attributes gathered from its corners' vertex records (`stored_shading`
+/// and `stored_uv` in `gpu_scene.wgsl` ⇄ `GpuScene` in `gpu_scene.rs`), over 50 random triangles
+/// whose corners point at 40 random records: the gathered words bit for bit, the interpolated
+/// texture coordinates within rounding.
+#[test]
+fn shading_records_match_their_twin() {
+    use rt_core::gpu_types::Triangle;
+    let Some(ctx) = gpu() else { return };
+    const TRIANGLES: u32 = 50;
+    const RECORDS: u32 = 40;
+    let mut rng = Rng::new(3, 0, 0x5ad);
+    let mut words: Vec<u32> = (0..3 * TRIANGLES)
+        .map(|_| 3 * TRIANGLES + 6 * ((rng.next_f32() * RECORDS as f32) as u32 % RECORDS))
+        .collect();
+    for _ in 0..RECORDS {
+        let n = unit(&mut rng);
+        let color = (rng.next_f32() * 4_294_967_296.0) as u32;
+        let uv = [4.0 * rng.next_f32() - 2.0, 4.0 * rng.next_f32() - 2.0];
+        words.extend(bits(&[n.x, n.y, n.z]));
+        words.push(color);
+        words.extend(bits(&uv));
+    }
+    let mut scene = TwinScene::default();
+    scene.scene.triangles = vec![Triangle::default(); TRIANGLES as usize];
+    scene.scene.shading = words.clone();
+    let input = inputs(3, |rng| {
+        let i = (rng.next_f32() * TRIANGLES as f32) as u32 % TRIANGLES;
+        let (b1, b2) = (rng.next_f32(), rng.next_f32());
+        [vec![i], bits(&[b1, b2 * (1.0 - b1)])].concat()
+    });
+    let kernel = TwinKernel {
+        words_in: 3,
+        words_out: 20,
+        body: "let i = u_in(item, 0u);
+    let s = stored_shading(i);
+    put3(item, 0u, s.n0); put3(item, 3u, s.n1); put3(item, 6u, s.n2);
+    put_u(item, 9u, s.c0); put_u(item, 10u, s.c1); put_u(item, 11u, s.c2);
+    put(item, 12u, s.uv0.x); put(item, 13u, s.uv0.y); put(item, 14u, s.uv1.x);
+    put(item, 15u, s.uv1.y); put(item, 16u, s.uv2.x); put(item, 17u, s.uv2.y);
+    let uv = stored_uv(i, f_in(item, 1u), f_in(item, 2u));
+    put(item, 18u, uv.x); put(item, 19u, uv.y);",
+        sobol: false,
+    };
+    let gpu_out = kernel.run_in(ctx, &scene, &input);
+    let gpu_scene = rt_core::GpuScene {
+        shading: words,
+        ..Default::default()
+    };
+    Comparison {
+        name: "shading records",
+        rel: 1e-6,
+        abs: 1e-6,
+        exact_words: &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17],
+    }
+    .check(&gpu_out, 20, |item| {
+        let w = |k: usize| input[item * 3 + k];
+        let s = gpu_scene.stored_shading(w(0));
+        let uv = gpu_scene.stored_uv(w(0), f32::from_bits(w(1)), f32::from_bits(w(2)));
+        let mut out = bits(&[s.n0, s.n1, s.n2].concat());
+        out.extend([s.c0, s.c1, s.c2]);
+        out.extend(bits(&[s.uv0, s.uv1, s.uv2].concat()));
+        out.extend(bits(&uv.to_array()));
+        out
+    });
+}
+
 /// Where each kind of delta light lies from a point and the irradiance it gives there
 /// (`delta_light_incidence` in `light.wgsl` ⇄ `light.rs`): point, spot (smoothstep falloff), glTF
 /// spot (quadratic falloff) and sun, from points inside and outside the cones.

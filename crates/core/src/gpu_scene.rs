@@ -13,6 +13,7 @@ use std::time::Duration;
 use glam::{Vec2, Vec3};
 
 use crate::bvh::{BvhLayout, BvhQuality, TriangleBox, build_bvh_over, build_wide_bvh_over};
+use crate::corner_records::{CORNER_WORDS, CornerRecords};
 use crate::error::{Error, Result};
 use crate::gpu_material::object_material;
 use crate::gpu_types::{self, BvhNode, Shading, Triangle, WideBvhNode};
@@ -24,8 +25,10 @@ pub use crate::scene_features::SceneFeatures;
 #[derive(Clone, Debug, Default)]
 pub struct GpuScene {
     pub triangles: Vec<Triangle>,
-    /// Per-triangle attributes, empty when no triangle has normals or UVs.
-    pub shading: Vec<Shading>,
+    /// Normals, colours and texture coordinates by corner (`crate::corner_records`: three words
+    /// per triangle saying where its corners' vertex records are, then the records); empty when
+    /// no triangle has any.
+    pub shading: Vec<u32>,
     pub materials: Vec<gpu_types::Material>,
     /// RGBA8 sRGB texels of all textures, one `u32` each (R in the low byte).
     pub texels: Vec<u32>,
@@ -152,7 +155,8 @@ impl GpuScene {
                 frames.push(frame);
             }
         }
-        let Some((_, world_box)) = out.add_mesh_bvh(&frames, quality, layout)? else {
+        let mut records = CornerRecords::new(unique as usize);
+        let Some((_, world_box)) = out.add_mesh_bvh(&frames, quality, layout, &mut records)? else {
             // A coordinate too large for the wide BVH's grid: all of it binary.
             return Self::build_geometry(scene, quality, BvhLayout::Bvh2, share_meshes);
         };
@@ -164,7 +168,9 @@ impl GpuScene {
             let frame =
                 ObjectFrame::new(&representative, group[0] as u32, tangents[group[0]].take())?;
             let first_triangle = out.triangles.len() as u32;
-            let Some((root, mesh_box)) = out.add_mesh_bvh(&[frame], quality, layout)? else {
+            let Some((root, mesh_box)) =
+                out.add_mesh_bvh(&[frame], quality, layout, &mut records)?
+            else {
                 return Self::build_geometry(scene, quality, BvhLayout::Bvh2, share_meshes);
             };
             for &i in group {
@@ -179,8 +185,6 @@ impl GpuScene {
             }
         }
         out.place_instances(quality)?;
-        // The kernel reads shading attributes only for triangles that have them: `push_in_order`
-        // leaves the list empty where none has any.
         out.light(scene)?;
         out.albedo_tables = crate::math::layers::albedo_tables_for(&out.materials);
         Ok(out)
@@ -218,6 +222,7 @@ impl GpuScene {
         frames: &[ObjectFrame],
         quality: BvhQuality,
         layout: BvhLayout,
+        records: &mut CornerRecords,
     ) -> Result<Option<(u32, (Vec3, Vec3))>> {
         // Each triangle's box (all the builder reads) and its (frame, face); the
         // corners and attributes are read from the meshes again when written in BVH order.
@@ -268,7 +273,7 @@ impl GpuScene {
         self.bvh_depth = self.bvh_depth.max(depth);
         self.bvh_build_time += time;
         drop(boxes);
-        self.push_in_order(&faces, frames, &order);
+        self.push_in_order(&faces, frames, &order, records)?;
         Ok(Some((node_base, bounds)))
     }
 
@@ -307,15 +312,22 @@ impl GpuScene {
     }
 
     /// The triangles and their shading attributes (and tangents, with normal maps) in BVH order.
-    fn push_in_order(&mut self, faces: &[(u32, u32)], frames: &[ObjectFrame], order: &[u32]) {
+    fn push_in_order(
+        &mut self,
+        faces: &[(u32, u32)],
+        frames: &[ObjectFrame],
+        order: &[u32],
+        records: &mut CornerRecords,
+    ) -> Result<()> {
         self.triangles.reserve(faces.len());
+        records.begin(frames.len());
         for &i in order {
-            let (frame, face) = faces[i as usize];
-            let mut p = frames[frame as usize].world(face as usize);
-            let (material, normals, uvs, t, colors) = frames[frame as usize].data(face as usize);
+            let (f, face) = faces[i as usize];
+            let frame = &frames[f as usize];
+            let mut p = frame.world(face as usize);
+            let mut corners = frame.corners(face as usize);
+            let (material, normals, uvs, mut t, colors) = frame.data(face as usize);
             let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
-            let (mut uvs, mut t, mut colors) = (uvs, t, colors);
-            let mut normals = normals;
             // A triangle's front is where its vertex normals point, whatever its winding (as
             // pbrt-v4 orients the geometric normal to the shading normal; Mitsuba's dielectric
             // reads the shading frame): a ball whose faces wind inward but whose normals point
@@ -326,13 +338,17 @@ impl GpuScene {
                 && (p[1] - p[0]).cross(p[2] - p[0]).dot(n[0] + n[1] + n[2]) < 0.0
             {
                 p.swap(1, 2);
-                normals = Some([n[0], n[2], n[1]]);
-                uvs = uvs.map(|u| [u[0], u[2], u[1]]);
+                corners.swap(1, 2);
                 t = t.map(|t| [t[0], t[2], t[1]]);
-                colors = colors.map(|c| [c[0], c[2], c[1]]);
             }
             if self.features.normal_maps {
                 self.tangents.extend(t.unwrap_or([[0.0; 4]; 3]));
+            }
+            // Vertex records only once a triangle has attributes: until then the list stays
+            // empty, as the build leaves it where none has any.
+            if normals.is_some() || uvs.is_some() || colors.is_some() {
+                let triangle = self.triangles.len();
+                records.push(&mut self.shading, triangle, (f as usize, frame), corners)?;
             }
             self.triangles.push(Triangle {
                 v0: p[0].to_array(),
@@ -343,23 +359,48 @@ impl GpuScene {
                 v2: p[2].to_array(),
                 has_uvs: uvs.is_some() as u32,
             });
-            // Shading records (80 bytes a triangle) only once a triangle has attributes: until
-            // then the list stays empty, as the build leaves it where none has any.
-            let attributes = normals.is_some() || uvs.is_some() || colors.is_some();
-            if !attributes && self.shading.is_empty() {
-                continue;
-            }
-            if self.shading.len() + 1 < self.triangles.len() {
-                self.shading.reserve_exact(faces.len());
-                self.shading
-                    .resize(self.triangles.len() - 1, shading_of(None, None, None));
-            }
-            self.shading.push(shading_of(normals, uvs, colors));
         }
-        if !self.shading.is_empty() {
-            let plain = shading_of(None, None, None);
-            self.shading.resize(self.triangles.len(), plain);
+        Ok(())
+    }
+
+    /// Triangle `i`'s shading attributes, gathered from its corners' vertex records
+    /// (`crate::corner_records`); zero where it has none. `stored_shading` in `gpu_scene.wgsl`.
+    #[inline]
+    pub fn stored_shading(&self, i: u32) -> Shading {
+        let words = &self.shading;
+        let Some(&[a, b, c]) = words.get(3 * i as usize..3 * i as usize + 3) else {
+            return Shading::default();
+        };
+        let record = |o: u32| match words.get(o as usize..o as usize + CORNER_WORDS) {
+            Some(&[x, y, z, color, u, v]) => (
+                [x, y, z].map(f32::from_bits),
+                color,
+                [u, v].map(f32::from_bits),
+            ),
+            _ => ([0.0; 3], 0, [0.0; 2]),
+        };
+        let (n0, c0, uv0) = record(a);
+        let (n1, c1, uv1) = record(b);
+        let (n2, c2, uv2) = record(c);
+        Shading {
+            n0,
+            c0,
+            n1,
+            c1,
+            n2,
+            c2,
+            uv0,
+            uv1,
+            uv2,
+            _pad3: [0.0; 2],
         }
+    }
+
+    /// The texture coordinates at the barycentrics (b1, b2) of triangle `i` (zero without).
+    /// `stored_uv` in `gpu_scene.wgsl`.
+    pub fn stored_uv(&self, i: u32, b1: f32, b2: f32) -> Vec2 {
+        let s = self.stored_shading(i);
+        Vec2::from(s.uv0) * (1.0 - b1 - b2) + Vec2::from(s.uv1) * b1 + Vec2::from(s.uv2) * b2
     }
 
     /// This scene's geometry (triangles, BVH, shading attributes, tangents) with `scene`'s
@@ -484,7 +525,7 @@ impl GpuScene {
                 "triangles",
                 bytes(self.triangles.len(), size_of::<Triangle>()),
             ),
-            ("shading", bytes(self.shading.len(), size_of::<Shading>())),
+            ("shading", bytes(self.shading.len(), size_of::<u32>())),
             (
                 "materials",
                 bytes(self.materials.len(), size_of::<gpu_types::Material>()),
@@ -583,29 +624,5 @@ impl GpuScene {
         }
         out.place_instances(crate::bvh::BvhQuality::default())?;
         Ok(Some(out))
-    }
-}
-
-/// A triangle's shading record: its corners' normals, texture coordinates and colours (zeros, and
-/// `u32::MAX` for no colour, where it has none).
-fn shading_of(
-    normals: Option<[Vec3; 3]>,
-    uvs: Option<[Vec2; 3]>,
-    colors: Option<[u32; 3]>,
-) -> Shading {
-    let n = normals.unwrap_or([Vec3::ZERO; 3]);
-    let uv = uvs.unwrap_or([Vec2::ZERO; 3]);
-    let c = colors.unwrap_or([u32::MAX; 3]);
-    Shading {
-        c0: c[0],
-        c1: c[1],
-        c2: c[2],
-        n0: n[0].to_array(),
-        n1: n[1].to_array(),
-        n2: n[2].to_array(),
-        uv0: uv[0].to_array(),
-        uv1: uv[1].to_array(),
-        uv2: uv[2].to_array(),
-        ..Default::default()
     }
 }

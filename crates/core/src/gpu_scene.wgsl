@@ -3,7 +3,10 @@
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> triangles: array<Triangle>;
-@group(0) @binding(2) var<storage, read> shading: array<Shading>;
+// Normals, colours and texture coordinates by corner (corner_records.rs): three words per
+// triangle saying where its corners' vertex records begin, then the records (normal xyz, colour,
+// uv); a placeholder when no triangle has any.
+@group(0) @binding(2) var<storage, read> shading: array<u32>;
 @group(0) @binding(3) var<storage, read> materials: array<Material>;
 @group(0) @binding(4) var<storage, read> nodes: array<BvhNodeRecord>;
 @group(0) @binding(5) var<storage, read> texels: array<u32>;
@@ -18,6 +21,34 @@
 // Normal maps: per triangle three corner tangents (xyz, w the bitangent's sign); a placeholder
 // without normal maps.
 @group(0) @binding(22) var<storage, read> tangents: array<vec4<f32>>;
+
+// Triangle i's shading attributes, gathered from its corners' vertex records; read only where its
+// flags say it has some (gpu_scene.rs `stored_shading`).
+fn stored_shading(i: u32) -> Shading {
+    let a = shading[3u * i];
+    let b = shading[3u * i + 1u];
+    let c = shading[3u * i + 2u];
+    return Shading(
+        corner_normal(a), shading[a + 3u],
+        corner_normal(b), shading[b + 3u],
+        corner_normal(c), shading[c + 3u],
+        corner_uv(a), corner_uv(b), corner_uv(c), vec2(0.0)
+    );
+}
+
+fn corner_normal(o: u32) -> vec3<f32> {
+    return bitcast<vec3<f32>>(vec3(shading[o], shading[o + 1u], shading[o + 2u]));
+}
+
+fn corner_uv(o: u32) -> vec2<f32> {
+    return bitcast<vec2<f32>>(vec2(shading[o + 4u], shading[o + 5u]));
+}
+
+// The texture coordinates at the barycentrics (b1, b2) of triangle i (gpu_scene.rs `stored_uv`).
+fn stored_uv(i: u32, b1: f32, b2: f32) -> vec2<f32> {
+    let s = stored_shading(i);
+    return s.uv0 * (1.0 - b1 - b2) + s.uv1 * b1 + s.uv2 * b2;
+}
 
 // Shared meshes (instances.rs): the placed copies and the top-level BVH2 over their world boxes
 // (placeholders, never read, without instances).

@@ -135,6 +135,26 @@ impl GpuScene {
         Ok(())
     }
 
+    /// Triangle `i`'s corner words and the vertex records they point at (`crate::corner_records`).
+    fn check_corner_records(&self, i: usize) -> std::result::Result<(), String> {
+        let words = self.shading.len();
+        let Some(corners) = self.shading.get(3 * i..3 * i + 3) else {
+            return Err(format!(
+                "triangle {i}: no shading record ({words} shading words)"
+            ));
+        };
+        let records = 3 * self.triangles.len();
+        for &o in corners {
+            let end = o as usize + crate::corner_records::CORNER_WORDS;
+            if (o as usize) < records || end > words {
+                return Err(format!(
+                    "triangle {i}: vertex record at word {o}, outside the records ({records}..{words})"
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Triangles' materials and shading records, textures' texels and the emitter table.
     fn check_record_indices(&self) -> std::result::Result<(), String> {
         let triangles = self.triangles.len();
@@ -147,11 +167,8 @@ impl GpuScene {
                     self.materials.len()
                 ));
             }
-            if needs_shading(t) && i >= self.shading.len() {
-                return Err(format!(
-                    "triangle {i}: no shading record ({} records)",
-                    self.shading.len()
-                ));
+            if needs_shading(t) {
+                self.check_corner_records(i)?;
             }
         }
         for (i, m) in self.materials.iter().enumerate() {

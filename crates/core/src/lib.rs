@@ -9,6 +9,7 @@ pub mod animation;
 pub mod bdpt;
 pub mod bvh;
 pub mod camera;
+mod corner_records;
 pub mod cpu_render;
 pub mod cryptomatte;
 pub mod denoise;

@@ -6,6 +6,7 @@
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
+use crate::corner_records::CORNER_WORDS;
 use crate::error::{Error, Result};
 use crate::gpu_types;
 use crate::material::Material;
@@ -97,7 +98,7 @@ impl<'a> ObjectFrame<'a> {
 
     /// Face `face`'s vertex indices, two swapped where the transform mirrors (which reverses the
     /// winding) to keep the front face.
-    fn corners(&self, face: usize) -> [u32; 3] {
+    pub fn corners(&self, face: usize) -> [u32; 3] {
         let idx = self.object.mesh.indices[face];
         if self.flip {
             [idx[0], idx[2], idx[1]]
@@ -116,18 +117,20 @@ impl<'a> ObjectFrame<'a> {
 
     /// What face `face` carries besides its corners.
     pub fn data(&self, face: usize) -> TriangleData {
-        let mesh = &self.object.mesh;
         let idx = self.corners(face);
-        let n = mesh
+        let n = self
+            .object
+            .mesh
             .normals
             .as_ref()
-            .map(|ns| idx.map(|i| (self.nm * ns[i as usize]).normalize_or_zero()));
-        let uv = mesh.uvs.as_ref().map(|uvs| idx.map(|i| uvs[i as usize]));
-        let colors = mesh
-            .colors
+            .map(|_| idx.map(|i| self.normal(i)));
+        let uv = self
+            .object
+            .mesh
+            .uvs
             .as_ref()
-            .filter(|_| self.colored)
-            .map(|cs| idx.map(|i| gpu_types::pack_color(cs[i as usize].to_array())));
+            .map(|_| idx.map(|i| self.uv(i)));
+        let colors = self.has_colors().then(|| idx.map(|i| self.color(i)));
         let corners = if self.flip { [0, 2, 1] } else { [0, 1, 2] };
         let sign = if self.flip { -1.0 } else { 1.0 };
         let t = self.tangents.as_ref().map(|t| {
@@ -141,5 +144,54 @@ impl<'a> ObjectFrame<'a> {
             })
         });
         (self.index, n, uv, t, colors)
+    }
+
+    /// How many vertices the mesh has (its faces index them).
+    pub fn vertices(&self) -> usize {
+        self.object.mesh.positions.len()
+    }
+
+    /// Vertex `v`'s shading record as the kernels read it (`crate::corner_records`): its normal in
+    /// world space (zero without normals), its colour (`u32::MAX` without colours) and its
+    /// texture coordinates (zero without), the values `data` gives its faces' corners.
+    pub fn corner_record(&self, v: u32) -> [u32; CORNER_WORDS] {
+        let mesh = &self.object.mesh;
+        let n = if mesh.normals.is_some() {
+            self.normal(v)
+        } else {
+            Vec3::ZERO
+        };
+        let uv = if mesh.uvs.is_some() {
+            self.uv(v)
+        } else {
+            Vec2::ZERO
+        };
+        let color = if self.has_colors() {
+            self.color(v)
+        } else {
+            u32::MAX
+        };
+        let b = f32::to_bits;
+        [b(n.x), b(n.y), b(n.z), color, b(uv.x), b(uv.y)]
+    }
+
+    /// Vertex `v`'s normal in world space (normalised; zero where the mesh gives a zero normal).
+    fn normal(&self, v: u32) -> Vec3 {
+        let n = (self.object.mesh.normals.as_ref()).and_then(|ns| ns.get(v as usize));
+        (self.nm * n.copied().unwrap_or(Vec3::ZERO)).normalize_or_zero()
+    }
+
+    fn uv(&self, v: u32) -> Vec2 {
+        let uv = (self.object.mesh.uvs.as_ref()).and_then(|uvs| uvs.get(v as usize));
+        uv.copied().unwrap_or(Vec2::ZERO)
+    }
+
+    fn has_colors(&self) -> bool {
+        self.colored && self.object.mesh.colors.is_some()
+    }
+
+    fn color(&self, v: u32) -> u32 {
+        let c = (self.object.mesh.colors.as_ref()).and_then(|cs| cs.get(v as usize));
+        gpu_types::pack_color(c.copied().unwrap_or(Vec3::ONE).to_array())
     }
 }

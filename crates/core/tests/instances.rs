@@ -138,7 +138,7 @@ fn surface(scene: &GpuScene, origin: Vec3, direction: Vec3) -> Option<(f32, [Vec
     let mut placed = None;
     let t = hit_triangle(scene, &mut hit, &mut placed);
     let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
-    let s = t.shading;
+    let s = t.shading();
     let n = Vec3::from(s.n0) * b[0] + Vec3::from(s.n1) * b[1] + Vec3::from(s.n2) * b[2];
     let corners = [t.tri.v0, t.tri.v1, t.tri.v2].map(Vec3::from);
     Some((hit.t, corners, t.tri.material, n.normalize_or_zero()))

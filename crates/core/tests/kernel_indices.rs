@@ -168,6 +168,16 @@ fn each_kind_of_bad_index_is_caught() {
             s.shading.truncate(1);
             s
         }),
+        ("vertex record past the shading words", {
+            let mut s = good.clone();
+            s.shading[2] = s.shading.len() as u32 - 3;
+            s
+        }),
+        ("corner pointing into the corner words", {
+            let mut s = good.clone();
+            s.shading[1] = 0;
+            s
+        }),
         ("texture past the texels", {
             with_textured_material(&good, |m| m.textures[0].offset = 1)
         }),

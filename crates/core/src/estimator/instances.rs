@@ -12,28 +12,38 @@ use crate::gpu_types::{Hit, NO_INSTANCE, Shading, Triangle};
 pub use crate::instances::PlacedTriangle;
 
 /// The triangle a hit found, as shading reads it: its corners, material and flags, its shading
-/// attributes (zero where the scene has none) and its three corner tangents (zero without).
-/// References into the scene's arrays for a world-space triangle (a copy cost the CPU backend
-/// 5%), into a `PlacedTriangle` for a triangle in an instance.
+/// attributes (`shading`, zero where the scene has none) and its three corner tangents (zero
+/// without). References into the scene's arrays for a world-space triangle (a copy cost the CPU
+/// backend 5%; its attributes are gathered from their vertex records only when read), into a
+/// `PlacedTriangle` for a triangle in an instance.
 #[derive(Clone, Copy, Debug)]
 pub struct HitTriangle<'a> {
     pub tri: &'a Triangle,
-    pub shading: &'a Shading,
     pub tangents: &'a [[f32; 4]; 3],
+    attributes: Attributes<'a>,
 }
 
-const NO_SHADING: Shading = Shading {
-    n0: [0.0; 3],
-    c0: 0,
-    n1: [0.0; 3],
-    c1: 0,
-    n2: [0.0; 3],
-    c2: 0,
-    uv0: [0.0; 2],
-    uv1: [0.0; 2],
-    uv2: [0.0; 2],
-    _pad3: [0.0; 2],
-};
+/// Where a hit triangle's shading attributes come from.
+#[derive(Clone, Copy, Debug)]
+enum Attributes<'a> {
+    Stored(&'a GpuScene, u32),
+    Placed(&'a Shading),
+}
+
+impl HitTriangle<'_> {
+    /// The triangle's normals, colours and texture coordinates by corner (zero where its flags
+    /// say it has none).
+    #[inline]
+    pub fn shading(&self) -> Shading {
+        match self.attributes {
+            Attributes::Stored(_, _) if self.tri.has_normals == 0 && self.tri.has_uvs == 0 => {
+                Shading::default()
+            }
+            Attributes::Stored(scene, i) => scene.stored_shading(i),
+            Attributes::Placed(shading) => *shading,
+        }
+    }
+}
 
 const NO_TANGENTS: [[f32; 4]; 3] = [[0.0; 4]; 3];
 
@@ -50,10 +60,10 @@ pub fn hit_triangle<'a>(
     let tangents = scene.tangents.get(3 * i..3 * i + 3);
     let stored = HitTriangle {
         tri: &scene.triangles[i],
-        shading: scene.shading.get(i).unwrap_or(&NO_SHADING),
         tangents: tangents
             .and_then(|t| t.try_into().ok())
             .unwrap_or(&NO_TANGENTS),
+        attributes: Attributes::Stored(scene, hit.triangle),
     };
     if hit.instance == NO_INSTANCE {
         return stored;
@@ -61,8 +71,8 @@ pub fn hit_triangle<'a>(
     let p = placed.insert(place_in_world(scene, hit, stored));
     HitTriangle {
         tri: &p.tri,
-        shading: &p.shading,
         tangents: &p.tangents,
+        attributes: Attributes::Placed(&p.shading),
     }
 }
 
@@ -73,7 +83,7 @@ fn place_in_world(scene: &GpuScene, hit: &mut Hit, stored: HitTriangle) -> Place
     let instance = &scene.instances[hit.instance as usize];
     let mut placed = PlacedTriangle {
         tri: *stored.tri,
-        shading: *stored.shading,
+        shading: stored.shading(),
         tangents: *stored.tangents,
     };
     instance.place(&mut placed);

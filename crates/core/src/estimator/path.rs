@@ -591,7 +591,7 @@ pub(crate) fn first_hit_albedo(
         let e = Vec3::from(material.emission);
         return e / e.max_element().max(1e-6);
     }
-    let (tri, shading) = (surface_triangle.tri, || surface_triangle.shading);
+    let (tri, shading) = (surface_triangle.tri, || surface_triangle.shading());
     let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
     let mut a = Vec3::from(material.color);
     if !material.texture(SLOT_BASE).is_empty() && tri.has_uvs != 0 {
@@ -600,7 +600,7 @@ pub(crate) fn first_hit_albedo(
         a = base_color_texture(scene, material, uv);
     }
     if tri.has_normals & crate::gpu_types::HAS_COLORS != 0 {
-        a *= vertex_color(shading(), b);
+        a *= vertex_color(&shading(), b);
     }
     a
 }

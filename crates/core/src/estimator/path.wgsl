@@ -354,12 +354,12 @@ fn shade_vertex(path: ptr<function, PathState>, found: Hit, rng: ptr<function, S
         }
         return false;
     }
-    // The triangle in world space (instances.rs `hit_triangle`). Triangles without normals or UVs
-    // have no shading record (the buffer may be a placeholder).
+    // The triangle in world space (instances.rs `hit_triangle`). Triangles without normals, UVs or
+    // colours have no shading record (the buffer may be a placeholder).
     var tri = triangles[hit.triangle];
     var sh: Shading;
     if (tri.has_normals != 0u || tri.has_uvs != 0u) {
-        sh = shading[hit.triangle];
+        sh = stored_shading(hit.triangle);
     }
     if (HAS_INSTANCES && hit.instance != NO_INSTANCE) {
         let inst = instances[hit.instance];

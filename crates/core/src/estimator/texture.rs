@@ -172,11 +172,6 @@ pub fn base_color_texture(scene: &GpuScene, m: &Material, uv: Vec2) -> Vec3 {
     }
 }
 
-fn uv_at(scene: &GpuScene, i: u32, b1: f32, b2: f32) -> Vec2 {
-    let sh = &scene.shading[i as usize];
-    Vec2::from(sh.uv0) * (1.0 - b1 - b2) + Vec2::from(sh.uv1) * b1 + Vec2::from(sh.uv2) * b2
-}
-
 /// The light a surface emits at the barycentrics (b1, b2) of triangle `i` towards a direction at
 /// cosine `cos` to its normal: the material's emission times its emission image, under a clear
 /// coat times what the coat lets through, 1 − c E_coat(cos) (glTF: emission is attenuated by the
@@ -193,7 +188,7 @@ pub fn surface_emission(
     let mut e = Vec3::from(m.emission);
     if !m.texture(SLOT_EMISSION).is_empty() && tri.has_uvs != 0 {
         e *= Slot::of(m, SLOT_EMISSION)
-            .sample(scene, uv_at(scene, i, b1, b2), true)
+            .sample(scene, scene.stored_uv(i, b1, b2), true)
             .truncate();
     }
     if m.kind == MaterialKind::Pbr.tag() {
@@ -217,7 +212,7 @@ pub fn coverage(scene: &GpuScene, m: &Material, tri: &Triangle, i: u32, b1: f32,
     let mut a = m.alpha;
     if !m.texture(SLOT_BASE).is_empty() && tri.has_uvs != 0 {
         a *= Slot::of(m, SLOT_BASE)
-            .sample(scene, uv_at(scene, i, b1, b2), false)
+            .sample(scene, scene.stored_uv(i, b1, b2), false)
             .w;
     }
     if m.flags & ALPHA_MASK != 0 {

@@ -67,8 +67,7 @@ fn base_color_texture(m: Material, uv: vec2<f32>) -> vec3<f32> {
 fn surface_emission(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32, cos_out: f32) -> vec3<f32> {
     var e = m.emission;
     if (HAS_TEXTURES && m.textures[SLOT_EMISSION].offset != NO_TEXTURE && tri.has_uvs != 0u) {
-        let sh = shading[i];
-        let uv = sh.uv0 * (1.0 - b1 - b2) + sh.uv1 * b1 + sh.uv2 * b2;
+        let uv = stored_uv(i, b1, b2);
         e *= material_texture(m, SLOT_EMISSION, uv, true).rgb;
     }
     if (HAS_PBR && m.kind == MAT_PBR) {
@@ -85,8 +84,7 @@ fn surface_emission(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32, cos_ou
 fn coverage(m: Material, tri: Triangle, i: u32, b1: f32, b2: f32) -> f32 {
     var a = m.alpha;
     if (m.textures[SLOT_BASE].offset != NO_TEXTURE && tri.has_uvs != 0u) {
-        let sh = shading[i];
-        let uv = sh.uv0 * (1.0 - b1 - b2) + sh.uv1 * b1 + sh.uv2 * b2;
+        let uv = stored_uv(i, b1, b2);
         a *= material_texture(m, SLOT_BASE, uv, false).a;
     }
     if ((m.flags & ALPHA_MASK) != 0u) {

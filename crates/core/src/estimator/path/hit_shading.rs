@@ -37,7 +37,7 @@ pub fn shading_at(
 ) -> Shading {
     let tri = surface_triangle.tri;
     let material = &scene.materials[tri.material as usize];
-    let shading = surface_triangle.shading;
+    let shading = surface_triangle.shading();
     let (v0, v1, v2) = (Vec3::from(tri.v0), Vec3::from(tri.v1), Vec3::from(tri.v2));
     let b0 = 1.0 - hit.b1 - hit.b2;
     let p = v0 * b0 + v1 * hit.b1 + v2 * hit.b2;
@@ -71,7 +71,7 @@ pub fn shading_at(
         _ => Vec3::from(material.color),
     };
     let color = if tri.has_normals & HAS_COLORS != 0 {
-        color * vertex_color(shading, [b0, hit.b1, hit.b2])
+        color * vertex_color(&shading, [b0, hit.b1, hit.b2])
     } else {
         color
     };
