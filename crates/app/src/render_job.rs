@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use rt_core::{GpuScene, Scene};
 use rt_gpu::context::{AdapterChoice, DeviceOptions, GpuContext};
 use rt_gpu::progressive::Progressive;
+use rt_gpu::render_loop::{AfterBatch, Ended, render_to};
 use rt_gpu::{Image, RenderOptions, Renderer};
 
 /// The render device, opened on first use and shared by every job (opening one takes a while, and
@@ -339,16 +340,17 @@ fn run(
     let mut noise = None;
     // Adaptive sampling may stop every pixel before `total`.
     let unfinished = |r: &Progressive| r.samples_done() < total && r.active_pixels() > 0;
-    while unfinished(&renderer) && !cancel.load(Ordering::Relaxed) {
-        renderer.render_batch(total - renderer.samples_done(), cancel)?;
+    // The only stop: nobody left to send the image to (the window was closed).
+    const CLOSED: AfterBatch = AfterBatch::Stop("the render window was closed");
+    let after_batch = |renderer: &Progressive| {
         let due = job
             .preview_every
             .is_some_and(|every| last_preview.elapsed() >= every);
-        if due && unfinished(&renderer) {
+        if due && unfinished(renderer) {
             let image = renderer.read_image()?;
             noise = noise_of(&image);
             if tx.send(JobEvent::Preview(image)).is_err() {
-                return Ok(());
+                return Ok(CLOSED);
             }
             last_preview = Instant::now();
         }
@@ -359,9 +361,20 @@ fn run(
             noise,
         };
         if tx.send(JobEvent::Progress(progress)).is_err() {
-            return Ok(());
+            return Ok(CLOSED);
         }
         wake();
+        Ok(AfterBatch::Continue)
+    };
+    let ended = render_to(
+        &mut renderer,
+        total,
+        cancel,
+        |done| total - done,
+        after_batch,
+    )?;
+    if let Ended::Stopped(_) = ended {
+        return Ok(());
     }
     let image = renderer.read_image()?;
     let progress = Progress {

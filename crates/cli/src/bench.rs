@@ -6,6 +6,7 @@ use std::time::Instant;
 use anyhow::Result;
 use clap::Args;
 use rt_core::{GpuScene, Scene};
+use rt_gpu::progressive::Progressive;
 use rt_gpu::{Kernel, RenderOptions, Renderer, Tuning};
 
 use crate::options::{BvhArgs, EngineArgs, open_device};
@@ -278,11 +279,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
         let gpu_scene = build(&args, &scene)?;
         let build_ms = build_started.elapsed().as_secs_f64() * 1e3;
         // Warm-up: compiles the pipeline and settles the dispatch size.
-        let mut warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
-        warm.render(2, |_| true)?;
-        let mut renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
+        let warm = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
+        Progressive::Gpu(Box::new(warm)).render(2)?;
+        let renderer = Renderer::for_scene(&ctx, &scene, &gpu_scene, options)?;
+        let (kernel, trace) = (renderer.kernel().name(), renderer.trace().name());
+        let mut run = Progressive::Gpu(Box::new(renderer));
         let started = Instant::now();
-        renderer.render(args.spp, |_| true)?;
+        run.render(args.spp)?;
         let secs = started.elapsed().as_secs_f64();
         let paths = f64::from(args.size) * f64::from(args.size) * f64::from(args.spp);
         let record = Record {
@@ -293,8 +296,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
             scene_build_ms: build_ms,
             bvh_depth: gpu_scene.bvh_depth,
             bvh: format!("{:?}", gpu_scene.layout),
-            kernel: renderer.kernel().name().into(),
-            trace: renderer.trace().name().into(),
+            kernel: kernel.into(),
+            trace: trace.into(),
             dispatch_ms: args.dispatch_ms,
             width: args.size,
             height: args.size,
@@ -303,7 +306,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             next_event_estimation: gpu_scene.features.nee,
             render_s: secs,
             paths_per_s: paths / secs,
-            rays_per_s: renderer.rays_traced() as f64 / secs,
+            rays_per_s: run.rays_traced() as f64 / secs,
             gpu_scene_bytes: gpu_scene.buffer_sizes().iter().map(|(_, b)| b).sum(),
             peak_rss_mb: peak_rss_mb(),
             generic_kernel: args.generic,
@@ -439,19 +442,15 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
             continue;
         };
         let gpu_scene = build(args, &scene)?;
-        let frame = rt_core::frame::frame_for(&scene, &gpu_scene)?;
-        let accumulation = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false)
-            .with_integrator(scene.settings.integrator, &gpu_scene, &frame);
-        let mut accumulation = match accumulation {
-            Ok(accumulation) => accumulation,
+        let mut run = match Progressive::cpu(&scene, &gpu_scene, 0, false) {
+            Ok(run) => run,
             Err(e) => {
                 eprintln!("{name}: skipped: {e}");
                 continue;
             }
         };
-        let never = std::sync::atomic::AtomicBool::new(false);
         let started = Instant::now();
-        accumulation.add_batch(&gpu_scene, &frame, args.spp, &never);
+        run.render(args.spp)?;
         let secs = started.elapsed().as_secs_f64();
         let paths = f64::from(args.size) * f64::from(args.size) * f64::from(args.spp);
         let peak = peak_rss_mb();
@@ -463,7 +462,7 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
             gpu_scene.bvh_depth,
             secs,
             paths / secs / 1e6,
-            accumulation.rays as f64 / secs / 1e6,
+            run.rays_traced() as f64 / secs / 1e6,
             megabytes(peak)
         );
         println!(
@@ -473,7 +472,7 @@ fn run_on_cpu(args: &BenchArgs) -> Result<()> {
                 "width": args.size, "height": args.size, "spp": args.spp,
                 "max_depth": scene.settings.max_depth, "render_s": secs,
                 "paths_per_s": paths / secs,
-                "rays_per_s": accumulation.rays as f64 / secs, "peak_rss_mb": peak,
+                "rays_per_s": run.rays_traced() as f64 / secs, "peak_rss_mb": peak,
             })
         );
     }
@@ -495,6 +494,8 @@ fn selected(args: &BenchArgs, name: &str, scene: SceneLoader) -> Result<Option<S
     let mut scene = scene()?;
     scene.settings.width = args.size;
     scene.settings.height = args.size;
+    // Every pixel takes every sample: the rate measured is per sample, not per stop rule.
+    scene.settings.adaptive_threshold = None;
     scene.settings.next_event_estimation = !args.no_nee;
     if let Some(sampler) = args.light_sampler {
         scene.settings.light_sampler = sampler.into();

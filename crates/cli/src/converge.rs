@@ -99,13 +99,10 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     let mut rows = Vec::new();
     let mut rendering = Duration::ZERO;
     let mut step = 1u32;
-    let never = std::sync::atomic::AtomicBool::new(false);
     loop {
         let step_start = Instant::now();
         // Adaptive sampling may stop every pixel before `step`.
-        while renderer.samples_done() < step && renderer.active_pixels() > 0 {
-            renderer.render_batch(step - renderer.samples_done(), &never)?;
-        }
+        renderer.render(step)?;
         // render_batch waits for its dispatches, so this is GPU time as the user sees it.
         rendering += step_start.elapsed();
         let (measured, denoise_time) = read_measured(&renderer, args.denoise)?;

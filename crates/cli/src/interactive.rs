@@ -15,6 +15,7 @@ use anyhow::{Context, Result};
 use rt_core::Scene;
 use rt_core::metrics::{RgbImage, compare};
 use rt_gpu::live::{LiveRequest, LiveSettings, LiveView};
+use rt_gpu::progressive::Progressive;
 use rt_gpu::{GpuContext, RenderOptions, Renderer};
 
 const FRAME: Duration = Duration::from_nanos(16_666_667);
@@ -152,22 +153,20 @@ fn reference(
             args.reference_spp,
             path.display()
         );
+        // A reference takes every sample in every pixel.
+        scene.settings.adaptive_threshold = None;
         let gpu_scene = rt_core::GpuScene::build(&scene)?;
-        let pixels = match ctx {
-            Some(ctx) => {
-                let mut renderer =
-                    Renderer::for_scene(ctx, &scene, &gpu_scene, RenderOptions::default())?;
-                renderer.render(args.reference_spp, |_| true)?;
-                renderer.read_image()?.rgb()
-            }
-            None => {
-                let frame = rt_core::frame::frame_for(&scene, &gpu_scene)?;
-                let mut cpu = rt_core::cpu_render::CpuAccumulation::new(&frame, 0, None, false);
-                let go = std::sync::atomic::AtomicBool::new(false);
-                cpu.add_batch(&gpu_scene, &frame, args.reference_spp, &go);
-                cpu.pixels().iter().map(|p| [p[0], p[1], p[2]]).collect()
-            }
+        let mut run = match ctx {
+            Some(ctx) => Progressive::Gpu(Box::new(Renderer::for_scene(
+                ctx,
+                &scene,
+                &gpu_scene,
+                RenderOptions::default(),
+            )?)),
+            None => Progressive::cpu(&scene, &gpu_scene, 0, false)?,
         };
+        run.render(args.reference_spp)?;
+        let pixels = run.read_image()?.rgb();
         rt_core::output::save_image(
             &path,
             args.size[0],

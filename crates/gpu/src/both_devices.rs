@@ -74,6 +74,11 @@ impl<'a> BothDevices<'a> {
         &self.gpu
     }
 
+    /// Rays traced by both devices (the GPU's only with `Tuning::count_rays`).
+    pub fn rays_traced(&self) -> u64 {
+        self.gpu.rays_traced() + self.cpu.rays
+    }
+
     /// `samples` more samples of every pixel, dealt to both devices (the CPU on a thread of its
     /// own, the GPU on this one). When `cancel` is set, or the GPU fails, the CPU takes no new
     /// range; a cancelled or failed batch leaves the frame unusable (parts of it are in the sums).

@@ -34,6 +34,7 @@ mod pipeline_cache;
 mod pipeline_lifetime;
 pub mod pipelines;
 pub mod progressive;
+pub mod render_loop;
 pub mod renderer;
 pub mod shaders;
 pub mod sizing;

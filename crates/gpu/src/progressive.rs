@@ -1,7 +1,8 @@
-//! A progressive render on either backend, behind the few calls that drive one batch by batch
-//! (`rt-cli converge`, the editor's render windows): the GPU's `Renderer`, or the native CPU
-//! backend's accumulation (`rt_core::cpu_render`), whose batches are sized to take about
-//! `BATCH_DURATION` each so that progress, previews and cancelling stay responsive.
+//! A progressive render on either backend, driven batch by batch by rt's one loop
+//! (`crate::render_loop::render_to`: `rt-cli render`, `converge`, `bench`, `interactive`'s
+//! references, the editor's render windows): the GPU's `Renderer`, or the native CPU backend's
+//! accumulation (`rt_core::cpu_render`), whose batches are sized to take about `BATCH_DURATION`
+//! each so that progress, previews and cancelling stay responsive.
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -13,6 +14,7 @@ use rt_core::{GpuScene, Scene};
 use crate::both_devices::BothDevices;
 use crate::error::Result;
 use crate::image::{Aovs, Image};
+use crate::render_loop::{AfterBatch, Batches, Ended, render_to};
 use crate::renderer::Renderer;
 
 /// Which backend renders: what `rt-cli --device` and the editor's Device choose.
@@ -95,6 +97,28 @@ impl<'a> Progressive<'a> {
         })))
     }
 
+    /// The render taken to `spp` samples per pixel (`render_loop::render_to`), with nothing to
+    /// cancel or watch it.
+    pub fn render(&mut self, spp: u32) -> Result<Ended> {
+        let never = AtomicBool::new(false);
+        render_to(
+            self,
+            spp,
+            &never,
+            |done| spp - done,
+            |_| Ok(AfterBatch::Continue),
+        )
+    }
+
+    /// Rays traced so far (on the GPU only with `Tuning::count_rays`).
+    pub fn rays_traced(&self) -> u64 {
+        match self {
+            Progressive::Gpu(r) => r.rays_traced(),
+            Progressive::Cpu(c) => c.accumulation.rays,
+            Progressive::Both(b) => b.rays_traced(),
+        }
+    }
+
     /// Samples taken of every pixel still sampling.
     pub fn samples_done(&self) -> u32 {
         match self {
@@ -110,27 +134,6 @@ impl<'a> Progressive<'a> {
             Progressive::Cpu(c) => c.accumulation.active_pixels(),
             Progressive::Both(b) => b.gpu().active_pixels(),
         }
-    }
-
-    /// Up to `samples` more samples of every pixel still sampling (on the CPU, as many as fit in
-    /// about `BATCH_DURATION`; a batch that `cancel` stops adds nothing).
-    pub fn render_batch(&mut self, samples: u32, cancel: &AtomicBool) -> Result<()> {
-        match self {
-            Progressive::Gpu(r) => {
-                r.render_batch(samples)?;
-            }
-            Progressive::Cpu(c) => {
-                let count = samples.min(c.batch).max(1);
-                let started = Instant::now();
-                if c.accumulation.add_batch(c.scene, &c.frame, count, cancel)
-                    && started.elapsed() < BATCH_DURATION / 2
-                {
-                    c.batch = c.batch.saturating_mul(2);
-                }
-            }
-            Progressive::Both(b) => b.render_batch(samples, cancel)?,
-        }
-        Ok(())
     }
 
     /// The image's estimated noise (`Image::estimated_noise`); on the CPU without copying its
@@ -165,6 +168,37 @@ impl<'a> Progressive<'a> {
             Progressive::Cpu(c) => Aovs::of_cpu(&c.accumulation),
             Progressive::Both(b) => b.read_aovs()?,
         })
+    }
+}
+
+impl Batches for Progressive<'_> {
+    fn samples_done(&self) -> u32 {
+        Progressive::samples_done(self)
+    }
+
+    fn active_pixels(&self) -> usize {
+        Progressive::active_pixels(self)
+    }
+
+    /// Up to `samples` more samples of every pixel still sampling (on the CPU, as many as fit in
+    /// about `BATCH_DURATION`; a batch that `cancel` stops adds nothing).
+    fn take_batch(&mut self, samples: u32, cancel: &AtomicBool) -> Result<()> {
+        match self {
+            Progressive::Gpu(r) => {
+                r.render_batch(samples)?;
+            }
+            Progressive::Cpu(c) => {
+                let count = samples.min(c.batch).max(1);
+                let started = Instant::now();
+                if c.accumulation.add_batch(c.scene, &c.frame, count, cancel)
+                    && started.elapsed() < BATCH_DURATION / 2
+                {
+                    c.batch = c.batch.saturating_mul(2);
+                }
+            }
+            Progressive::Both(b) => b.render_batch(samples, cancel)?,
+        }
+        Ok(())
     }
 }
 

@@ -508,12 +508,15 @@ impl<'a> Renderer<'a> {
     /// calling `progress(samples_done)` after each batch;
     /// `progress` returning false stops early (the image so far stays readable).
     pub fn render(&mut self, spp: u32, mut progress: impl FnMut(u32) -> bool) -> Result<()> {
-        while self.samples_done < spp && self.active_pixels() > 0 {
-            self.render_batch(spp - self.samples_done)?;
-            if !progress(self.samples_done) {
-                break;
-            }
-        }
+        use crate::render_loop::{AfterBatch, render_to};
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let after_batch = |r: &Self| {
+            Ok(match progress(r.samples_done) {
+                true => AfterBatch::Continue,
+                false => AfterBatch::Stop("the caller's progress"),
+            })
+        };
+        render_to(self, spp, &never, |done| spp - done, after_batch)?;
         Ok(())
     }
 

@@ -89,16 +89,13 @@ pub fn render_tiled(
             ..frame
         };
         let mut renderer = Renderer::new(ctx, gpu_scene, (tile_frame, adaptive), options)?;
-        while renderer.samples_done() < spp && renderer.active_pixels() > 0 {
-            renderer.render_batch(spp - renderer.samples_done())?;
+        renderer.render(spp, |done| {
             let fraction = (f64::from(begin)
-                + f64::from(end - begin) * f64::from(renderer.samples_done()) / f64::from(spp))
+                + f64::from(end - begin) * f64::from(done) / f64::from(spp))
                 / f64::from(frame.height);
-            if !progress(fraction) {
-                keep_going = false;
-                break;
-            }
-        }
+            keep_going = progress(fraction);
+            keep_going
+        })?;
         // Adaptive tiles end when their pixels have all stopped, each at its own count: the image's
         // samples per pixel is then the most any took (its pixels' counts are at most that).
         done_samples = if adaptive.is_some() {

@@ -1,7 +1,7 @@
-//! The one progressive render loop of `rt-cli render`, for both backends (`Progressive`: the GPU's
-//! `Renderer` or the native CPU backend): batch after batch with a progress bar, until every pixel
-//! has its samples, a noise target or time limit is met, or adaptive sampling has stopped every
-//! pixel.
+//! `rt-cli render` around rt's one progressive loop (`rt_gpu::render_loop::render_to`), on either
+//! backend (`Progressive`: the GPU's `Renderer` or the native CPU backend): a progress bar, the
+//! checkpoint image read back for the noise estimate and for saving after a failure, and the stop
+//! rules (noise target, time limit).
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -10,6 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rt_core::Scene;
 use rt_gpu::GpuError;
 use rt_gpu::progressive::Progressive;
+use rt_gpu::render_loop::{AfterBatch, Ended, render_to};
 
 use super::RenderArgs;
 use crate::summary::Finish;
@@ -30,30 +31,21 @@ pub fn render_progressively(
     let started = Instant::now();
     let pixels = u64::from(scene.settings.width) * u64::from(scene.settings.height);
     let mut checkpoint = Checkpoint::default();
-    let mut stopped_by = "samples per pixel";
     // The CLI renders to the end or to a stop rule; nothing cancels a batch part-way.
     let never = AtomicBool::new(false);
     let mut batches = 0u32;
-    while run.samples_done() < spp && run.active_pixels() > 0 {
-        let done = run.samples_done();
-        // With a noise target, grow batches geometrically so the stop overshoots by at most 1/8;
-        // the backend sizes batches to its time otherwise.
-        let batch = match args.noise_target {
-            Some(_) => (done / 8).max(1),
-            None => spp - done,
-        };
+    // With a noise target, batches grow geometrically so the stop overshoots by at most 1/8; the
+    // backend sizes batches to its time otherwise.
+    let batch = |done: u32| {
         before_batch(batches);
         batches += 1;
-        let step = run
-            .render_batch(batch.min(spp - done), &never)
-            .and_then(|()| checkpoint.update(run, args.noise_target.is_some()));
-        if let Err(e) = step {
-            bar.finish_and_clear();
-            return Err(Box::new(Failed {
-                error: e,
-                last_image: checkpoint.image,
-            }));
+        match args.noise_target {
+            Some(_) => (done / 8).max(1),
+            None => spp - done,
         }
+    };
+    let after_batch = |run: &Progressive| {
+        checkpoint.update(run, args.noise_target.is_some())?;
         let done = run.samples_done();
         let secs = started.elapsed().as_secs_f64().max(1e-9);
         bar.set_position(u64::from(done));
@@ -62,15 +54,21 @@ pub fn render_progressively(
             pixels as f64 * f64::from(done) / secs / 1e6,
             checkpoint.noise
         ));
-        if let Some(rule) = stop_rule(args, checkpoint.noise, secs) {
-            stopped_by = rule;
-            break;
-        }
-    }
-    if run.active_pixels() == 0 {
-        stopped_by = "adaptive sampling: every pixel converged";
-    }
+        Ok(stop_rule(args, checkpoint.noise, secs).map_or(AfterBatch::Continue, AfterBatch::Stop))
+    };
+    let ended = render_to(run, spp, &never, batch, after_batch);
     bar.finish_and_clear();
+    let stopped_by = match ended {
+        Err(error) => {
+            return Err(Box::new(Failed {
+                error,
+                last_image: checkpoint.image,
+            }));
+        }
+        _ if run.active_pixels() == 0 => "adaptive sampling: every pixel converged",
+        Ok(Ended::Stopped(rule)) => rule,
+        Ok(_) => "samples per pixel",
+    };
     Ok(Finish {
         render_time: started.elapsed(),
         stopped_by,
