@@ -12,13 +12,8 @@
 //! `gpu_scene.wgsl`) only where its flags say it has attributes.
 
 use crate::error::{Error, Result};
+use crate::gpu_types::{CORNER_WORDS, NO_RECORD};
 use crate::object_frames::ObjectFrame;
-
-/// Words in one vertex's record.
-pub const CORNER_WORDS: usize = 6;
-
-/// A triangle's corner word where it has no shading attributes.
-pub const NO_RECORD: u32 = u32::MAX;
 
 /// Writes the list as the build places triangles: the corner words at each triangle's index, and
 /// an object's vertex records the first time one of its triangles has attributes (a scene with

@@ -13,10 +13,10 @@ use std::time::Duration;
 use glam::{Vec2, Vec3};
 
 use crate::bvh::{BvhLayout, BvhQuality, TriangleBox, build_bvh_over, build_wide_bvh_over};
-use crate::corner_records::{CORNER_WORDS, CornerRecords};
+use crate::corner_records::CornerRecords;
 use crate::error::{Error, Result};
 use crate::gpu_material::object_material;
-use crate::gpu_types::{self, BvhNode, Shading, Triangle, WideBvhNode};
+use crate::gpu_types::{self, BvhNode, CORNER_WORDS, Shading, Triangle, WideBvhNode};
 use crate::object_frames::ObjectFrame;
 use crate::scene::Scene;
 pub use crate::scene_features::SceneFeatures;

@@ -17,6 +17,13 @@ pub use layouts::{GpuStruct, StructLayout, layouts};
 pub const HAS_NORMALS: u32 = 1;
 pub const HAS_COLORS: u32 = 2;
 
+/// Words in one vertex's shading record in `GpuScene::shading` (`crate::corner_records`): normal
+/// x, y, z, colour, u, v.
+pub const CORNER_WORDS: usize = 6;
+
+/// A triangle's corner words in `GpuScene::shading` where it has no shading attributes.
+pub const NO_RECORD: u32 = u32::MAX;
+
 /// A linear RGB colour packed as the kernels read vertex colours: sRGB-encoded bytes, A = 255.
 pub fn pack_color(c: [f32; 3]) -> u32 {
     let b = c.map(|v| (crate::output::linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u32);

@@ -145,7 +145,7 @@ impl GpuScene {
         };
         let records = 3 * self.triangles.len();
         for &o in corners {
-            let end = o as usize + crate::corner_records::CORNER_WORDS;
+            let end = o as usize + crate::gpu_types::CORNER_WORDS;
             if (o as usize) < records || end > words {
                 return Err(format!(
                     "triangle {i}: vertex record at word {o}, outside the records ({records}..{words})"

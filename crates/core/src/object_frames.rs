@@ -6,9 +6,8 @@
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
-use crate::corner_records::CORNER_WORDS;
 use crate::error::{Error, Result};
-use crate::gpu_types;
+use crate::gpu_types::{self, CORNER_WORDS};
 use crate::material::Material;
 use crate::scene::Object;
 

@@ -7,7 +7,6 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::error::Result;
-use crate::renderer::Renderer;
 
 /// A render that takes its samples batch by batch.
 pub trait Batches {
@@ -69,21 +68,6 @@ pub fn render_to<B: Batches + ?Sized>(
         if let AfterBatch::Stop(why) = after_batch(run)? {
             return Ok(Ended::Stopped(why));
         }
-    }
-}
-
-/// A GPU batch is a few short dispatches: `cancel` is looked at between batches.
-impl Batches for Renderer<'_> {
-    fn samples_done(&self) -> u32 {
-        Renderer::samples_done(self)
-    }
-
-    fn active_pixels(&self) -> usize {
-        Renderer::active_pixels(self)
-    }
-
-    fn take_batch(&mut self, samples: u32, _cancel: &AtomicBool) -> Result<()> {
-        self.render_batch(samples).map(|_| ())
     }
 }
 

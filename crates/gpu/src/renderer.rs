@@ -622,3 +622,18 @@ fn loop_cap(scene: &GpuScene, frame: &Frame, options: &RenderOptions) -> u32 {
         .max_samples_per_dispatch
         .map_or_else(|| sizing::loop_cap(scene, frame), |m| m.max(1))
 }
+
+/// A GPU batch is a few short dispatches: `cancel` is looked at between batches.
+impl crate::render_loop::Batches for Renderer<'_> {
+    fn samples_done(&self) -> u32 {
+        Renderer::samples_done(self)
+    }
+
+    fn active_pixels(&self) -> usize {
+        Renderer::active_pixels(self)
+    }
+
+    fn take_batch(&mut self, samples: u32, _cancel: &std::sync::atomic::AtomicBool) -> Result<()> {
+        self.render_batch(samples).map(|_| ())
+    }
+}
