@@ -326,13 +326,14 @@ impl GpuScene {
             let frame = &frames[f as usize];
             let mut p = frame.world(face as usize);
             let mut corners = frame.corners(face as usize);
-            let (material, normals, uvs, mut t, colors) = frame.data(face as usize);
+            let (material, normals, mut t) = frame.data(face as usize);
+            let (uvs, colors) = (frame.has_uvs(), frame.has_colors());
             let normals = normals.filter(|n| n.iter().all(|v| v.length_squared() > 0.0));
             // A triangle's front is where its vertex normals point, whatever its winding (as
             // pbrt-v4 orients the geometric normal to the shading normal; Mitsuba's dielectric
             // reads the shading frame): a ball whose faces wind inward but whose normals point
             // out is solid glass seen from outside, not from inside. Swapping corners 1 and 2
-            // (with their attributes) turns the winding over once here, for every estimator,
+            // (with their vertex records) turns the winding over once here, for every estimator,
             // emitter table and light tree alike.
             if let Some(n) = normals
                 && (p[1] - p[0]).cross(p[2] - p[0]).dot(n[0] + n[1] + n[2]) < 0.0
@@ -346,7 +347,7 @@ impl GpuScene {
             }
             // Vertex records only once a triangle has attributes: until then the list stays
             // empty, as the build leaves it where none has any.
-            if normals.is_some() || uvs.is_some() || colors.is_some() {
+            if normals.is_some() || uvs || colors {
                 let triangle = self.triangles.len();
                 records.push(&mut self.shading, triangle, (f as usize, frame), corners)?;
             }
@@ -355,9 +356,9 @@ impl GpuScene {
                 material,
                 v1: p[1].to_array(),
                 has_normals: normals.is_some() as u32 * gpu_types::HAS_NORMALS
-                    + colors.is_some() as u32 * gpu_types::HAS_COLORS,
+                    + colors as u32 * gpu_types::HAS_COLORS,
                 v2: p[2].to_array(),
-                has_uvs: uvs.is_some() as u32,
+                has_uvs: uvs as u32,
             });
         }
         Ok(())

@@ -11,15 +11,9 @@ use crate::gpu_types::{self, CORNER_WORDS};
 use crate::material::Material;
 use crate::scene::Object;
 
-/// What a triangle carries besides its corners: its material (the object's index), normals, UVs,
-/// tangents and vertex colours.
-pub type TriangleData = (
-    u32,
-    Option<[Vec3; 3]>,
-    Option<[Vec2; 3]>,
-    Option<[[f32; 4]; 3]>,
-    Option<[u32; 3]>,
-);
+/// What a triangle carries besides its corners and vertex records: its material (the object's
+/// index), its normals and its tangents.
+pub type TriangleData = (u32, Option<[Vec3; 3]>, Option<[[f32; 4]; 3]>);
 
 /// One object, checked, with what its triangles need: its transform (and the normals'), whether
 /// it mirrors, whether its vertex colours apply, and its tangents (three per face, with a normal
@@ -114,22 +108,11 @@ impl<'a> ObjectFrame<'a> {
         })
     }
 
-    /// What face `face` carries besides its corners.
+    /// What face `face` carries besides its corners: its material, its corners' normals in world
+    /// space (where the mesh has normals) and tangents (with a normal map).
     pub fn data(&self, face: usize) -> TriangleData {
         let idx = self.corners(face);
-        let n = self
-            .object
-            .mesh
-            .normals
-            .as_ref()
-            .map(|_| idx.map(|i| self.normal(i)));
-        let uv = self
-            .object
-            .mesh
-            .uvs
-            .as_ref()
-            .map(|_| idx.map(|i| self.uv(i)));
-        let colors = self.has_colors().then(|| idx.map(|i| self.color(i)));
+        let n = self.has_normals().then(|| idx.map(|i| self.normal(i)));
         let corners = if self.flip { [0, 2, 1] } else { [0, 1, 2] };
         let sign = if self.flip { -1.0 } else { 1.0 };
         let t = self.tangents.as_ref().map(|t| {
@@ -142,7 +125,7 @@ impl<'a> ObjectFrame<'a> {
                 [d.x, d.y, d.z, w * sign]
             })
         });
-        (self.index, n, uv, t, colors)
+        (self.index, n, t)
     }
 
     /// How many vertices the mesh has (its faces index them).
@@ -154,13 +137,12 @@ impl<'a> ObjectFrame<'a> {
     /// world space (zero without normals), its colour (`u32::MAX` without colours) and its
     /// texture coordinates (zero without), the values `data` gives its faces' corners.
     pub fn corner_record(&self, v: u32) -> [u32; CORNER_WORDS] {
-        let mesh = &self.object.mesh;
-        let n = if mesh.normals.is_some() {
+        let n = if self.has_normals() {
             self.normal(v)
         } else {
             Vec3::ZERO
         };
-        let uv = if mesh.uvs.is_some() {
+        let uv = if self.has_uvs() {
             self.uv(v)
         } else {
             Vec2::ZERO
@@ -185,8 +167,18 @@ impl<'a> ObjectFrame<'a> {
         uv.copied().unwrap_or(Vec2::ZERO)
     }
 
-    fn has_colors(&self) -> bool {
-        self.colored && self.object.mesh.colors.is_some()
+    fn has_normals(&self) -> bool {
+        self.object.mesh.normals.is_some()
+    }
+
+    /// Whether the mesh has texture coordinates (every face then has them).
+    pub fn has_uvs(&self) -> bool {
+        self.object.mesh.uvs.is_some()
+    }
+
+    /// Whether the faces carry vertex colours: the mesh has them and the material takes them.
+    pub fn has_colors(&self) -> bool {
+        self.colored
     }
 
     fn color(&self, v: u32) -> u32 {
