@@ -397,11 +397,21 @@ impl GpuScene {
         }
     }
 
-    /// The texture coordinates at the barycentrics (b1, b2) of triangle `i` (zero without).
-    /// `stored_uv` in `gpu_scene.wgsl`.
+    /// The texture coordinates at the barycentrics (b1, b2) of triangle `i` (zero without), from
+    /// the corners' UV words only, as the alpha test calls it during traversal. `stored_uv` in
+    /// `gpu_scene.wgsl`.
     pub fn stored_uv(&self, i: u32, b1: f32, b2: f32) -> Vec2 {
-        let s = self.stored_shading(i);
-        Vec2::from(s.uv0) * (1.0 - b1 - b2) + Vec2::from(s.uv1) * b1 + Vec2::from(s.uv2) * b2
+        let words = &self.shading;
+        let uv = |k: usize| {
+            let o = words
+                .get(3 * i as usize + k)
+                .map_or(usize::MAX, |&o| o as usize);
+            match words.get(o.saturating_add(4)..o.saturating_add(6)) {
+                Some(&[u, v]) => Vec2::new(f32::from_bits(u), f32::from_bits(v)),
+                _ => Vec2::ZERO,
+            }
+        };
+        uv(0) * (1.0 - b1 - b2) + uv(1) * b1 + uv(2) * b2
     }
 
     /// This scene's geometry (triangles, BVH, shading attributes, tangents) with `scene`'s

@@ -44,10 +44,13 @@ fn corner_uv(o: u32) -> vec2<f32> {
     return bitcast<vec2<f32>>(vec2(shading[o + 4u], shading[o + 5u]));
 }
 
-// The texture coordinates at the barycentrics (b1, b2) of triangle i (gpu_scene.rs `stored_uv`).
+// The texture coordinates at the barycentrics (b1, b2) of triangle i (gpu_scene.rs `stored_uv`):
+// the corners' UV words only, as the alpha test calls it during traversal.
 fn stored_uv(i: u32, b1: f32, b2: f32) -> vec2<f32> {
-    let s = stored_shading(i);
-    return s.uv0 * (1.0 - b1 - b2) + s.uv1 * b1 + s.uv2 * b2;
+    let uv0 = corner_uv(shading[3u * i]);
+    let uv1 = corner_uv(shading[3u * i + 1u]);
+    let uv2 = corner_uv(shading[3u * i + 2u]);
+    return uv0 * (1.0 - b1 - b2) + uv1 * b1 + uv2 * b2;
 }
 
 // Shared meshes (instances.rs): the placed copies and the top-level BVH2 over their world boxes
