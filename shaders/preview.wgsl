@@ -12,8 +12,9 @@
 // albedo table), and the cosine-convolved environment times the diffuse albedo, both dimmed by the
 // share of the sky an irradiance volume's probes see; bounce light from the same probes (an
 // ambient cube per probe, bounce.rs). A thin transmitting sheet shows what lies behind through a
-// blended pass (grey, unrefracted); solid glass the probes and environment along its refracted
-// view (`refracted`); emitters show their emission.
+// blended pass (grey, unrefracted); solid glass, drawn after the opaque pass, what it drew along
+// its refracted view, else the emitters, probes and environment there (preview_glass.wgsl);
+// emitters show their emission.
 // An approximation for placing things: the path tracer is the truth.
 
 const MAX_PREVIEW_LIGHTS: u32 = 8u;
@@ -62,8 +63,9 @@ struct PreviewView {
     probe_lo: vec4<f32>,
     probe_hi: vec4<f32>,
     light_count: u32,
+    // The render's max_depth (what solid glass shows through it at that depth: `refracted`).
+    max_depth: u32,
     // Scalars, not a vec3: a uniform would align it to 16 bytes.
-    _pad0: u32,
     _pad1: u32,
     _pad2: u32,
     lights: array<PreviewLight, 8>,
@@ -113,6 +115,12 @@ const BANDS: u32 = 6u;
 const AZIMUTHS: u32 = 8u;
 // How far off a surface, in cells, `ambient_cube` looks the probes up (bounce.rs).
 const PROBE_LOOKUP_LIFT: f32 = 0.25;
+// The frame as drawn before solid glass and smooth metals (crates/preview/src/behind.rs), which
+// their pass reads along refracted and reflected view rays; only `fs_reading` reads it
+// (`reads_behind`).
+@group(0) @binding(11) var behind_color: texture_2d<f32>;
+@group(0) @binding(12) var behind_depth: texture_depth_2d;
+var<private> reads_behind: bool = false;
 // A material's images (white, or a flat normal, where it has none).
 @group(1) @binding(0) var albedo_texture: texture_2d<f32>;
 @group(1) @binding(1) var albedo_sampler: sampler;
@@ -279,6 +287,14 @@ fn surface(in: MeshVarying) -> vec4<f32> {
 
 @fragment
 fn fs_mesh(in: MeshVarying) -> @location(0) vec4<f32> {
+    return surface(in);
+}
+
+// Solid glass and smooth metals over the frame drawn before them, which they show bent through
+// them (`refracted`) or mirrored (`shade`).
+@fragment
+fn fs_reading(in: MeshVarying) -> @location(0) vec4<f32> {
+    reads_behind = true;
     return surface(in);
 }
 

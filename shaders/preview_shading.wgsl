@@ -280,6 +280,58 @@ fn incoming(light: PreviewLight, p: vec3<f32>, n: vec3<f32>) -> Incoming {
     return out;
 }
 
+// What a ray meets of the frame's emitters (`emitter_along`): the nearest one's radiance, 1 where
+// it meets one (else 0), and which light that is.
+struct EmitterSeen {
+    radiance: vec3<f32>,
+    seen: f32,
+    light: u32,
+}
+
+// The nearest of the frame's emitters that the ray from `origin` along `d` meets, each as
+// `incoming` lights with it: a disc of area |N| facing N and a sphere of cross-section A
+// (`color.a`) about its centre.
+fn emitter_along(origin: vec3<f32>, d: vec3<f32>) -> EmitterSeen {
+    var nearest = 3.4e38;
+    var out = EmitterSeen(vec3<f32>(0.0), 0.0, 0u);
+    for (var k = 0u; k < min(view.light_count, MAX_PREVIEW_LIGHTS); k++) {
+        let light = view.lights[k];
+        if light.shadow.x != LIGHT_EMITTER {
+            continue;
+        }
+        let to_center = light.position.xyz - origin;
+        let flat_area = length(light.direction.xyz);
+        let facing = dot(d, light.direction.xyz);
+        var t = 3.4e38;
+        if flat_area > 0.0 && facing < 0.0 {
+            let along_normal = dot(to_center, light.direction.xyz) / facing;
+            let off = origin + d * along_normal - light.position.xyz;
+            if along_normal > 0.0 && dot(off, off) * PI <= flat_area {
+                t = along_normal;
+            }
+        }
+        let along = dot(to_center, d);
+        let miss2 = dot(to_center, to_center) - along * along;
+        if light.color.a > 0.0 && along > 0.0 && miss2 * PI <= light.color.a {
+            t = min(t, along);
+        }
+        if t < nearest {
+            nearest = t;
+            out = EmitterSeen(light.color.rgb, 1.0, k);
+        }
+    }
+    return out;
+}
+
+// How much of a smooth reflector's or glass's view of an emitter is its sharp image (the rest,
+// the lights' highlight through the shadow maps; the probes hold emitters blurred over a bin): 1
+// for a mirror, none from roughness `MIRROR_ROUGHNESS`. Below it GGX's highlight of a lamp is
+// narrower than a pixel, and pixels sampled at their centres miss it.
+const MIRROR_ROUGHNESS: f32 = 0.2;
+fn mirror_share(roughness: f32) -> f32 {
+    return 1.0 - smoothstep(0.0, MIRROR_ROUGHNESS, roughness);
+}
+
 struct Shaded {
     radiance: vec3<f32>,
     // How much of what lies behind shows through (transmission).
@@ -426,6 +478,8 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
     let diffuse = (1.0 - metallic) * (1.0 - transmission) * (vec3<f32>(1.0) - e_spec) * base / PI;
     let layers = layers_of(o, n_v);
     let layered = layers.coat > 0.0 || layers.sheen_albedo > 0.0;
+    // An anisotropic lobe's highlights stay the lights' (stretched).
+    let mirror = select(mirror_share(roughness), 0.0, anisotropic);
     var radiance = vec3<f32>(0.0);
     for (var i = 0u; i < min(view.light_count, MAX_PREVIEW_LIGHTS); i++) {
         let light = view.lights[i];
@@ -439,12 +493,13 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
         var f = diffuse;
         let h = normalize(inc.l + v);
         if specular {
-            var lobe = 0.0;
+            // An emitter's highlight on a smooth reflector is its mirror image (below).
+            var lobe = select(1.0, 1.0 - mirror, light.shadow.x == LIGHT_EMITTER);
             if anisotropic {
                 let to_frame = transpose(frame);
-                lobe = ggx_d_anisotropic(to_frame * h, w) * smith_visibility_anisotropic(to_frame * v, to_frame * inc.l, w);
+                lobe *= ggx_d_anisotropic(to_frame * h, w) * smith_visibility_anisotropic(to_frame * v, to_frame * inc.l, w);
             } else {
-                lobe = ggx_d(max(dot(n, h), 0.0), a2) * smith_visibility(n_v, n_l, a2);
+                lobe *= ggx_d(max(dot(n, h), 0.0), a2) * smith_visibility(n_v, n_l, a2);
             }
             f += lobe * fresnel_schlick(f0, f90, dot(v, h)) * compensation;
         }
@@ -480,6 +535,20 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
             if anisotropic {
                 shown = stretched_reflection(v, n, frame[0], w, origin, broad);
             }
+            if mirror > 0.0 {
+                // The emitter the mirror direction meets, where the light reaches p.
+                let lamp = emitter_along(p, r);
+                let visible = select(0.0, shadow(view.lights[lamp.light], p, n), lamp.seen > 0.0);
+                shown = mix(shown, lamp.radiance, mirror * visible);
+            }
+            if reads_behind && !anisotropic && metallic >= 0.5 {
+                // What the frame shows along r, where it shows it (metals: glass reflects a few
+                // percent, not worth a second march): a lit surface in a mirror takes a path of
+                // three segments (below max_depth 3 it only hides the sky).
+                let drawn = behind_along(p, r);
+                let lit = select(vec3<f32>(0.0), drawn.rgb, view.max_depth >= 3u);
+                shown = mix(shown, lit, drawn.a * sharp_share(roughness));
+            }
             ambient += shown * e_spec * compensation;
         }
         if layers.coat > 0.0 {
@@ -507,38 +576,3 @@ fn shade(o: MeshVarying, base: vec3<f32>, p: vec3<f32>, n_in: vec3<f32>, aniso: 
     }
     return out;
 }
-
-// What solid glass of index `ior` shows at p: the view ray refracted in, through the object as
-// through a sphere of its bounding radius (`volume.a`; a chord of 2 r cos θt, attenuated by
-// exp(−σ chord), σ = `volume.rgb`), and out, bent as much again (rotating i by twice the angle
-// from i to the refracted t: d = 2 (i·t) t − i), read as reflections read: from the probes one
-// cell beyond the exit along d, and the environment beyond them. (Blending what lies behind,
-// unbent, as thin sheets do, showed a glass ball under a sky 76% too dark: the render sees the
-// sky turned through it.)
-fn refracted(v: vec3<f32>, n: vec3<f32>, ior: f32, p: vec3<f32>, volume: vec4<f32>, roughness: f32) -> vec3<f32> {
-    let i = -v;
-    let t = refract(i, n, 1.0 / ior);
-    var d = i;
-    var chord = 2.0 * volume.a;
-    if dot(t, t) > 0.0 {
-        d = normalize(2.0 * dot(i, t) * t - i);
-        chord *= max(-dot(t, n), 0.0);
-    }
-    let exit = p + t * chord;
-    let dims = vec3<f32>(textureDimensions(probes)) / vec3<f32>(6.0, 1.0, 1.0);
-    let cell = (view.probe_hi.xyz - view.probe_lo.xyz) / dims;
-    let ahead = probe_radiance_along(exit + d * min(cell.x, min(cell.y, cell.z)), d);
-    var sky = environment(d, roughness);
-    // The environment's sun, taken out of its map as a light, still shows through the glass
-    // where d meets its disc (solid angle Ω in `position.w`: radiance E/Ω).
-    for (var k = 0u; k < min(view.light_count, MAX_PREVIEW_LIGHTS); k++) {
-        let light = view.lights[k];
-        let omega = light.position.w;
-        if light.shadow.x == LIGHT_DIRECTIONAL && omega > 0.0
-            && dot(d, -light.direction.xyz) >= 1.0 - omega / (2.0 * PI) {
-            sky += light.color.rgb / omega;
-        }
-    }
-    return reflected(sky, ahead) * exp(-volume.rgb * chord);
-}
-

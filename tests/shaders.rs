@@ -94,6 +94,7 @@ fn every_estimator_wgsl_file_has_its_rust_twin_beside_it() {
         [
             "shaders/preview.wgsl",
             "shaders/preview_blit.wgsl",
+            "shaders/preview_glass.wgsl",
             "shaders/preview_shading.wgsl",
             "shaders/ray_query.wgsl",
             "shaders/trace.wgsl",

@@ -3,8 +3,8 @@
 //! mean colour within 10% of the converged render of the same view, the emitter visibly bright, a
 //! metal brighter at its highlight than a diffuse surface of the same base colour, and the floor
 //! dark where a box blocks the sun; in the Cornell box, lit as much by bounce light as by its lamp,
-//! every object within 25%; under an environment map, every object but the smooth glass ball within
-//! 25%.
+//! every object within 25%; under an environment map, every object within 25% but the smooth glass
+//! ball (35%).
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -166,10 +166,9 @@ fn the_preview_looks_like_the_render_object_by_object() {
 
 /// The Cornell box, lit by bounce light as much as by its lamp (the irradiance volume's work), and
 /// a scene of every PBR feature under an environment map: each object within 25% of the render
-/// (the rough absorbing glass too, seen refracted through its volume), but the smooth glass ball,
-/// through which the render sees the sunlit floor and sky sharply and the caustic the ball focuses,
-/// where the preview reads coarse probes (recorded in docs/editor.md, not hidden). Each Cornell
-/// wall keeps its hue.
+/// (the rough absorbing glass too, seen refracted through its volume), the smooth glass ball within
+/// 35% (it shows the floor drawn behind it and the sun's glint inside it, as the render does, but
+/// not the caustic it focuses; −67% before both; docs/editor.md). Each Cornell wall keeps its hue.
 #[test]
 fn the_preview_of_a_room_and_of_an_environment_lit_scene_per_object() {
     let Some(ctx) = common::gpu() else { return };
@@ -193,12 +192,11 @@ fn the_preview_of_a_room_and_of_an_environment_lit_scene_per_object() {
     let pbr = common::pbr_scene_with_environment(160, 120);
     let pair = preview_and_render(ctx, &pbr, "pbr-environment");
     for (name, ratio) in pair.object_ratios(&pbr) {
-        if name != "smooth glass" {
-            assert!(
-                (ratio - 1.0).abs() <= 0.25,
-                "environment scene, {name}: {ratio}"
-            );
-        }
+        let bound = if name == "smooth glass" { 0.35 } else { 0.25 };
+        assert!(
+            (ratio - 1.0).abs() <= bound,
+            "environment scene, {name}: {ratio}"
+        );
     }
 }
 

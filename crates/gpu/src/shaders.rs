@@ -128,6 +128,7 @@ pub const SHADER_TRACE_RAYS: WgslFile = shader_file!("trace_rays.wgsl");
 pub const SHADER_TRACE_RAYS_BVH: WgslFile = shader_file!("trace_rays_bvh.wgsl");
 pub const SHADER_PREVIEW: WgslFile = shader_file!("preview.wgsl");
 pub const SHADER_PREVIEW_SHADING: WgslFile = shader_file!("preview_shading.wgsl");
+pub const SHADER_PREVIEW_GLASS: WgslFile = shader_file!("preview_glass.wgsl");
 pub const SHADER_PREVIEW_BLIT: WgslFile = shader_file!("preview_blit.wgsl");
 
 /// An entry-point module: its name and the files it is made of, in order.
@@ -253,7 +254,7 @@ pub const TRACE_RAYS_HW: ShaderModule = ShaderModule {
 /// The raster preview (`crate::preview`: the editor's first view and `rt-cli preview`).
 pub const PREVIEW: ShaderModule = ShaderModule {
     name: "preview",
-    files: &[SHADER_PREVIEW, SHADER_PREVIEW_SHADING],
+    files: &[SHADER_PREVIEW, SHADER_PREVIEW_SHADING, SHADER_PREVIEW_GLASS],
 };
 
 pub const PREVIEW_BLIT: ShaderModule = ShaderModule {

@@ -320,7 +320,7 @@ fn frame_with(
         probe_lo: volume.lo.extend(0.0).to_array(),
         probe_hi: volume.hi.extend(0.0).to_array(),
         light_count: lights.len() as u32,
-        _pad0: 0,
+        max_depth: scene.settings.max_depth,
         _pad1: 0,
         _pad2: 0,
         lights: [PreviewLight::default(); MAX_PREVIEW_LIGHTS],

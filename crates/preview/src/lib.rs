@@ -5,10 +5,11 @@
 //!
 //! Per frame: the shadow maps when an object or light moved (`shadows.rs`), the prefiltered
 //! environment when it changed (`environment.rs`), the irradiance volume when the geometry,
-//! materials or lights changed (`bounce.rs`), then one pass: the opaque objects, the
-//! environment behind them, the ground grid, and the blended objects (transmission, alpha) over
-//! them. The shading is `shaders/preview.wgsl`'s.
+//! materials or lights changed (`bounce.rs`), then the opaque objects, the environment behind
+//! them and the ground grid; solid glass and smooth metals over a copy of those (`behind.rs`);
+//! the blended objects (thin transmitting sheets, alpha) over them all. The shading is `shaders/preview*.wgsl`'s.
 
+mod behind;
 pub mod bounce;
 mod cache;
 pub mod environment;
@@ -29,6 +30,7 @@ use std::sync::Arc;
 
 use wgpu::util::DeviceExt;
 
+use behind::Layer;
 use cache::{CachedBinding, CachedMesh, CachedTexture};
 pub use frame::{
     MaterialTextures, PreviewEnvironment, PreviewFrame, TextureRef, build_frame,
@@ -47,7 +49,10 @@ struct Target {
     size: [u32; 2],
     color_texture: wgpu::Texture,
     color: wgpu::TextureView,
+    depth_texture: wgpu::Texture,
     depth: wgpu::TextureView,
+    /// The frame as drawn before solid glass and smooth metals, which they read (`behind.rs`).
+    behind: behind::Behind,
     /// The selection's mask (`outline.rs`).
     mask: outline::Mask,
 }
@@ -275,33 +280,11 @@ impl PreviewRenderer {
                 usage: wgpu::BufferUsages::VERTEX,
             })
         });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("preview"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &target.color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &target.depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    // Kept for the selection's mask.
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let reading = (0..frame.meshes.len()).any(|i| behind::layer(frame, i) == Layer::Reading);
+        let mut pass = main_pass(encoder, target, true);
         pass.set_bind_group(0, view_bind_group, &[]);
         pass.set_pipeline(&self.pipelines.opaque);
-        self.draw_meshes(&mut pass, frame, false);
+        self.draw_meshes(&mut pass, frame, Layer::Opaque);
         pass.set_pipeline(&self.pipelines.background);
         pass.draw(0..3, 0..1);
         if let Some(grid) = &grid {
@@ -310,8 +293,18 @@ impl PreviewRenderer {
             pass.set_vertex_buffer(0, grid.slice(..));
             pass.draw(0..frame.grid.len() as u32, 0..1);
         }
+        if reading {
+            // Glass and mirrors read what was drawn before them: the pass ends for the copy.
+            drop(pass);
+            let (color, depth) = (&target.color_texture, &target.depth_texture);
+            target.behind.copy_from(encoder, color, depth);
+            pass = main_pass(encoder, target, false);
+            pass.set_bind_group(0, view_bind_group, &[]);
+            pass.set_pipeline(&self.pipelines.reading);
+            self.draw_meshes(&mut pass, frame, Layer::Reading);
+        }
         pass.set_pipeline(&self.pipelines.blended);
-        self.draw_meshes(&mut pass, frame, true);
+        self.draw_meshes(&mut pass, frame, Layer::Blended);
         drop(pass);
         if frame.objects.iter().any(|o| o.flags[0] != 0) {
             let views = [&target.color, &target.depth];
@@ -354,9 +347,9 @@ impl PreviewRenderer {
         Ok(())
     }
 
-    fn draw_meshes(&self, pass: &mut wgpu::RenderPass<'_>, frame: &PreviewFrame, blended: bool) {
+    fn draw_meshes(&self, pass: &mut wgpu::RenderPass<'_>, frame: &PreviewFrame, layer: Layer) {
         for (i, mesh) in frame.meshes.iter().enumerate() {
-            if frame.blended.get(i).copied().unwrap_or(false) != blended {
+            if behind::layer(frame, i) != layer {
                 continue;
             }
             let Some(cached) = self.meshes.get(&(Arc::as_ptr(mesh) as usize)) else {
@@ -490,7 +483,9 @@ impl PreviewRenderer {
                 &self.objects_buffer,
                 &self.matrices_buffer,
             );
-            if let (Some(env), Some(probes)) = (&self.environment, &self.probes) {
+            if let (Some(env), Some(probes), Some(target)) =
+                (&self.environment, &self.probes, &self.target)
+            {
                 self.view_bind_group = Some(self.pipelines.view_bind_group(
                     device,
                     [
@@ -505,6 +500,8 @@ impl PreviewRenderer {
                         &self.brdf,
                         &probes.view,
                         &probes.radiance,
+                        &target.behind.color,
+                        &target.behind.depth,
                     ],
                 ));
             }
@@ -540,20 +537,63 @@ impl PreviewRenderer {
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
         );
-        let depth = texture(
+        let depth_texture = texture(
             "preview depth",
             DEPTH_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        )
-        .create_view(&Default::default());
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
         self.target = Some(Target {
             size,
             color: color_texture.create_view(&Default::default()),
             color_texture,
-            depth,
+            depth: depth_texture.create_view(&Default::default()),
+            depth_texture,
+            behind: behind::Behind::new(device, size),
             mask: self.pipelines.outline.mask(device, size),
         });
+        // The view's bindings hold the copy behind glass: bound anew with the new target.
+        self.view_bind_group = None;
     }
+}
+
+/// The pass that draws into the target's colour and depth: cleared first, or continuing them.
+fn main_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    target: &Target,
+    clear: bool,
+) -> wgpu::RenderPass<'e> {
+    let (color_load, depth_load) = if clear {
+        (
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            wgpu::LoadOp::Clear(1.0),
+        )
+    } else {
+        (wgpu::LoadOp::Load, wgpu::LoadOp::Load)
+    };
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("preview"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: &target.color,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: color_load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &target.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: depth_load,
+                // Kept for the glass pass and the selection's mask.
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
 }
 
 /// Renders `frame` headless and reads it back: linear RGB radiance, row-major from the top row.

@@ -7,6 +7,7 @@ use super::{COLOR_FORMAT, DEPTH_FORMAT};
 
 pub(super) struct Pipelines {
     pub(super) opaque: wgpu::RenderPipeline,
+    pub(super) reading: wgpu::RenderPipeline,
     pub(super) blended: wgpu::RenderPipeline,
     pub(super) background: wgpu::RenderPipeline,
     pub(super) grid: wgpu::RenderPipeline,
@@ -88,6 +89,7 @@ fn mesh_buffer() -> wgpu::VertexBufferLayout<'static> {
 /// The pipelines that draw into the target.
 struct DrawPipelines {
     opaque: wgpu::RenderPipeline,
+    reading: wgpu::RenderPipeline,
     blended: wgpu::RenderPipeline,
     background: wgpu::RenderPipeline,
     grid: wgpu::RenderPipeline,
@@ -111,6 +113,7 @@ impl Pipelines {
         let [sampler, clamped, shadow_sampler] = samplers(device);
         Pipelines {
             opaque: draw.opaque,
+            reading: draw.reading,
             blended: draw.blended,
             background: draw.background,
             grid: draw.grid,
@@ -126,13 +129,14 @@ impl Pipelines {
     }
 
     /// The frame's bindings: the view, objects and shadow views' buffers, the shadow maps, the
-    /// environment's sharp and prefiltered images, the BRDF table and the irradiance volume.
+    /// environment's sharp and prefiltered images, the BRDF table, the irradiance volume and the
+    /// copy of the frame behind solid glass (colour, depth).
     pub(super) fn view_bind_group(
         &self,
         device: &wgpu::Device,
         [view, objects, matrices]: [&wgpu::Buffer; 3],
         shadow_maps: &wgpu::TextureView,
-        [sharp, blur, brdf, probes, radiance]: [&wgpu::TextureView; 5],
+        [sharp, blur, brdf, probes, radiance, behind, behind_depth]: [&wgpu::TextureView; 7],
     ) -> wgpu::BindGroup {
         let texture = |binding, view| wgpu::BindGroupEntry {
             binding,
@@ -168,6 +172,8 @@ impl Pipelines {
                 },
                 texture(9, probes),
                 texture(10, radiance),
+                texture(11, behind),
+                texture(12, behind_depth),
             ],
         })
     }
@@ -261,6 +267,9 @@ fn bind_group_layouts(device: &wgpu::Device) -> [wgpu::BindGroupLayout; 3] {
             sampler_entry(8, wgpu::SamplerBindingType::Filtering),
             texture_entry(9, float, wgpu::TextureViewDimension::D3),
             texture_entry(10, float, wgpu::TextureViewDimension::D3),
+            // The frame behind solid glass (`behind.rs`), read texel by texel.
+            texture_entry(11, float, d2),
+            texture_entry(12, wgpu::TextureSampleType::Depth, d2),
         ],
     });
     // The shadow pass binds only what its vertex stage reads: the maps it draws into cannot
@@ -352,6 +361,15 @@ fn draw_pipelines(
     let triangles = wgpu::PrimitiveTopology::TriangleList;
     let mesh = ("vs_mesh", "fs_mesh");
     let opaque = pipeline("preview opaque", mesh, &mesh_buffers, triangles, true, None);
+    // Solid glass and smooth metals, drawn as opaque over a copy of the frame, which they read.
+    let reading = pipeline(
+        "preview reading",
+        ("vs_mesh", "fs_reading"),
+        &mesh_buffers,
+        triangles,
+        true,
+        None,
+    );
     // Blended surfaces test depth but leave none: what lies behind them stays drawable.
     let blended = pipeline(
         "preview blended",
@@ -380,6 +398,7 @@ fn draw_pipelines(
     );
     DrawPipelines {
         opaque,
+        reading,
         blended,
         background,
         grid,

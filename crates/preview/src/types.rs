@@ -81,7 +81,8 @@ pub struct PreviewView {
     pub probe_lo: [f32; 4],
     pub probe_hi: [f32; 4],
     pub light_count: u32,
-    pub _pad0: u32,
+    /// The render's `max_depth`: what the glass shows through it at that depth (`refracted`).
+    pub max_depth: u32,
     pub _pad1: u32,
     pub _pad2: u32,
     pub lights: [PreviewLight; MAX_PREVIEW_LIGHTS],
@@ -222,18 +223,26 @@ mod tests {
     }
 
     #[test]
-    fn the_probe_lookup_lift_matches_the_shader() {
+    fn the_float_constants_match_the_shader() {
         let source = rt_gpu::shaders::PREVIEW.source();
         let module = naga::front::wgsl::parse_str(&source).expect("preview.wgsl parses");
-        let (_, c) = module
-            .constants
-            .iter()
-            .find(|(_, c)| c.name.as_deref() == Some("PROBE_LOOKUP_LIFT"))
-            .expect("preview.wgsl has PROBE_LOOKUP_LIFT");
-        assert!(matches!(
-            module.global_expressions[c.init],
-            naga::Expression::Literal(naga::Literal::F32(v)) if v == crate::bounce::PROBE_LOOKUP_LIFT
-        ));
+        for (name, value) in [
+            ("PROBE_LOOKUP_LIFT", crate::bounce::PROBE_LOOKUP_LIFT),
+            ("SHARP_ROUGHNESS", crate::behind::SHARP_ROUGHNESS),
+        ] {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("preview.wgsl has no {name}"));
+            assert!(
+                matches!(
+                    module.global_expressions[c.init],
+                    naga::Expression::Literal(naga::Literal::F32(v)) if v == value
+                ),
+                "{name}"
+            );
+        }
     }
 
     #[test]
@@ -255,7 +264,7 @@ mod tests {
                 probe_lo,
                 probe_hi,
                 light_count,
-                _pad0,
+                max_depth,
                 _pad1,
                 _pad2,
                 lights
