@@ -85,6 +85,8 @@ fn sharp_share(roughness: f32) -> f32 {
 // The steps of `behind_along`'s march at most, and the pixels one step covers at least.
 const BEHIND_STEPS: f32 = 16.0;
 const BEHIND_STEP_PIXELS: f32 = 16.0;
+// The halvings of the step that crossed a surface: to a pixel or two.
+const BEHIND_HALVINGS: u32 = 4u;
 // How far behind a drawn surface, as a share of the scene's extent, a marched ray still meets it.
 const BEHIND_THICKNESS: f32 = 0.05;
 
@@ -101,22 +103,21 @@ fn behind_along(origin: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     let reach = length(view.probe_hi.xyz - view.probe_lo.xyz);
     let a = view.view_proj * vec4<f32>(origin, 1.0);
     let b = view.view_proj * vec4<f32>(origin + d * reach, 1.0);
-    // The view's planes as clip-space distances (inside ≥ 0): left, right, bottom, top, near.
-    var span = vec2<f32>(0.0, 1.0);
-    var at_a = array<f32, 5>(a.w + a.x, a.w - a.x, a.w + a.y, a.w - a.y, a.z);
-    var at_b = array<f32, 5>(b.w + b.x, b.w - b.x, b.w + b.y, b.w - b.y, b.z);
-    for (var k = 0u; k < 5u; k++) {
-        let p = at_a[k];
-        let q = at_b[k];
-        if p < 0.0 && q < 0.0 {
-            return vec4<f32>(0.0);
-        }
-        if p < 0.0 {
-            span.x = max(span.x, p / (p - q));
-        } else if q < 0.0 {
-            span.y = min(span.y, p / (p - q));
-        }
+    // The view's planes as clip-space distances (inside ≥ 0): left, right, bottom, top; near.
+    let pa = vec4<f32>(a.w + a.x, a.w - a.x, a.w + a.y, a.w - a.y);
+    let pb = vec4<f32>(b.w + b.x, b.w - b.x, b.w + b.y, b.w - b.y);
+    if any((pa < vec4<f32>(0.0)) & (pb < vec4<f32>(0.0))) || (a.z < 0.0 && b.z < 0.0) {
+        return vec4<f32>(0.0);
     }
+    // Where the segment crosses each plane (a fraction of it), entering or leaving.
+    let cross4 = pa / (pa - pb);
+    let cross_z = a.z / (a.z - b.z);
+    let entering = select(vec4<f32>(0.0), cross4, pa < vec4<f32>(0.0));
+    let leaving = select(vec4<f32>(1.0), cross4, pa >= vec4<f32>(0.0) & pb < vec4<f32>(0.0));
+    var span = vec2<f32>(
+        max(max(max(entering.x, entering.y), max(entering.z, entering.w)), select(0.0, cross_z, a.z < 0.0)),
+        min(min(min(leaving.x, leaving.y), min(leaving.z, leaving.w)), select(1.0, cross_z, a.z >= 0.0 && b.z < 0.0)),
+    );
     if span.x >= span.y {
         return vec4<f32>(0.0);
     }
@@ -150,7 +151,7 @@ fn behind_along(origin: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
             // The step that crossed, halved down to the pixel.
             var lo = before;
             var hi = f;
-            for (var h = 0u; h < 5u; h++) {
+            for (var h = 0u; h < BEHIND_HALVINGS; h++) {
                 let mid = 0.5 * (lo + hi);
                 let m = along_segment(c0, c1, mid);
                 let under = textureLoad(behind_depth, pixel_of(m, size), 0);

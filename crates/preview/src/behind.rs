@@ -29,10 +29,10 @@ pub(super) fn layer(frame: &super::PreviewFrame, i: usize) -> Layer {
     };
     // The IOR of solid glass (`frame.rs`), which only transmitting objects refract through.
     let glass = o.flags[3] != 0 && o.params[2] > 0.0;
-    // A metal whose reflection is sharp enough to read (`SHARP_ROUGHNESS`), not brushed (its
-    // stretched lobe reads the probes along five directions). Dielectrics reflect a few percent:
-    // not worth a march per pixel.
-    let mirror = o.params[0] >= 0.5 && o.params[1] < SHARP_ROUGHNESS && o.extra[2] == 0.0;
+    // A metal whose reflection is sharp enough to read (`SHARP_ROUGHNESS`; a brushed one's
+    // roughness across its stretch). Dielectrics reflect a few percent: not worth a march per
+    // pixel.
+    let mirror = o.params[0] >= 0.5 && o.params[1] < SHARP_ROUGHNESS;
     if glass || mirror {
         Layer::Reading
     } else {
