@@ -7,10 +7,11 @@
 // What solid glass of index `ior` shows at p: the view ray refracted in, through the object as
 // through a sphere of its bounding radius (`volume.a`; a chord of 2 r cos θt, attenuated by
 // exp(−σ chord), σ = `volume.rgb`), and out, bent as much again (rotating i by twice the angle
-// from i to the refracted t: d = 2 (i·t) t − i), read as reflections read: from the probes one
-// cell beyond the exit along d, and the environment beyond them. (Blending what lies behind,
-// unbent, as thin sheets do, showed a glass ball under a sky 76% too dark: the render sees the
-// sky turned through it.)
+// from i to the refracted t: d = 2 (i·t) t − i). What the exit looks at along d is read from the
+// frame drawn before the glass (`behind_along`, in its pass), else from an emitter there, else as
+// reflections read: from the probes one cell beyond the exit along d, and the environment beyond
+// them. (Blending what lies behind, unbent, as thin sheets do, showed a glass ball under a sky
+// 76% too dark: the render sees the sky turned through it.)
 fn refracted(v: vec3<f32>, n: vec3<f32>, ior: f32, p: vec3<f32>, volume: vec4<f32>, roughness: f32) -> vec3<f32> {
     // A render whose paths end at their second surface (max_depth ≤ 2) shows nothing through it.
     if view.max_depth <= 2u {

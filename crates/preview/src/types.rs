@@ -207,19 +207,24 @@ mod tests {
                 ("AZIMUTHS", crate::bounce::AZIMUTHS),
             ])
         {
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(name))
-                .unwrap_or_else(|| panic!("preview.wgsl has no {name}"));
             assert!(
                 matches!(
-                    module.global_expressions[c.init],
-                    naga::Expression::Literal(naga::Literal::U32(v)) if v == value
+                    shader_constant(&module, name),
+                    naga::Expression::Literal(naga::Literal::U32(v)) if *v == value
                 ),
                 "{name}"
             );
         }
+    }
+
+    /// The expression `name` is defined as in the preview's shader.
+    fn shader_constant<'m>(module: &'m naga::Module, name: &str) -> &'m naga::Expression {
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("preview.wgsl has no {name}"));
+        &module.global_expressions[c.init]
     }
 
     #[test]
@@ -230,15 +235,10 @@ mod tests {
             ("PROBE_LOOKUP_LIFT", crate::bounce::PROBE_LOOKUP_LIFT),
             ("SHARP_ROUGHNESS", crate::behind::SHARP_ROUGHNESS),
         ] {
-            let (_, c) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(name))
-                .unwrap_or_else(|| panic!("preview.wgsl has no {name}"));
             assert!(
                 matches!(
-                    module.global_expressions[c.init],
-                    naga::Expression::Literal(naga::Literal::F32(v)) if v == value
+                    shader_constant(&module, name),
+                    naga::Expression::Literal(naga::Literal::F32(v)) if *v == value
                 ),
                 "{name}"
             );
